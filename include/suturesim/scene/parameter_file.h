@@ -1,0 +1,105 @@
+#pragma once
+/**
+ * @file
+ * A scene file read into a dealii::ParameterHandler, with the bookkeeping that lets every
+ * later check name the file, the line and the parameter of a bad value.
+ */
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace suturesim::scene
+{
+  class ParameterFile
+  {
+  public:
+    /// Reads @p text (the scene file's content, called @p name in messages) into @p prm,
+    /// which must hold every declaration already. Parse errors of deal.II (syntax,
+    /// unknown key or subsection, wrong type, out-of-range value) become one-line
+    /// InputErrors "name:line: ...". @p directory resolves relative paths.
+    ParameterFile(dealii::ParameterHandler &prm,
+                  const std::string        &text,
+                  const std::string        &name,
+                  const std::string        &directory);
+
+    /// Reads the file @p file_name; a missing or unreadable file is an InputError.
+    static ParameterFile
+    from_file(dealii::ParameterHandler &prm, const std::string &file_name);
+
+    /// Applies a command-line override "Sub/Sub/Key=value"; a bad one is an InputError
+    /// naming the override.
+    void
+    apply_override(dealii::ParameterHandler &prm, const std::string &assignment);
+
+    /// The line of "Sub/Sub/Key" in the file, 0 when it is not set there (default).
+    int
+    line_of(const std::string &path) const;
+
+    /// Throws InputError "file:line: path: problem" (the line is omitted for defaults,
+    /// and "--set" is named for command-line overrides).
+    [[noreturn]] void
+    fail(const std::string &path, const std::string &problem) const;
+
+    /// A path relative to the scene file's directory, else to the suturesim source tree
+    /// (meshes/ and parameters/ of the project); absolute paths are kept.
+    std::string
+    resolve(const std::string &path) const;
+
+    const std::string &
+    name() const
+    {
+      return file_name;
+    }
+
+  private:
+    std::string                file_name;
+    std::string                directory;
+    std::map<std::string, int> lines;
+    std::vector<std::string>   overrides;
+  };
+
+  /// A view of one subsection of a ParameterFile, for the checks a class makes on its
+  /// own parameters after parsing them.
+  class ParameterScope
+  {
+  public:
+    ParameterScope(const ParameterFile &file, std::string path)
+      : file(&file)
+      , path(std::move(path))
+    {}
+
+    ParameterScope
+    subsection(const std::string &name) const
+    {
+      return ParameterScope(*file, path.empty() ? name : path + "/" + name);
+    }
+
+    /// Throws an InputError naming file, line and this scope's @p key.
+    [[noreturn]] void
+    fail(const std::string &key, const std::string &problem) const
+    {
+      file->fail(path.empty() ? key : path + "/" + key, problem);
+    }
+
+    /// Throws unless @p condition holds.
+    void
+    require(const bool condition, const std::string &key, const std::string &problem) const
+    {
+      if (!condition)
+        fail(key, problem);
+    }
+
+    const ParameterFile &
+    parameter_file() const
+    {
+      return *file;
+    }
+
+  private:
+    const ParameterFile *file;
+    std::string          path;
+  };
+} // namespace suturesim::scene

@@ -1,0 +1,174 @@
+#include <suturesim/core/error.h>
+#include <suturesim/tissue/linear_solver.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace suturesim::tissue
+{
+  namespace
+  {
+    void
+    check(const PetscErrorCode code, const char *what)
+    {
+      if (code != 0)
+        throw SolverError(std::string("PETSc error in ") + what + " (code " +
+                          std::to_string(code) + ")");
+    }
+  } // namespace
+
+  void
+  LinearSolver::Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    const Parameters d;
+    prm.declare_entry("Method",
+                      d.method,
+                      dealii::Patterns::Selection("direct|cg|gmres"),
+                      "Linear solver of each Newton iteration: 'direct' (LU by MUMPS through "
+                      "PETSc; the default: robust for nearly incompressible and penalty-"
+                      "coupled tangents at suturing-scene sizes), 'cg' (symmetric tangents) "
+                      "or 'gmres' (any) with the preconditioner below.");
+    prm.declare_entry("Preconditioner",
+                      d.preconditioner,
+                      dealii::Patterns::Selection("gamg|boomeramg|jacobi"),
+                      "Preconditioner of the Krylov methods: 'gamg' (PETSc smoothed "
+                      "aggregation with rigid-body near null space), 'boomeramg' (hypre) or "
+                      "'jacobi'.");
+    prm.declare_entry("Relative tolerance",
+                      dealii::Patterns::Tools::to_string(d.tolerance),
+                      dealii::Patterns::Double(0, 1),
+                      "Relative residual tolerance of the Krylov methods. Unit: 1. Range: "
+                      "(0, 1).");
+    prm.declare_entry("Max iterations",
+                      std::to_string(d.max_iterations),
+                      dealii::Patterns::Integer(1),
+                      "Maximum Krylov iterations. Unit: 1. Range: >= 1.");
+    prm.declare_entry("PETSc options",
+                      d.petsc_options,
+                      dealii::Patterns::Anything(),
+                      "Extra PETSc options for experts, given without the 'suturesim_' "
+                      "prefix that is added, e.g. '-pc_gamg_threshold 0.02'. Unit: none.");
+  }
+
+  void
+  LinearSolver::Parameters::parse(const dealii::ParameterHandler &prm,
+                                  const scene::ParameterScope    &scope)
+  {
+    method         = prm.get("Method");
+    preconditioner = prm.get("Preconditioner");
+    tolerance      = prm.get_double("Relative tolerance");
+    max_iterations = prm.get_integer("Max iterations");
+    petsc_options  = prm.get("PETSc options");
+    scope.require(tolerance > 0, "Relative tolerance", "must be > 0");
+  }
+
+  LinearSolver::LinearSolver(const Parameters &parameters, MPI_Comm comm)
+    : prm(parameters)
+    , comm(comm)
+  {
+    check(KSPCreate(comm, &ksp), "KSPCreate");
+    check(KSPSetOptionsPrefix(ksp, "suturesim_"), "KSPSetOptionsPrefix");
+    PC pc;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    if (prm.method == "direct")
+      {
+        check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
+        check(PCSetType(pc, PCLU), "PCSetType");
+        check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+      }
+    else
+      {
+        check(KSPSetType(ksp, prm.method == "cg" ? KSPCG : KSPGMRES), "KSPSetType");
+        if (prm.preconditioner == "gamg")
+          check(PCSetType(pc, PCGAMG), "PCSetType");
+        else if (prm.preconditioner == "boomeramg")
+          {
+            check(PCSetType(pc, PCHYPRE), "PCSetType");
+            check(PCHYPRESetType(pc, "boomeramg"), "PCHYPRESetType");
+          }
+        else
+          check(PCSetType(pc, PCJACOBI), "PCSetType");
+        check(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+        check(KSPSetTolerances(ksp, prm.tolerance, 0.0, 1e30, prm.max_iterations),
+              "KSPSetTolerances");
+      }
+    if (!prm.petsc_options.empty())
+      {
+        // Options go to the global database under our prefix; KSPSetFromOptions reads them.
+        std::string prefixed;
+        std::string token;
+        std::istringstream in(prm.petsc_options);
+        while (in >> token)
+          prefixed += (token.rfind("-", 0) == 0 ? "-suturesim_" + token.substr(1) : token) + " ";
+        check(PetscOptionsInsertString(nullptr, prefixed.c_str()), "PetscOptionsInsertString");
+      }
+    check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+  }
+
+  LinearSolver::~LinearSolver()
+  {
+    if (ksp != nullptr)
+      KSPDestroy(&ksp);
+  }
+
+  void
+  LinearSolver::set_near_null_space(std::vector<dealii::PETScWrappers::MPI::Vector> modes)
+  {
+    // Modified Gram–Schmidt: MatNullSpaceCreate wants orthonormal vectors.
+    for (std::size_t i = 0; i < modes.size(); ++i)
+      {
+        for (std::size_t j = 0; j < i; ++j)
+          modes[i].add(-(modes[i] * modes[j]), modes[j]);
+        const double norm = modes[i].l2_norm();
+        if (norm > 0)
+          modes[i] /= norm;
+      }
+    null_space_modes = std::move(modes);
+  }
+
+  void
+  LinearSolver::solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
+                      dealii::PETScWrappers::MPI::Vector             &x,
+                      const dealii::PETScWrappers::MPI::Vector       &b,
+                      const double                                    relative_tolerance)
+  {
+    Mat mat = A;
+    if (!null_space_modes.empty() && prm.method != "direct")
+      {
+        std::vector<Vec> vecs;
+        for (const auto &v : null_space_modes)
+          vecs.push_back(v);
+        MatNullSpace nsp;
+        check(MatNullSpaceCreate(comm, PETSC_FALSE, static_cast<PetscInt>(vecs.size()),
+                                 vecs.data(), &nsp),
+              "MatNullSpaceCreate");
+        check(MatSetNearNullSpace(mat, nsp), "MatSetNearNullSpace");
+        check(MatNullSpaceDestroy(&nsp), "MatNullSpaceDestroy");
+      }
+    check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+    if (prm.method != "direct")
+      check(KSPSetTolerances(ksp,
+                             relative_tolerance > 0 ? relative_tolerance : prm.tolerance,
+                             0.0,
+                             1e30,
+                             prm.max_iterations),
+            "KSPSetTolerances");
+    check(KSPSolve(ksp, b, x), "KSPSolve");
+
+    KSPConvergedReason reason;
+    PetscInt           its;
+    PetscReal          rnorm;
+    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+    check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+    check(KSPGetResidualNorm(ksp, &rnorm), "KSPGetResidualNorm");
+    stats.iterations       = static_cast<unsigned>(its);
+    stats.residual         = rnorm;
+    stats.converged_reason = KSPConvergedReasons[reason];
+    if (reason < 0)
+      throw SolverError("linear solver (" + prm.method + (prm.method == "direct" ? "" : "+" +
+                        prm.preconditioner) + ") failed: " + stats.converged_reason +
+                        " after " + std::to_string(its) + " iterations, residual " +
+                        std::to_string(rnorm));
+    x.compress(dealii::VectorOperation::insert);
+  }
+} // namespace suturesim::tissue
