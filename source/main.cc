@@ -1,1 +1,130 @@
-int main() { return 0; }
+// suturesim [--validate] [--output DIR] [--set "Subsection/Key=value"]... [scene.prm]
+#include <suturesim/core/error.h>
+#include <suturesim/core/version.h>
+#include <suturesim/scene/default_scene.h>
+#include <suturesim/scene/simulation.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#ifndef SUTURESIM_SOURCE_DIR
+#  define SUTURESIM_SOURCE_DIR "."
+#endif
+
+namespace
+{
+  const char *usage =
+    "usage: suturesim [--validate] [--output DIR] [--set \"Subsection/Key=value\"]... "
+    "[scene.prm]\n"
+    "  scene.prm     deal.II parameter file; without it the embedded default scene runs\n"
+    "  --validate    parse and check the scene, then exit (0 when valid)\n"
+    "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
+    "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"\n"
+    "  --help        this text and every parameter with its unit and range\n";
+}
+
+int
+main(int argc, char **argv)
+{
+  using namespace suturesim;
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+
+  bool                     validate = false, help = false;
+  std::string              output, scene_file;
+  std::vector<std::string> overrides;
+  for (int i = 1; i < argc; ++i)
+    {
+      const std::string a = argv[i];
+      if (a == "--validate")
+        validate = true;
+      else if (a == "--help" || a == "-h")
+        help = true;
+      else if ((a == "--output" || a == "--set") && i + 1 < argc)
+        (a == "--output" ? output : (overrides.emplace_back(), overrides.back())) = argv[++i];
+      else if (a.rfind("--", 0) == 0)
+        {
+          if (root)
+            std::cerr << "error: unknown or incomplete option '" << a << "'\n" << usage;
+          return 2;
+        }
+      else if (scene_file.empty())
+        scene_file = a;
+      else
+        {
+          if (root)
+            std::cerr << "error: more than one scene file ('" << scene_file << "', '" << a
+                      << "')\n";
+          return 2;
+        }
+    }
+
+  dealii::ParameterHandler prm;
+  scene::Simulation::declare_parameters(prm);
+  if (help)
+    {
+      if (root)
+        {
+          std::cout << usage << "\nParameters (suturesim " << version_string << ", "
+                    << git_commit << "):\n";
+          prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
+        }
+      return 0;
+    }
+
+  std::unique_ptr<io::Recorder> recorder;
+  try
+    {
+      std::unique_ptr<scene::ParameterFile> file;
+      if (scene_file.empty())
+        file = std::make_unique<scene::ParameterFile>(
+          prm, scene::default_scene_text,
+          std::string("<default scene ") + scene::default_scene_name + ">",
+          std::string(SUTURESIM_SOURCE_DIR) + "/parameters");
+      else
+        file = std::make_unique<scene::ParameterFile>(scene::ParameterFile::from_file(prm, scene_file));
+      for (const auto &o : overrides)
+        file->apply_override(prm, o);
+
+      scene::Simulation simulation(prm, *file);
+      if (validate)
+        {
+          if (root)
+            std::cout << file->name() << ": valid\n";
+          return 0;
+        }
+
+      if (output.empty())
+        output = "output/" + (scene_file.empty() ? std::string("default")
+                                                 : std::filesystem::path(scene_file).stem().string());
+      recorder = std::make_unique<io::Recorder>(output, MPI_COMM_WORLD);
+      recorder->clear_stale_outputs();
+      recorder->write_parameters(prm);
+      const auto start = std::chrono::steady_clock::now();
+      simulation.run(*recorder);
+      recorder->summary()["wall_time_seconds"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      recorder->finish("completed");
+      if (root)
+        std::cout << "suturesim: wrote " << output << "/ (summary.json, forces.csv, "
+                  << "tissue.pvd, parameters.prm)\n";
+      return 0;
+    }
+  catch (const InputError &e)
+    {
+      if (root)
+        std::cerr << "error: " << e.what() << '\n';
+      return 2;
+    }
+  catch (const SolverError &e)
+    {
+      if (recorder)
+        recorder->finish("failed", e.what());
+      if (root)
+        std::cerr << "error: " << e.what() << '\n';
+      return 3;
+    }
+}

@@ -132,7 +132,7 @@ namespace suturesim::scene
         for (std::size_t i = 0; i + 1 < parts.size(); ++i, ++entered)
           {
             // enter_subsection() would create an undeclared subsection silently.
-            if (!prm.subsection_path_exists({parts.begin(), parts.begin() + i + 1}))
+            if (!prm.subsection_path_exists({parts[i]}))
               throw InputError("--set \"" + assignment + "\": no subsection '" +
                                parts[i] + "'");
             prm.enter_subsection(parts[i]);

@@ -1,0 +1,65 @@
+#pragma once
+/**
+ * @file
+ * The tissue mesh of a scene: a gmsh .geo (meshed by the gmsh CLI at run time, so a
+ * scene chooses its own resolution through `-setnumber`), a gmsh .msh, Cook's membrane,
+ * or any deal.II GridGenerator shape by name. Physical groups of gmsh become boundary
+ * and material ids, and their names are kept so that scene files and outputs can say
+ * "bottom" rather than "1".
+ */
+
+#include <suturesim/scene/parameter_file.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/distributed/tria.h>
+
+#include <map>
+#include <string>
+
+namespace suturesim::mesh
+{
+  struct MeshParameters
+  {
+    std::string                   source = "gmsh";
+    std::string                   file;
+    std::map<std::string, double> geo_parameters;
+    std::string                   generator_name;
+    std::string                   generator_arguments;
+    unsigned                      elements_per_edge = 16;
+    double                        thickness         = 1e-3;
+    double                        scale             = 1.0;
+    unsigned                      global_refinements = 0;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    /// Resolves the mesh file against the scene file; a missing file is an InputError.
+    void
+    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+  };
+
+  struct MeshInfo
+  {
+    std::map<dealii::types::boundary_id, std::string> boundary_names;
+    std::map<dealii::types::material_id, std::string> material_names;
+    std::string                                       description;
+
+    /// The id of a boundary given by name or number; InputError through @p scope if
+    /// unknown.
+    dealii::types::boundary_id
+    boundary_id(const std::string          &name_or_id,
+                const scene::ParameterScope &scope,
+                const std::string          &key) const;
+
+    std::string
+    boundary_name(dealii::types::boundary_id id) const;
+  };
+
+  /// Builds the coarse mesh into @p tria (refined globally as asked), running gmsh into
+  /// @p work_directory when the source is a .geo. Checks every cell for a positive
+  /// Jacobian determinant; an inverted or degenerate cell is an InputError naming the
+  /// file and the cell.
+  MeshInfo
+  create_mesh(const MeshParameters                         &parameters,
+              const std::string                            &work_directory,
+              dealii::parallel::distributed::Triangulation<3> &tria);
+} // namespace suturesim::mesh

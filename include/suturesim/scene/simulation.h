@@ -1,0 +1,57 @@
+#pragma once
+/**
+ * @file
+ * A scene: its parameters (declared by each component into its own subsection), their
+ * checks, and the run of the chosen model path into a Recorder. Model paths: "accurate"
+ * (finite-strain FE tissue); the realtime path registers here when it exists.
+ */
+
+#include <suturesim/io/recorder.h>
+#include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/scene/parameter_file.h>
+#include <suturesim/tissue/boundary_conditions.h>
+#include <suturesim/tissue/material.h>
+#include <suturesim/tissue/time_integrator.h>
+#include <suturesim/tissue/tissue_model.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace suturesim::scene
+{
+  class Simulation
+  {
+  public:
+    static void
+    declare_parameters(dealii::ParameterHandler &prm);
+
+    /// Parses and checks every parameter (InputError on the first bad one). Mesh-
+    /// dependent checks (boundary names, probes) happen in run().
+    Simulation(dealii::ParameterHandler &prm, const ParameterFile &file);
+
+    /// Runs the scene; fills and finishes the recorder's summary. Throws InputError for
+    /// input found bad only now and SolverError for a failed solve.
+    void
+    run(io::Recorder &recorder);
+
+    const std::string &
+    name() const
+    {
+      return scene_name;
+    }
+
+  private:
+    const ParameterFile              &file;
+    std::string                        scene_name;
+    std::string                        model_path;
+    mesh::MeshParameters               mesh_parameters;
+    tissue::TissueParameters           tissue_parameters;
+    std::optional<tissue::Material>    material;
+    tissue::BoundaryConditions         boundary_conditions;
+    tissue::TimeParameters             time_parameters;
+    std::unique_ptr<tissue::TimeIntegrator> integrator;
+  };
+} // namespace suturesim::scene

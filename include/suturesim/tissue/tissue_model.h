@@ -1,0 +1,258 @@
+#pragma once
+/**
+ * @file
+ * The accurate tissue model: finite-strain hyperelastic FE on a distributed hexahedral
+ * mesh (p4est), PETSc MPI matrices and vectors, Total Lagrangian. Owns the degrees of
+ * freedom, assembly, the Newton solve of one quasi-static load level, the pieces an
+ * implicit time integrator needs (residual and Jacobian of M v̇ + C v + R(u) = 0), and
+ * the measurements written per step: reaction forces on every Dirichlet boundary,
+ * displacements at probe points, and the VTU fields.
+ */
+
+#include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/tissue/boundary_conditions.h>
+#include <suturesim/tissue/cell_assembler.h>
+#include <suturesim/tissue/linear_solver.h>
+#include <suturesim/tissue/material.h>
+
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace suturesim::tissue
+{
+  /// Newton–Raphson with backtracking line search (on the free-DoF residual norm).
+  struct NewtonParameters
+  {
+    unsigned max_iterations              = 25;
+    double   residual_tolerance          = 1e-9;
+    double   absolute_residual_tolerance = 1e-12;
+    double   increment_tolerance         = 1e-9;
+    bool     line_search                 = true;
+    unsigned max_backtracks              = 6;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+  };
+
+  /// What one Newton solve did, for summary.json and the convergence tests.
+  struct NewtonReport
+  {
+    bool                converged = false;
+    unsigned            iterations = 0;
+    std::vector<double> residual_norms;  ///< N, free DoFs, one per assembled iterate
+    std::vector<double> increment_norms; ///< m
+    unsigned            backtracks        = 0;
+    unsigned            linear_iterations = 0;
+    double              assembly_seconds  = 0;
+    double              solve_seconds     = 0;
+    std::string         failure;
+  };
+
+  struct TissueParameters
+  {
+    unsigned         degree          = 2;
+    std::string      formulation     = "mixed";
+    unsigned         pressure_degree = 1;
+    NewtonParameters newton;
+    LinearSolver::Parameters linear;
+    std::vector<std::pair<std::string, dealii::Point<3>>> probes;
+
+    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes" and the
+    /// subsections "Newton" and "Linear solver" into the current subsection.
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+  };
+
+  struct Reaction
+  {
+    std::string          boundary;
+    dealii::Tensor<1, 3> force; ///< N, force the support exerts on the tissue
+  };
+
+  class TissueModel
+  {
+  public:
+    using Vector = dealii::PETScWrappers::MPI::Vector;
+
+    TissueModel(MPI_Comm                                  comm,
+                const TissueParameters                   &parameters,
+                const Material                           &material,
+                const BoundaryConditions                 &boundary_conditions,
+                dealii::parallel::distributed::Triangulation<3> &triangulation,
+                dealii::TimerOutput                      &timer);
+
+    /// Distributes DoFs, builds sparsity, matrices, probes and reaction sets.
+    void
+    setup();
+
+    dealii::types::global_dof_index
+    n_dofs() const
+    {
+      return dof_handler.n_dofs();
+    }
+
+    /// Solves the quasi-static equilibrium at load level (time) @p t starting from the
+    /// current state. On failure the state is whatever the last iterate was; callers
+    /// restore it with restore_state().
+    NewtonReport
+    solve_static(double t);
+
+    void
+    save_state();
+    void
+    restore_state();
+
+    /// Reaction forces on every Dirichlet boundary at the current state and time.
+    std::vector<Reaction>
+    reactions(double t);
+
+    /// Displacements at the probe points (m), in the order of the parameters.
+    std::vector<dealii::Tensor<1, 3>>
+    probe_displacements() const;
+
+    /// Writes tissue_<index>.vtu into @p directory (collective); returns the file name.
+    std::string
+    write_vtu(const std::string &directory, unsigned index, double t) const;
+
+    const std::vector<std::pair<std::string, dealii::Point<3>>> &
+    probes() const
+    {
+      return parameters.probes;
+    }
+
+    const BoundaryConditions &
+    boundary_conditions() const
+    {
+      return bc;
+    }
+
+    // --- implicit dynamics: y = [u; v], F(t, y, ẏ) = 0 --------------------------------
+    // F_u = u̇ − v,  F_v = M v̇ + (a_M M + a_K K_t(u)) v + R(u, t) on free DoFs;
+    // F_u = u − g(t), F_v = v − ġ(t) on Dirichlet DoFs (algebraic).
+
+    void
+    set_rayleigh_damping(double mass_coefficient, double stiffness_coefficient);
+
+    /// Evaluates F; returns false if an element inverted (IDA then cuts the step).
+    bool
+    dynamic_residual(double        t,
+                     const Vector &u,
+                     const Vector &v,
+                     const Vector &u_dot,
+                     const Vector &v_dot,
+                     Vector       &F_u,
+                     Vector       &F_v);
+
+    /// Assembles A = (1 + α a_K) K_t + (α² + α a_M) M at u; false if an element inverted.
+    bool
+    setup_dynamic_jacobian(double t, const Vector &u, double alpha);
+
+    /// Solves the Jacobian system [αI, −I; K_t, αM + C] [x_u; x_v] = [b_u; b_v].
+    void
+    solve_dynamic_jacobian(const Vector &b_u,
+                           const Vector &b_v,
+                           Vector       &x_u,
+                           Vector       &x_v,
+                           double        tolerance);
+
+    /// Locally owned DoFs and the Dirichlet DoFs among them (IDA's algebraic set).
+    const dealii::IndexSet &
+    locally_owned() const
+    {
+      return locally_owned_dofs;
+    }
+    dealii::IndexSet
+    dirichlet_dofs() const;
+
+    /// Sets the displacement state (for output and reactions during dynamics).
+    void
+    set_displacement(const Vector &u);
+
+    const Vector &
+    displacement() const
+    {
+      return solution;
+    }
+
+    const LinearSolver &
+    linear_solver() const
+    {
+      return *solver;
+    }
+
+  private:
+    /// Constraints at time t with inhomogeneity g(t) − u (so that one Newton update
+    /// lands on the boundary values); returns max |g − u| over Dirichlet DoFs.
+    double
+    make_constraints(double t, const Vector &u_ghost, dealii::AffineConstraints<double> &c) const;
+
+    /// Assembles −R into system_rhs (and K into system_matrix if @p with_matrix) at
+    /// @p u_ghost. With @p velocity, adds Rayleigh damping. Returns false if any cell
+    /// inverted (collective).
+    bool
+    assemble(double                                   t,
+             const Vector                            &u_ghost,
+             bool                                     with_matrix,
+             const dealii::AffineConstraints<double> &c,
+             const Vector                            *velocity_ghost = nullptr);
+
+    double
+    free_residual_norm() const;
+
+    void
+    assemble_mass_matrix();
+
+    std::vector<Vector>
+    rigid_body_modes() const;
+
+    MPI_Comm                                        comm;
+    TissueParameters                                parameters;
+    const Material                                 &material;
+    const BoundaryConditions                       &bc;
+    dealii::parallel::distributed::Triangulation<3> &tria;
+    dealii::TimerOutput                            &timer;
+
+    dealii::MappingQ1<3>     mapping;
+    dealii::FESystem<3>      fe;
+    dealii::DoFHandler<3>    dof_handler;
+    dealii::QGauss<3>        quadrature;
+    dealii::QGauss<2>        face_quadrature;
+    std::unique_ptr<CellAssembler> cell_assembler;
+    std::unique_ptr<LinearSolver>  solver;
+
+    dealii::IndexSet                        locally_owned_dofs, locally_relevant_dofs;
+    dealii::AffineConstraints<double>       constraints;
+    std::vector<dealii::types::global_dof_index> owned_dirichlet;
+    dealii::PETScWrappers::MPI::SparseMatrix system_matrix, mass_matrix;
+    Vector solution, solution_ghost, saved_solution, system_rhs, full_residual;
+    std::vector<PressureCoefficients> cell_pressure, saved_cell_pressure;
+
+    /// Per Dirichlet boundary: locally owned DoFs on it with their component.
+    std::vector<std::vector<std::pair<dealii::types::global_dof_index, unsigned>>> reaction_dofs;
+
+    struct ProbeLocation
+    {
+      bool                                      here = false;
+      dealii::DoFHandler<3>::active_cell_iterator cell;
+      dealii::Point<3>                          unit_point;
+    };
+    std::vector<ProbeLocation> probe_locations;
+
+    double rayleigh_mass = 0, rayleigh_stiffness = 0;
+    double jacobian_alpha = 0;
+  };
+} // namespace suturesim::tissue

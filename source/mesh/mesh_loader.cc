@@ -1,0 +1,306 @@
+#include <suturesim/core/error.h>
+#include <suturesim/mesh/mesh_loader.h>
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_nothing.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#ifndef SUTURESIM_GMSH
+#  define SUTURESIM_GMSH "gmsh"
+#endif
+
+namespace suturesim::mesh
+{
+  using namespace dealii;
+  namespace fs = std::filesystem;
+
+  void
+  MeshParameters::declare(ParameterHandler &prm)
+  {
+    prm.declare_entry("Source",
+                      "gmsh",
+                      Patterns::Selection("gmsh|cook membrane|deal.II"),
+                      "Where the tissue mesh comes from: 'gmsh' (a .geo meshed by the gmsh "
+                      "CLI, or a .msh), 'cook membrane' (the benchmark geometry of "
+                      "references.md), or 'deal.II' (a GridGenerator function by name).");
+    prm.declare_entry("File",
+                      "meshes/skin_pad_incision.geo",
+                      Patterns::FileName(),
+                      "gmsh .geo or .msh file, relative to the scene file or to the "
+                      "suturesim source tree. Hexahedral meshes only. Unit: none.");
+    prm.declare_entry("Geo parameters",
+                      "",
+                      Patterns::Map(Patterns::Anything(), Patterns::Double(), 0,
+                                    Patterns::Map::max_int_value, ",", ":"),
+                      "Values passed to gmsh as -setnumber NAME VALUE, e.g. 'h: 0.0015'. "
+                      "Unit: as the .geo file defines (SI for meshes/).");
+    prm.declare_entry("Generator",
+                      "hyper_rectangle",
+                      Patterns::Anything(),
+                      "deal.II GridGenerator function name (Source = deal.II), e.g. "
+                      "'subdivided_hyper_rectangle'. Unit: none.");
+    prm.declare_entry("Generator arguments",
+                      "0, 0, 0 : 0.01, 0.01, 0.01 : true",
+                      Patterns::Anything(),
+                      "Arguments of the GridGenerator function as deal.II's "
+                      "generate_from_name_and_arguments() reads them. Unit: m for lengths.");
+    prm.declare_entry("Elements per edge",
+                      "16",
+                      Patterns::Integer(1, 1024),
+                      "Cook's membrane: elements along each in-plane edge. Unit: 1. "
+                      "Range: 1-1024.");
+    prm.declare_entry("Thickness",
+                      "0.001",
+                      Patterns::Double(0),
+                      "Cook's membrane: extrusion thickness (one element). Unit: m. "
+                      "Range: > 0.");
+    prm.declare_entry("Scale",
+                      "1",
+                      Patterns::Double(0),
+                      "Factor applied to the mesh coordinates (e.g. 0.001 for a mesh in "
+                      "mm). Unit: 1. Range: > 0.");
+    prm.declare_entry("Global refinements",
+                      "0",
+                      Patterns::Integer(0, 10),
+                      "Uniform refinements of the coarse mesh. Unit: 1. Range: 0-10.");
+  }
+
+  void
+  MeshParameters::parse(const ParameterHandler &prm, const scene::ParameterScope &scope)
+  {
+    source              = prm.get("Source");
+    generator_name      = prm.get("Generator");
+    generator_arguments = prm.get("Generator arguments");
+    elements_per_edge   = prm.get_integer("Elements per edge");
+    thickness           = prm.get_double("Thickness");
+    scale               = prm.get_double("Scale");
+    global_refinements  = prm.get_integer("Global refinements");
+    scope.require(scale > 0, "Scale", "must be > 0");
+    scope.require(thickness > 0, "Thickness", "must be > 0 m");
+
+    geo_parameters.clear();
+    const auto map = Patterns::Tools::Convert<std::map<std::string, double>>::to_value(
+      prm.get("Geo parameters"),
+      Patterns::Map(Patterns::Anything(), Patterns::Double(), 0,
+                    Patterns::Map::max_int_value, ",", ":"));
+    for (const auto &[k, v] : map)
+      geo_parameters[k] = v;
+
+    if (source == "gmsh")
+      {
+        const std::string given = prm.get("File");
+        file                    = scope.parameter_file().resolve(given);
+        scope.require(fs::exists(file), "File", "mesh file '" + given + "' not found");
+        const std::string ext = fs::path(file).extension().string();
+        scope.require(ext == ".geo" || ext == ".msh",
+                      "File",
+                      "mesh file '" + given + "' must end in .geo or .msh");
+      }
+  }
+
+  types::boundary_id
+  MeshInfo::boundary_id(const std::string          &name_or_id,
+                        const scene::ParameterScope &scope,
+                        const std::string          &key) const
+  {
+    for (const auto &[id, name] : boundary_names)
+      if (name == name_or_id || std::to_string(id) == name_or_id)
+        return id;
+    std::string known;
+    for (const auto &[id, name] : boundary_names)
+      known += (known.empty() ? "" : ", ") + name + " (" + std::to_string(id) + ")";
+    scope.fail(key, "no boundary '" + name_or_id + "' in the mesh; it has: " + known);
+  }
+
+  std::string
+  MeshInfo::boundary_name(const types::boundary_id id) const
+  {
+    const auto it = boundary_names.find(id);
+    return it == boundary_names.end() ? "boundary_" + std::to_string(id) : it->second;
+  }
+
+  namespace
+  {
+    /// $PhysicalNames of a .msh file: dimension → (tag → name).
+    std::map<int, std::map<int, std::string>>
+    read_physical_names(const std::string &file)
+    {
+      std::map<int, std::map<int, std::string>> names;
+      std::ifstream                             in(file);
+      std::string                               line;
+      while (std::getline(in, line))
+        if (line.rfind("$PhysicalNames", 0) == 0)
+          {
+            int n = 0;
+            in >> n;
+            for (int i = 0; i < n; ++i)
+              {
+                int         dim, tag;
+                std::string name;
+                in >> dim >> tag;
+                std::getline(in, name);
+                const auto b = name.find('"'), e = name.rfind('"');
+                if (b != std::string::npos && e > b)
+                  name = name.substr(b + 1, e - b - 1);
+                names[dim][tag] = name;
+              }
+            break;
+          }
+      return names;
+    }
+
+    std::string
+    run_gmsh(const MeshParameters &p, const std::string &work_directory)
+    {
+      const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
+      const std::string log = (fs::path(work_directory) / "gmsh.log").string();
+      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+        {
+          std::ostringstream cmd;
+          cmd << SUTURESIM_GMSH << " -3 -format msh22 -nt 1";
+          for (const auto &[k, v] : p.geo_parameters)
+            cmd << " -setnumber " << k << " " << std::setprecision(17) << v;
+          cmd << " -o '" << msh << "' '" << p.file << "' > '" << log << "' 2>&1";
+          fs::remove(msh);
+          const int status = std::system(cmd.str().c_str());
+          if (status != 0 || !fs::exists(msh))
+            throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) +
+                             "); see " + log);
+        }
+      MPI_Barrier(MPI_COMM_WORLD);
+      return msh;
+    }
+
+    /// Cook's membrane (references.md): the trapezoid (0,0)–(48,44)–(48,60)–(0,44) mm
+    /// extruded by the thickness, n × n × 1 cells. Boundary ids: 0 left (x = 0),
+    /// 1 right (x = 48 mm), 2 bottom, 3 top, 4 back (z = −t/2), 5 front (z = +t/2).
+    void
+    make_cook_membrane(const MeshParameters &p, Triangulation<3> &tria)
+    {
+      const double t = p.thickness;
+      GridGenerator::subdivided_hyper_rectangle(
+        tria,
+        {p.elements_per_edge, p.elements_per_edge, 1},
+        Point<3>(0, 0, -0.5 * t),
+        Point<3>(1, 1, 0.5 * t),
+        true);
+      GridTools::transform(
+        [](const Point<3> &x) {
+          const double s = x[0], r = x[1];
+          return Point<3>(48e-3 * s, 44e-3 * s + r * (44e-3 - 28e-3 * s), x[2]);
+        },
+        tria);
+    }
+
+    void
+    check_cells(const Triangulation<3> &tria, const std::string &what)
+    {
+      const MappingQ1<3> mapping;
+      const FE_Nothing<3> fe;
+      FEValues<3> values(mapping, fe, QGauss<3>(2), update_JxW_values);
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            values.reinit(cell);
+            for (unsigned q = 0; q < values.n_quadrature_points; ++q)
+              if (!(values.JxW(q) > 0))
+                {
+                  std::ostringstream s;
+                  s << what << ": cell " << cell->id().to_string() << " (centre "
+                    << cell->center() << " m) is inverted or degenerate (Jacobian "
+                       "determinant <= 0 at a quadrature point)";
+                  throw InputError(s.str());
+                }
+          }
+    }
+  } // namespace
+
+  MeshInfo
+  create_mesh(const MeshParameters                            &p,
+              const std::string                               &work_directory,
+              parallel::distributed::Triangulation<3>          &tria)
+  {
+    MeshInfo info;
+    // The coarse mesh is built serially (identical on every rank) and handed to p4est,
+    // which partitions it; a bad cell is reported before p4est sees it.
+    Triangulation<3> coarse;
+    std::string      what;
+    if (p.source == "gmsh")
+      {
+        const bool        geo = fs::path(p.file).extension() == ".geo";
+        const std::string msh = geo ? run_gmsh(p, work_directory) : p.file;
+        what                  = p.file;
+        std::ifstream in(msh);
+        GridIn<3>     grid_in;
+        grid_in.attach_triangulation(coarse);
+        try
+          {
+            grid_in.read_msh(in);
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::ostringstream info_text;
+            e.print_info(info_text);
+            throw InputError(p.file + ": cannot read the mesh: " + one_line(info_text.str()));
+          }
+        const auto names = read_physical_names(msh);
+        if (names.count(2))
+          for (const auto &[tag, name] : names.at(2))
+            info.boundary_names[tag] = name;
+        if (names.count(3))
+          for (const auto &[tag, name] : names.at(3))
+            info.material_names[tag] = name;
+        info.description = "gmsh: " + fs::path(p.file).filename().string();
+      }
+    else if (p.source == "cook membrane")
+      {
+        make_cook_membrane(p, coarse);
+        what                = "Cook's membrane";
+        info.boundary_names = {{0, "left"}, {1, "right"}, {2, "bottom"},
+                               {3, "top"},  {4, "back"},  {5, "front"}};
+        info.description    = "Cook's membrane, " + std::to_string(p.elements_per_edge) +
+                           " elements per edge";
+      }
+    else
+      {
+        what = "GridGenerator::" + p.generator_name;
+        try
+          {
+            GridGenerator::generate_from_name_and_arguments(coarse,
+                                                            p.generator_name,
+                                                            p.generator_arguments);
+          }
+        catch (const ExceptionBase &e)
+          {
+            std::ostringstream info_text;
+            e.print_info(info_text);
+            throw InputError(what + "(" + p.generator_arguments +
+                             "): " + one_line(info_text.str()));
+          }
+        info.description = what;
+      }
+
+    if (p.scale != 1.0)
+      GridTools::scale(p.scale, coarse);
+    check_cells(coarse, what);
+
+    for (const auto &face : coarse.active_face_iterators())
+      if (face->at_boundary() && !info.boundary_names.count(face->boundary_id()))
+        info.boundary_names[face->boundary_id()] = "boundary_" + std::to_string(face->boundary_id());
+
+    tria.copy_triangulation(coarse);
+    tria.refine_global(p.global_refinements);
+    return info;
+  }
+} // namespace suturesim::mesh

@@ -1,0 +1,132 @@
+#include <suturesim/core/error.h>
+#include <suturesim/scene/simulation.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+
+#include <iostream>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  void
+  Simulation::declare_parameters(ParameterHandler &prm)
+  {
+    prm.declare_entry("Scene name",
+                      "scene",
+                      Patterns::Anything(),
+                      "Name recorded in summary.json. Unit: none.");
+    prm.declare_entry("Model",
+                      "accurate",
+                      Patterns::Selection("accurate"),
+                      "Model path: 'accurate' (finite-strain hyperelastic FE tissue, "
+                      "deal.II + PETSc, implicit).");
+    prm.enter_subsection("Mesh");
+    mesh::MeshParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Tissue");
+    tissue::TissueParameters::declare(prm);
+    prm.enter_subsection("Material");
+    tissue::Material::declare_parameters(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Boundary conditions");
+    tissue::BoundaryConditions::declare(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
+    prm.enter_subsection("Time");
+    tissue::TimeParameters::declare(prm);
+    prm.leave_subsection();
+  }
+
+  Simulation::Simulation(ParameterHandler &prm, const ParameterFile &file)
+    : file(file)
+  {
+    const ParameterScope root(file, "");
+    scene_name = prm.get("Scene name");
+    model_path = prm.get("Model");
+
+    prm.enter_subsection("Mesh");
+    mesh_parameters.parse(prm, root.subsection("Mesh"));
+    prm.leave_subsection();
+
+    prm.enter_subsection("Tissue");
+    const ParameterScope tissue = root.subsection("Tissue");
+    tissue_parameters.parse(prm, tissue);
+    prm.enter_subsection("Material");
+    material.emplace(tissue::Material::parse_parameters(prm, tissue.subsection("Material")));
+    prm.leave_subsection();
+    prm.enter_subsection("Boundary conditions");
+    boundary_conditions.parse(prm, tissue.subsection("Boundary conditions"));
+    prm.leave_subsection();
+    prm.leave_subsection();
+    if (tissue_parameters.formulation == "displacement" && material->bulk_modulus() > 1000 * material->shear_modulus())
+      std::cerr << "warning: " << file.name()
+                << ": Tissue/Formulation = displacement with kappa/mu > 1000 locks "
+                   "volumetrically; use 'mixed'\n";
+
+    prm.enter_subsection("Time");
+    const ParameterScope time = root.subsection("Time");
+    time_parameters.parse(prm, time);
+    integrator = tissue::TimeIntegrator::Registry::instance()
+                   .get(time_parameters.integrator)
+                   .create(prm, time);
+    prm.leave_subsection();
+  }
+
+  void
+  Simulation::run(io::Recorder &recorder)
+  {
+    MPI_Comm            comm = MPI_COMM_WORLD;
+    ConditionalOStream  pcout(std::cout, Utilities::MPI::this_mpi_process(comm) == 0);
+    TimerOutput         timer(comm, pcout, TimerOutput::summary, TimerOutput::wall_times);
+
+    parallel::distributed::Triangulation<3> tria(comm);
+    mesh::MeshInfo                           mesh_info;
+    {
+      TimerOutput::Scope scope(timer, "mesh");
+      mesh_info = mesh::create_mesh(mesh_parameters, recorder.directory(), tria);
+    }
+    boundary_conditions.resolve(mesh_info);
+
+    tissue::TissueModel model(comm, tissue_parameters, *material, boundary_conditions, tria,
+                              timer);
+    model.setup();
+
+    auto &summary            = recorder.summary();
+    summary["scene"]         = scene_name;
+    summary["scene_file"]    = file.name();
+    summary["model"]         = model_path;
+    summary["mesh"]          = {{"description", mesh_info.description},
+                                {"cells", tria.n_global_active_cells()},
+                                {"dofs", model.n_dofs()},
+                                {"element_degree", tissue_parameters.degree},
+                                {"formulation", tissue_parameters.formulation}};
+    summary["metrics"]       = nlohmann::json::object();
+    summary["steps"]         = nlohmann::json::array();
+    pcout << "suturesim: scene '" << scene_name << "', " << mesh_info.description << ", "
+          << tria.n_global_active_cells() << " cells, " << model.n_dofs() << " DoFs, Q"
+          << tissue_parameters.degree << " " << tissue_parameters.formulation << ", "
+          << Utilities::MPI::n_mpi_processes(comm) << " MPI process(es)\n";
+
+    std::vector<std::string> columns{"time [s]"};
+    for (const auto &d : boundary_conditions.dirichlet)
+      for (const char c : {'x', 'y', 'z'})
+        columns.push_back(d.name + "_reaction_" + std::string(1, c) + " [N]");
+    for (const auto &[name, point] : model.probes())
+      for (const char c : {'x', 'y', 'z'})
+        columns.push_back(name + "_displacement_" + std::string(1, c) + " [m]");
+    recorder.set_columns(columns);
+
+    integrator->run(model, time_parameters, recorder);
+
+    auto &timings = summary["timings"];
+    for (const auto &[section, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
+      timings[section] = seconds;
+    summary["solver"]["linear_solver"] = tissue_parameters.linear.method +
+                                         (tissue_parameters.linear.method == "direct"
+                                            ? std::string(" (MUMPS)")
+                                            : "+" + tissue_parameters.linear.preconditioner);
+  }
+} // namespace suturesim::scene
