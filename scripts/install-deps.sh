@@ -12,6 +12,7 @@ packages=(
   gmsh                    # .geo -> .msh at build time
   openmpi-bin             # mpirun for the parallel regression test
   numdiff
+  libopenblas0-pthread    # optimised BLAS/LAPACK: MUMPS spends its time in dense BLAS-3
   python3-matplotlib python3-numpy   # postprocess/
 )
 

@@ -78,9 +78,30 @@ namespace suturesim::scene
   void
   Simulation::run(io::Recorder &recorder)
   {
-    MPI_Comm            comm = MPI_COMM_WORLD;
-    ConditionalOStream  pcout(std::cout, Utilities::MPI::this_mpi_process(comm) == 0);
-    TimerOutput         timer(comm, pcout, TimerOutput::summary, TimerOutput::wall_times);
+    // A failure is rethrown only after the timer has printed its table (its destructor
+    // refuses to communicate while an exception is in flight).
+    std::exception_ptr failure;
+    {
+      MPI_Comm           comm = MPI_COMM_WORLD;
+      ConditionalOStream pcout(std::cout, Utilities::MPI::this_mpi_process(comm) == 0);
+      TimerOutput        timer(comm, pcout, TimerOutput::summary, TimerOutput::wall_times);
+      try
+        {
+          run(recorder, timer, pcout);
+        }
+      catch (...)
+        {
+          failure = std::current_exception();
+        }
+    }
+    if (failure)
+      std::rethrow_exception(failure);
+  }
+
+  void
+  Simulation::run(io::Recorder &recorder, TimerOutput &timer, ConditionalOStream &pcout)
+  {
+    MPI_Comm comm = MPI_COMM_WORLD;
 
     parallel::distributed::Triangulation<3> tria(comm);
     mesh::MeshInfo                           mesh_info;

@@ -28,6 +28,12 @@ namespace suturesim::tissue
                       "PETSc; the default: robust for nearly incompressible and penalty-"
                       "coupled tangents at suturing-scene sizes), 'cg' (symmetric tangents) "
                       "or 'gmres' (any) with the preconditioner below.");
+    prm.declare_entry("Factorization",
+                      d.factorization,
+                      dealii::Patterns::Selection("cholesky|lu"),
+                      "Factorization of 'direct': 'cholesky' (LDL^T, half the work; the "
+                      "hyperelastic tangent is symmetric) or 'lu' (any matrix, e.g. with "
+                      "friction coupling).");
     prm.declare_entry("Preconditioner",
                       d.preconditioner,
                       dealii::Patterns::Selection("gamg|boomeramg|jacobi"),
@@ -56,6 +62,7 @@ namespace suturesim::tissue
   {
     method         = prm.get("Method");
     preconditioner = prm.get("Preconditioner");
+    factorization  = prm.get("Factorization");
     tolerance      = prm.get_double("Relative tolerance");
     max_iterations = prm.get_integer("Max iterations");
     petsc_options  = prm.get("PETSc options");
@@ -73,7 +80,7 @@ namespace suturesim::tissue
     if (prm.method == "direct")
       {
         check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-        check(PCSetType(pc, PCLU), "PCSetType");
+        check(PCSetType(pc, prm.factorization == "lu" ? PCLU : PCCHOLESKY), "PCSetType");
         check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
       }
     else
@@ -130,7 +137,8 @@ namespace suturesim::tissue
   LinearSolver::solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                       dealii::PETScWrappers::MPI::Vector             &x,
                       const dealii::PETScWrappers::MPI::Vector       &b,
-                      const double                                    relative_tolerance)
+                      const double                                    relative_tolerance,
+                      const double                                    absolute_tolerance)
   {
     Mat mat = A;
     if (!null_space_modes.empty() && prm.method != "direct")
@@ -149,7 +157,7 @@ namespace suturesim::tissue
     if (prm.method != "direct")
       check(KSPSetTolerances(ksp,
                              relative_tolerance > 0 ? relative_tolerance : prm.tolerance,
-                             0.0,
+                             absolute_tolerance,
                              1e30,
                              prm.max_iterations),
             "KSPSetTolerances");

@@ -14,7 +14,9 @@
 #include <suturesim/tissue/time_integrator.h>
 #include <suturesim/tissue/tissue_model.h>
 
+#include <deal.II/base/conditional_ostream.h>
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 
 #include <memory>
 #include <optional>
@@ -44,6 +46,9 @@ namespace suturesim::scene
     }
 
   private:
+    void
+    run(io::Recorder &recorder, dealii::TimerOutput &timer, dealii::ConditionalOStream &pcout);
+
     const ParameterFile              &file;
     std::string                        scene_name;
     std::string                        model_path;

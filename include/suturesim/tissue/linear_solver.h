@@ -3,7 +3,8 @@
  * @file
  * The linear solve of a Newton iteration, configured on PETSc's KSP directly so that
  * every PETSc option stays reachable:
- *  - "direct": LU by MUMPS (parallel, serial alike). The default: the tangents of nearly
+ *  - "direct": Cholesky (symmetric tangents, the default) or LU by MUMPS (parallel and
+ *    serial alike). The default method: the tangents of nearly
  *    incompressible tissue and, later, of penalty coupling are ill-conditioned, and at the
  *    sizes of suturing scenes (≤ 1e5 DoFs) a factorisation on 2 cores is as fast as a
  *    Krylov solve while never failing to converge (see README, Performance).
@@ -30,6 +31,7 @@ namespace suturesim::tissue
     struct Parameters
     {
       std::string method          = "direct";
+      std::string factorization   = "cholesky";
       std::string preconditioner  = "gamg";
       double      tolerance       = 1e-10;
       unsigned    max_iterations  = 2000;
@@ -61,12 +63,15 @@ namespace suturesim::tissue
     set_near_null_space(std::vector<dealii::PETScWrappers::MPI::Vector> modes);
 
     /// Solves A x = b; throws SolverError when the Krylov method does not converge.
-    /// @p relative_tolerance overrides the parameter when > 0 (inexact Newton, IDA).
+    /// @p relative_tolerance overrides the parameter when > 0 (IDA); a Krylov method
+    /// stops at @p absolute_tolerance (the residual a Newton iteration needs, so it
+    /// never chases round-off).
     void
     solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
           dealii::PETScWrappers::MPI::Vector             &x,
           const dealii::PETScWrappers::MPI::Vector       &b,
-          double                                          relative_tolerance = 0);
+          double                                          relative_tolerance = 0,
+          double                                          absolute_tolerance = 0);
 
     const Statistics &
     statistics() const

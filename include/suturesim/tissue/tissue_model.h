@@ -30,7 +30,7 @@
 
 namespace suturesim::tissue
 {
-  /// Newton–Raphson with backtracking line search (on the free-DoF residual norm).
+  /// Newton–Raphson with a slack line search on the energy's directional derivative.
   struct NewtonParameters
   {
     unsigned max_iterations              = 25;
@@ -212,6 +212,10 @@ namespace suturesim::tissue
 
     double
     free_residual_norm() const;
+
+    /// a·b over the free (non-Dirichlet) DoFs.
+    double
+    free_dot(const Vector &a, const Vector &b) const;
 
     void
     assemble_mass_matrix();
