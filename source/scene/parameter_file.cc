@@ -64,7 +64,7 @@ namespace suturesim::scene
       std::ostringstream info;
       e.print_info(info);
       std::string       text = one_line(info.str());
-      const std::regex  located(R"(^Line <(\d+)> of file <([^>]*)>?:?\s*(.*)$)");
+      const std::regex  located(R"(^Line <(\d+)> of file <(.*?)>?:\s*(.*)$)");
       std::smatch       m;
       if (std::regex_match(text, m, located))
         {

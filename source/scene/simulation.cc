@@ -84,10 +84,18 @@ namespace suturesim::scene
     {
       MPI_Comm           comm = MPI_COMM_WORLD;
       ConditionalOStream pcout(std::cout, Utilities::MPI::this_mpi_process(comm) == 0);
-      TimerOutput        timer(comm, pcout, TimerOutput::summary, TimerOutput::wall_times);
+      // The table is printed for completed and for failed solves, not for bad input
+      // (whose one-line error must stay the only output).
+      TimerOutput timer(comm, pcout, TimerOutput::never, TimerOutput::wall_times);
       try
         {
           run(recorder, timer, pcout);
+          timer.print_summary();
+        }
+      catch (const SolverError &)
+        {
+          timer.print_summary();
+          failure = std::current_exception();
         }
       catch (...)
         {

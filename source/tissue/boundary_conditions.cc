@@ -4,6 +4,7 @@
 #include <deal.II/base/utilities.h>
 #include <deal.II/lac/vector.h>
 
+#include <iostream>
 #include <sstream>
 
 namespace suturesim::tissue
@@ -39,9 +40,22 @@ namespace suturesim::tissue
           f->parse_parameters(prm);
           prm.leave_subsection();
           // muParser compiles on first use: evaluate once so that a bad expression is
-          // reported now, with its line, rather than in the middle of a run.
-          Vector<double> v(3);
-          f->vector_value(Point<3>(), v);
+          // reported now, with its line, rather than in the middle of a run. deal.II
+          // prints muParser's own multi-line diagnosis to std::cerr first; the user gets
+          // our one line instead.
+          std::ostringstream muted;
+          std::streambuf    *cerr_buffer = std::cerr.rdbuf(muted.rdbuf());
+          try
+            {
+              Vector<double> v(3);
+              f->vector_value(Point<3>(), v);
+            }
+          catch (...)
+            {
+              std::cerr.rdbuf(cerr_buffer);
+              throw;
+            }
+          std::cerr.rdbuf(cerr_buffer);
         }
       catch (const ExceptionBase &e)
         {

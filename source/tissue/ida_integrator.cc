@@ -112,8 +112,18 @@ namespace suturesim::tissue
         };
         const unsigned expected =
           static_cast<unsigned>(std::ceil(time.end_time / output_period - 1e-9));
+        double next_output = 0;
         ida.output_step = [&](const double t, const BlockVector &y, const BlockVector &,
                               const unsigned) {
+          // deal.II 9.4 checks IDASolve's status only in debug builds: an IDA failure
+          // shows up here as an output before the requested time.
+          if (t < next_output - 1e-9 * time.end_time)
+            throw SolverError("IDA could not advance past t = " + std::to_string(t) +
+                              " s (error test or nonlinear solver failures at the minimum "
+                              "step); last output t = " +
+                              std::to_string(last_converged_time) + " s in " +
+                              recorder.directory() + "/" + last_output_file);
+          next_output = std::min(t + output_period, time.end_time);
           model.set_displacement(y.block(0));
           record(model, recorder, time, t,
                  {{"residual_evaluations", residuals}, {"jacobian_setups", jacobians},
@@ -128,6 +138,10 @@ namespace suturesim::tissue
         try
           {
             ida.solve_dae(y, y_dot);
+          }
+        catch (const SolverError &)
+          {
+            throw;
           }
         catch (const dealii::ExceptionBase &e)
           {

@@ -260,6 +260,7 @@ namespace suturesim::tissue
     full_residual.reinit(locally_owned_dofs, comm);
     solution_ghost.reinit(locally_owned_dofs, locally_relevant_dofs, comm);
     cell_pressure.assign(tria.n_active_cells(), PressureCoefficients{});
+    length_scale = GridTools::diameter(tria);
     saved_cell_pressure = cell_pressure;
 
     make_constraints(0.0, solution_ghost, constraints);
@@ -309,7 +310,9 @@ namespace suturesim::tissue
           {
             const auto found = GridTools::find_active_cell_around_point(
               mapping, dof_handler, parameters.probes[p].second);
-            if (found.first->is_locally_owned())
+            // On a distributed mesh a point outside this rank's cells gives an
+            // invalid iterator rather than an exception.
+            if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
               {
                 probe_locations[p].cell       = found.first;
                 probe_locations[p].unit_point = found.second;
@@ -509,13 +512,18 @@ namespace suturesim::tissue
     double r_norm    = free_residual_norm();
     double r_ref     = r_norm;
     double du_norm   = std::numeric_limits<double>::infinity();
+    double du_max    = du_norm;
     report.residual_norms.push_back(r_norm);
 
     for (unsigned it = 0;; ++it)
       {
         const double u_norm = solution.l2_norm();
         const bool   bc_ok  = gap <= 1e-12 * std::max(u_norm, 1e-3);
-        if (bc_ok && (r_norm <= np.absolute_residual_tolerance ||
+        // An update at round-off level of the body's size ends the iteration too: the
+        // residual of a very stiff (nearly incompressible) body cannot go below
+        // ε·κ·area, which may exceed the absolute tolerance.
+        const bool round_off = it > 0 && du_max <= 1e-13 * length_scale;
+        if (bc_ok && (r_norm <= np.absolute_residual_tolerance || round_off ||
                       (r_norm <= np.residual_tolerance * r_ref &&
                        du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
           {
@@ -567,6 +575,7 @@ namespace suturesim::tissue
           update = solution_ghost;
         }
         du_norm = update.l2_norm();
+        du_max  = update.linfty_norm();
         report.increment_norms.push_back(du_norm);
 
         // Line search on the energy's directional derivative g(α) = R(u + αΔu)·Δu
@@ -825,8 +834,14 @@ namespace suturesim::tissue
     // scaling that the constraints put there.
     system_matrix *= (1.0 + alpha * rayleigh_stiffness);
     system_matrix.add(alpha * alpha + alpha * rayleigh_mass, mass_matrix);
-    // Dirichlet rows become identity rows (x_u = b_u there, inserted after the solve).
-    system_matrix.clear_rows(owned_dirichlet, 1.0);
+    // Dirichlet rows and columns become those of the identity (x_u = b_u there, inserted
+    // after the solve); zeroing the columns too keeps A symmetric for Cholesky.
+    std::vector<PetscInt> rows(owned_dirichlet.begin(), owned_dirichlet.end());
+    const PetscErrorCode  ierr = MatZeroRowsColumns(system_matrix.petsc_matrix(),
+                                                   static_cast<PetscInt>(rows.size()),
+                                                   rows.data(), 1.0, nullptr, nullptr);
+    if (ierr != 0)
+      throw SolverError("PETSc MatZeroRowsColumns failed");
     jacobian_alpha = alpha;
     return true;
   }

@@ -256,6 +256,7 @@ namespace suturesim::tissue
     };
     std::vector<ProbeLocation> probe_locations;
 
+    double length_scale  = 1; ///< m, mesh diameter (round-off test of Newton updates)
     double rayleigh_mass = 0, rayleigh_stiffness = 0;
     double jacobian_alpha = 0;
   };

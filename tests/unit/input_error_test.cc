@@ -1,0 +1,119 @@
+// Malformed scenes (conventions.md §8, "expected failure"): every file in tests/data/bad
+// names the fragment its one-line error must contain on its first line; the run must
+// exit non-zero and leave no summary.json.
+#include "run_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+using namespace suturesim::test_support;
+namespace fs = std::filesystem;
+
+namespace
+{
+  std::vector<std::string>
+  bad_scenes()
+  {
+    std::vector<std::string> files;
+    for (const auto &e : fs::directory_iterator(source_path("tests/data/bad")))
+      files.push_back(e.path().filename().string());
+    std::sort(files.begin(), files.end());
+    return files;
+  }
+
+  std::string
+  error_lines(const std::string &output)
+  {
+    std::string       lines;
+    std::stringstream in(output);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty())
+        lines += line + "\n";
+    return lines;
+  }
+} // namespace
+
+class BadScene : public ::testing::TestWithParam<std::string>
+{};
+
+TEST_P(BadScene, FailsWithOneLineNamingTheProblem)
+{
+  const std::string file = "tests/data/bad/" + GetParam();
+  std::ifstream     in(source_path(file));
+  std::string       first;
+  std::getline(in, first);
+  ASSERT_EQ(first.rfind("# expect: ", 0), 0u) << file << " lacks its '# expect:' line";
+  const std::string expected = first.substr(10);
+
+  // Run from the data folder so that messages carry the relative path "bad/x.prm".
+  const auto r = run_suturesim(GetParam(), "bad/" + GetParam(),
+                               "cd '" + source_path("tests/data") + "' &&");
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(r.has_summary) << "a failed input left summary.json behind";
+  const std::string lines = error_lines(r.output);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 1) << "not one line:\n" << lines;
+  EXPECT_EQ(lines.rfind("error: ", 0), 0u) << lines;
+  EXPECT_NE(lines.find(expected), std::string::npos)
+    << "expected '" << expected << "' in:\n" << lines;
+}
+
+INSTANTIATE_TEST_SUITE_P(InputErrors, BadScene, ::testing::ValuesIn(bad_scenes()),
+                         [](const auto &info) {
+                           return info.param.substr(0, info.param.find('.'));
+                         });
+
+TEST(InputErrors, AtLeastEightCases)
+{
+  EXPECT_GE(bad_scenes().size(), 8u);
+}
+
+TEST(InputErrors, UnwritableOutputFolder)
+{
+  // Under a regular file no folder can be made, even as root.
+  const std::string blocked = source_path("tests/data/cook_coarse.prm") + "/out";
+  const std::string cmd = std::string(SUTURESIM_BINARY) + " " +
+                          source_path("tests/data/cook_coarse.prm") + " --output '" +
+                          blocked + "' 2>&1";
+  FILE       *pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char        buffer[512];
+  while (fgets(buffer, sizeof buffer, pipe))
+    out += buffer;
+  const int status = pclose(pipe);
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  EXPECT_NE(out.find("error: --output " + blocked + ": cannot write"), std::string::npos) << out;
+}
+
+TEST(InputErrors, UnknownOverride)
+{
+  const auto r = run_suturesim("bad_override", source_path("tests/data/cook_coarse.prm") +
+                                                 " --set 'Tissue/Elemnt degree=2'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_FALSE(r.has_summary);
+  EXPECT_NE(r.output.find("--set \"Tissue/Elemnt degree=2\""), std::string::npos) << r.output;
+}
+
+TEST(Validate, AcceptsEveryShippedScene)
+{
+  unsigned n = 0;
+  for (const auto &e : fs::recursive_directory_iterator(source_path("parameters")))
+    if (e.path().extension() == ".prm")
+      {
+        const auto r = run_suturesim("validate", "--validate '" + e.path().string() + "'");
+        EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
+        EXPECT_NE(r.output.find(": valid"), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(r.directory)) << "--validate wrote output";
+        ++n;
+      }
+  EXPECT_GE(n, 2u);
+}
+
+TEST(Validate, RejectsUnknownKey)
+{
+  const auto r = run_suturesim("validate_bad", "--validate " +
+                                                 source_path("tests/data/bad/unknown_key.prm"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("No entry with name <Element dgree>"), std::string::npos) << r.output;
+}
