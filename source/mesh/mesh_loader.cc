@@ -165,6 +165,7 @@ namespace suturesim::mesh
     {
       const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
       const std::string log = (fs::path(work_directory) / "gmsh.log").string();
+      int status = 0;
       if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
         {
           std::ostringstream cmd;
@@ -173,12 +174,15 @@ namespace suturesim::mesh
             cmd << " -setnumber " << k << " " << std::setprecision(17) << v;
           cmd << " -o '" << msh << "' '" << p.file << "' > '" << log << "' 2>&1";
           fs::remove(msh);
-          const int status = std::system(cmd.str().c_str());
-          if (status != 0 || !fs::exists(msh))
-            throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) +
-                             "); see " + log);
+          status = std::system(cmd.str().c_str());
+          if (status == 0 && !fs::exists(msh))
+            status = -1;
         }
-      MPI_Barrier(MPI_COMM_WORLD);
+      // Every rank learns the outcome, so that all throw together (no rank left waiting).
+      MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (status != 0)
+        throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " +
+                         log);
       return msh;
     }
 
@@ -291,6 +295,9 @@ namespace suturesim::mesh
         info.description = what;
       }
 
+    if (!coarse.all_reference_cells_are_hyper_cube())
+      throw InputError(what + ": the mesh has non-hexahedral cells; suturesim's tissue "
+                              "model needs hexahedra (gmsh: Transfinite + Recombine)");
     if (p.scale != 1.0)
       GridTools::scale(p.scale, coarse);
     check_cells(coarse, what);

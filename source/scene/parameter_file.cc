@@ -1,6 +1,7 @@
 #include <suturesim/core/error.h>
 #include <suturesim/scene/parameter_file.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -126,6 +127,9 @@ namespace suturesim::scene
     for (std::string part; std::getline(ss, part, '/');)
       parts.push_back(trim(part));
 
+    if (parts.empty() || std::any_of(parts.begin(), parts.end(),
+                                     [](const std::string &part) { return part.empty(); }))
+      throw InputError("--set \"" + assignment + "\": expected \"Subsection/Key=value\"");
     unsigned int entered = 0;
     try
       {

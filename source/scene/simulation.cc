@@ -69,6 +69,10 @@ namespace suturesim::scene
     prm.enter_subsection("Time");
     const ParameterScope time = root.subsection("Time");
     time_parameters.parse(prm, time);
+    if (time_parameters.integrator != "quasi-static")
+      tissue.subsection("Material").require(material->density() > 0, "Density",
+                                            "must be > 0 kg/m^3 for dynamics (Time/Integrator = " +
+                                              time_parameters.integrator + ")");
     integrator = tissue::TimeIntegrator::Registry::instance()
                    .get(time_parameters.integrator)
                    .create(prm, time);

@@ -113,7 +113,7 @@ namespace suturesim::tissue
         const unsigned expected =
           static_cast<unsigned>(std::ceil(time.end_time / output_period - 1e-9));
         double next_output = 0;
-        ida.output_step = [&](const double t, const BlockVector &y, const BlockVector &,
+        ida.output_step = [&](const double t, const BlockVector &y, const BlockVector &y_dot,
                               const unsigned) {
           // deal.II 9.4 checks IDASolve's status only in debug builds: an IDA failure
           // shows up here as an output before the requested time.
@@ -127,7 +127,8 @@ namespace suturesim::tissue
           model.set_displacement(y.block(0));
           record(model, recorder, time, t,
                  {{"residual_evaluations", residuals}, {"jacobian_setups", jacobians},
-                  {"linear_solves", solves}});
+                  {"linear_solves", solves}},
+                 &y.block(1), &y_dot.block(1));
           if (t > 0)
             progress(++outputs, expected, t, time.end_time,
                      "IDA " + std::to_string(residuals) + " residuals");
@@ -135,6 +136,7 @@ namespace suturesim::tissue
 
         BlockVector y(blocks, comm), y_dot(blocks, comm);
         y.block(0) = model.displacement();
+        model.initial_boundary_rates(y_dot.block(0), y_dot.block(1));
         try
           {
             ida.solve_dae(y, y_dot);
@@ -178,10 +180,6 @@ namespace suturesim::tissue
                            dealii::Patterns::Double(0),
                            "IDA local error tolerance, absolute (on u in m and v in m/s). "
                            "Unit: m. Range: > 0.");
-         prm.declare_entry("Minimum step size",
-                           dealii::Patterns::Tools::to_string(d.minimum_step),
-                           dealii::Patterns::Double(0),
-                           "Smallest step IDA may take. Unit: s. Range: > 0.");
          prm.declare_entry("Maximum order",
                            std::to_string(d.maximum_order),
                            dealii::Patterns::Integer(1, 5),
@@ -202,7 +200,6 @@ namespace suturesim::tissue
          IdaParameters p;
          p.relative_tolerance = prm.get_double("Relative tolerance");
          p.absolute_tolerance = prm.get_double("Absolute tolerance");
-         p.minimum_step       = prm.get_double("Minimum step size");
          p.maximum_order      = prm.get_integer("Maximum order");
          p.rayleigh_mass      = prm.get_double("Rayleigh mass coefficient");
          p.rayleigh_stiffness = prm.get_double("Rayleigh stiffness coefficient");

@@ -24,10 +24,10 @@ namespace suturesim::tissue
     prm.declare_entry("Method",
                       d.method,
                       dealii::Patterns::Selection("direct|cg|gmres"),
-                      "Linear solver of each Newton iteration: 'direct' (LU by MUMPS through "
-                      "PETSc; the default: robust for nearly incompressible and penalty-"
-                      "coupled tangents at suturing-scene sizes), 'cg' (symmetric tangents) "
-                      "or 'gmres' (any) with the preconditioner below.");
+                      "Linear solver of each Newton iteration: 'direct' (MUMPS through PETSc, "
+                      "see 'Factorization'; the default: robust for nearly incompressible and "
+                      "penalty-coupled tangents, fastest below about 5e4 DoFs), 'cg' "
+                      "(symmetric tangents) or 'gmres' (any) with the preconditioner below.");
     prm.declare_entry("Factorization",
                       d.factorization,
                       dealii::Patterns::Selection("cholesky|lu"),

@@ -54,13 +54,15 @@ namespace suturesim::tissue
   }
 
   void
-  TimeIntegrator::record(TissueModel          &model,
-                         io::Recorder         &recorder,
-                         const TimeParameters &time,
-                         const double          t,
-                         nlohmann::json        statistics)
+  TimeIntegrator::record(TissueModel                &model,
+                         io::Recorder               &recorder,
+                         const TimeParameters       &time,
+                         const double                t,
+                         nlohmann::json              statistics,
+                         const TissueModel::Vector *velocity,
+                         const TissueModel::Vector *acceleration)
   {
-    const auto reactions = model.reactions(t);
+    const auto reactions = model.reactions(t, velocity, acceleration);
     const auto probes    = model.probe_displacements();
     std::vector<double> row{t};
     auto &metrics = recorder.summary()["metrics"];

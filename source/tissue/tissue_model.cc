@@ -13,6 +13,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -124,11 +125,19 @@ namespace suturesim::tissue
     const int p = prm.get_integer("Pressure degree");
     pressure_degree = p < 0 ? std::min<unsigned>(degree - 1, 1) : static_cast<unsigned>(p);
 
+    // The pattern has validated the text; split it here to keep the order of the file
+    // (a std::map would sort the probes and merge duplicates silently).
     probes.clear();
-    const auto map = Patterns::Tools::Convert<std::map<std::string, std::vector<double>>>::
-      to_value(prm.get("Probes"), probe_pattern);
-    for (const auto &[name, x] : map)
-      probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
+    for (const auto &item : Utilities::split_string_list(prm.get("Probes"), ';'))
+      {
+        const auto colon = item.find(':');
+        const std::string name = Utilities::trim(item.substr(0, colon));
+        const auto x = Utilities::string_to_double(
+          Utilities::split_string_list(item.substr(colon + 1), ','));
+        for (const auto &[other, point] : probes)
+          scope.require(other != name, "Probes", "probe '" + name + "' is named twice");
+        probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
+      }
 
     prm.enter_subsection("Newton");
     newton.parse(prm, scope.subsection("Newton"));
@@ -260,7 +269,28 @@ namespace suturesim::tissue
     full_residual.reinit(locally_owned_dofs, comm);
     solution_ghost.reinit(locally_owned_dofs, locally_relevant_dofs, comm);
     cell_pressure.assign(tria.n_active_cells(), PressureCoefficients{});
-    length_scale = GridTools::diameter(tria);
+    {
+      // Diagonal of the bounding box (GridTools::diameter is quadratic in the boundary
+      // vertices and not implemented for refined distributed meshes).
+      Point<3> lo, hi;
+      for (unsigned d = 0; d < 3; ++d)
+        lo[d] = std::numeric_limits<double>::max(), hi[d] = -lo[d];
+      for (const auto &cell : tria.active_cell_iterators())
+        if (cell->is_locally_owned())
+          for (const auto v : cell->vertex_indices())
+            for (unsigned d = 0; d < 3; ++d)
+              {
+                lo[d] = std::min(lo[d], cell->vertex(v)[d]);
+                hi[d] = std::max(hi[d], cell->vertex(v)[d]);
+              }
+      double l2 = 0;
+      for (unsigned d = 0; d < 3; ++d)
+        {
+          const double extent = Utilities::MPI::max(hi[d], comm) + Utilities::MPI::max(-lo[d], comm);
+          l2 += extent * extent;
+        }
+      length_scale = std::sqrt(l2);
+    }
     saved_cell_pressure = cell_pressure;
 
     make_constraints(0.0, solution_ghost, constraints);
@@ -277,25 +307,28 @@ namespace suturesim::tissue
       if (constraints.is_constrained(i))
         owned_dirichlet.push_back(i);
 
-    // DoFs of each Dirichlet boundary with their component, for the reactions.
+    // DoFs of each Dirichlet boundary with their component, for the reactions: the
+    // DoFs that boundary constrains (first listed wins, as in make_constraints), only in
+    // the constrained components, found on every non-artificial cell so that the sets
+    // do not depend on the partition.
     reaction_dofs.assign(bc.dirichlet.size(), {});
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_face());
-    for (std::size_t b = 0; b < bc.dirichlet.size(); ++b)
-      {
-        std::set<types::global_dof_index> seen;
-        for (const auto &cell : dof_handler.active_cell_iterators())
-          if (cell->is_locally_owned())
-            for (const auto f : cell->face_indices())
-              if (cell->face(f)->at_boundary() &&
-                  cell->face(f)->boundary_id() == bc.dirichlet[b].id)
-                {
-                  cell->face(f)->get_dof_indices(dofs);
-                  for (unsigned i = 0; i < dofs.size(); ++i)
-                    if (locally_owned_dofs.is_element(dofs[i]) && seen.insert(dofs[i]).second)
-                      reaction_dofs[b].emplace_back(dofs[i],
-                                                    fe.face_system_to_component_index(i).first);
-                }
-      }
+    {
+      std::set<types::global_dof_index> taken;
+      for (std::size_t b = 0; b < bc.dirichlet.size(); ++b)
+        for (unsigned c = 0; c < 3; ++c)
+          if (bc.dirichlet[b].components[c])
+            {
+              std::vector<bool> only_c(3, false);
+              only_c[c] = true;
+              std::map<types::global_dof_index, double> values;
+              VectorTools::interpolate_boundary_values(mapping, dof_handler, bc.dirichlet[b].id,
+                                                       Functions::ZeroFunction<3>(3), values,
+                                                       ComponentMask(only_c));
+              for (const auto &[dof, value] : values)
+                if (taken.insert(dof).second && locally_owned_dofs.is_element(dof))
+                  reaction_dofs[b].emplace_back(dof, c);
+            }
+    }
 
     if (parameters.linear.method != "direct")
       solver->set_near_null_space(rigid_body_modes());
@@ -569,11 +602,7 @@ namespace suturesim::tissue
         }
         report.solve_seconds += clock.wall_time();
         // The constrained entries of the update are the inhomogeneities g − u.
-        {
-          solution_ghost = update;
-          constraints.distribute(solution_ghost);
-          update = solution_ghost;
-        }
+        constraints.distribute(update);
         du_norm = update.l2_norm();
         du_max  = update.linfty_norm();
         report.increment_norms.push_back(du_norm);
@@ -646,14 +675,26 @@ namespace suturesim::tissue
   }
 
   std::vector<Reaction>
-  TissueModel::reactions(const double t)
+  TissueModel::reactions(const double t, const Vector *velocity, const Vector *acceleration)
   {
-    // R = f_int − f_ext at the state; on Dirichlet DoFs it is the force the support must
-    // exert on the tissue.
+    // R = f_int − f_ext (+ M v̇ + C v in dynamics) at the state; on Dirichlet DoFs it is
+    // the force the support must exert on the tissue.
     solution_ghost = solution;
     AffineConstraints<double> none;
     none.close();
-    assemble(t, solution_ghost, false, none);
+    if (velocity != nullptr && acceleration != nullptr)
+      {
+        Vector v_ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+        v_ghost = *velocity;
+        assemble(t, solution_ghost, false, none, &v_ghost); // includes a_K K_t v
+        Vector inertia(locally_owned_dofs, comm), tmp(locally_owned_dofs, comm);
+        tmp = *acceleration;
+        tmp.add(rayleigh_mass, *velocity);
+        mass_matrix.vmult(inertia, tmp);
+        full_residual.add(1.0, inertia);
+      }
+    else
+      assemble(t, solution_ghost, false, none);
     std::vector<Reaction> result;
     for (std::size_t b = 0; b < bc.dirichlet.size(); ++b)
       {
@@ -752,6 +793,7 @@ namespace suturesim::tissue
     SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, comm,
                                                locally_relevant_dofs);
     mass_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
+    jacobian_full.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
     const unsigned     n = fe.n_dofs_per_cell();
     FullMatrix<double> M(n, n);
     std::vector<types::global_dof_index> dofs(n);
@@ -801,41 +843,78 @@ namespace suturesim::tissue
     F_u = u_dot;
     F_u.add(-1.0, v);
 
-    // Dirichlet rows are algebraic: u = g(t), v = ġ(t) (central difference in time).
-    {
-        const double h = 1e-7 * std::max(1.0, std::abs(t));
-        Vector       zero(locally_owned_dofs, locally_relevant_dofs, comm);
-        AffineConstraints<double> c_now, c_plus, c_minus;
-        make_constraints(t, zero, c_now);
-        make_constraints(t + h, zero, c_plus);
-        make_constraints(t - h, zero, c_minus);
-        for (const auto i : owned_dirichlet)
-          {
-            F_u[i] = u[i] - c_now.get_inhomogeneity(i);
-            F_v[i] = v[i] - (c_plus.get_inhomogeneity(i) - c_minus.get_inhomogeneity(i)) / (2 * h);
-          }
-        F_u.compress(VectorOperation::insert);
-        F_v.compress(VectorOperation::insert);
+    // Dirichlet rows are algebraic: u = g(t), v = ġ(t).
+    std::vector<double> g, g_dot, g_ddot;
+    boundary_values(t, g, g_dot, g_ddot);
+    for (std::size_t k = 0; k < owned_dirichlet.size(); ++k)
+      {
+        const auto i = owned_dirichlet[k];
+        F_u[i]       = u[i] - g[k];
+        F_v[i]       = v[i] - g_dot[k];
       }
+    F_u.compress(VectorOperation::insert);
+    F_v.compress(VectorOperation::insert);
     return true;
+  }
+
+  void
+  TissueModel::boundary_values(const double         t,
+                               std::vector<double> &g,
+                               std::vector<double> &g_dot,
+                               std::vector<double> &g_ddot) const
+  {
+    // g(t) and its time derivatives (central differences of the prescribed functions)
+    // at the locally owned Dirichlet DoFs, in the order of owned_dirichlet.
+    const double h = 1e-4 * std::max(1e-3, std::abs(t)) + 1e-7;
+    Vector       zero(locally_owned_dofs, locally_relevant_dofs, comm);
+    std::array<AffineConstraints<double>, 3> c;
+    make_constraints(t - h, zero, c[0]);
+    make_constraints(t, zero, c[1]);
+    make_constraints(t + h, zero, c[2]);
+    g.resize(owned_dirichlet.size());
+    g_dot.resize(owned_dirichlet.size());
+    g_ddot.resize(owned_dirichlet.size());
+    for (std::size_t k = 0; k < owned_dirichlet.size(); ++k)
+      {
+        const auto   i  = owned_dirichlet[k];
+        const double gm = c[0].get_inhomogeneity(i), g0 = c[1].get_inhomogeneity(i),
+                     gp = c[2].get_inhomogeneity(i);
+        g[k]      = g0;
+        g_dot[k]  = (gp - gm) / (2 * h);
+        g_ddot[k] = (gp - 2 * g0 + gm) / (h * h);
+      }
+  }
+
+  void
+  TissueModel::initial_boundary_rates(Vector &u_dot, Vector &v_dot) const
+  {
+    std::vector<double> g, g_dot, g_ddot;
+    boundary_values(0.0, g, g_dot, g_ddot);
+    for (std::size_t k = 0; k < owned_dirichlet.size(); ++k)
+      {
+        u_dot[owned_dirichlet[k]] = g_dot[k];
+        v_dot[owned_dirichlet[k]] = g_ddot[k];
+      }
+    u_dot.compress(VectorOperation::insert);
+    v_dot.compress(VectorOperation::insert);
   }
 
   bool
   TissueModel::setup_dynamic_jacobian(const double t, const Vector &u, const double alpha)
   {
     solution_ghost = u;
-    AffineConstraints<double> homogeneous;
-    make_constraints(t, solution_ghost, homogeneous);
-    for (const auto &line : homogeneous.get_lines())
-      homogeneous.set_inhomogeneity(line.index, 0.0);
-    if (!assemble(t, solution_ghost, true, homogeneous))
+    AffineConstraints<double> none;
+    none.close();
+    if (!assemble(t, solution_ghost, true, none))
       return false;
-    // A = (1 + α a_K) K + (α² + α a_M) M on free rows; Dirichlet rows keep the identity
-    // scaling that the constraints put there.
+    // A = (1 + α a_K) K + (α² + α a_M) M, kept whole for the elimination of the Dirichlet
+    // values in the solve, and with the Dirichlet rows and columns of the identity for
+    // the factorisation (symmetric, so Cholesky applies).
     system_matrix *= (1.0 + alpha * rayleigh_stiffness);
     system_matrix.add(alpha * alpha + alpha * rayleigh_mass, mass_matrix);
-    // Dirichlet rows and columns become those of the identity (x_u = b_u there, inserted
-    // after the solve); zeroing the columns too keeps A symmetric for Cholesky.
+    if (MatCopy(system_matrix.petsc_matrix(), jacobian_full.petsc_matrix(),
+                DIFFERENT_NONZERO_PATTERN) != 0)
+      throw SolverError("PETSc MatCopy failed");
     std::vector<PetscInt> rows(owned_dirichlet.begin(), owned_dirichlet.end());
     const PetscErrorCode  ierr = MatZeroRowsColumns(system_matrix.petsc_matrix(),
                                                    static_cast<PetscInt>(rows.size()),
@@ -853,27 +932,47 @@ namespace suturesim::tissue
                                       Vector       &x_v,
                                       const double  tolerance)
   {
-    // Eliminating x_v = α x_u − b_u from the first block row gives
-    //   (K + α C + α² M) x_u = b_v + C b_u + α M b_u,   C = a_M M + a_K K,
-    // with K b_u taken from A (modified Newton; IDA converges without the exact term).
+    // Jacobian rows: free  α x_u − x_v = b_u,  K x_u + D x_v = b_v,  D = (α + a_M) M + a_K K;
+    //                Dirichlet  x_u = b_u,  x_v = b_v.
+    // With x_v = α x_u + w (w = −b_u on free, b_v − α b_u on Dirichlet DoFs) and
+    // x_u = y + x_d (x_d = b_u on Dirichlet DoFs, 0 elsewhere), the free rows read
+    //   A_ff y_f = b_v − D w − A x_d,   A = K + α D,
+    // and D w = (α + a_M) M w + a_K K w with K = (A − α(α + a_M) M) / (1 + α a_K).
     const double alpha = jacobian_alpha;
-    Vector rhs(locally_owned_dofs, comm), tmp(locally_owned_dofs, comm);
-    mass_matrix.vmult(tmp, b_u);
-    rhs = b_v;
-    rhs.add(alpha + rayleigh_mass, tmp);
+    const double c_m   = alpha + rayleigh_mass;
+    Vector       w(locally_owned_dofs, comm), x_d(locally_owned_dofs, comm);
+    Vector       rhs(locally_owned_dofs, comm), Mw(locally_owned_dofs, comm),
+      tmp(locally_owned_dofs, comm);
+    w = b_u;
+    w *= -1.0;
     for (const auto i : owned_dirichlet)
-      rhs[i] = 0; // Dirichlet rows: x_u = b_u, inserted below
+      {
+        w[i]   = b_v[i] - alpha * b_u[i];
+        x_d[i] = b_u[i];
+      }
+    w.compress(VectorOperation::insert);
+    x_d.compress(VectorOperation::insert);
+
+    mass_matrix.vmult(Mw, w);
+    rhs = b_v;
+    rhs.add(-c_m, Mw);
+    if (rayleigh_stiffness > 0)
+      {
+        jacobian_full.vmult(tmp, w); // A w
+        tmp.add(-alpha * c_m, Mw);   // (1 + α a_K) K w
+        rhs.add(-rayleigh_stiffness / (1.0 + alpha * rayleigh_stiffness), tmp);
+      }
+    jacobian_full.vmult(tmp, x_d);
+    rhs.add(-1.0, tmp);
+    for (const auto i : owned_dirichlet)
+      rhs[i] = 0;
     rhs.compress(VectorOperation::insert);
+
     x_u = 0;
     solver->solve(system_matrix, x_u, rhs, tolerance);
-    for (const auto i : owned_dirichlet)
-      x_u[i] = b_u[i];
-    x_u.compress(VectorOperation::insert);
+    x_u.add(1.0, x_d);
     x_v = x_u;
     x_v *= alpha;
-    x_v.add(-1.0, b_u);
-    for (const auto i : owned_dirichlet)
-      x_v[i] = b_v[i];
-    x_v.compress(VectorOperation::insert);
+    x_v.add(1.0, w);
   }
 } // namespace suturesim::tissue

@@ -95,6 +95,14 @@ TEST(InputErrors, UnknownOverride)
   EXPECT_NE(r.output.find("--set \"Tissue/Elemnt degree=2\""), std::string::npos) << r.output;
 }
 
+TEST(InputErrors, EmptyOverridePath)
+{
+  const auto r = run_suturesim("empty_override", source_path("tests/data/cook_coarse.prm") +
+                                                   " --set '=1'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("expected \"Subsection/Key=value\""), std::string::npos) << r.output;
+}
+
 TEST(Validate, AcceptsEveryShippedScene)
 {
   unsigned n = 0;

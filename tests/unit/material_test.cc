@@ -230,3 +230,30 @@ TEST(Material, RejectsIncompressiblePoissonRatio)
       EXPECT_NE(std::string(e.what()).find("Poisson ratio"), std::string::npos) << e.what();
     }
 }
+
+TEST(Material, VolumetricEnergiesMatchTheirClosedForms)
+{
+  // p = dΨ/dJ and dp/dJ of the registered energies against their formulas, and p(1) = 0.
+  const double kappa = 3e6;
+  const auto  &reg   = VolumetricEnergy::Registry::instance();
+  for (const double J : {0.8, 1.0, 1.25})
+    {
+      const auto st = reg.get("simo-taylor-1991").create(kappa);
+      EXPECT_NEAR(st->energy(J), kappa / 4 * (J * J - 1 - 2 * std::log(J)), 1e-9 * kappa);
+      EXPECT_NEAR(st->pressure(J), kappa / 2 * (J - 1 / J), 1e-9 * kappa);
+      EXPECT_NEAR(st->pressure_derivative(J), kappa / 2 * (1 + 1 / (J * J)), 1e-9 * kappa);
+      const auto q = reg.get("quadratic").create(kappa);
+      EXPECT_NEAR(q->energy(J), kappa / 2 * (J - 1) * (J - 1), 1e-9 * kappa);
+      EXPECT_NEAR(q->pressure(J), kappa * (J - 1), 1e-9 * kappa);
+      const auto l = reg.get("logarithmic").create(kappa);
+      EXPECT_NEAR(l->energy(J), kappa / 2 * std::log(J) * std::log(J), 1e-9 * kappa);
+      EXPECT_NEAR(l->pressure(J), kappa * std::log(J) / J, 1e-9 * kappa);
+      for (const auto *e : {st.get(), q.get(), l.get()})
+        {
+          const double h = 1e-6;
+          EXPECT_NEAR(e->pressure(J), (e->energy(J + h) - e->energy(J - h)) / (2 * h), 1e-6 * kappa);
+          EXPECT_NEAR(e->pressure_derivative(J),
+                      (e->pressure(J + h) - e->pressure(J - h)) / (2 * h), 1e-6 * kappa);
+        }
+    }
+}

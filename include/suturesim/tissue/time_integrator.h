@@ -54,11 +54,13 @@ namespace suturesim::tissue
     /// Records the current state at time t: a forces.csv row, the per-step statistics,
     /// and (when due) a VTU file. @p statistics goes into summary.json "steps".
     void
-    record(TissueModel          &model,
-           io::Recorder         &recorder,
-           const TimeParameters &time,
-           double                t,
-           nlohmann::json        statistics);
+    record(TissueModel                &model,
+           io::Recorder               &recorder,
+           const TimeParameters       &time,
+           double                      t,
+           nlohmann::json              statistics,
+           const TissueModel::Vector *velocity     = nullptr,
+           const TissueModel::Vector *acceleration = nullptr);
 
     /// One progress line: step, simulated time, Newton iterations, ETA.
     void

@@ -116,9 +116,10 @@ namespace suturesim::tissue
     void
     restore_state();
 
-    /// Reaction forces on every Dirichlet boundary at the current state and time.
+    /// Reaction forces on every Dirichlet boundary at the current state and time. In
+    /// dynamics, pass v and v̇: the support then also carries M v̇ + C v.
     std::vector<Reaction>
-    reactions(double t);
+    reactions(double t, const Vector *velocity = nullptr, const Vector *acceleration = nullptr);
 
     /// Displacements at the probe points (m), in the order of the parameters.
     std::vector<dealii::Tensor<1, 3>>
@@ -161,13 +162,19 @@ namespace suturesim::tissue
     bool
     setup_dynamic_jacobian(double t, const Vector &u, double alpha);
 
-    /// Solves the Jacobian system [αI, −I; K_t, αM + C] [x_u; x_v] = [b_u; b_v].
+    /// Solves the Jacobian system [αI, −I; K_t, αM + C] [x_u; x_v] = [b_u; b_v] exactly
+    /// (Dirichlet rows: identity), by eliminating x_v and the Dirichlet values.
     void
     solve_dynamic_jacobian(const Vector &b_u,
                            const Vector &b_v,
                            Vector       &x_u,
                            Vector       &x_v,
                            double        tolerance);
+
+    /// ġ(0) and g̈(0) into the Dirichlet entries of u̇ and v̇: IDA's consistent initial
+    /// conditions keep the derivatives of algebraic components as given.
+    void
+    initial_boundary_rates(Vector &u_dot, Vector &v_dot) const;
 
     /// Locally owned DoFs and the Dirichlet DoFs among them (IDA's algebraic set).
     const dealii::IndexSet &
@@ -213,6 +220,13 @@ namespace suturesim::tissue
     double
     free_residual_norm() const;
 
+    /// g, ġ, g̈ at the locally owned Dirichlet DoFs (order of owned_dirichlet).
+    void
+    boundary_values(double               t,
+                    std::vector<double> &g,
+                    std::vector<double> &g_dot,
+                    std::vector<double> &g_ddot) const;
+
     /// a·b over the free (non-Dirichlet) DoFs.
     double
     free_dot(const Vector &a, const Vector &b) const;
@@ -241,7 +255,7 @@ namespace suturesim::tissue
     dealii::IndexSet                        locally_owned_dofs, locally_relevant_dofs;
     dealii::AffineConstraints<double>       constraints;
     std::vector<dealii::types::global_dof_index> owned_dirichlet;
-    dealii::PETScWrappers::MPI::SparseMatrix system_matrix, mass_matrix;
+    dealii::PETScWrappers::MPI::SparseMatrix system_matrix, mass_matrix, jacobian_full;
     Vector solution, solution_ghost, saved_solution, system_rhs, full_residual;
     std::vector<PressureCoefficients> cell_pressure, saved_cell_pressure;
 
