@@ -83,12 +83,7 @@ TEST(CookMembrane, TwoMpiProcessesGiveTheSerialResult)
 {
   const auto serial = cook("cook_serial", 8, 2);
   const auto parallel =
-    cook("cook_mpi", 8, 2, "",
-         // This test process is an MPI singleton: its OMPI_/PMIX_ variables would make
-         // the child mpirun join it instead of starting two fresh processes.
-         "for v in $(env | cut -d= -f1 | grep -E '^(OMPI_|PMIX_|OPAL_)'); do unset $v; "
-         "done; OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-         "mpirun -np 2 --oversubscribe");
+    cook("cook_mpi", 8, 2, "", mpi_launcher(2));
   ASSERT_EQ(serial.exit_code, 0) << serial.output;
   ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
   EXPECT_EQ(parallel.summary["mpi_processes"], 2);

@@ -37,20 +37,15 @@ TEST(Dynamics, BarUnderSuddenGravityFollowsTheWaveEquation)
   ASSERT_EQ(r.summary["solver"]["integrator"], "ida");
 
   // forces.csv holds the tip history at every output time.
-  std::ifstream csv(r.directory + "/forces.csv");
-  std::string   header;
-  std::getline(csv, header);
+  std::string header;
+  const auto  history = read_forces(r, &header);
   ASSERT_NE(header.find("tip_displacement_x [m]"), std::string::npos) << header;
   // columns: time, 3 reaction components of the fixed face, 3 tip components
   const double static_tip = 1000 * 10 * 0.08 * 0.08 / (2 * 2e5);
   unsigned     rows = 0;
   double       max_error = 0, peak = 0;
-  for (std::string line; std::getline(csv, line);)
+  for (const auto &v : history)
     {
-      std::stringstream   s(line);
-      std::vector<double> v;
-      for (std::string cell; std::getline(s, cell, ',');)
-        v.push_back(std::stod(cell));
       ASSERT_EQ(v.size(), 7u);
       max_error = std::max(max_error, std::abs(v[4] - tip_series(v[0])));
       peak      = std::max(peak, v[4]);
@@ -91,19 +86,12 @@ TEST(Dynamics, BarDrivenAtBothEndsFollowsTheWaveEquation)
 {
   const auto r = run_suturesim("bar_translation", source_path("tests/data/bar_translation.prm"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream csv(r.directory + "/forces.csv");
-  std::string   header;
-  std::getline(csv, header);
   // columns: time, boundary_0 R (3), boundary_1 R (3), middle u (3)
   const double A = 1e-4, w = 300;
   std::vector<std::array<double, 5>> rows; // t, w_fe, w_exact, R_fe, R_exact
   double max_w = 0, max_r = 0;
-  for (std::string line; std::getline(csv, line);)
+  for (const auto &v : read_forces(r))
     {
-      std::stringstream   s(line);
-      std::vector<double> v;
-      for (std::string cell; std::getline(s, cell, ',');)
-        v.push_back(std::stod(cell));
       ASSERT_EQ(v.size(), 10u);
       const double t        = v[0];
       const auto [mid, force] = driven_bar(t);

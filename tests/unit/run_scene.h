@@ -26,6 +26,38 @@ namespace suturesim::test_support
     return std::string(SUTURESIM_SOURCE_DIR) + "/" + relative;
   }
 
+  /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes. The test
+  /// process is an MPI singleton: its OMPI_/PMIX_ variables would make the child mpirun
+  /// join it, so they are removed first.
+  inline std::string
+  mpi_launcher(const unsigned n)
+  {
+    return "for v in $(env | cut -d= -f1 | grep -E '^(OMPI_|PMIX_|OPAL_)'); do unset $v; "
+           "done; OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np " +
+           std::to_string(n) + " --oversubscribe";
+  }
+
+  /// The numeric rows of a run's forces.csv (the header is checked by the caller).
+  inline std::vector<std::vector<double>>
+  read_forces(const RunResult &r, std::string *header = nullptr)
+  {
+    std::ifstream csv(r.directory + "/forces.csv");
+    std::string   first;
+    std::getline(csv, first);
+    if (header != nullptr)
+      *header = first;
+    std::vector<std::vector<double>> rows;
+    for (std::string line; std::getline(csv, line);)
+      {
+        std::stringstream   s(line);
+        std::vector<double> v;
+        for (std::string cell; std::getline(s, cell, ',');)
+          v.push_back(std::stod(cell));
+        rows.push_back(v);
+      }
+    return rows;
+  }
+
   /// Runs `[launcher] suturesim args --output <fresh folder>`.
   inline RunResult
   run_suturesim(const std::string &name, const std::string &args,
