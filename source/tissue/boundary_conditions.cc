@@ -20,12 +20,11 @@ namespace suturesim::tissue
 
     /// Declares a vector-valued muParser function of x, y, z (m) and t (s).
     void
-    declare_function(ParameterHandler &prm, const std::string &name, const std::string &unit)
+    declare_function(ParameterHandler &prm, const std::string &name)
     {
       prm.enter_subsection(name);
       Functions::ParsedFunction<3>::declare_parameters(prm, 3);
       prm.leave_subsection();
-      (void)unit;
     }
 
     std::unique_ptr<Functions::ParsedFunction<3>>
@@ -91,8 +90,8 @@ namespace suturesim::tissue
                       Patterns::List(Patterns::Double(), 3, 3),
                       "Gravitational acceleration; body force = density * gravity. Unit: "
                       "m/s^2.");
-    declare_function(prm, "Prescribed displacement function", "m");
-    declare_function(prm, "Traction function", "Pa");
+    declare_function(prm, "Prescribed displacement function");
+    declare_function(prm, "Traction function");
   }
 
   void

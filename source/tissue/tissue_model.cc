@@ -453,6 +453,7 @@ namespace suturesim::tissue
     FEFaceValues<3> face_values(mapping, fe, face_quadrature,
                                 update_values | update_JxW_values | update_quadrature_points);
     dealii::Vector<double> traction(3);
+    const Function<3>     &traction_function = bc.traction(t); // set the time once
     const bool damping = velocity_ghost != nullptr && rayleigh_stiffness > 0;
 
     unsigned bad_cells = 0;
@@ -482,7 +483,7 @@ namespace suturesim::tissue
                   face_values.reinit(cell, f);
                   for (unsigned q = 0; q < face_values.n_quadrature_points; ++q)
                     {
-                      bc.traction(t).vector_value(face_values.quadrature_point(q), traction);
+                      traction_function.vector_value(face_values.quadrature_point(q), traction);
                       for (unsigned i = 0; i < n; ++i)
                         {
                           const unsigned comp = fe.system_to_component_index(i).first;
