@@ -110,7 +110,7 @@ main(int argc, char **argv)
       recorder->finish("completed");
       if (root)
         std::cout << "suturesim: wrote " << output << "/ (summary.json, forces.csv, "
-                  << "tissue.pvd, parameters.prm)\n";
+                  << "*.pvd, parameters.prm)\n";
       return 0;
     }
   catch (const InputError &e)

@@ -22,7 +22,15 @@ namespace suturesim::scene
                       "accurate",
                       Patterns::Selection("accurate"),
                       "Model path: 'accurate' (finite-strain hyperelastic FE tissue, "
-                      "deal.II + PETSc, implicit).");
+                      "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture).");
+    prm.declare_entry("Bodies",
+                      "tissue",
+                      Patterns::Selection("tissue|suture"),
+                      "What the scene simulates: 'tissue' (subsections Mesh, Tissue) or "
+                      "'suture' (subsection Suture). Unit: none.");
+    prm.enter_subsection("Suture");
+    rod::RodParameters::declare(prm);
+    prm.leave_subsection();
     prm.enter_subsection("Mesh");
     mesh::MeshParameters::declare(prm);
     prm.leave_subsection();
@@ -36,7 +44,13 @@ namespace suturesim::scene
     prm.leave_subsection();
     prm.leave_subsection();
     prm.enter_subsection("Time");
-    tissue::TimeParameters::declare(prm);
+    std::map<std::string, std::string> rod_integrators;
+    for (const auto &[name, entry] : rod::RodIntegrator::Registry::instance().all())
+      rod_integrators[name] = entry.description;
+    tissue::TimeParameters::declare(prm, rod_integrators);
+    for (const auto &[name, entry] : rod::RodIntegrator::Registry::instance().all())
+      if (entry.declare_parameters)
+        entry.declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -46,6 +60,29 @@ namespace suturesim::scene
     const ParameterScope root(file, "");
     scene_name = prm.get("Scene name");
     model_path = prm.get("Model");
+    bodies     = prm.get("Bodies");
+
+    if (bodies == "suture")
+      {
+        prm.enter_subsection("Suture");
+        rod_parameters.parse(prm, root.subsection("Suture"));
+        prm.leave_subsection();
+        prm.enter_subsection("Time");
+        const ParameterScope time = root.subsection("Time");
+        time_parameters.parse(prm, time);
+        const auto &registry = rod::RodIntegrator::Registry::instance();
+        time.require(registry.all().count(time_parameters.integrator) > 0, "Integrator",
+                     "'" + time_parameters.integrator + "' does not integrate a suture; use " +
+                       registry.selection_pattern());
+        if (time_parameters.integrator != "quasi-static")
+          root.subsection("Suture/Cross section")
+            .require(rod_parameters.section.density > 0, "Density",
+                     "must be > 0 kg/m^3 for dynamics (Time/Integrator = " +
+                       time_parameters.integrator + ")");
+        rod_integrator = registry.get(time_parameters.integrator).create(prm, time);
+        prm.leave_subsection();
+        return;
+      }
 
     prm.enter_subsection("Mesh");
     mesh_parameters.parse(prm, root.subsection("Mesh"));
@@ -73,9 +110,11 @@ namespace suturesim::scene
       tissue.subsection("Material").require(material->density() > 0, "Density",
                                             "must be > 0 kg/m^3 for dynamics (Time/Integrator = " +
                                               time_parameters.integrator + ")");
-    integrator = tissue::TimeIntegrator::Registry::instance()
-                   .get(time_parameters.integrator)
-                   .create(prm, time);
+    const auto &registry = tissue::TimeIntegrator::Registry::instance();
+    time.require(registry.all().count(time_parameters.integrator) > 0, "Integrator",
+                 "'" + time_parameters.integrator + "' does not integrate the tissue; use " +
+                   registry.selection_pattern());
+    integrator = registry.get(time_parameters.integrator).create(prm, time);
     prm.leave_subsection();
   }
 
@@ -93,7 +132,10 @@ namespace suturesim::scene
       TimerOutput timer(comm, pcout, TimerOutput::never, TimerOutput::wall_times);
       try
         {
-          run(recorder, timer, pcout);
+          if (bodies == "suture")
+            run_suture(recorder, timer, pcout);
+          else
+            run(recorder, timer, pcout);
           timer.print_summary();
         }
       catch (const SolverError &)
@@ -161,5 +203,42 @@ namespace suturesim::scene
                                          (tissue_parameters.linear.method == "direct"
                                             ? std::string(" (MUMPS)")
                                             : "+" + tissue_parameters.linear.preconditioner);
+  }
+
+  void
+  Simulation::run_suture(io::Recorder &recorder, TimerOutput &timer, ConditionalOStream &pcout)
+  {
+    rod::RodProblem problem(rod_parameters, time_parameters, recorder);
+    const auto     &section = rod_parameters.section;
+    const auto      k       = section.stiffness();
+    auto           &summary = recorder.summary();
+    summary["scene"]        = scene_name;
+    summary["scene_file"]   = file.name();
+    summary["model"]        = model_path;
+    summary["bodies"]       = bodies;
+    summary["suture"]       = {{"elements", problem.model.n_elements()},
+                               {"centreline", rod_parameters.centreline},
+                               {"preset", rod_parameters.preset},
+                               {"radius", section.radius},
+                               {"EA", k.force[0]},
+                               {"GA", k.force[1]},
+                               {"EI", k.moment[1]},
+                               {"GJ", k.moment[0]},
+                               {"self_contact", rod_parameters.contact.enabled}};
+    summary["metrics"]      = nlohmann::json::object();
+    summary["steps"]        = nlohmann::json::array();
+    pcout << "suturesim: scene '" << scene_name << "', suture of " << problem.model.n_elements()
+          << " Cosserat rod elements (" << rod_parameters.centreline << "), EI = " << k.moment[1]
+          << " N m^2, " << time_parameters.integrator << "\n";
+    {
+      TimerOutput::Scope scope(timer, "suture");
+      rod_integrator->run(problem);
+    }
+    summary["solver"]["linear_solver"] = rod_parameters.contact.enabled
+                                           ? "block-tridiagonal LU; sparse LU with contact"
+                                           : "block-tridiagonal LU";
+    auto &timings = summary["timings"];
+    for (const auto &[section_name, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
+      timings[section_name] = seconds;
   }
 } // namespace suturesim::scene

@@ -7,14 +7,22 @@
 namespace suturesim::tissue
 {
   void
-  TimeParameters::declare(dealii::ParameterHandler &prm)
+  TimeParameters::declare(dealii::ParameterHandler &prm,
+                          const std::map<std::string, std::string> &other_integrators)
   {
     const TimeParameters d;
     const auto          &integrators = TimeIntegrator::Registry::instance();
-    prm.declare_entry("Integrator",
-                      d.integrator,
-                      dealii::Patterns::Selection(integrators.selection_pattern()),
-                      "Time integration. " + integrators.documentation());
+    std::string          pattern     = integrators.selection_pattern();
+    std::string          doc         = "Time integration. Tissue: " + integrators.documentation();
+    if (!other_integrators.empty())
+      doc += "Suture: ";
+    for (const auto &[name, description] : other_integrators)
+      {
+        if (integrators.all().count(name) == 0)
+          pattern += "|" + name;
+        doc += "'" + name + "': " + description + " ";
+      }
+    prm.declare_entry("Integrator", d.integrator, dealii::Patterns::Selection(pattern), doc);
     prm.declare_entry("End time",
                       "1",
                       dealii::Patterns::Double(0),

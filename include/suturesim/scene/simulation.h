@@ -3,11 +3,15 @@
  * @file
  * A scene: its parameters (declared by each component into its own subsection), their
  * checks, and the run of the chosen model path into a Recorder. Model paths: "accurate"
- * (finite-strain FE tissue); the realtime path registers here when it exists.
+ * (finite-strain FE tissue, Cosserat-rod suture); the realtime path registers here when
+ * it exists. Bodies: the tissue alone or the suture alone (their coupling comes with the
+ * pierce points).
  */
 
 #include <suturesim/io/recorder.h>
 #include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/rod/rod_integrator.h>
+#include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/parameter_file.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
@@ -48,10 +52,15 @@ namespace suturesim::scene
   private:
     void
     run(io::Recorder &recorder, dealii::TimerOutput &timer, dealii::ConditionalOStream &pcout);
+    void
+    run_suture(io::Recorder &recorder, dealii::TimerOutput &timer, dealii::ConditionalOStream &pcout);
 
     const ParameterFile              &file;
     std::string                        scene_name;
     std::string                        model_path;
+    std::string                        bodies;
+    rod::RodParameters                 rod_parameters;
+    std::unique_ptr<rod::RodIntegrator> rod_integrator;
     mesh::MeshParameters               mesh_parameters;
     tissue::TissueParameters           tissue_parameters;
     std::optional<tissue::Material>    material;

@@ -17,6 +17,7 @@
 #include <deal.II/base/conditional_ostream.h>
 
 #include <chrono>
+#include <map>
 
 namespace suturesim::tissue
 {
@@ -28,10 +29,12 @@ namespace suturesim::tissue
     unsigned    max_cutbacks    = 6;
     double      output_interval = 0.0;
 
-    /// Declares into the current subsection ("Time") and lets each integrator declare
-    /// its own subsection.
+    /// Declares into the current subsection ("Time") and lets each tissue integrator
+    /// declare its own subsection. @p other_integrators (name → description) are
+    /// integrators of other bodies (the suture's) offered under the same key.
     static void
-    declare(dealii::ParameterHandler &prm);
+    declare(dealii::ParameterHandler &prm,
+            const std::map<std::string, std::string> &other_integrators = {});
     void
     parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
   };

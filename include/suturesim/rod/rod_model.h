@@ -1,0 +1,220 @@
+#pragma once
+/**
+ * @file
+ * A Cosserat rod discretised by two-node Simo–Reissner elements (rod_element.h): nodal
+ * positions and unit-quaternion rotations, constraints per nodal degree of freedom,
+ * conservative and fixed-direction loads, self-contact, and Newton's method (full steps
+ * or an energy line search).
+ *
+ * Unknowns per node: (Δx, θ), the translation and the spatial rotation increment
+ * applied as R ← exp(θ̂)R (multiplicative update; quaternions are never added). The
+ * residual is the spatial force and moment imbalance r = ∂W/∂(Δx, θ) − f_ext (+ inertia
+ * when a time integrator adds it). Its Jacobian with respect to (Δx, θ) is the element
+ * Hessian minus ½ r̂_W on each node's rotation block, where r_W is the elastic moment
+ * residual at the node: the Hessian is that of the pull-back W(exp(θ̂)R), whose gradient
+ * is J_l(θ)ᵀ r_W, and J_l(θ)ᵀ = I − ½θ̂ + O(θ²). With that term the tangent is the exact
+ * derivative of the residual also for non-conservative loads (a moment of fixed
+ * direction), so Newton converges quadratically.
+ *
+ * Linear solves: without contact the Jacobian of an open rod is block tridiagonal
+ * (6 × 6 blocks) and is factorised by block LU in O(N); contact couples distant nodes
+ * and the system then goes to a sparse LU (Eigen::SparseLU).
+ */
+
+#include <suturesim/rod/rod_element.h>
+#include <suturesim/rod/self_contact.h>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace suturesim::rod
+{
+  using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+  /// Mass per node of a lumped rod (translational and material rotational inertia).
+  struct NodeInertia
+  {
+    double mass = 0;                  ///< kg
+    Vec3   rotational = Vec3::Zero(); ///< material principal moments (J₁, J₂, J₃), kg m²
+  };
+
+  /// Terms a time integrator adds at every node: residual r (6) and Jacobian block (6×6)
+  /// given the node's current position and rotation.
+  using NodalTerms = std::function<void(std::size_t node, const Vec3 &x, const Quat &q,
+                                        Vec6 &residual, Mat6 &jacobian)>;
+
+  struct NewtonParameters
+  {
+    unsigned max_iterations    = 50;
+    double   tolerance         = 1e-10; ///< relative residual
+    /// Energy line-search trials per iteration; 0 = full Newton steps (halved only when
+    /// a step would turn an element by π). On the roll-up and cantilever benchmarks full
+    /// steps converge in half the iterations of the line search.
+    unsigned line_search_steps = 0;
+    /// Residual below which round-off dominates (N); the solver uses at least
+    /// 1e-13 EA. Time integrators raise it to the round-off of their inertia terms.
+    double absolute_floor = 0;
+  };
+
+  struct NewtonResult
+  {
+    bool     converged  = false;
+    unsigned iterations = 0;
+    double   residual   = 0;
+    std::string reason;
+  };
+
+  class RodModel
+  {
+  public:
+    /// A rod through @p x with nodal rotations @p q, stress free in that configuration.
+    RodModel(const std::vector<Vec3> &x, const std::vector<Quat> &q,
+             const SectionStiffness &section, double mass_per_length,
+             const Vec3 &rotational_inertia_per_length);
+    RodModel(const RodModel &other);
+    ~RodModel();
+
+    std::size_t
+    n_nodes() const
+    {
+      return pos.size();
+    }
+    std::size_t
+    n_elements() const
+    {
+      return reference.size();
+    }
+
+    const std::vector<Vec3> &
+    positions() const
+    {
+      return pos;
+    }
+    const std::vector<Quat> &
+    rotations() const
+    {
+      return rot;
+    }
+    void
+    set_node(std::size_t i, const Vec3 &x, const Quat &q);
+
+    const std::vector<ElementReference> &
+    references() const
+    {
+      return reference;
+    }
+    const SectionStiffness &
+    section() const
+    {
+      return stiffness;
+    }
+    const NodeInertia &
+    inertia(std::size_t node) const
+    {
+      return lumped[node];
+    }
+
+    /// Fixes components of a node: 0–2 translation, 3–5 rotation.
+    void
+    constrain(std::size_t node, const std::array<bool, 6> &fixed);
+    bool
+    is_constrained(std::size_t node, unsigned component) const
+    {
+      return fixed[node][component];
+    }
+
+    /// Fixed-direction nodal forces (N) and moments (N m), spatial.
+    std::vector<Vec3> &
+    forces()
+    {
+      return force;
+    }
+    std::vector<Vec3> &
+    moments()
+    {
+      return moment;
+    }
+
+    void
+    set_contact(const ContactParameters &parameters);
+    const SelfContact &
+    contact() const
+    {
+      return self_contact;
+    }
+
+    /// Elastic + contact energy minus the work potential of the nodal forces (J); the
+    /// moments have no potential in 3-D and are left out.
+    double
+    potential_energy();
+
+    /// Kinetic energy from nodal velocities and material angular velocities, J.
+    double
+    kinetic_energy(const std::vector<Vec3> &velocity, const std::vector<Vec3> &omega) const;
+
+    /// The residual (6 per node, constrained components included) in the current state,
+    /// with @p extra terms when given.
+    Eigen::VectorXd
+    residual(const NodalTerms *extra = nullptr);
+
+    /// The Jacobian of residual() as a dense matrix (for tests; O(N²) memory).
+    Eigen::MatrixXd
+    dense_jacobian(const NodalTerms *extra = nullptr);
+
+    /// Newton's method from the current state; on failure the state is left where the
+    /// iterations stopped (the caller restores it).
+    NewtonResult
+    solve(const NewtonParameters &parameters, const NodalTerms *extra = nullptr);
+
+    /// One Newton iteration's work, assembly and linear solve, without updating the
+    /// state: returns the correction (for benchmarks).
+    Eigen::VectorXd
+    newton_direction(const NodalTerms *extra = nullptr);
+
+    /// Applies the correction @p delta scaled by @p step.
+    void
+    update(const Eigen::VectorXd &delta, double step = 1);
+
+    /// Element centre states (strains, resultants).
+    std::vector<ElementState>
+    element_states() const;
+
+    /// Contact force magnitude per node of the last assembly, N.
+    const std::vector<double> &
+    contact_forces() const
+    {
+      return contact_force;
+    }
+
+    /// Largest nodal translation increment of the last Newton solve, m.
+    double
+    last_increment() const
+    {
+      return increment;
+    }
+
+  private:
+    struct System;
+    void
+    assemble(System &system, const NodalTerms *extra, bool with_jacobian);
+    Eigen::VectorXd
+    solve_linear(System &system) const;
+
+    std::vector<Vec3>                  pos;
+    std::vector<Quat>                  rot;
+    std::vector<ElementReference>      reference;
+    SectionStiffness                   stiffness;
+    std::vector<NodeInertia>           lumped;
+    std::vector<std::array<bool, 6>>   fixed;
+    std::vector<Vec3>                  force, moment;
+    SelfContact                        self_contact;
+    std::vector<double>                contact_force;
+    double                             increment = 0;
+    std::unique_ptr<System>            work;
+  };
+} // namespace suturesim::rod

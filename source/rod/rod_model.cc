@@ -1,0 +1,458 @@
+#include <suturesim/rod/rod_model.h>
+
+#include <Eigen/LU>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace suturesim::rod
+{
+  struct RodModel::System
+  {
+    std::vector<Mat6>                  diag, upper, lower; // (i,i), (i,i+1), (i+1,i)
+    Eigen::VectorXd                    r;
+    std::vector<Eigen::Triplet<double>> extra;              // couplings beyond neighbours
+    // work space of the block LU, kept so that a Newton iteration does not allocate
+    std::vector<Eigen::PartialPivLU<Mat6>> lu;
+    std::vector<Mat6>                      C;
+    std::vector<Vec6>                      y;
+
+    void
+    reset(const std::size_t n, const bool jacobian)
+    {
+      r.setZero(6 * n);
+      extra.clear();
+      if (!jacobian)
+        return;
+      diag.resize(n);
+      upper.resize(n - 1);
+      lower.resize(n - 1);
+      for (auto *blocks : {&diag, &upper, &lower})
+        for (auto &b : *blocks)
+          b.setZero();
+    }
+
+    /// Adds a 3×3 translational block at nodes (a, b).
+    void
+    add_translational(const std::size_t a, const std::size_t b, const Mat3 &k)
+    {
+      if (a == b)
+        diag[a].topLeftCorner<3, 3>() += k;
+      else if (b == a + 1)
+        upper[a].topLeftCorner<3, 3>() += k;
+      else if (a == b + 1)
+        lower[b].topLeftCorner<3, 3>() += k;
+      else
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
+    }
+  };
+
+  RodModel::RodModel(const std::vector<Vec3> &x, const std::vector<Quat> &q,
+                     const SectionStiffness &section, const double mass_per_length,
+                     const Vec3 &rotational_inertia_per_length)
+    : pos(x)
+    , rot(q)
+    , stiffness(section)
+    , lumped(x.size())
+    , fixed(x.size(), std::array<bool, 6>{{false, false, false, false, false, false}})
+    , force(x.size(), Vec3::Zero())
+    , moment(x.size(), Vec3::Zero())
+    , contact_force(x.size(), 0.0)
+    , work(std::make_unique<System>())
+  {
+    if (x.size() < 2 || x.size() != q.size())
+      throw std::invalid_argument("RodModel: needs at least two nodes, each with a rotation");
+    for (auto &r : rot)
+      r.normalize();
+    for (std::size_t e = 0; e + 1 < x.size(); ++e)
+      {
+        reference.push_back(make_reference(pos[e], rot[e], pos[e + 1], rot[e + 1]));
+        // lumped inertia: half of each adjacent element to each node
+        for (const std::size_t n : {e, e + 1})
+          {
+            lumped[n].mass += 0.5 * mass_per_length * reference[e].length;
+            lumped[n].rotational += 0.5 * reference[e].length * rotational_inertia_per_length;
+          }
+      }
+  }
+
+  RodModel::~RodModel() = default;
+
+  RodModel::RodModel(const RodModel &other)
+    : pos(other.pos)
+    , rot(other.rot)
+    , reference(other.reference)
+    , stiffness(other.stiffness)
+    , lumped(other.lumped)
+    , fixed(other.fixed)
+    , force(other.force)
+    , moment(other.moment)
+    , self_contact(other.self_contact)
+    , contact_force(other.contact_force)
+    , increment(other.increment)
+    , work(std::make_unique<System>())
+  {}
+
+  void
+  RodModel::set_node(const std::size_t i, const Vec3 &x, const Quat &q)
+  {
+    pos[i] = x;
+    rot[i] = q.normalized();
+  }
+
+  void
+  RodModel::constrain(const std::size_t node, const std::array<bool, 6> &f)
+  {
+    fixed[node] = f;
+  }
+
+  void
+  RodModel::set_contact(const ContactParameters &parameters)
+  {
+    std::vector<double> lengths;
+    for (const auto &r : reference)
+      lengths.push_back(r.length);
+    self_contact.setup(parameters, pos, lengths);
+  }
+
+  double
+  RodModel::potential_energy()
+  {
+    double e = 0;
+    for (std::size_t k = 0; k < n_elements(); ++k)
+      e += element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness).energy;
+    self_contact.update(pos);
+    e += self_contact.energy();
+    for (std::size_t i = 0; i < n_nodes(); ++i)
+      e -= force[i].dot(pos[i]);
+    return e;
+  }
+
+  double
+  RodModel::kinetic_energy(const std::vector<Vec3> &velocity, const std::vector<Vec3> &omega) const
+  {
+    double e = 0;
+    for (std::size_t i = 0; i < n_nodes(); ++i)
+      e += 0.5 * lumped[i].mass * velocity[i].squaredNorm() +
+           0.5 * omega[i].dot(lumped[i].rotational.cwiseProduct(omega[i]));
+    return e;
+  }
+
+  void
+  RodModel::assemble(System &s, const NodalTerms *extra, const bool with_jacobian)
+  {
+    const std::size_t n = n_nodes();
+    s.reset(n, with_jacobian);
+    Vec12 g;
+    Mat12 H;
+    for (std::size_t k = 0; k < n_elements(); ++k)
+      {
+        if (with_jacobian)
+          {
+            element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, H);
+            s.diag[k] += H.topLeftCorner<6, 6>();
+            s.diag[k + 1] += H.bottomRightCorner<6, 6>();
+            s.upper[k] += H.topRightCorner<6, 6>();
+            s.lower[k] += H.bottomLeftCorner<6, 6>();
+          }
+        else
+          {
+            // the residual alone (line search): gradient without the Hessian work
+            Mat12 dummy;
+            element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, dummy);
+          }
+        s.r.segment<12>(6 * k) += g;
+      }
+    if (with_jacobian)
+      for (std::size_t i = 0; i < n; ++i)
+        s.diag[i].block<3, 3>(3, 3) -= 0.5 * skew(s.r.segment<3>(6 * i + 3));
+
+    std::fill(contact_force.begin(), contact_force.end(), 0.0);
+    for (const auto &c : self_contact.update(pos))
+      {
+        const std::array<std::size_t, 4> node{{c.a, c.a + 1, c.b, c.b + 1}};
+        const std::array<double, 4>      w{{1 - c.s, c.s, -(1 - c.t), -c.t}};
+        for (int i = 0; i < 4; ++i)
+          {
+            s.r.segment<3>(6 * node[i]) -= c.force * w[i] * c.normal;
+            contact_force[node[i]] += c.force * std::abs(w[i]);
+          }
+        if (with_jacobian)
+          {
+            const Mat3 K = c.stiffness * c.normal * c.normal.transpose() -
+                           (c.force / c.distance) * (Mat3::Identity() - c.normal * c.normal.transpose());
+            for (int i = 0; i < 4; ++i)
+              for (int j = 0; j < 4; ++j)
+                s.add_translational(node[i], node[j], w[i] * w[j] * K);
+          }
+      }
+
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        s.r.segment<3>(6 * i) -= force[i];
+        s.r.segment<3>(6 * i + 3) -= moment[i];
+      }
+    if (extra)
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          Vec6 r = Vec6::Zero();
+          Mat6 J = Mat6::Zero();
+          (*extra)(i, pos[i], rot[i], r, J);
+          s.r.segment<6>(6 * i) += r;
+          if (with_jacobian)
+            s.diag[i] += J;
+        }
+  }
+
+  Eigen::VectorXd
+  RodModel::solve_linear(System &s) const
+  {
+    const std::size_t n = n_nodes();
+    // constrained components: zero row and column, unit diagonal, zero right-hand side
+    for (std::size_t i = 0; i < n; ++i)
+      for (unsigned c = 0; c < 6; ++c)
+        if (fixed[i][c])
+          {
+            s.diag[i].row(c).setZero();
+            s.diag[i].col(c).setZero();
+            s.diag[i](c, c) = 1;
+            s.r[6 * i + c]  = 0;
+            if (i + 1 < n)
+              {
+                s.upper[i].row(c).setZero();
+                s.lower[i].col(c).setZero();
+              }
+            if (i > 0)
+              {
+                s.lower[i - 1].row(c).setZero();
+                s.upper[i - 1].col(c).setZero();
+              }
+          }
+    Eigen::VectorXd delta(6 * n);
+    if (s.extra.empty())
+      {
+        // block LU (Thomas): O(N) for the block-tridiagonal Jacobian of an open rod
+        auto &lu = s.lu;
+        auto &C  = s.C;
+        auto &y  = s.y;
+        lu.resize(n);
+        C.resize(n);
+        y.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+          {
+            Mat6 D = s.diag[i];
+            Vec6 b = -s.r.segment<6>(6 * i);
+            if (i > 0)
+              {
+                D -= s.lower[i - 1] * C[i - 1];
+                b -= s.lower[i - 1] * y[i - 1];
+              }
+            lu[i].compute(D);
+            if (i + 1 < n)
+              C[i] = lu[i].solve(s.upper[i]);
+            y[i] = lu[i].solve(b);
+          }
+        delta.segment<6>(6 * (n - 1)) = y[n - 1];
+        for (std::size_t i = n - 1; i-- > 0;)
+          delta.segment<6>(6 * i) = y[i] - C[i] * delta.segment<6>(6 * (i + 1));
+        return delta;
+      }
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(36 * 3 * n + s.extra.size());
+    const auto add_block = [&](const std::size_t a, const std::size_t b, const Mat6 &m) {
+      for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+          if (m(i, j) != 0)
+            t.emplace_back(6 * a + i, 6 * b + j, m(i, j));
+    };
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        add_block(i, i, s.diag[i]);
+        if (i + 1 < n)
+          {
+            add_block(i, i + 1, s.upper[i]);
+            add_block(i + 1, i, s.lower[i]);
+          }
+      }
+    for (const auto &e : s.extra)
+      if (!fixed[e.row() / 6][e.row() % 6] && !fixed[e.col() / 6][e.col() % 6])
+        t.push_back(e);
+    Eigen::SparseMatrix<double> A(6 * n, 6 * n);
+    A.setFromTriplets(t.begin(), t.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+    solver.compute(A);
+    if (solver.info() != Eigen::Success)
+      throw std::domain_error("sparse LU of the rod Jacobian failed (singular)");
+    delta = solver.solve(-s.r);
+    return delta;
+  }
+
+  Eigen::VectorXd
+  RodModel::residual(const NodalTerms *extra)
+  {
+    System s;
+    assemble(s, extra, false);
+    return s.r;
+  }
+
+  Eigen::MatrixXd
+  RodModel::dense_jacobian(const NodalTerms *extra)
+  {
+    System s;
+    assemble(s, extra, true);
+    const std::size_t n = n_nodes();
+    Eigen::MatrixXd   J = Eigen::MatrixXd::Zero(6 * n, 6 * n);
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        J.block<6, 6>(6 * i, 6 * i) += s.diag[i];
+        if (i + 1 < n)
+          {
+            J.block<6, 6>(6 * i, 6 * i + 6) += s.upper[i];
+            J.block<6, 6>(6 * i + 6, 6 * i) += s.lower[i];
+          }
+      }
+    for (const auto &e : s.extra)
+      J(e.row(), e.col()) += e.value();
+    return J;
+  }
+
+  Eigen::VectorXd
+  RodModel::newton_direction(const NodalTerms *extra)
+  {
+    assemble(*work, extra, true);
+    return solve_linear(*work);
+  }
+
+  void
+  RodModel::update(const Eigen::VectorXd &delta, const double step)
+  {
+    for (std::size_t i = 0; i < n_nodes(); ++i)
+      {
+        pos[i] += step * delta.segment<3>(6 * i);
+        rot[i] = (quaternion_exp(step * delta.segment<3>(6 * i + 3)) * rot[i]).normalized();
+      }
+  }
+
+  std::vector<ElementState>
+  RodModel::element_states() const
+  {
+    std::vector<ElementState> states;
+    for (std::size_t k = 0; k < n_elements(); ++k)
+      states.push_back(element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness));
+    return states;
+  }
+
+  NewtonResult
+  RodModel::solve(const NewtonParameters &prm, const NodalTerms *extra)
+  {
+    NewtonResult result;
+    const auto   free_norm = [&](const Eigen::VectorXd &r) {
+      double sum = 0;
+      for (Eigen::Index k = 0; k < r.size(); ++k)
+        if (!fixed[k / 6][k % 6])
+          sum += r[k] * r[k];
+      return std::sqrt(sum);
+    };
+    try
+      {
+        System &s = *work;
+        assemble(s, extra, true);
+        double norm = free_norm(s.r);
+        double load = 0;
+        for (std::size_t i = 0; i < n_nodes(); ++i)
+          load += force[i].squaredNorm() + moment[i].squaredNorm();
+        // absolute floor: round-off of the largest section force
+        const double floor = std::max(1e-13 * stiffness.force.maxCoeff(), prm.absolute_floor);
+        const double scale = std::max({norm, std::sqrt(load), floor});
+        increment          = 0;
+        for (result.iterations = 0;; ++result.iterations)
+          {
+            result.residual = norm;
+            if (norm <= prm.tolerance * scale || norm <= floor)
+              {
+                result.converged = true;
+                return result;
+              }
+            if (result.iterations == prm.max_iterations)
+              {
+                result.reason = "no convergence in " + std::to_string(prm.max_iterations) +
+                                " iterations (residual " + std::to_string(norm) + " N)";
+                return result;
+              }
+            const Eigen::VectorXd delta = solve_linear(s);
+            if (!delta.allFinite())
+              {
+                result.reason = "linear solve produced NaN";
+                return result;
+              }
+            // Line search on the slope of the energy along the direction, s(α) =
+            // δ·r(x ⊕ αδ) (the energy line search of FEBio and of Bathe's text): the
+            // full step is taken unless it overshoots the minimum along δ by much, in
+            // which case α is moved to the secant root of s. A residual-norm search would
+            // stall here: the stiff axial modes make ‖r‖ grow at first order in the
+            // rotations of a linearised step even when Newton converges.
+            const auto x0       = pos;
+            const auto q0       = rot;
+            const auto slope_at = [&](const double a, double &trial_norm) {
+              update(delta, a);
+              double slope;
+              try
+                {
+                  const Eigen::VectorXd r = residual(extra);
+                  trial_norm              = free_norm(r);
+                  slope                   = 0;
+                  for (Eigen::Index k = 0; k < r.size(); ++k)
+                    if (!fixed[k / 6][k % 6])
+                      slope += delta[k] * r[k];
+                }
+              catch (const std::domain_error &)
+                {
+                  trial_norm = slope = std::numeric_limits<double>::infinity();
+                }
+              pos = x0;
+              rot = q0;
+              return slope;
+            };
+            double s0 = 0;
+            for (Eigen::Index k = 0; k < s.r.size(); ++k)
+              s0 += delta[k] * s.r[k];
+            double best_step = 1, trial_norm;
+            double slope     = slope_at(1, trial_norm);
+            // a step that turns an element by π or more is halved whatever the setting
+            for (unsigned k = 0; k < 10 && !std::isfinite(trial_norm); ++k)
+              slope = slope_at(best_step *= 0.5, trial_norm);
+            for (unsigned ls = 0; ls < prm.line_search_steps && s0 < 0 &&
+                                  !(std::abs(slope) <= 0.9 * std::abs(s0));
+                 ++ls)
+              {
+                const double a = std::isfinite(slope) ? best_step * s0 / (s0 - slope) : 0.5 * best_step;
+                best_step      = std::clamp(std::isfinite(a) && a > 0 ? a : 0.5 * best_step,
+                                            0.05 * best_step, best_step);
+                slope          = slope_at(best_step, trial_norm);
+              }
+            if (!std::isfinite(trial_norm))
+              {
+                result.reason = "every line-search trial failed";
+                return result;
+              }
+            update(delta, best_step);
+            for (std::size_t i = 0; i < n_nodes(); ++i)
+              increment = std::max(increment, best_step * delta.segment<3>(6 * i).norm());
+            assemble(s, extra, true);
+            norm = free_norm(s.r);
+          }
+      }
+    catch (const std::domain_error &e)
+      {
+        result.converged = false;
+        result.reason    = e.what();
+        return result;
+      }
+  }
+} // namespace suturesim::rod
