@@ -185,11 +185,39 @@ namespace suturesim::rod
           }
         if (with_jacobian)
           {
+            // Hessian of the envelope φ(x) = Φ(|Δ(x, u*(x))| − 2r), u = (s, t) at the
+            // closest points: φ_xx − φ_xu φ_uu⁻¹ φ_ux over the parameters that are
+            // interior (clamped ones are fixed at 0 or 1 and contribute no sensitivity).
             const Mat3 K = c.stiffness * c.normal * c.normal.transpose() -
                            (c.force / c.distance) * (Mat3::Identity() - c.normal * c.normal.transpose());
+            Eigen::Matrix<double, 12, 12> H;
             for (int i = 0; i < 4; ++i)
               for (int j = 0; j < 4; ++j)
-                s.add_translational(node[i], node[j], w[i] * w[j] * K);
+                H.block<3, 3>(3 * i, 3 * j) = w[i] * w[j] * K;
+            const Vec3 gf = -c.force * c.normal; // ∂Φ/∂Δ
+            std::vector<std::pair<Vec3, std::array<double, 4>>> params;
+            if (c.s > 0 && c.s < 1)
+              params.push_back({pos[c.a + 1] - pos[c.a], {{-1, 1, 0, 0}}});
+            if (c.t > 0 && c.t < 1)
+              params.push_back({pos[c.b] - pos[c.b + 1], {{0, 0, 1, -1}}});
+            const int m = params.size();
+            if (m > 0)
+              {
+                Eigen::MatrixXd Bxu(12, m), Huu(m, m);
+                for (int j = 0; j < m; ++j)
+                  {
+                    for (int k = 0; k < 4; ++k)
+                      Bxu.block<3, 1>(3 * k, j) = w[k] * K * params[j].first + params[j].second[k] * gf;
+                    for (int i = 0; i < m; ++i)
+                      Huu(i, j) = params[i].first.dot(K * params[j].first);
+                  }
+                const Eigen::FullPivLU<Eigen::MatrixXd> lu(Huu);
+                if (lu.isInvertible())
+                  H -= Bxu * lu.solve(Bxu.transpose());
+              }
+            for (int i = 0; i < 4; ++i)
+              for (int j = 0; j < 4; ++j)
+                s.add_translational(node[i], node[j], H.block<3, 3>(3 * i, 3 * j));
           }
       }
 

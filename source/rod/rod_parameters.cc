@@ -83,7 +83,7 @@ namespace suturesim::rod
                       "given, the rotation vector applied to its initial frame (rad) at "
                       "time t (s >= 0); linear between keyframes, constant outside. With "
                       "three numbers the frame is free (a moving pin), with six it is "
-                      "clamped to the motion.");
+                      "clamped to the motion. Unit: s: m, m, m[, rad, rad, rad].");
   }
 
   void

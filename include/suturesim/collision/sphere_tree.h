@@ -5,8 +5,8 @@
  * §IV.B: every segment is enclosed by a leaf sphere, each pair of successive spheres by a
  * parent, up to one root; the hierarchy is a balanced binary tree whose topology never
  * changes while the chain keeps its segments. When segments move, only their spheres are
- * refitted, bottom-up (seed 000, Algorithm 1): moved leaves are marked dirty, their
- * ancestors are queued by level, and a node is recomputed once, after its children.
+ * refitted, bottom-up (seed 000, Algorithm 1): moved leaves are marked dirty, so are
+ * their ancestors, and each marked node is recomputed once, after its children.
  *
  * Deviation from the seed, on purpose: a leaf sphere is centred at the segment midpoint
  * with radius half the segment length plus the tube radius (the seed uses the whole

@@ -9,9 +9,9 @@
  *   φ(g) = 0                          g ≥ 0
  *        = −k g³/(6δ)                 −δ < g < 0
  *        = k (g²/2 + δg/2 + δ²/6)    g ≤ −δ,
- * quadratic (stiffness k, N/m) beyond the smoothing width δ. The closest-point
- * parameters (s, t) are held fixed in the tangent (the envelope theorem makes the force
- * exact; the omitted ∂(s,t)/∂x terms only slow Newton near sliding contact).
+ * quadratic (stiffness k, N/m) beyond the smoothing width δ. The force follows from the
+ * envelope theorem; the tangent (rod_model.cc) adds the sensitivity of interior closest
+ * points, φ_xx − φ_xu φ_uu⁻¹ φ_ux with u = (s, t), so it is the exact Hessian.
  * Broad phase: collision::SphereTree, refit bottom-up every evaluation.
  */
 
