@@ -16,7 +16,7 @@ namespace suturesim::rod
         p.set_time(0);
         p.record(0, {{"time", 0.0}, {"newton_iterations", 0}});
         double   t = 0, dt = p.time.step_size;
-        unsigned cutbacks = 0, step = 0;
+        unsigned cutbacks = 0;
         while (t < p.time.end_time * (1 - 1e-12))
           {
             const double t_new = std::min(t + dt, p.time.end_time);
@@ -39,7 +39,6 @@ namespace suturesim::rod
                 continue;
               }
             t = t_new;
-            ++step;
             p.record(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
                          {"step_size", dt}});
             if (cutbacks == 0)
