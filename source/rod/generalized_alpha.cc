@@ -59,33 +59,40 @@ namespace suturesim::rod
     a_w = acc_w;
   }
 
+  GeneralizedAlpha::NodeKinematics
+  GeneralizedAlpha::kinematics(const std::size_t i, const Vec3 &x, const Quat &q, const double h) const
+  {
+    NodeKinematics k;
+    const auto     advance = [&](const Vec3 &psi, const Vec3 &v0, const Vec3 &a0, const Vec3 &acc0,
+                             Vec3 &a, Vec3 &vel, Vec3 &acc) {
+      a   = (psi - h * v0 - h * h * (0.5 - beta) * a0) / (h * h * beta);
+      vel = v0 + h * (1 - gamma) * a0 + h * gamma * a;
+      acc = ((1 - alpha_m) * a + alpha_m * a0 - alpha_f * acc0) / (1 - alpha_f);
+    };
+    advance(x - x0[i], v[i], a_x[i], acc_x[i], k.a_x, k.v, k.acc_x);
+    k.psi = quaternion_log(q0[i].conjugate() * q);
+    advance(k.psi, W[i], a_w[i], acc_w[i], k.a_w, k.W, k.acc_w);
+    return k;
+  }
+
   NodalTerms
   GeneralizedAlpha::inertia_terms(const double h)
   {
     const double bp = (1 - alpha_m) / ((1 - alpha_f) * h * h * beta); // ∂v̇/∂Ψ
     const double gp = gamma / (h * beta);                             // ∂v/∂Ψ
     return [this, h, bp, gp](const std::size_t i, const Vec3 &x, const Quat &q, Vec6 &r, Mat6 &J) {
-      const NodeInertia &in = model.inertia(i);
-      // translations
-      const Vec3 a_new  = ((x - x0[i]) - h * v[i] - h * h * (0.5 - beta) * a_x[i]) / (h * h * beta);
-      const Vec3 vel    = v[i] + h * (1 - gamma) * a_x[i] + h * gamma * a_new;
-      const Vec3 acc    = ((1 - alpha_m) * a_new + alpha_m * a_x[i] - alpha_f * acc_x[i]) / (1 - alpha_f);
-      r.head<3>()       = in.mass * (acc + c * vel);
+      const NodeInertia   &in = model.inertia(i);
+      const NodeKinematics k  = kinematics(i, x, q, h);
+      r.head<3>()             = in.mass * (k.acc_x + c * k.v);
       J.topLeftCorner<3, 3>() = in.mass * (bp + c * gp) * Mat3::Identity();
-      // rotations (material frame)
-      const Vec3 psi    = quaternion_log(q0[i].conjugate() * q);
-      const Vec3 aw_new = (psi - h * W[i] - h * h * (0.5 - beta) * a_w[i]) / (h * h * beta);
-      const Vec3 Wn     = W[i] + h * (1 - gamma) * a_w[i] + h * gamma * aw_new;
-      const Vec3 Wdot   = ((1 - alpha_m) * aw_new + alpha_m * a_w[i] - alpha_f * acc_w[i]) / (1 - alpha_f);
       const Vec3 &Jd    = in.rotational;
-      const Vec3 JW     = Jd.cwiseProduct(Wn);
-      const Vec3 m_mat  = Jd.cwiseProduct(Wdot) + Wn.cross(JW) + c * JW;
-      const Mat3 R      = q.toRotationMatrix();
-      const Vec3 m_sp   = R * m_mat;
+      const Vec3  JW    = Jd.cwiseProduct(k.W);
+      const Vec3  m_mat = Jd.cwiseProduct(k.acc_w) + k.W.cross(JW) + c * JW;
+      const Mat3  R     = q.toRotationMatrix();
+      const Vec3  m_sp  = R * m_mat;
       r.tail<3>()       = m_sp;
-      const Mat3 dm     = (bp + c * gp) * Mat3(Jd.asDiagonal()) +
-                      gp * (skew(Wn) * Jd.asDiagonal() - skew(JW));
-      J.bottomRightCorner<3, 3>() = -skew(m_sp) + R * dm * right_jacobian_inverse(psi) * R.transpose();
+      const Mat3 dm     = (bp + c * gp) * Mat3(Jd.asDiagonal()) + gp * (skew(k.W) * Jd.asDiagonal() - skew(JW));
+      J.bottomRightCorner<3, 3>() = -skew(m_sp) + R * dm * right_jacobian_inverse(k.psi) * R.transpose();
     };
   }
 
@@ -139,18 +146,13 @@ namespace suturesim::rod
     // update the kinematic state to tₙ₊₁
     for (std::size_t i = 0; i < n; ++i)
       {
-        const Vec3 a_new = ((model.positions()[i] - x0[i]) - h * v[i] - h * h * (0.5 - beta) * a_x[i]) /
-                           (h * h * beta);
-        const Vec3 acc   = ((1 - alpha_m) * a_new + alpha_m * a_x[i] - alpha_f * acc_x[i]) / (1 - alpha_f);
-        v[i] += h * (1 - gamma) * a_x[i] + h * gamma * a_new;
-        a_x[i]   = a_new;
-        acc_x[i] = acc;
-        const Vec3 psi   = quaternion_log(q0[i].conjugate() * model.rotations()[i]);
-        const Vec3 aw    = (psi - h * W[i] - h * h * (0.5 - beta) * a_w[i]) / (h * h * beta);
-        const Vec3 wdot  = ((1 - alpha_m) * aw + alpha_m * a_w[i] - alpha_f * acc_w[i]) / (1 - alpha_f);
-        W[i] += h * (1 - gamma) * a_w[i] + h * gamma * aw;
-        a_w[i]   = aw;
-        acc_w[i] = wdot;
+        const NodeKinematics k = kinematics(i, model.positions()[i], model.rotations()[i], h);
+        a_x[i]                 = k.a_x;
+        v[i]                   = k.v;
+        acc_x[i]               = k.acc_x;
+        a_w[i]                 = k.a_w;
+        W[i]                   = k.W;
+        acc_w[i]               = k.acc_w;
       }
     x0 = model.positions();
     q0 = model.rotations();

@@ -51,7 +51,7 @@ namespace suturesim::rod
     const bool registered = RodIntegrator::Registry::instance().add(
       {"quasi-static",
        "load stepping t = dt, 2 dt, ... T with Newton's method per step and halving of a "
-       "failing step (tissue and suture).",
+       "failing step.",
        nullptr,
        [](const dealii::ParameterHandler &, const scene::ParameterScope &) {
          return std::unique_ptr<RodIntegrator>(std::make_unique<QuasiStaticRod>());

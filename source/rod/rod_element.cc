@@ -88,7 +88,7 @@ namespace suturesim::rod
   ElementState
   element_tangent(const Vec3 &x1, const Quat &q1, const Vec3 &x2, const Quat &q2,
                   const ElementReference &reference, const SectionStiffness &section,
-                  Vec12 &gradient, Mat12 &hessian)
+                  Vec12 &gradient, Mat12 *hessian_out)
   {
     const Kinematics k  = kinematics(q1, q2);
     const double     L0 = reference.length;
@@ -113,6 +113,14 @@ namespace suturesim::rod
     const Mat3   GCw  = G * Cw;
     // first order: y₁ = e + Gσ − GCw w, δ₁ = Dw w, χ₁ = σ − Cw w
     const Vec3 ge = N, gs = G.transpose() * N, gw = -GCw.transpose() * N + Dw.transpose() * M;
+    const Mat3 &R = st.Rm;
+    {
+      const Vec3 Ge = R * ge, Gs = R * gs, Gw = R * gw;
+      gradient << -Ge, 0.5 * Gs - Gw, Ge, 0.5 * Gs + Gw;
+    }
+    if (!hessian_out)
+      return st;
+    Mat12 &hessian = *hessian_out;
 
     // Hessian in z = (e, σ, w), built by 3×3 blocks; A holds the quadratic form, whose
     // symmetric part A + Aᵀ is the Hessian. Material part (already symmetric):
@@ -147,12 +155,9 @@ namespace suturesim::rod
     Hww += X2 + X2.transpose();
 
     // back to (Δx₁, θ₁, Δx₂, θ₂): e = Rᵀ(Δx₂ − Δx₁), σ = Rᵀ(θ₁ + θ₂)/2, w = Rᵀ(θ₂ − θ₁)
-    const Mat3 &R  = st.Rm;
     const Mat3  ee = R * Hee * R.transpose(), es = R * Hes * R.transpose(),
                ew = R * Hew * R.transpose(), ss = R * Hss * R.transpose(),
                sw = R * Hsw * R.transpose(), ww = R * Hww * R.transpose();
-    const Vec3 Ge = R * ge, Gs = R * gs, Gw = R * gw;
-    gradient << -Ge, 0.5 * Gs - Gw, Ge, 0.5 * Gs + Gw;
     const Mat3 xt1 = 0.5 * es - ew, xt2 = 0.5 * es + ew;
     const Mat3 t11 = 0.25 * ss - 0.5 * (sw + sw.transpose()) + ww;
     const Mat3 t12 = 0.25 * ss + 0.5 * (sw - sw.transpose()) - ww;

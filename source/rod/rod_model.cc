@@ -64,7 +64,6 @@ namespace suturesim::rod
     , force(x.size(), Vec3::Zero())
     , moment(x.size(), Vec3::Zero())
     , contact_force(x.size(), 0.0)
-    , work(std::make_unique<System>())
   {
     if (x.size() < 2 || x.size() != q.size())
       throw std::invalid_argument("RodModel: needs at least two nodes, each with a rotation");
@@ -82,22 +81,19 @@ namespace suturesim::rod
       }
   }
 
-  RodModel::~RodModel() = default;
-
-  RodModel::RodModel(const RodModel &other)
-    : pos(other.pos)
-    , rot(other.rot)
-    , reference(other.reference)
-    , stiffness(other.stiffness)
-    , lumped(other.lumped)
-    , fixed(other.fixed)
-    , force(other.force)
-    , moment(other.moment)
-    , self_contact(other.self_contact)
-    , contact_force(other.contact_force)
-    , increment(other.increment)
-    , work(std::make_unique<System>())
+  RodModel::Workspace::Workspace()
+    : system(std::make_unique<System>())
   {}
+  RodModel::Workspace::Workspace(const Workspace &)
+    : Workspace()
+  {}
+  RodModel::Workspace &
+  RodModel::Workspace::operator=(const Workspace &)
+  {
+    return *this;
+  }
+  RodModel::Workspace::~Workspace() = default;
+  RodModel::~RodModel() = default;
 
   void
   RodModel::set_node(const std::size_t i, const Vec3 &x, const Quat &q)
@@ -155,18 +151,14 @@ namespace suturesim::rod
       {
         if (with_jacobian)
           {
-            element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, H);
+            element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, &H);
             s.diag[k] += H.topLeftCorner<6, 6>();
             s.diag[k + 1] += H.bottomRightCorner<6, 6>();
             s.upper[k] += H.topRightCorner<6, 6>();
             s.lower[k] += H.bottomLeftCorner<6, 6>();
           }
         else
-          {
-            // the residual alone (line search): gradient without the Hessian work
-            Mat12 dummy;
-            element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, dummy);
-          }
+          element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, nullptr);
         s.r.segment<12>(6 * k) += g;
       }
     if (with_jacobian)
@@ -353,8 +345,8 @@ namespace suturesim::rod
   Eigen::VectorXd
   RodModel::newton_direction(const NodalTerms *extra)
   {
-    assemble(*work, extra, true);
-    return solve_linear(*work);
+    assemble(*work.system, extra, true);
+    return solve_linear(*work.system);
   }
 
   void
@@ -389,7 +381,7 @@ namespace suturesim::rod
     };
     try
       {
-        System &s = *work;
+        System &s = *work.system;
         assemble(s, extra, true);
         double norm = free_norm(s.r);
         double load = 0;
@@ -398,7 +390,6 @@ namespace suturesim::rod
         // absolute floor: round-off of the largest section force
         const double floor = std::max(1e-13 * stiffness.force.maxCoeff(), prm.absolute_floor);
         const double scale = std::max({norm, std::sqrt(load), floor});
-        increment          = 0;
         for (result.iterations = 0;; ++result.iterations)
           {
             result.residual = norm;
@@ -418,6 +409,37 @@ namespace suturesim::rod
               {
                 result.reason = "linear solve produced NaN";
                 return result;
+              }
+            if (prm.line_search_steps == 0)
+              {
+                // full steps: the assembly at the new state serves the next iteration,
+                // so no trial residual is evaluated; a step that would turn an element
+                // by π or more is halved
+                const auto x0        = pos;
+                const auto q0        = rot;
+                bool       assembled = false;
+                double     step      = 1;
+                for (unsigned k = 0; k <= 10 && !assembled; ++k, step *= 0.5)
+                  {
+                    update(delta, step);
+                    try
+                      {
+                        assemble(s, extra, true);
+                        assembled = true;
+                      }
+                    catch (const std::domain_error &)
+                      {
+                        pos = x0;
+                        rot = q0;
+                      }
+                  }
+                if (!assembled)
+                  {
+                    result.reason = "every step length turned an element by pi or more";
+                    return result;
+                  }
+                norm = free_norm(s.r);
+                continue;
               }
             // Line search on the slope of the energy along the direction, s(α) =
             // δ·r(x ⊕ αδ) (the energy line search of FEBio and of Bathe's text): the
@@ -452,7 +474,6 @@ namespace suturesim::rod
               s0 += delta[k] * s.r[k];
             double best_step = 1, trial_norm;
             double slope     = slope_at(1, trial_norm);
-            // a step that turns an element by π or more is halved whatever the setting
             for (unsigned k = 0; k < 10 && !std::isfinite(trial_norm); ++k)
               slope = slope_at(best_step *= 0.5, trial_norm);
             for (unsigned ls = 0; ls < prm.line_search_steps && s0 < 0 &&
@@ -470,8 +491,6 @@ namespace suturesim::rod
                 return result;
               }
             update(delta, best_step);
-            for (std::size_t i = 0; i < n_nodes(); ++i)
-              increment = std::max(increment, best_step * delta.segment<3>(6 * i).norm());
             assemble(s, extra, true);
             norm = free_norm(s.r);
           }

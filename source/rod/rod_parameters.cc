@@ -223,113 +223,110 @@ namespace suturesim::rod
   {
     centreline = prm.get("Centreline");
     elements   = prm.get_integer("Elements");
-    {
-      auto &p  = prm;
-      p.enter_subsection("Straight");
-      const auto s = scope.subsection("Straight");
-      start        = get_vector(prm, "Start point");
-      direction    = get_vector(prm, "Direction");
-      length       = prm.get_double("Length");
-      p.leave_subsection();
-      if (centreline == "straight")
-        {
-          s.require(direction.norm() > 0, "Direction", "must not be zero");
-          s.require(length > 0, "Length", "must be > 0 m");
-        }
-      direction.normalize();
-      p.enter_subsection("Arc");
-      const auto a = scope.subsection("Arc");
-      centre       = get_vector(prm, "Centre");
-      arc_radius   = prm.get_double("Radius");
-      normal       = get_vector(prm, "Plane normal");
-      start_angle  = prm.get_double("Start angle");
-      sweep        = prm.get_double("Sweep");
-      p.leave_subsection();
-      if (centreline == "arc")
-        {
-          a.require(arc_radius > 0, "Radius", "must be > 0 m");
-          a.require(normal.norm() > 0, "Plane normal", "must not be zero");
-          a.require(sweep != 0, "Sweep", "must not be zero");
-        }
-      normal.normalize();
-      polyline.clear();
-      for (const auto &point : Utilities::split_string_list(prm.get("Polyline points"), ';'))
-        {
-          const auto v = Utilities::string_to_double(Utilities::split_string_list(point, ','));
-          polyline.emplace_back(v[0], v[1], v[2]);
-        }
-      if (centreline == "polyline")
-        {
-          scope.require(polyline.size() >= 2, "Polyline points", "needs at least two points");
-          for (std::size_t i = 1; i < polyline.size(); ++i)
-            scope.require((polyline[i] - polyline[i - 1]).norm() > 0, "Polyline points",
-                          "point " + std::to_string(i + 1) + " repeats the previous one");
-        }
+    prm.enter_subsection("Straight");
+    const auto s = scope.subsection("Straight");
+    start        = get_vector(prm, "Start point");
+    direction    = get_vector(prm, "Direction");
+    length       = prm.get_double("Length");
+    prm.leave_subsection();
+    if (centreline == "straight")
+      {
+        s.require(direction.norm() > 0, "Direction", "must not be zero");
+        s.require(length > 0, "Length", "must be > 0 m");
+      }
+    direction.normalize();
+    prm.enter_subsection("Arc");
+    const auto a = scope.subsection("Arc");
+    centre       = get_vector(prm, "Centre");
+    arc_radius   = prm.get_double("Radius");
+    normal       = get_vector(prm, "Plane normal");
+    start_angle  = prm.get_double("Start angle");
+    sweep        = prm.get_double("Sweep");
+    prm.leave_subsection();
+    if (centreline == "arc")
+      {
+        a.require(arc_radius > 0, "Radius", "must be > 0 m");
+        a.require(normal.norm() > 0, "Plane normal", "must not be zero");
+        a.require(sweep != 0, "Sweep", "must not be zero");
+      }
+    normal.normalize();
+    polyline.clear();
+    for (const auto &point : Utilities::split_string_list(prm.get("Polyline points"), ';'))
+      {
+        const auto v = Utilities::string_to_double(Utilities::split_string_list(point, ','));
+        polyline.emplace_back(v[0], v[1], v[2]);
+      }
+    if (centreline == "polyline")
+      {
+        scope.require(polyline.size() >= 2, "Polyline points", "needs at least two points");
+        for (std::size_t i = 1; i < polyline.size(); ++i)
+          scope.require((polyline[i] - polyline[i - 1]).norm() > 0, "Polyline points",
+                        "point " + std::to_string(i + 1) + " repeats the previous one");
+      }
 
-      preset = prm.get("Preset");
-      p.enter_subsection("Cross section");
-      const auto c    = scope.subsection("Cross section");
-      section.radius  = prm.get_double("Radius");
-      section.E       = prm.get_double("Young's modulus");
-      section.nu      = prm.get_double("Poisson's ratio");
-      section.density = prm.get_double("Density");
-      section.EA      = prm.get_double("EA");
-      section.GA      = prm.get_double("GA");
-      section.EI      = prm.get_double("EI");
-      section.GJ      = prm.get_double("GJ");
-      p.leave_subsection();
-      if (preset != "custom")
-        {
-          for (const std::string key : {"Radius", "Young's modulus", "Poisson's ratio", "Density"})
-            c.require(scope.parameter_file().line_of("Suture/Cross section/" + key) == 0, key,
-                      "is set by 'Preset = " + preset + "'; set either the preset or the value");
-          for (const auto &entry : preset_table())
-            if (entry.name == preset)
-              {
-                section.radius  = entry.diameter / 2;
-                section.E       = entry.E;
-                section.nu      = entry.nu;
-                section.density = entry.density;
-              }
-        }
-      c.require(section.radius > 0, "Radius", "must be > 0 m");
-      c.require(section.E > 0, "Young's modulus", "must be > 0 Pa");
-      c.require(section.nu < 0.5 && section.nu > -1, "Poisson's ratio", "must lie in (-1, 0.5)");
+    preset = prm.get("Preset");
+    prm.enter_subsection("Cross section");
+    const auto c    = scope.subsection("Cross section");
+    section.radius  = prm.get_double("Radius");
+    section.E       = prm.get_double("Young's modulus");
+    section.nu      = prm.get_double("Poisson's ratio");
+    section.density = prm.get_double("Density");
+    section.EA      = prm.get_double("EA");
+    section.GA      = prm.get_double("GA");
+    section.EI      = prm.get_double("EI");
+    section.GJ      = prm.get_double("GJ");
+    prm.leave_subsection();
+    if (preset != "custom")
+      {
+        for (const std::string key : {"Radius", "Young's modulus", "Poisson's ratio", "Density"})
+          c.require(scope.parameter_file().line_of("Suture/Cross section/" + key) == 0, key,
+                    "is set by 'Preset = " + preset + "'; set either the preset or the value");
+        for (const auto &entry : preset_table())
+          if (entry.name == preset)
+            {
+              section.radius  = entry.diameter / 2;
+              section.E       = entry.E;
+              section.nu      = entry.nu;
+              section.density = entry.density;
+            }
+      }
+    c.require(section.radius > 0, "Radius", "must be > 0 m");
+    c.require(section.E > 0, "Young's modulus", "must be > 0 Pa");
+    c.require(section.nu < 0.5 && section.nu > -1, "Poisson's ratio", "must lie in (-1, 0.5)");
 
-      const std::vector<std::pair<std::string, EndCondition *>> ends{{"Start end", &start_end},
-                                                                     {"Last end", &last_end}};
-      for (const auto &[name, end] : ends)
-        {
-          p.enter_subsection(name);
-          end->parse(prm, scope.subsection(name));
-          p.leave_subsection();
-        }
+    const std::vector<std::pair<std::string, EndCondition *>> ends{{"Start end", &start_end},
+                                                                   {"Last end", &last_end}};
+    for (const auto &[name, end] : ends)
+      {
+        prm.enter_subsection(name);
+        end->parse(prm, scope.subsection(name));
+        prm.leave_subsection();
+      }
 
-      p.enter_subsection("Loads");
-      end_force   = get_vector(prm, "End force");
-      end_moment  = get_vector(prm, "End moment");
-      gravity     = get_vector(prm, "Gravity");
-      distributed = get_vector(prm, "Distributed load");
-      load_ramp   = prm.get("Load ramp");
-      p.leave_subsection();
+    prm.enter_subsection("Loads");
+    end_force   = get_vector(prm, "End force");
+    end_moment  = get_vector(prm, "End moment");
+    gravity     = get_vector(prm, "Gravity");
+    distributed = get_vector(prm, "Distributed load");
+    load_ramp   = prm.get("Load ramp");
+    prm.leave_subsection();
 
-      p.enter_subsection("Self-contact");
-      const auto sc     = scope.subsection("Self-contact");
-      contact.enabled   = prm.get_bool("Enabled");
-      contact.stiffness = prm.get_double("Penalty stiffness");
-      contact.smoothing = prm.get_double("Smoothing width");
-      contact.radius    = section.radius;
-      p.leave_subsection();
-      sc.require(!contact.enabled || contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
+    prm.enter_subsection("Self-contact");
+    const auto sc     = scope.subsection("Self-contact");
+    contact.enabled   = prm.get_bool("Enabled");
+    contact.stiffness = prm.get_double("Penalty stiffness");
+    contact.smoothing = prm.get_double("Smoothing width");
+    contact.radius    = section.radius;
+    prm.leave_subsection();
+    sc.require(!contact.enabled || contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
 
-      p.enter_subsection("Newton");
-      newton.max_iterations    = prm.get_integer("Max iterations");
-      newton.tolerance         = prm.get_double("Tolerance");
-      newton.line_search_steps = prm.get_integer("Line search steps");
-      p.leave_subsection();
-      scope.subsection("Newton").require(newton.tolerance > 0, "Tolerance", "must be > 0");
-      damping = prm.get_double("Damping");
-    }
+    prm.enter_subsection("Newton");
+    newton.max_iterations    = prm.get_integer("Max iterations");
+    newton.tolerance         = prm.get_double("Tolerance");
+    newton.line_search_steps = prm.get_integer("Line search steps");
+    prm.leave_subsection();
+    scope.subsection("Newton").require(newton.tolerance > 0, "Tolerance", "must be > 0");
+    damping = prm.get_double("Damping");
   }
 
   void

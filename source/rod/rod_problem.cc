@@ -71,10 +71,10 @@ namespace suturesim::rod
       }
     row.push_back(max_axial);
     row.push_back(energy);
-    std::size_t pairs = 0; // nodes in contact
+    std::size_t contact_nodes = 0;
     for (const double f : model.contact_forces())
-      pairs += f > 0;
-    row.push_back(pairs);
+      contact_nodes += f > 0;
+    row.push_back(contact_nodes);
     recorder.add_row(row);
 
     auto &summary                       = recorder.summary();
@@ -85,7 +85,7 @@ namespace suturesim::rod
     metrics["elastic_energy"]           = energy;
     metrics["start_reaction"]           = std::vector<double>(row.begin() + 1, row.begin() + 7);
     metrics["last_reaction"]            = std::vector<double>(row.begin() + 7, row.begin() + 13);
-    metrics["contact_nodes"]            = pairs;
+    metrics["contact_nodes"]            = contact_nodes;
     summary["solver"]["newton_iterations"] = newton_iterations;
     summary["steps"].push_back(statistics);
 

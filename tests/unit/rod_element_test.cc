@@ -74,7 +74,7 @@ TEST(RodElement, TangentMatchesFiniteDifferences)
       ref.kappa0 = Vec3(0.2, -0.3, 0.1);
       Vec12 g;
       Mat12 H;
-      element_tangent(x1, q1, x2, q2, ref, anisotropic_section(), g, H);
+      element_tangent(x1, q1, x2, q2, ref, anisotropic_section(), g, &H);
       Vec12        g_fd;
       Mat12        H_fd;
       const double h = 1e-5;

@@ -112,7 +112,7 @@ namespace suturesim::collision
     std::vector<int>                 parent;
     std::vector<Eigen::Vector3d>     last_points;
     // work space of refit(), kept to avoid allocation per call
-    std::vector<char>                queued;
+    std::vector<char>                dirty;
     std::vector<std::size_t>         moved_work;
   };
 } // namespace suturesim::collision

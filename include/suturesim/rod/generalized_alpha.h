@@ -66,6 +66,16 @@ namespace suturesim::rod
     inertia_terms(double h);
 
   private:
+    /// Pseudo-acceleration, velocity and acceleration of node i at the end of a step of
+    /// size h that ends in (x, q): the generalized-α relations above, for translations
+    /// (spatial) and rotations (material, Ψ = log(qₙ* q)).
+    struct NodeKinematics
+    {
+      Vec3 a_x, v, acc_x, psi, a_w, W, acc_w;
+    };
+    NodeKinematics
+    kinematics(std::size_t i, const Vec3 &x, const Quat &q, double h) const;
+
     RodModel &model;
     double    alpha_m, alpha_f, gamma, beta, c;
     // state at tₙ: configuration, velocities, pseudo-accelerations a, accelerations v̇

@@ -71,11 +71,12 @@ namespace suturesim::rod
                 const ElementReference &reference, const SectionStiffness &section);
 
   /// Energy gradient and consistent tangent (exact Hessian of the pull-back) with respect
-  /// to (Δx₁, θ₁, Δx₂, θ₂); returns the state as element_state() does.
+  /// to (Δx₁, θ₁, Δx₂, θ₂); returns the state as element_state() does. With @p hessian
+  /// null only the gradient is computed (residual evaluations).
   ElementState
   element_tangent(const Vec3 &x1, const Quat &q1, const Vec3 &x2, const Quat &q2,
                   const ElementReference &reference, const SectionStiffness &section,
-                  Vec12 &gradient, Mat12 &hessian);
+                  Vec12 &gradient, Mat12 *hessian);
 
   /// The reference of a stress-free element in the configuration given.
   ElementReference

@@ -76,7 +76,6 @@ namespace suturesim::rod
     RodModel(const std::vector<Vec3> &x, const std::vector<Quat> &q,
              const SectionStiffness &section, double mass_per_length,
              const Vec3 &rotational_inertia_per_length);
-    RodModel(const RodModel &other);
     ~RodModel();
 
     std::size_t
@@ -191,15 +190,18 @@ namespace suturesim::rod
       return contact_force;
     }
 
-    /// Largest nodal translation increment of the last Newton solve, m.
-    double
-    last_increment() const
-    {
-      return increment;
-    }
-
   private:
     struct System;
+    /// Linear-system work space, kept between Newton iterations so that they do not
+    /// allocate; a copied model starts with a fresh one.
+    struct Workspace
+    {
+      Workspace();
+      Workspace(const Workspace &);
+      Workspace &operator=(const Workspace &);
+      ~Workspace();
+      std::unique_ptr<System> system;
+    };
     void
     assemble(System &system, const NodalTerms *extra, bool with_jacobian);
     Eigen::VectorXd
@@ -214,7 +216,6 @@ namespace suturesim::rod
     std::vector<Vec3>                  force, moment;
     SelfContact                        self_contact;
     std::vector<double>                contact_force;
-    double                             increment = 0;
-    std::unique_ptr<System>            work;
+    Workspace                          work;
   };
 } // namespace suturesim::rod
