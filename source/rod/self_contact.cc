@@ -1,3 +1,4 @@
+#include <suturesim/collision/proximity.h>
 #include <suturesim/rod/self_contact.h>
 
 #include <algorithm>
@@ -20,14 +21,7 @@ namespace suturesim::rod
   std::pair<double, double>
   SelfContact::closest_parameters(const Vec3 &p0, const Vec3 &p1, const Vec3 &q0, const Vec3 &q1)
   {
-    // minimise |p0 + s a − q0 − t b|² over the unit square (clamped two-step solve)
-    const Vec3   a = p1 - p0, b = q1 - q0, w = p0 - q0;
-    const double aa = a.dot(a), bb = b.dot(b), ab = a.dot(b), aw = a.dot(w), bw = b.dot(w);
-    const double det = aa * bb - ab * ab;
-    double       s   = det > 1e-14 * aa * bb ? std::clamp((ab * bw - bb * aw) / det, 0.0, 1.0) : 0.0;
-    double       t   = std::clamp((ab * s + bw) / bb, 0.0, 1.0);
-    s                = std::clamp((ab * t - aw) / aa, 0.0, 1.0);
-    return {s, t};
+    return collision::segment_closest_parameters(p0, p1, q0, q1);
   }
 
   std::array<double, 3>

@@ -3,8 +3,7 @@
  * @file
  * Bounding-sphere hierarchy of a chain of segments (a suture centreline), after seed 000
  * §IV.B: every segment is enclosed by a leaf sphere, each pair of successive spheres by a
- * parent, up to one root; the hierarchy is a balanced binary tree whose topology never
- * changes while the chain keeps its segments. When segments move, only their spheres are
+ * parent, up to one root (sphere_hierarchy.h). When segments move, only their spheres are
  * refitted, bottom-up (seed 000, Algorithm 1): moved leaves are marked dirty, so are
  * their ancestors, and each marked node is recomputed once, after its children.
  *
@@ -16,6 +15,8 @@
  * Plain C++/Eigen, no deal.II: the realtime path and rod–tissue contact use it too.
  */
 
+#include <suturesim/collision/sphere_hierarchy.h>
+
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -24,27 +25,18 @@
 
 namespace suturesim::collision
 {
-  struct Sphere
-  {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    double          radius = 0;
-
-    /// True when @p other lies inside this sphere up to a relative slack of 1e-12.
-    bool
-    contains(const Sphere &other) const;
-  };
-
-  /// The smallest sphere enclosing two spheres.
-  Sphere
-  enclosing_sphere(const Sphere &a, const Sphere &b);
-
-  class SphereTree
+  class SphereTree : public SphereHierarchy
   {
   public:
+    /// Points as columns (the realtime path's layout).
+    using Points = Eigen::Ref<const Eigen::Matrix3Xd>;
+
     /// Builds the hierarchy over the segments (points[i], points[i+1]) for i in
     /// [0, points.size() - 1), each thickened by @p tube_radius (m).
     void
     build(const std::vector<Eigen::Vector3d> &points, double tube_radius);
+    void
+    build(const Points &points, double tube_radius);
 
     /// Bottom-up refit (seed 000, Algorithm 1) after the points moved: a leaf is dirty
     /// when one of its end points moved; ancestors are updated once each, children
@@ -52,67 +44,42 @@ namespace suturesim::collision
     /// points must not change (that would change the topology: build again).
     std::size_t
     refit(const std::vector<Eigen::Vector3d> &points);
+    std::size_t
+    refit(const Points &points);
 
     /// Refit after the caller marked moved points itself (no comparison of positions);
     /// @p moved lists point indices.
     std::size_t
     refit(const std::vector<Eigen::Vector3d> &points, const std::vector<std::size_t> &moved);
+    std::size_t
+    refit(const Points &points, const std::vector<std::size_t> &moved);
 
-    /// All pairs of segments (i < j) whose leaf spheres, grown by @p margin (m), overlap,
-    /// found by a simultaneous descent of the tree against itself.
+    /// Refit after every point moved: all leaves, then all inner nodes, no comparison
+    /// of positions (the realtime path, where the whole thread moves every step).
     void
-    self_overlaps(double margin, std::vector<std::pair<std::uint32_t, std::uint32_t>> &pairs) const;
+    refit_all(const Points &points);
+
+    /// All pairs of segments (i < j) whose leaf spheres, grown by @p margin (m), overlap.
+    using SphereHierarchy::self_overlaps;
 
     std::size_t
     n_segments() const
     {
-      return n_leaves;
+      return n_leaves();
     }
 
-    /// Spheres of the tree, stored level by level from the leaves up: the first
-    /// n_segments entries are the leaves in segment order, the last one is the root, and
-    /// every parent comes after its children (so the index orders the refit queue).
-    const std::vector<Sphere> &
-    spheres() const
+    double
+    tube_radius() const
     {
-      return nodes;
-    }
-
-    std::size_t
-    root() const
-    {
-      return nodes.size() - 1;
-    }
-
-    /// Children of a tree node (-1 for none).
-    int
-    left_child(std::size_t node) const
-    {
-      return children[node].first;
-    }
-    int
-    right_child(std::size_t node) const
-    {
-      return children[node].second;
+      return tube;
     }
 
   private:
     Sphere
-    leaf_sphere(const std::vector<Eigen::Vector3d> &points, std::size_t segment) const;
-    void
-    update_node(std::size_t node);
-    void
-    descend(int a, int b, double margin,
-            std::vector<std::pair<std::uint32_t, std::uint32_t>> &pairs) const;
+    segment_sphere(const Points &points, std::size_t segment) const;
 
-    double                           tube = 0;
-    std::size_t                      n_leaves = 0;
-    std::vector<Sphere>              nodes;
-    std::vector<std::pair<int, int>> children;
-    std::vector<int>                 parent;
-    std::vector<Eigen::Vector3d>     last_points;
-    // work space of refit(), kept to avoid allocation per call
-    std::vector<char>                dirty;
-    std::vector<std::size_t>         moved_work;
+    double                       tube = 0;
+    Eigen::Matrix3Xd             last_points;
+    std::vector<std::size_t>     moved_work; // work space of refit(), no allocation per call
   };
 } // namespace suturesim::collision

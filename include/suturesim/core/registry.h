@@ -7,7 +7,11 @@
  * parameter declaration and factory; the selection pattern offered in scene files is
  * built from what is registered, so adding a model touches one new file.
  *
- * No deal.II header is needed here, so realtime models can register the same way.
+ * No deal.II header is needed here. The accurate path's models declare their parameters
+ * into a dealii::ParameterHandler (Registry); the realtime library, which must build
+ * without deal.II, declares them into its own plain list (BasicRegistry with
+ * realtime::ParameterDeclarations), and the scene layer turns that list into deal.II
+ * entries.
  */
 
 #include <functional>
@@ -24,8 +28,10 @@ namespace dealii
 
 namespace suturesim
 {
-  template <typename Base, typename... CreateArgs>
-  class Registry
+  /// A registry of models derived from @p Base whose parameters are declared into a
+  /// @p Declarations object and which are built from @p CreateArgs.
+  template <typename Base, typename Declarations, typename... CreateArgs>
+  class BasicRegistry
   {
   public:
     struct Entry
@@ -34,15 +40,15 @@ namespace suturesim
       /// One paragraph with the model's equation and its source.
       std::string description;
       /// Declares the model's own parameters in the current subsection of the handler.
-      std::function<void(dealii::ParameterHandler &)> declare_parameters;
+      std::function<void(Declarations &)> declare_parameters;
       /// Builds the model; the handler's current subsection is the one declared into.
       std::function<std::unique_ptr<Base>(CreateArgs...)> create;
     };
 
-    static Registry &
+    static BasicRegistry &
     instance()
     {
-      static Registry registry;
+      static BasicRegistry registry;
       return registry;
     }
 
@@ -102,7 +108,11 @@ namespace suturesim
     }
 
   private:
-    Registry() = default;
+    BasicRegistry() = default;
     std::map<std::string, Entry> entries;
   };
+
+  /// Models whose parameters live in a deal.II ParameterHandler (the accurate path).
+  template <typename Base, typename... CreateArgs>
+  using Registry = BasicRegistry<Base, dealii::ParameterHandler, CreateArgs...>;
 } // namespace suturesim
