@@ -1,0 +1,62 @@
+#pragma once
+/**
+ * @file
+ * A tetrahedral mesh as the realtime path needs it: vertex coordinates as the columns of
+ * one matrix, tetrahedra and tagged boundary triangles as index arrays, gmsh's physical
+ * names for the tags. The gmsh reader lives with the scene layer (mesh/gmsh_reader.h);
+ * this header and its source are plain C++/Eigen and belong to the realtime library.
+ */
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace suturesim::mesh
+{
+  using Tetrahedron = std::array<std::uint32_t, 4>;
+  using Triangle    = std::array<std::uint32_t, 3>;
+
+  struct SimplexMesh
+  {
+    Eigen::Matrix3Xd         vertices;      ///< m, one column per vertex
+    std::vector<Tetrahedron> tetrahedra;
+    std::vector<int>         tetrahedron_tags; ///< gmsh physical volume (material id), 0 if none
+    std::vector<Triangle>    triangles;     ///< gmsh's triangles of physical surfaces
+    std::vector<int>         triangle_tags; ///< their physical surface (boundary id)
+    std::map<int, std::string> boundary_names; ///< boundary id → physical name
+    std::map<int, std::string> material_names;
+    std::string              description;
+
+    /// Signed volume of tetrahedron @p t (m³), positive for gmsh's orientation.
+    double
+    volume(std::size_t t) const;
+
+    /// The boundary id of a boundary given by name or number; -1 if there is none.
+    int
+    boundary_id(const std::string &name_or_id) const;
+  };
+
+  /// The closed surface of a tetrahedral mesh: the faces that belong to one tetrahedron
+  /// only, oriented with outward normals, each with the tag of the gmsh triangle on it
+  /// (0 where gmsh wrote none).
+  struct BoundarySurface
+  {
+    std::vector<Triangle>      triangles;
+    std::vector<int>           tags;
+    std::vector<std::uint32_t> vertices; ///< the mesh vertices on the surface, ascending
+  };
+
+  /// Extracts the boundary surface. Throws std::invalid_argument naming the tetrahedron
+  /// when one is inverted or degenerate (volume ≤ 1e-12 of the mean), or when a face is
+  /// shared by more than two tetrahedra (not a manifold mesh).
+  BoundarySurface
+  extract_boundary(const SimplexMesh &mesh);
+
+  /// Vertices (ascending) of the boundary triangles tagged @p tag.
+  std::vector<std::uint32_t>
+  vertices_with_tag(const BoundarySurface &surface, int tag);
+} // namespace suturesim::mesh
