@@ -1,0 +1,74 @@
+#pragma once
+/**
+ * @file
+ * Time integrators of the realtime path, registered by name (Realtime/Integrator):
+ *  - "quasi-static": V = F/B, P ← P + dt F/B (seed 001 §2.2, eq. 1–2 without inertia;
+ *    seed 002 §4.B): no velocity carried between steps, B the damping per node;
+ *  - "symplectic-euler": V ← V + dt (F/M − c V), P ← P + dt V (seed 001 eqs. 1–2, seed
+ *    003's explicit Euler) with mass-proportional damping rate c;
+ *  - "xpbd": extended position-based dynamics (Macklin, Müller & Chentanez 2016, Alg. 1)
+ *    with every interaction a compliant constraint (seed 004).
+ * The force-based two compute their stability limit from the network (stability.h),
+ * report it, warn or refuse when dt exceeds it, and can limit strain after each step
+ * (seed 003; SpringSet::limit_strain).
+ */
+
+#include <suturesim/core/registry.h>
+#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/realtime/system.h>
+
+#include <limits>
+#include <string>
+
+namespace suturesim::realtime
+{
+  class Integrator
+  {
+  public:
+    using Registry = BasicRegistry<Integrator, ParameterDeclarations, const ParameterValues &>;
+    virtual ~Integrator() = default;
+
+    /// Sets what the integrator needs per node (damping of quasi-static integration);
+    /// call once after the system is built.
+    virtual void
+    setup(System &)
+    {}
+
+    /// Advances the system by @p dt. Held nodes end at nodes.target.
+    virtual void
+    step(System &system, double dt) = 0;
+
+    /// The largest stable dt at the current state (∞ when unconditionally stable).
+    virtual double
+    stability_limit(const System &) const
+    {
+      return std::numeric_limits<double>::infinity();
+    }
+
+    /// One line on how the limit was obtained, for messages.
+    virtual std::string
+    limit_description() const
+    {
+      return "";
+    }
+
+    /// True for XPBD: interactions are constraints, contacts are projected.
+    virtual bool
+    position_based() const
+    {
+      return false;
+    }
+
+    /// Solver iterations per step (XPBD), 0 for the force-based integrators.
+    virtual unsigned
+    iterations() const
+    {
+      return 0;
+    }
+  };
+
+  /// Post-step strain limiting of every SpringSet in @p system; returns the number of
+  /// springs corrected. Shared by the force-based integrators.
+  std::size_t
+  limit_strain(System &system, double limit, unsigned sweeps);
+} // namespace suturesim::realtime

@@ -1,0 +1,100 @@
+#pragma once
+/**
+ * @file
+ * Suture–tissue-surface contact (seed 000 §VII.B, Fig. 8: "collision detection between
+ * the model and the thread"). Broad phase: the suture's chain sphere tree against the
+ * tissue surface's triangle sphere tree (collision/), both refitted bottom-up every
+ * detection. Narrow phase: each suture node against the candidate triangles; a node
+ * touches a triangle when its signed distance d = (p − c)·n to the closest point c
+ * (outward normal n) lies in (−depth, r): it is then within a suture radius r of the
+ * surface or at most the detection depth inside it. Each node keeps its nearest
+ * triangle.
+ *
+ * Response, gap g = (p − Σ bₖ xₖ)·n − r < 0 with the closest point's barycentric
+ * weights b and the normal frozen at detection:
+ *  - force-based integrators: penalty f = −k g n on the node, −bₖ f on the triangle's
+ *    vertices;
+ *  - XPBD: the inequality constraint g ≥ 0 with compliance 1/k (λ ≥ 0);
+ *  - nodes a geometric model positions (FTL): pushed out to g = 0 after the step and
+ *    held there for the next step (a collision constraint of seed 002).
+ */
+
+#include <suturesim/collision/sphere_tree.h>
+#include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/system.h>
+
+#include <vector>
+
+namespace suturesim::realtime
+{
+  class SurfaceContact : public ContactSet
+  {
+  public:
+    struct Parameters
+    {
+      double stiffness = 0; ///< k, N/m
+      double radius    = 0; ///< r of the suture, m
+      double depth     = 0; ///< how far inside a node is still pushed out, m
+      bool   project   = false; ///< XPBD constraints instead of penalty forces
+    };
+
+    SurfaceContact(const System &system, const std::vector<mesh::Triangle> &surface,
+                   const Parameters &parameters);
+
+    std::string
+    name() const override
+    {
+      return "suture-tissue contact";
+    }
+    void
+    detect(const Matrix3Xd &x) override;
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    bool
+    has_projection() const override
+    {
+      return prm.project;
+    }
+    void
+    reset_multipliers() override;
+    void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    after_step(Nodes &nodes) override;
+    std::size_t
+    active() const override
+    {
+      return contacts.size();
+    }
+
+    struct Contact
+    {
+      std::uint32_t                node;
+      mesh::Triangle               triangle; ///< node indices
+      Vector3d                     bary;
+      Vector3d                     normal;
+      double                       lambda = 0;
+    };
+    const std::vector<Contact> &
+    list() const
+    {
+      return contacts;
+    }
+
+    /// Signed gap of contact @p c at @p x (m): negative when the node is closer than r.
+    double
+    gap(const Contact &c, const Matrix3Xd &x) const;
+
+  private:
+    Parameters                      prm;
+    const std::vector<mesh::Triangle> &triangles;
+    NodeRange                       suture;
+    collision::TriangleSphereTree   surface_tree;
+    collision::SphereTree           suture_tree;
+    collision::LeafPairs            candidates;
+    std::vector<Contact>            contacts;
+    std::vector<double>             best; ///< per suture node: distance of its contact
+    std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
+  };
+} // namespace suturesim::realtime

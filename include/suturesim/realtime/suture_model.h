@@ -1,0 +1,92 @@
+#pragma once
+/**
+ * @file
+ * Realtime suture models, registered by name (Realtime/Suture model):
+ *  - "mass-spring": a linear chain of masses and springs (seed 001 §3), no bending;
+ *  - "ftl": follow-the-leader links of fixed length with two-sided constraint averaging
+ *    and quasi-spring tension (seed 002 §3, seed 000 §III), moved geometrically;
+ *  - "xpbd-rod": stretch and bending (curvature) constraints, natural under XPBD.
+ * Each adds its nodes after the tissue's and its interactions to the System, so any
+ * integrator can run it; the FTL suture holds its nodes (they are positioned by the
+ * model, not integrated) and reports its own tension.
+ */
+
+#include <suturesim/core/registry.h>
+#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/realtime/system.h>
+
+#include <vector>
+
+namespace suturesim::realtime
+{
+  /// The suture as the scene describes it: initial centreline and section.
+  struct SutureGeometry
+  {
+    std::vector<Vector3d> points;      ///< N + 1 nodes, m
+    double                radius  = 0; ///< m
+    double                EA      = 0; ///< axial stiffness, N
+    double                EI      = 0; ///< bending stiffness, N m²
+    double                density = 0; ///< kg/m³
+
+    double
+    mass_per_length() const;
+  };
+
+  class SutureModel
+  {
+  public:
+    using Registry = BasicRegistry<SutureModel, ParameterDeclarations, const ParameterValues &>;
+    virtual ~SutureModel() = default;
+
+    /// Adds the suture's nodes (after the tissue's) and interactions.
+    void
+    build(System &system, const SutureGeometry &geometry);
+
+    /// Work before the integrator's step (the FTL update).
+    virtual void
+    before_step(System &, double)
+    {}
+
+    /// True when the model positions its nodes itself (they are held for integrators).
+    virtual bool
+    geometric() const
+    {
+      return false;
+    }
+
+    /// Force the suture exerts on a tool holding node @p node (N), for models that know
+    /// it better than the nodal force balance (FTL's quasi-spring tension); false if
+    /// the generic reaction is to be used.
+    virtual bool
+    holding_force(const System &, std::uint32_t, Vector3d &) const
+    {
+      return false;
+    }
+
+    /// Axial force of each segment (N) at the current state, for output.
+    virtual void
+    segment_tension(const System &system, std::vector<double> &tension) const;
+
+    /// Link length l (m).
+    double
+    link_length() const
+    {
+      return link;
+    }
+
+    const SutureGeometry &
+    geometry() const
+    {
+      return shape;
+    }
+
+  protected:
+    /// Adds interactions once the nodes exist (first node @p first).
+    virtual void
+    add_interactions(System &system, std::uint32_t first) = 0;
+
+    SutureGeometry shape;
+    double         link        = 0;
+    double         axial_stiffness = 0; ///< k of one link, N/m
+  };
+} // namespace suturesim::realtime

@@ -1,0 +1,213 @@
+#pragma once
+/**
+ * @file
+ * The particle system every realtime model lives in: tissue nodes and suture nodes in
+ * one set of arrays, the interactions between them (springs, home springs, bending,
+ * volume, rod curvature), contact sets that change every step, gravity and external
+ * loads. Integrators (integrator.h) advance it; the same discrete model can so be run by
+ * a force-based integrator (quasi-static, symplectic Euler) or by XPBD, which treats
+ * every interaction as a compliant constraint with compliance α = 1/k (Macklin, Müller
+ * & Chentanez 2016, "XPBD: position-based simulation of compliant constrained dynamics").
+ *
+ * Layout (for the cache): per-node quantities are separate arrays (positions,
+ * velocities, forces, masses, ...), positions as the columns of a 3 × n matrix so that a
+ * node's coordinates share a cache line; interactions store their element data as
+ * structures of arrays (springset.h). Nothing here allocates inside a step: work arrays
+ * are sized when the system is built.
+ */
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace suturesim::realtime
+{
+  using Eigen::Matrix3Xd;
+  using Eigen::Vector3d;
+  using Eigen::VectorXd;
+
+  /// A contiguous range of node indices [begin, end).
+  struct NodeRange
+  {
+    std::uint32_t begin = 0, end = 0;
+    std::uint32_t
+    size() const
+    {
+      return end - begin;
+    }
+    bool
+    contains(const std::uint32_t i) const
+    {
+      return i >= begin && i < end;
+    }
+  };
+
+  /// Per-node state, one array per quantity.
+  struct Nodes
+  {
+    Matrix3Xd x;         ///< positions, m
+    Matrix3Xd v;         ///< velocities, m/s
+    Matrix3Xd reference; ///< rest positions X, m
+    Matrix3Xd previous;  ///< positions at the start of the current step, m
+    Matrix3Xd force;     ///< total force of the last evaluation, N
+    Matrix3Xd external;  ///< prescribed external loads (tractions), N
+    Matrix3Xd target;    ///< positions of held nodes at the end of the step, m
+    VectorXd  mass;      ///< lumped mass, kg
+    VectorXd  damping;   ///< B of quasi-static integration V = F/B, N s/m
+    VectorXd  inverse_mass; ///< 1/m, 0 for held nodes
+    /// Why a node's position is prescribed (bit mask of Hold); 0: free.
+    std::vector<std::uint8_t> held;
+
+    std::uint32_t
+    size() const
+    {
+      return static_cast<std::uint32_t>(x.cols());
+    }
+
+    /// Appends a node at rest at @p X; returns its index.
+    std::uint32_t
+    add(const Vector3d &X, double mass, double damping);
+
+    /// Reasons for holding a node; a node is held while any is set.
+    enum Hold : std::uint8_t
+    {
+      boundary  = 1, ///< fixed or prescribed boundary, grasped by a tool
+      geometric = 2, ///< moved by a geometric model (follow-the-leader suture)
+      transient = 4  ///< a collision constraint of seed 002, for one step
+    };
+
+    /// Sets or clears one reason @p why for holding node @p i at target(i); the node's
+    /// inverse mass is 0 while any reason holds it.
+    void
+    set_held(std::uint32_t i, Hold why, bool hold);
+  };
+
+  /// A family of elements acting on nodes (all springs of a body, all its volume
+  /// constraints, ...), in both forms an integrator may need: a potential energy with its
+  /// forces, and the XPBD constraint projection with compliance α = 1/stiffness.
+  class Interaction
+  {
+  public:
+    virtual ~Interaction() = default;
+
+    virtual std::string
+    name() const = 0;
+    virtual std::size_t
+    size() const = 0;
+
+    /// Potential energy at @p x, J.
+    virtual double
+    energy(const Matrix3Xd &x) const = 0;
+
+    /// f += −∂E/∂x at @p x, N.
+    virtual void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const = 0;
+
+    /// XPBD: zeroes the Lagrange multipliers at the start of a step.
+    virtual void
+    reset_multipliers() = 0;
+
+    /// XPBD: one Gauss–Seidel sweep over the constraints with α̃ = α/dt² (Macklin et
+    /// al. 2016, eqs. 17–18), moving nodes by their inverse masses @p w.
+    virtual void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) = 0;
+
+    /// The largest |C| (constraint violation) relative to its natural scale (for
+    /// convergence studies): strain for distances, ΔV/V₀ for volumes, ...
+    virtual double
+    max_violation(const Matrix3Xd &x) const = 0;
+  };
+
+  /// Interactions that are found anew every step (contact, self-collision).
+  class ContactSet
+  {
+  public:
+    virtual ~ContactSet() = default;
+
+    virtual std::string
+    name() const = 0;
+
+    /// Finds the active contacts at @p x.
+    virtual void
+    detect(const Matrix3Xd &x) = 0;
+
+    /// Penalty or repelling forces of the contacts found by detect(), at @p x.
+    virtual void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const = 0;
+
+    /// True when XPBD should project the contacts as constraints rather than apply
+    /// add_forces() as external forces.
+    virtual bool
+    has_projection() const
+    {
+      return false;
+    }
+    virtual void
+    reset_multipliers()
+    {}
+    virtual void
+    project(Matrix3Xd &, const VectorXd &, double)
+    {}
+
+    /// After the step: position corrections that are not forces (seed 002's transient
+    /// collision constraints). May hold nodes for the next step.
+    virtual void
+    after_step(Nodes &)
+    {}
+
+    /// Number of active contacts of the last detect().
+    virtual std::size_t
+    active() const = 0;
+  };
+
+  class System
+  {
+  public:
+    Nodes                                     nodes;
+    std::vector<std::unique_ptr<Interaction>> interactions;
+    std::vector<std::unique_ptr<ContactSet>>  contacts;
+    Vector3d                                  gravity = Vector3d::Zero(); ///< m/s²
+    NodeRange                                 tissue, suture;
+
+    /// Sizes the work arrays; call after every node was added.
+    void
+    finalize();
+
+    /// Sum of the interactions' forces at @p x into @p f (overwritten).
+    void
+    internal_forces(const Matrix3Xd &x, Matrix3Xd &f) const;
+
+    /// Everything a force-based integrator moves by: internal forces, contacts (detected
+    /// at @p x), gravity and external loads, into nodes.force.
+    void
+    total_forces(const Matrix3Xd &x);
+
+    /// Elastic energy of the interactions at @p x, J.
+    double
+    elastic_energy(const Matrix3Xd &x) const;
+
+    /// Kinetic energy ½ Σ m v², J (held nodes included).
+    double
+    kinetic_energy() const;
+
+    /// K u, the stiffness (Hessian of the elastic energy) at @p x applied to @p u, by
+    /// central differences of the internal forces (exact for quadratic energies, O(ε²)
+    /// otherwise); for eigenvalue estimates.
+    void
+    stiffness_product(const Matrix3Xd &x, const Matrix3Xd &u, Matrix3Xd &Ku) const;
+
+    /// Characteristic length: the diagonal of the bounding box of the rest positions, m.
+    double
+    length_scale() const
+    {
+      return scale;
+    }
+
+  private:
+    double            scale = 1;
+    mutable Matrix3Xd work_a, work_b, work_x;
+  };
+} // namespace suturesim::realtime

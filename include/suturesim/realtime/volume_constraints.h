@@ -1,0 +1,60 @@
+#pragma once
+/**
+ * @file
+ * Volume preservation of tetrahedra (seed 004's tetrahedral tissue under position-based
+ * dynamics): C = V − V₀ with V = (x₁ − x₀)·((x₂ − x₀) × (x₃ − x₀))/6, energy
+ * ½ (K_v/V₀) C² (the volumetric energy ½ K (J − 1)² V₀ of a compressible solid), so the
+ * XPBD compliance is α = V₀/K_v. Gradients ∇₁V = (x₂ − x₀)×(x₃ − x₀)/6 and cyclic,
+ * ∇₀V = −(∇₁V + ∇₂V + ∇₃V) (Müller et al. 2007, "Position based dynamics", §4).
+ * K_v is the bulk stiffness the edge springs lack: K − 2E/3 (spring_set.h).
+ */
+
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/system.h>
+
+#include <array>
+#include <vector>
+
+namespace suturesim::realtime
+{
+  class VolumeConstraints : public Interaction
+  {
+  public:
+    std::string
+    name() const override
+    {
+      return "volume constraints";
+    }
+    std::size_t
+    size() const override
+    {
+      return rest.size();
+    }
+
+    /// One constraint per tetrahedron (@p node maps mesh vertices to system nodes),
+    /// bulk stiffness @p bulk_modulus (Pa).
+    void
+    add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
+             double bulk_modulus);
+
+    double
+    energy(const Matrix3Xd &x) const override;
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    void
+    reset_multipliers() override;
+    void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    /// max |V − V₀| / V₀
+    double
+    max_violation(const Matrix3Xd &x) const override;
+
+  private:
+    /// V and its gradients with respect to the four vertices.
+    double
+    volume(const Matrix3Xd &x, std::size_t t, std::array<Vector3d, 4> &g) const;
+
+    std::vector<mesh::Tetrahedron> tets;
+    std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ
+  };
+} // namespace suturesim::realtime

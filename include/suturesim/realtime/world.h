@@ -1,0 +1,251 @@
+#pragma once
+/**
+ * @file
+ * A realtime scene: tissue and suture models in one System, an integrator, suture–tissue
+ * contact and suture self-collision, held boundaries and tools, advanced one haptic step
+ * at a time: step(tool poses) → tool forces. A haptic step of h = 1/rate is split into
+ * substeps dt = h/n; tool poses are interpolated across them (positions linearly,
+ * orientations by slerp). Each step ends with the divergence guard; a diverged step
+ * throws DivergenceError and leaves the world at its last good state.
+ *
+ * Order within a substep (after seed 002 §6.A, "the needle/suture interactions need to
+ * occur in a particular order for stability"): held targets; the suture model's own
+ * update (FTL); the integrator's step (forces or constraints, contacts detected inside);
+ * release of last substep's collision constraints; post-step responses (seed 002's
+ * collision constraints, FTL nodes pushed out of the tissue).
+ */
+
+#include <suturesim/realtime/divergence_guard.h>
+#include <suturesim/realtime/integrator.h>
+#include <suturesim/realtime/suture_model.h>
+#include <suturesim/realtime/surface_contact.h>
+#include <suturesim/realtime/tissue_model.h>
+
+#include <Eigen/Geometry>
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace suturesim::realtime
+{
+  struct ToolPose
+  {
+    Vector3d           position    = Vector3d::Zero();
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  };
+
+  /// What the simulated bodies exert on a tool: the force and moment (about the tool's
+  /// position) to render on a haptic device.
+  struct ToolForce
+  {
+    Vector3d force  = Vector3d::Zero(); ///< N
+    Vector3d torque = Vector3d::Zero(); ///< N m
+  };
+
+  struct WorldSetup
+  {
+    const mesh::SimplexMesh     *mesh = nullptr; ///< the tissue's mesh; nullptr: no tissue
+    TissueMaterial               material;
+    std::unique_ptr<TissueModel> tissue;
+
+    std::unique_ptr<SutureModel> suture; ///< nullptr: no suture
+    SutureGeometry               suture_geometry;
+    std::string                  self_collision = "off";
+    ParameterValues              self_collision_parameters;
+    bool                         contact = true;
+    double                       contact_stiffness = 0; ///< N/m
+    double                       contact_depth     = 0; ///< m
+
+    std::unique_ptr<Integrator> integrator;
+    Vector3d                    gravity  = Vector3d::Zero();
+    double                      rate     = 1000; ///< haptic steps per second, Hz
+    unsigned                    substeps = 1;
+    bool                        refuse_above_limit = false; ///< else warn
+  };
+
+  class World
+  {
+  public:
+    explicit World(WorldSetup setup);
+
+    // --- what is held, set before initialize() -----------------------------------------
+
+    /// Holds the tissue nodes of mesh vertices @p vertices at their rest positions.
+    void
+    fix_vertices(const std::vector<std::uint32_t> &vertices);
+
+    /// target = motion(t) of the nodes (system indices) it is given, from their rest
+    /// positions.
+    using Motion = std::function<void(double t, const std::vector<std::uint32_t> &nodes,
+                                      const Matrix3Xd &reference, Matrix3Xd &target)>;
+    /// Holds the tissue nodes of mesh vertices @p vertices on @p motion; returns their
+    /// system nodes.
+    std::vector<std::uint32_t>
+    prescribe_vertices(const std::vector<std::uint32_t> &vertices, Motion motion);
+
+    /// A tool holding system nodes @p nodes rigidly at its pose (their offsets in the
+    /// tool's frame are those of @p initial). Returns the tool's index.
+    std::size_t
+    add_tool(const std::string &name, const std::vector<std::uint32_t> &nodes,
+             const ToolPose &initial);
+
+    /// External loads (tractions) at time t into the given 3 × n array (zeroed before).
+    using Loads = std::function<void(double t, Matrix3Xd &external)>;
+    void
+    set_loads(Loads loads);
+
+    /// Sets up the integrator, the stability limit and the guard; call once, after the
+    /// holds. Throws ParameterError("Substeps", …) when dt exceeds the limit and the
+    /// setup refuses that.
+    void
+    initialize();
+
+    // --- stepping ------------------------------------------------------------------------
+
+    /// Advances one haptic step with the tools moving to @p poses (one per tool);
+    /// returns what the bodies exert on each tool. Does not allocate.
+    const std::vector<ToolForce> &
+    step(const std::vector<ToolPose> &poses);
+
+    // --- state and measurements -----------------------------------------------------------
+
+    const System &
+    system() const
+    {
+      return sys;
+    }
+    System &
+    system()
+    {
+      return sys;
+    }
+    const TissueModel *
+    tissue() const
+    {
+      return tissue_model.get();
+    }
+    const SutureModel *
+    suture() const
+    {
+      return suture_model.get();
+    }
+    const Integrator &
+    integrator() const
+    {
+      return *time_integrator;
+    }
+    const SurfaceContact *
+    surface_contact() const
+    {
+      return contact;
+    }
+    double
+    time() const
+    {
+      return t;
+    }
+    std::size_t
+    steps() const
+    {
+      return n_steps;
+    }
+    /// The substep dt (s).
+    double
+    dt() const
+    {
+      return h / n_substeps;
+    }
+    /// The stability limit of the integrator at set-up (s), ∞ when none.
+    double
+    stability_limit() const
+    {
+      return dt_limit;
+    }
+    const std::string &
+    stability_description() const
+    {
+      return limit_text;
+    }
+    /// Non-empty when dt exceeds the stability limit.
+    const std::string &
+    warning() const
+    {
+      return warning_text;
+    }
+    const std::vector<ToolForce> &
+    tool_forces() const
+    {
+      return forces;
+    }
+
+    /// The force the holders of @p nodes (system indices) exert on the bodies (N): the
+    /// reaction of a fixed or prescribed boundary, in the accurate path's sign.
+    Vector3d
+    reaction(const std::vector<std::uint32_t> &nodes);
+
+    /// Interpolation of the tissue displacement at rest point @p X (m): the containing
+    /// tetrahedron of the volume model, the nearest surface triangle of the surface
+    /// model. Returns the probe's index. Throws ParameterError("Probes", …) when X is
+    /// farther than 1e-6 of the scene size from the tissue.
+    std::size_t
+    add_probe(const Vector3d &X);
+    Vector3d
+    probe_displacement(std::size_t probe) const;
+
+    /// System nodes of mesh vertices (−1 entries dropped).
+    std::vector<std::uint32_t>
+    nodes_of_vertices(const std::vector<std::uint32_t> &vertices) const;
+
+  private:
+    struct Tool
+    {
+      std::string                name;
+      std::vector<std::uint32_t> nodes;
+      Matrix3Xd                  offsets; ///< in the tool's frame, m
+      ToolPose                   pose;
+    };
+    struct Prescribed
+    {
+      std::vector<std::uint32_t> nodes;
+      Motion                     motion;
+    };
+    struct Probe
+    {
+      std::array<std::uint32_t, 4> nodes;
+      Eigen::Vector4d              weights;
+    };
+
+    /// Forces the bodies exert on every node at the current state (nodes.force).
+    void
+    evaluate_forces();
+
+    System                       sys;
+    const mesh::SimplexMesh     *mesh = nullptr;
+    std::unique_ptr<TissueModel> tissue_model;
+    std::unique_ptr<SutureModel> suture_model;
+    std::unique_ptr<Integrator>  time_integrator;
+    SurfaceContact              *contact = nullptr;
+    double                       contact_stiffness = 0;
+    bool                         refuse_above_limit = false;
+
+    std::vector<Tool>       tools;
+    std::vector<Prescribed> prescribed;
+    Loads                   loads;
+    std::vector<Probe>      probes;
+
+    double      h = 1e-3, t = 0, dt_limit = 0;
+    unsigned    n_substeps = 1;
+    std::size_t n_steps    = 0;
+    std::string limit_text, warning_text;
+    bool        initialized = false;
+
+    DivergenceGuard         guard;
+    Matrix3Xd               good_x, good_v;
+    std::vector<ToolForce>  forces;
+    std::vector<ToolPose>   start_poses;
+    std::vector<std::uint32_t> transient_nodes;
+  };
+} // namespace suturesim::realtime

@@ -1,0 +1,60 @@
+#include <suturesim/realtime/haptic_loop.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <thread>
+
+namespace suturesim::realtime
+{
+  HapticLoop::HapticLoop(World &w, const double rate, const std::size_t expected_steps,
+                         const bool pace)
+    : world(w)
+    , period(std::chrono::nanoseconds(static_cast<long long>(std::llround(1e9 / rate))))
+    , pacing(pace)
+    , next_tick(std::chrono::steady_clock::now())
+  {
+    times.reserve(expected_steps);
+  }
+
+  const std::vector<ToolForce> &
+  HapticLoop::tick(const std::vector<ToolPose> &poses)
+  {
+    if (pacing)
+      {
+        next_tick += period;
+        std::this_thread::sleep_until(next_tick);
+      }
+    const auto                     start  = std::chrono::steady_clock::now();
+    const std::vector<ToolForce> &result = world.step(poses);
+    const auto                     spent  = std::chrono::steady_clock::now() - start;
+    if (spent > period)
+      ++misses;
+    times.push_back(std::chrono::duration<float, std::micro>(spent).count());
+    return result;
+  }
+
+  LoopStatistics
+  HapticLoop::statistics() const
+  {
+    LoopStatistics s;
+    s.steps           = times.size();
+    s.deadline_misses = misses;
+    s.deadline_us     = std::chrono::duration<double, std::micro>(period).count();
+    if (times.empty())
+      return s;
+    std::vector<float> sorted(times);
+    std::sort(sorted.begin(), sorted.end());
+    const auto at = [&](const double q) {
+      // nearest rank
+      const std::size_t k = std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
+      return double(sorted[k]);
+    };
+    s.median_us = sorted.size() % 2 ? sorted[sorted.size() / 2]
+                                    : 0.5 * (double(sorted[sorted.size() / 2 - 1]) + sorted[sorted.size() / 2]);
+    s.p99_us  = at(0.99);
+    s.max_us  = sorted.back();
+    s.mean_us = std::accumulate(sorted.begin(), sorted.end(), 0.0) / sorted.size();
+    return s;
+  }
+} // namespace suturesim::realtime

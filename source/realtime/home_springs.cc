@@ -1,0 +1,67 @@
+#include <suturesim/realtime/home_springs.h>
+
+#include <stdexcept>
+
+namespace suturesim::realtime
+{
+  void
+  HomeSprings::add(const std::uint32_t i, const Vector3d &h, const double k)
+  {
+    if (!(k > 0))
+      throw std::invalid_argument("home spring with stiffness <= 0");
+    nodes.push_back(i);
+    stiffness.push_back(k);
+    const Eigen::Index n = home.cols();
+    home.conservativeResize(3, n + 1);
+    home.col(n) = h;
+    lambda.conservativeResize(3, n + 1);
+    lambda.col(n).setZero();
+  }
+
+  double
+  HomeSprings::energy(const Matrix3Xd &x) const
+  {
+    double e = 0;
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      e += 0.5 * stiffness[s] * (x.col(nodes[s]) - home.col(s)).squaredNorm();
+    return e;
+  }
+
+  void
+  HomeSprings::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      f.col(nodes[s]) += stiffness[s] * (home.col(s) - x.col(nodes[s]));
+  }
+
+  void
+  HomeSprings::reset_multipliers()
+  {
+    lambda.setZero();
+  }
+
+  void
+  HomeSprings::project(Matrix3Xd &x, const VectorXd &w, const double dt)
+  {
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      {
+        const double wi = w[nodes[s]];
+        if (wi == 0)
+          continue;
+        const double   alpha = 1 / (stiffness[s] * dt * dt);
+        const Vector3d d_lambda =
+          (-(x.col(nodes[s]) - home.col(s)) - alpha * lambda.col(s)) / (wi + alpha);
+        lambda.col(s) += d_lambda;
+        x.col(nodes[s]) += wi * d_lambda;
+      }
+  }
+
+  double
+  HomeSprings::max_violation(const Matrix3Xd &x) const
+  {
+    double m = 0;
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      m = std::max(m, (x.col(nodes[s]) - home.col(s)).norm());
+    return m;
+  }
+} // namespace suturesim::realtime

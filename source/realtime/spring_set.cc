@@ -1,0 +1,239 @@
+#include <suturesim/realtime/spring_set.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace suturesim::realtime
+{
+  void
+  SpringSet::add(const std::uint32_t i, const std::uint32_t j, const double rest_length,
+                 const double k)
+  {
+    if (i == j)
+      throw std::invalid_argument(label + ": spring from a node to itself");
+    if (!(rest_length >= 0) || !(k > 0))
+      throw std::invalid_argument(label + ": spring with negative rest length or stiffness <= 0");
+    first.push_back(std::min(i, j));
+    second.push_back(std::max(i, j));
+    rest.push_back(rest_length);
+    stiffness.push_back(k);
+    lambda.push_back(0);
+  }
+
+  void
+  SpringSet::sort()
+  {
+    std::vector<std::size_t> order(first.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) {
+      return first[a] != first[b] ? first[a] < first[b] : second[a] < second[b];
+    });
+    const auto permute = [&](auto &v) {
+      auto copy = v;
+      for (std::size_t s = 0; s < order.size(); ++s)
+        v[s] = copy[order[s]];
+    };
+    permute(first);
+    permute(second);
+    permute(rest);
+    permute(stiffness);
+    permute(lambda);
+  }
+
+  double
+  SpringSet::energy(const Matrix3Xd &x) const
+  {
+    double e = 0;
+    for (std::size_t s = 0; s < first.size(); ++s)
+      {
+        const double d = (x.col(second[s]) - x.col(first[s])).norm() - rest[s];
+        e += 0.5 * stiffness[s] * d * d;
+      }
+    return e;
+  }
+
+  void
+  SpringSet::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    // the hot kernel: raw pointers into the column-major 3 x n arrays
+    const double        *X = x.data();
+    double              *F = f.data();
+    const std::uint32_t *I = first.data(), *J = second.data();
+    const double        *R = rest.data(), *K = stiffness.data();
+    const std::size_t    n = first.size();
+    for (std::size_t s = 0; s < n; ++s)
+      {
+        const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
+        const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
+        const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
+        // tension / length; a spring of zero length has no direction and pushes nowhere
+        const double t = L > 0 ? K[s] * (L - R[s]) / L : 0.0;
+        F[a] += t * dx;
+        F[a + 1] += t * dy;
+        F[a + 2] += t * dz;
+        F[b] -= t * dx;
+        F[b + 1] -= t * dy;
+        F[b + 2] -= t * dz;
+      }
+  }
+
+  void
+  SpringSet::reset_multipliers()
+  {
+    std::fill(lambda.begin(), lambda.end(), 0.0);
+  }
+
+  void
+  SpringSet::project(Matrix3Xd &x, const VectorXd &w, const double dt)
+  {
+    double              *X = x.data();
+    const double        *W = w.data();
+    const std::uint32_t *I = first.data(), *J = second.data();
+    const double        *R = rest.data(), *K = stiffness.data();
+    double              *Lambda = lambda.data();
+    const double         inv_dt2 = 1 / (dt * dt);
+    const std::size_t    n       = first.size();
+    for (std::size_t s = 0; s < n; ++s)
+      {
+        const double wa = W[I[s]], wb = W[J[s]];
+        const double alpha = inv_dt2 / K[s]; // α̃ = α/dt², α = 1/k (0 for k = ∞)
+        const double denominator = wa + wb + alpha;
+        if (denominator == 0)
+          continue;
+        const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
+        const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
+        const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (!(L > 0))
+          continue;
+        const double d_lambda = (-(L - R[s]) - alpha * Lambda[s]) / denominator;
+        Lambda[s] += d_lambda;
+        const double g = d_lambda / L; // Δλ times the unit direction's scale
+        X[a] -= wa * g * dx;
+        X[a + 1] -= wa * g * dy;
+        X[a + 2] -= wa * g * dz;
+        X[b] += wb * g * dx;
+        X[b + 1] += wb * g * dy;
+        X[b + 2] += wb * g * dz;
+      }
+  }
+
+  double
+  SpringSet::max_violation(const Matrix3Xd &x) const
+  {
+    double m = 0;
+    for (std::size_t s = 0; s < first.size(); ++s)
+      if (rest[s] > 0)
+        m = std::max(m, std::abs((x.col(second[s]) - x.col(first[s])).norm() - rest[s]) / rest[s]);
+    return m;
+  }
+
+  std::size_t
+  SpringSet::limit_strain(Matrix3Xd &x, const VectorXd &w, const double limit,
+                          const unsigned sweeps) const
+  {
+    std::size_t corrected = 0;
+    for (unsigned sweep = 0; sweep < sweeps; ++sweep)
+      {
+        corrected = 0;
+        for (std::size_t s = 0; s < first.size(); ++s)
+          {
+            const double wa = w[first[s]], wb = w[second[s]];
+            if (wa + wb == 0)
+              continue;
+            const Vector3d d = x.col(second[s]) - x.col(first[s]);
+            const double   L = d.norm();
+            const double   target =
+              std::clamp(L, (1 - limit) * rest[s], (1 + limit) * rest[s]);
+            if (L == target || !(L > 0))
+              continue;
+            const Vector3d correction = (L - target) / (L * (wa + wb)) * d;
+            x.col(first[s]) += wa * correction;
+            x.col(second[s]) -= wb * correction;
+            ++corrected;
+          }
+        if (corrected == 0)
+          break;
+      }
+    return corrected;
+  }
+
+  namespace
+  {
+    std::uint64_t
+    edge_key(const std::uint32_t a, const std::uint32_t b)
+    {
+      return std::uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+    }
+  } // namespace
+
+  void
+  add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                     const std::vector<std::uint32_t> &node, const double E)
+  {
+    // Σ_{T∋e} V_T per edge, in the order edges are first met (deterministic)
+    std::unordered_map<std::uint64_t, std::size_t> index;
+    std::vector<std::pair<std::uint64_t, double>>  edges;
+    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+      {
+        const auto  &v = mesh.tetrahedra[t];
+        const double V = mesh.volume(t);
+        for (unsigned a = 0; a < 4; ++a)
+          for (unsigned b = a + 1; b < 4; ++b)
+            {
+              const auto [it, inserted] = index.try_emplace(edge_key(v[a], v[b]), edges.size());
+              if (inserted)
+                edges.emplace_back(edge_key(v[a], v[b]), 0.0);
+              edges[it->second].second += V;
+            }
+      }
+    for (const auto &[key, volume] : edges)
+      {
+        const std::uint32_t a = key >> 32, b = key & 0xffffffffu;
+        const double        L = (mesh.vertices.col(a) - mesh.vertices.col(b)).norm();
+        springs.add(node[a], node[b], L, E * volume / (L * L));
+      }
+  }
+
+  void
+  add_membrane_springs(SpringSet &springs, const Matrix3Xd &vertices,
+                       const std::vector<mesh::Triangle> &triangles,
+                       const std::vector<std::uint32_t> &node, const double E,
+                       const double nu, const double t)
+  {
+    std::unordered_map<std::uint64_t, std::size_t> index;
+    std::vector<std::pair<std::uint64_t, double>>  edges;
+    for (const auto &tri : triangles)
+      {
+        const double area =
+          0.5 * (vertices.col(tri[1]) - vertices.col(tri[0]))
+                  .cross(vertices.col(tri[2]) - vertices.col(tri[0]))
+                  .norm();
+        if (!(area > 0))
+          throw std::invalid_argument("membrane springs: a degenerate triangle");
+        for (unsigned k = 0; k < 3; ++k)
+          {
+            // edge (a, b) opposite vertex o
+            const std::uint32_t o = tri[k], a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+            const Vector3d      e1 = vertices.col(a) - vertices.col(o);
+            const Vector3d      e2 = vertices.col(b) - vertices.col(o);
+            const double        cot = e1.dot(e2) / e1.cross(e2).norm();
+            const double        L2  = (vertices.col(a) - vertices.col(b)).squaredNorm();
+            const double k_edge = E * t * L2 * (2 * cot * cot + 1 - nu) / (8 * (1 - nu * nu) * area);
+            const auto [it, inserted] = index.try_emplace(edge_key(a, b), edges.size());
+            if (inserted)
+              edges.emplace_back(edge_key(a, b), 0.0);
+            edges[it->second].second += k_edge;
+          }
+      }
+    for (const auto &[key, k] : edges)
+      {
+        const std::uint32_t a = key >> 32, b = key & 0xffffffffu;
+        springs.add(node[a], node[b], (vertices.col(a) - vertices.col(b)).norm(), k);
+      }
+  }
+} // namespace suturesim::realtime

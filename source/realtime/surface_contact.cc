@@ -1,0 +1,136 @@
+#include <suturesim/collision/proximity.h>
+#include <suturesim/realtime/surface_contact.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+
+namespace suturesim::realtime
+{
+  SurfaceContact::SurfaceContact(const System &s, const std::vector<mesh::Triangle> &surface,
+                                 const Parameters &parameters)
+    : prm(parameters)
+    , triangles(surface)
+    , suture(s.suture)
+  {
+    surface_tree.build(s.nodes.x, triangles, prm.depth);
+    suture_tree.build(s.nodes.x.middleCols(suture.begin, suture.size()), prm.radius);
+    best.assign(suture.size(), 0);
+    slot.assign(suture.size(), -1);
+    contacts.reserve(suture.size());
+    candidates.reserve(8 * suture.size());
+  }
+
+  void
+  SurfaceContact::detect(const Matrix3Xd &x)
+  {
+    surface_tree.refit(x);
+    suture_tree.refit_all(x.middleCols(suture.begin, suture.size()));
+    suture_tree.overlaps(surface_tree, 0, candidates);
+    contacts.clear();
+    std::fill(slot.begin(), slot.end(), -1);
+    Vector3d bary;
+    for (const auto &[segment, leaf] : candidates)
+      {
+        const auto    &t = triangles[surface_tree.triangle(leaf)];
+        const Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
+        const Vector3d n = (b - a).cross(c - a).normalized();
+        for (const std::uint32_t k : {segment, segment + 1})
+          {
+            const std::uint32_t node = suture.begin + k;
+            const Vector3d      p    = x.col(node);
+            const Vector3d      q    = collision::closest_point_on_triangle(p, a, b, c, bary);
+            const double        d    = (p - q).dot(n);
+            if (!(d < prm.radius && d > -prm.depth))
+              continue;
+            const double distance = (p - q).norm();
+            if (slot[k] >= 0 && best[k] <= distance)
+              continue;
+            const Contact contact{node, t, bary, n, 0};
+            if (slot[k] >= 0)
+              contacts[slot[k]] = contact;
+            else
+              {
+                slot[k] = static_cast<std::int32_t>(contacts.size());
+                contacts.push_back(contact);
+              }
+            best[k] = distance;
+          }
+      }
+  }
+
+  double
+  SurfaceContact::gap(const Contact &c, const Matrix3Xd &x) const
+  {
+    const Vector3d q = c.bary[0] * x.col(c.triangle[0]) + c.bary[1] * x.col(c.triangle[1]) +
+                       c.bary[2] * x.col(c.triangle[2]);
+    return (x.col(c.node) - q).dot(c.normal) - prm.radius;
+  }
+
+  void
+  SurfaceContact::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    for (const auto &c : contacts)
+      {
+        const double g = gap(c, x);
+        if (g >= 0)
+          continue;
+        const Vector3d force = -prm.stiffness * g * c.normal;
+        f.col(c.node) += force;
+        for (unsigned k = 0; k < 3; ++k)
+          f.col(c.triangle[k]) -= c.bary[k] * force;
+      }
+  }
+
+  void
+  SurfaceContact::reset_multipliers()
+  {
+    for (auto &c : contacts)
+      c.lambda = 0;
+  }
+
+  void
+  SurfaceContact::project(Matrix3Xd &x, const VectorXd &w, const double dt)
+  {
+    const double alpha = 1 / (prm.stiffness * dt * dt);
+    for (auto &c : contacts)
+      {
+        const double g = gap(c, x);
+        if (g >= 0)
+          continue;
+        double denominator = w[c.node] + alpha;
+        for (unsigned k = 0; k < 3; ++k)
+          denominator += c.bary[k] * c.bary[k] * w[c.triangle[k]];
+        if (denominator == 0)
+          continue;
+        const double d_lambda = std::max((-g - alpha * c.lambda) / denominator, -c.lambda);
+        c.lambda += d_lambda;
+        x.col(c.node) += w[c.node] * d_lambda * c.normal;
+        for (unsigned k = 0; k < 3; ++k)
+          x.col(c.triangle[k]) -= w[c.triangle[k]] * c.bary[k] * d_lambda * c.normal;
+      }
+  }
+
+  void
+  SurfaceContact::after_step(Nodes &nodes)
+  {
+    // geometric suture nodes (FTL) are not moved by forces or projections: put the
+    // ones that sank in back on the surface and hold them there for the next step
+    bool any = false;
+    for (std::uint32_t i = suture.begin; i < suture.end && !any; ++i)
+      any = (nodes.held[i] & Nodes::geometric) && !(nodes.held[i] & Nodes::boundary);
+    if (!any)
+      return;
+    detect(nodes.x);
+    for (const auto &c : contacts)
+      if ((nodes.held[c.node] & Nodes::geometric) && !(nodes.held[c.node] & Nodes::boundary))
+        {
+          const double g = gap(c, nodes.x);
+          if (g >= 0)
+            continue;
+          nodes.x.col(c.node) -= g * c.normal;
+          nodes.target.col(c.node) = nodes.x.col(c.node);
+          nodes.set_held(c.node, Nodes::transient, true);
+        }
+  }
+} // namespace suturesim::realtime

@@ -1,0 +1,327 @@
+#include <suturesim/collision/proximity.h>
+#include <suturesim/realtime/home_springs.h>
+#include <suturesim/realtime/self_collision.h>
+#include <suturesim/realtime/world.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace suturesim::realtime
+{
+  World::World(WorldSetup setup)
+    : mesh(setup.mesh)
+    , tissue_model(std::move(setup.tissue))
+    , suture_model(std::move(setup.suture))
+    , time_integrator(std::move(setup.integrator))
+    , contact_stiffness(setup.contact_stiffness)
+    , refuse_above_limit(setup.refuse_above_limit)
+    , h(1 / setup.rate)
+    , n_substeps(setup.substeps)
+  {
+    if (!time_integrator)
+      throw std::invalid_argument("realtime world without an integrator");
+    if (!(setup.rate > 0) || n_substeps == 0)
+      throw std::invalid_argument("realtime world: rate and substeps must be positive");
+    if (mesh != nullptr && tissue_model)
+      tissue_model->build(sys, *mesh, mesh::extract_boundary(*mesh), setup.material,
+                          time_integrator->position_based());
+    else
+      tissue_model.reset();
+    if (suture_model)
+      suture_model->build(sys, setup.suture_geometry);
+    sys.gravity = setup.gravity;
+
+    if (suture_model && tissue_model && setup.contact)
+      {
+        auto c = std::make_unique<SurfaceContact>(
+          sys, tissue_model->surface(),
+          SurfaceContact::Parameters{setup.contact_stiffness, setup.suture_geometry.radius,
+                                     setup.contact_depth, time_integrator->position_based()});
+        contact = c.get();
+        sys.contacts.push_back(std::move(c));
+      }
+    if (suture_model)
+      if (auto self = make_self_collision(setup.self_collision, setup.self_collision_parameters,
+                                          {sys.suture, setup.suture_geometry.radius,
+                                           suture_model->link_length(), &sys.nodes.x}))
+        sys.contacts.push_back(std::move(self));
+  }
+
+  std::vector<std::uint32_t>
+  World::nodes_of_vertices(const std::vector<std::uint32_t> &vertices) const
+  {
+    std::vector<std::uint32_t> result;
+    if (tissue_model)
+      for (const auto v : vertices)
+        if (tissue_model->node(v) >= 0)
+          result.push_back(tissue_model->node(v));
+    return result;
+  }
+
+  void
+  World::fix_vertices(const std::vector<std::uint32_t> &vertices)
+  {
+    for (const auto i : nodes_of_vertices(vertices))
+      {
+        sys.nodes.set_held(i, Nodes::boundary, true);
+        sys.nodes.target.col(i) = sys.nodes.reference.col(i);
+      }
+  }
+
+  std::vector<std::uint32_t>
+  World::prescribe_vertices(const std::vector<std::uint32_t> &vertices, Motion motion)
+  {
+    Prescribed p{nodes_of_vertices(vertices), std::move(motion)};
+    for (const auto i : p.nodes)
+      sys.nodes.set_held(i, Nodes::boundary, true);
+    p.motion(0, p.nodes, sys.nodes.reference, sys.nodes.target);
+    for (const auto i : p.nodes)
+      sys.nodes.x.col(i) = sys.nodes.target.col(i);
+    prescribed.push_back(std::move(p));
+    return prescribed.back().nodes;
+  }
+
+  std::size_t
+  World::add_tool(const std::string &name, const std::vector<std::uint32_t> &nodes,
+                  const ToolPose &initial)
+  {
+    Tool tool{name, nodes, Matrix3Xd(3, nodes.size()), initial};
+    const Eigen::Matrix3d R = initial.orientation.toRotationMatrix();
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      {
+        if (nodes[k] >= sys.nodes.size())
+          throw std::invalid_argument("tool '" + name + "' holds a node that does not exist");
+        tool.offsets.col(k) = R.transpose() * (sys.nodes.x.col(nodes[k]) - initial.position);
+        sys.nodes.set_held(nodes[k], Nodes::boundary, true);
+        sys.nodes.target.col(nodes[k]) = sys.nodes.x.col(nodes[k]);
+      }
+    tools.push_back(std::move(tool));
+    return tools.size() - 1;
+  }
+
+  void
+  World::set_loads(Loads l)
+  {
+    loads = std::move(l);
+  }
+
+  void
+  World::initialize()
+  {
+    time_integrator->setup(sys);
+    sys.finalize();
+
+    // The limit of a force-based integrator, with the penalty contact stiffness on every
+    // suture node as if it touched (contacts appear only later, and a stiff penalty is
+    // as able to make an explicit step unstable as a stiff spring).
+    if (!time_integrator->position_based())
+      {
+        std::unique_ptr<HomeSprings> potential_contact;
+        if (contact != nullptr && contact_stiffness > 0)
+          {
+            potential_contact = std::make_unique<HomeSprings>();
+            for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
+              potential_contact->add(i, sys.nodes.x.col(i), contact_stiffness);
+            sys.interactions.push_back(std::move(potential_contact));
+          }
+        dt_limit = time_integrator->stability_limit(sys);
+        if (contact != nullptr && contact_stiffness > 0)
+          sys.interactions.pop_back();
+        limit_text = time_integrator->limit_description() +
+                     (contact != nullptr ? " (contact stiffness included)" : "");
+      }
+    else
+      {
+        dt_limit   = std::numeric_limits<double>::infinity();
+        limit_text = "none: XPBD is unconditionally stable";
+      }
+
+    std::ostringstream cause;
+    if (dt() > dt_limit)
+      {
+        std::ostringstream w;
+        w << "dt = " << dt() << " s is above the stability limit dt_crit = " << dt_limit
+          << " s (" << limit_text << ")";
+        warning_text = w.str();
+        if (refuse_above_limit)
+          throw ParameterError("Substeps", warning_text + "; use more substeps");
+        cause << warning_text;
+      }
+    else if (time_integrator->position_based())
+      cause << "a constraint or contact stiffer than " << time_integrator->iterations()
+            << " XPBD iterations at dt = " << dt() << " s resolve";
+    else
+      cause << "a stiffness above the one estimated at set-up (large deformation or contact); "
+               "dt = "
+            << dt() << " s, dt_crit = " << dt_limit << " s";
+    guard.setup(sys, h, cause.str());
+
+    good_x = sys.nodes.x;
+    good_v = sys.nodes.v;
+    forces.assign(tools.size(), ToolForce());
+    start_poses.clear();
+    for (const auto &tool : tools)
+      start_poses.push_back(tool.pose);
+    transient_nodes.reserve(sys.nodes.size());
+    initialized = true;
+  }
+
+  const std::vector<ToolForce> &
+  World::step(const std::vector<ToolPose> &poses)
+  {
+    if (!initialized)
+      throw std::logic_error("World::step before initialize()");
+    if (poses.size() != tools.size())
+      throw std::invalid_argument("World::step: one pose per tool");
+    Nodes       &n  = sys.nodes;
+    const double dt = h / n_substeps;
+    for (unsigned k = 0; k < n_substeps; ++k)
+      {
+        const double tau = double(k + 1) / n_substeps;
+        const double tk  = t + (k + 1) * dt;
+        for (std::size_t j = 0; j < tools.size(); ++j)
+          {
+            const Vector3d p = start_poses[j].position + tau * (poses[j].position - start_poses[j].position);
+            const Eigen::Matrix3d R =
+              start_poses[j].orientation.slerp(tau, poses[j].orientation).toRotationMatrix();
+            for (std::size_t i = 0; i < tools[j].nodes.size(); ++i)
+              n.target.col(tools[j].nodes[i]) = p + R * tools[j].offsets.col(i);
+          }
+        for (auto &p : prescribed)
+          p.motion(tk, p.nodes, n.reference, n.target);
+        if (loads)
+          {
+            n.external.setZero();
+            loads(tk, n.external);
+          }
+        if (suture_model)
+          suture_model->before_step(sys, dt);
+        time_integrator->step(sys, dt);
+
+        // collision constraints live for one step (seed 002)
+        for (const auto i : transient_nodes)
+          n.set_held(i, Nodes::transient, false);
+        transient_nodes.clear();
+        for (const auto &c : sys.contacts)
+          c->after_step(n);
+        for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
+          if (n.held[i] & Nodes::transient)
+            transient_nodes.push_back(i);
+      }
+
+    const std::string diagnosis = guard.check(sys, n_steps + 1);
+    if (!diagnosis.empty())
+      {
+        n.x = good_x;
+        n.v = good_v;
+        throw DivergenceError(diagnosis, n_steps + 1);
+      }
+    t += h;
+    ++n_steps;
+    good_x = n.x;
+    good_v = n.v;
+    for (std::size_t j = 0; j < tools.size(); ++j)
+      {
+        start_poses[j] = poses[j];
+        tools[j].pose  = poses[j];
+      }
+
+    if (!tools.empty())
+      {
+        evaluate_forces();
+        for (std::size_t j = 0; j < tools.size(); ++j)
+          {
+            ToolForce &f = forces[j];
+            f            = ToolForce();
+            for (const auto i : tools[j].nodes)
+              {
+                Vector3d fi;
+                if (!(suture_model && suture_model->holding_force(sys, i, fi)))
+                  fi = n.force.col(i);
+                f.force += fi;
+                f.torque += (n.x.col(i) - poses[j].position).cross(fi);
+              }
+          }
+      }
+    return forces;
+  }
+
+  void
+  World::evaluate_forces()
+  {
+    Nodes &n = sys.nodes;
+    sys.internal_forces(n.x, n.force);
+    for (const auto &c : sys.contacts)
+      c->add_forces(n.x, n.force);
+    n.force += n.external;
+    if (!sys.gravity.isZero())
+      n.force.noalias() += sys.gravity * n.mass.transpose();
+  }
+
+  Vector3d
+  World::reaction(const std::vector<std::uint32_t> &nodes)
+  {
+    evaluate_forces();
+    Vector3d r = Vector3d::Zero();
+    for (const auto i : nodes)
+      r -= sys.nodes.force.col(i);
+    return r;
+  }
+
+  std::size_t
+  World::add_probe(const Vector3d &X)
+  {
+    if (!tissue_model)
+      throw ParameterError("Probes", "the scene has no tissue");
+    const Matrix3Xd &R         = sys.nodes.reference;
+    const double     tolerance = 1e-6 * sys.length_scale();
+    Probe            best{{0, 0, 0, 0}, Eigen::Vector4d::Zero()};
+    double           best_distance = std::numeric_limits<double>::infinity();
+    // inside a tetrahedron (volume model)
+    for (const auto &c : tissue_model->volume_cells())
+      {
+        Eigen::Matrix3d A;
+        A << R.col(c[1]) - R.col(c[0]), R.col(c[2]) - R.col(c[0]), R.col(c[3]) - R.col(c[0]);
+        const Vector3d        l = A.lu().solve(X - R.col(c[0]));
+        const Eigen::Vector4d w(1 - l.sum(), l[0], l[1], l[2]);
+        if (w.minCoeff() >= -1e-12)
+          {
+            probes.push_back({c, w});
+            return probes.size() - 1;
+          }
+      }
+    // else on the nearest surface triangle
+    Vector3d bary;
+    for (const auto &t : tissue_model->surface())
+      {
+        const Vector3d q = collision::closest_point_on_triangle(X, R.col(t[0]), R.col(t[1]), R.col(t[2]), bary);
+        const double   d = (q - X).norm();
+        if (d < best_distance)
+          {
+            best_distance = d;
+            best          = {{t[0], t[1], t[2], t[0]}, Eigen::Vector4d(bary[0], bary[1], bary[2], 0)};
+          }
+      }
+    if (best_distance > tolerance)
+      {
+        std::ostringstream s;
+        s << "point (" << X[0] << ", " << X[1] << ", " << X[2] << ") m is " << best_distance
+          << " m away from the "
+          << (tissue_model->volume_cells().empty() ? "surface (the surface model has no nodes inside)"
+                                                   : "tissue");
+        throw ParameterError("Probes", s.str());
+      }
+    probes.push_back(best);
+    return probes.size() - 1;
+  }
+
+  Vector3d
+  World::probe_displacement(const std::size_t probe) const
+  {
+    const Probe &p = probes[probe];
+    Vector3d     u = Vector3d::Zero();
+    for (unsigned k = 0; k < 4; ++k)
+      u += p.weights[k] * (sys.nodes.x.col(p.nodes[k]) - sys.nodes.reference.col(p.nodes[k]));
+    return u;
+  }
+} // namespace suturesim::realtime

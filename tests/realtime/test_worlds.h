@@ -1,0 +1,56 @@
+#pragma once
+// Builds registered realtime models and small worlds for the tests.
+#include <suturesim/realtime/self_collision.h>
+#include <suturesim/realtime/world.h>
+
+#include <map>
+#include <string>
+
+namespace suturesim::test_support
+{
+  /// The registered model @p name of @p Registry with its default parameters, some
+  /// overridden by @p values.
+  template <typename Registry, typename... Args>
+  auto
+  make_model(const std::string &name, const std::map<std::string, std::string> &values = {},
+             const Args &...args)
+  {
+    const auto                      &entry = Registry::instance().get(name);
+    realtime::ParameterDeclarations d;
+    if (entry.declare_parameters)
+      entry.declare_parameters(d);
+    auto p = realtime::ParameterValues::defaults(d);
+    for (const auto &[k, v] : values)
+      p.set(k, v);
+    return entry.create(p, args...);
+  }
+
+  inline realtime::ParameterValues
+  parameters_of(const std::string &self_collision, const std::map<std::string, std::string> &values = {})
+  {
+    realtime::ParameterDeclarations d;
+    if (self_collision != "off")
+      if (const auto &f = realtime::SelfCollision::Registry::instance().get(self_collision).declare_parameters)
+        f(d);
+    auto p = realtime::ParameterValues::defaults(d);
+    for (const auto &[k, v] : values)
+      p.set(k, v);
+    return p;
+  }
+
+  /// A straight suture of @p n segments from @p start along @p direction.
+  inline realtime::SutureGeometry
+  straight_suture(const unsigned n, const double length, const Eigen::Vector3d &start,
+                  const Eigen::Vector3d &direction, const double EA = 100, const double EI = 1e-6,
+                  const double radius = 1e-4, const double density = 1100)
+  {
+    realtime::SutureGeometry g;
+    for (unsigned i = 0; i <= n; ++i)
+      g.points.push_back(start + length * i / n * direction.normalized());
+    g.radius  = radius;
+    g.EA      = EA;
+    g.EI      = EI;
+    g.density = density;
+    return g;
+  }
+} // namespace suturesim::test_support
