@@ -1,4 +1,6 @@
-// Skin pad with a partial-depth incision slit; all-hex structured mesh (SI units).
+// Skin pad with a partial-depth incision slit; structured mesh (SI units): hexahedra for
+// the accurate path, or (hexahedra = 0) each transfinite block cut into tetrahedra for
+// the realtime path.
 // Mesh with: gmsh -3 -format msh22 -o pad.msh skin_pad_incision.geo [-setnumber NAME value]
 //
 // The pad is split into 2 (x) x 3 (y) x 2 (z) transfinite blocks. The slit
@@ -13,7 +15,8 @@ DefineConstant[
   H  = {0.006,  Name "Parameters/H pad thickness [m]"},
   Li = {0.020,  Name "Parameters/Li incision length in y [m]"},
   Di = {0.003,  Name "Parameters/Di incision depth from top [m]"},
-  h  = {0.0015, Name "Parameters/h target element size [m]"}
+  h  = {0.0015, Name "Parameters/h target element size [m]"},
+  hexahedra = {1, Choices {0, 1}, Name "Parameters/hexahedra (1) or tetrahedra (0)"}
 ];
 
 // Duplicate curves/surfaces on the slit must not be merged.
@@ -146,7 +149,9 @@ Transfinite Curve{300:311} = nzb;
 Transfinite Curve{312:323} = nzt;
 
 Transfinite Surface{:};
-Recombine Surface{:};
+If (hexahedra)
+  Recombine Surface{:};
+EndIf
 Transfinite Volume{:};
 
 // Only these entities are written (interior interfaces stay untagged).

@@ -9,7 +9,8 @@ packages=(
   libeigen3-dev           # realtime path and rod solver
   nlohmann-json3-dev      # summary.json
   libgtest-dev googletest libbenchmark-dev
-  gmsh                    # .geo -> .msh at build time
+  gmsh                    # .geo -> .msh at run time
+  libgmsh-dev             # gmsh API: tetrahedral meshes for the realtime path
   openmpi-bin             # mpirun for the parallel regression test
   numdiff
   libopenblas0-pthread    # optimised BLAS/LAPACK: MUMPS spends its time in dense BLAS-3

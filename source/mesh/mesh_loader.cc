@@ -157,32 +157,6 @@ namespace suturesim::mesh
       return names;
     }
 
-    std::string
-    run_gmsh(const MeshParameters &p, const std::string &work_directory)
-    {
-      const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
-      const std::string log = (fs::path(work_directory) / "gmsh.log").string();
-      int status = 0;
-      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-        {
-          std::ostringstream cmd;
-          cmd << SUTURESIM_GMSH << " -3 -format msh22 -nt 1";
-          for (const auto &[k, v] : p.geo_parameters)
-            cmd << " -setnumber " << k << " " << std::setprecision(17) << v;
-          cmd << " -o '" << msh << "' '" << p.file << "' > '" << log << "' 2>&1";
-          fs::remove(msh);
-          status = std::system(cmd.str().c_str());
-          if (status == 0 && !fs::exists(msh))
-            status = -1;
-        }
-      // Every rank learns the outcome, so that all throw together (no rank left waiting).
-      MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
-      if (status != 0)
-        throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " +
-                         log);
-      return msh;
-    }
-
     /// Cook's membrane (references.md): the trapezoid (0,0)–(48,44)–(48,60)–(0,44) mm
     /// extruded by the thickness, n × n × 1 cells. Boundary ids: 0 left (x = 0),
     /// 1 right (x = 48 mm), 2 bottom, 3 top, 4 back (z = −t/2), 5 front (z = +t/2).
@@ -237,6 +211,33 @@ namespace suturesim::mesh
     }
   } // namespace
 
+  std::string
+  mesh_file(const MeshParameters &p, const std::string &work_directory)
+  {
+    if (fs::path(p.file).extension() != ".geo")
+      return p.file;
+    const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
+    const std::string log = (fs::path(work_directory) / "gmsh.log").string();
+    int               status = 0;
+    if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      {
+        std::ostringstream cmd;
+        cmd << SUTURESIM_GMSH << " -3 -format msh22 -nt 1";
+        for (const auto &[k, v] : p.geo_parameters)
+          cmd << " -setnumber " << k << " " << std::setprecision(17) << v;
+        cmd << " -o '" << msh << "' '" << p.file << "' > '" << log << "' 2>&1";
+        fs::remove(msh);
+        status = std::system(cmd.str().c_str());
+        if (status == 0 && !fs::exists(msh))
+          status = -1;
+      }
+    // Every rank learns the outcome, so that all throw together (no rank left waiting).
+    MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (status != 0)
+      throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " + log);
+    return msh;
+  }
+
   MeshInfo
   create_mesh(const MeshParameters                            &p,
               const std::string                               &work_directory,
@@ -249,8 +250,7 @@ namespace suturesim::mesh
     std::string      what;
     if (p.source == "gmsh")
       {
-        const bool        geo = fs::path(p.file).extension() == ".geo";
-        const std::string msh = geo ? run_gmsh(p, work_directory) : p.file;
+        const std::string msh = mesh_file(p, work_directory);
         what                  = p.file;
         std::ifstream in(msh);
         GridIn<3>     grid_in;

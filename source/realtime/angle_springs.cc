@@ -78,6 +78,21 @@ namespace suturesim::realtime
   }
 
   void
+  AngleSprings::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
+  {
+    double   theta;
+    Vector3d ga, gb;
+    for (std::size_t s = 0; s < vertex.size(); ++s)
+      if (angle(x, s, theta, ga, gb))
+        {
+          const double m = lambda[s] / (dt * dt);
+          f.col(end_a[s]) += m * ga;
+          f.col(end_b[s]) += m * gb;
+          f.col(vertex[s]) -= m * (ga + gb);
+        }
+  }
+
+  void
   AngleSprings::reset_multipliers()
   {
     std::fill(lambda.begin(), lambda.end(), 0.0);

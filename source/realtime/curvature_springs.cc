@@ -42,6 +42,19 @@ namespace suturesim::realtime
   }
 
   void
+  CurvatureSprings::add_constraint_forces(const Matrix3Xd &, Matrix3Xd &f, const double dt) const
+  {
+    // C = x₋ − 2x + x₊ (vector): ∇Cᵀλ/dt² in place of −k C
+    for (std::size_t s = 0; s < centre.size(); ++s)
+      {
+        const Vector3d cb = -lambda.col(s) / (dt * dt);
+        f.col(before[s]) -= cb;
+        f.col(centre[s]) += 2 * cb;
+        f.col(after[s]) -= cb;
+      }
+  }
+
+  void
   CurvatureSprings::reset_multipliers()
   {
     lambda.setZero();

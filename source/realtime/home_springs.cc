@@ -35,6 +35,13 @@ namespace suturesim::realtime
   }
 
   void
+  HomeSprings::add_constraint_forces(const Matrix3Xd &, Matrix3Xd &f, const double dt) const
+  {
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      f.col(nodes[s]) += lambda.col(s) / (dt * dt);
+  }
+
+  void
   HomeSprings::reset_multipliers()
   {
     lambda.setZero();

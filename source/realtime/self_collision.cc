@@ -7,7 +7,7 @@ namespace suturesim::realtime
     : setup(s)
   {
     tree.build(s.positions->middleCols(s.suture.begin, s.suture.size()), s.radius);
-    pairs.reserve(4 * s.suture.size());
+    pairs.reserve(16 * s.suture.size());
     candidates.reserve(16 * s.suture.size());
   }
 

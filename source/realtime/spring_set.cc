@@ -1,3 +1,4 @@
+#include <suturesim/realtime/independent_order.h>
 #include <suturesim/realtime/spring_set.h>
 
 #include <Eigen/Geometry>
@@ -23,16 +24,21 @@ namespace suturesim::realtime
     rest.push_back(rest_length);
     stiffness.push_back(k);
     lambda.push_back(0);
+    alpha_tilde.push_back(0);
+    inverse_denominator.push_back(0);
   }
 
   void
   SpringSet::sort()
   {
-    std::vector<std::size_t> order(first.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](const std::size_t a, const std::size_t b) {
-      return first[a] != first[b] ? first[a] < first[b] : second[a] < second[b];
-    });
+    std::vector<std::array<std::uint32_t, 2>> ends(first.size());
+    std::uint32_t                             n_nodes = 0;
+    for (std::size_t s = 0; s < first.size(); ++s)
+      {
+        ends[s] = {first[s], second[s]};
+        n_nodes = std::max(n_nodes, second[s] + 1);
+      }
+    const auto order = independent_order(ends, n_nodes);
     const auto permute = [&](auto &v) {
       auto copy = v;
       for (std::size_t s = 0; s < order.size(); ++s)
@@ -60,11 +66,27 @@ namespace suturesim::realtime
   void
   SpringSet::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
+    const double *R = rest.data(), *K = stiffness.data();
+    add_tension_forces(x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); });
+  }
+
+  void
+  SpringSet::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
+  {
+    // C = L − l with ∇_b C = (x_b − x_a)/L: the tension is −λ/dt²
+    const double *Lambda = lambda.data();
+    const double  scale  = -1 / (dt * dt);
+    add_tension_forces(x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; });
+  }
+
+  template <typename Tension>
+  void
+  SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension) const
+  {
     // the hot kernel: raw pointers into the column-major 3 x n arrays
     const double        *X = x.data();
     double              *F = f.data();
     const std::uint32_t *I = first.data(), *J = second.data();
-    const double        *R = rest.data(), *K = stiffness.data();
     const std::size_t    n = first.size();
     for (std::size_t s = 0; s < n; ++s)
       {
@@ -72,7 +94,7 @@ namespace suturesim::realtime
         const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
         const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
         // tension / length; a spring of zero length has no direction and pushes nowhere
-        const double t = L > 0 ? K[s] * (L - R[s]) / L : 0.0;
+        const double t = L > 0 ? tension(s, L) / L : 0.0;
         F[a] += t * dx;
         F[a + 1] += t * dy;
         F[a + 2] += t * dz;
@@ -89,38 +111,48 @@ namespace suturesim::realtime
   }
 
   void
-  SpringSet::project(Matrix3Xd &x, const VectorXd &w, const double dt)
+  SpringSet::prepare_projection(const VectorXd &w, const double dt)
   {
+    const double inv_dt2 = 1 / (dt * dt);
+    for (std::size_t s = 0; s < first.size(); ++s)
+      {
+        alpha_tilde[s]   = inv_dt2 / stiffness[s]; // α̃ = α/dt², α = 1/k
+        const double den = w[first[s]] + w[second[s]] + alpha_tilde[s];
+        // both ends held and rigid: nothing moves
+        inverse_denominator[s] = den > 0 ? 1 / den : 0;
+      }
+  }
+
+  void
+  SpringSet::project(Matrix3Xd &x, const VectorXd &w, double)
+  {
+    // the hot kernel: one square root and one division per spring
     double              *X = x.data();
     const double        *W = w.data();
     const std::uint32_t *I = first.data(), *J = second.data();
-    const double        *R = rest.data(), *K = stiffness.data();
+    const double        *R = rest.data(), *A = alpha_tilde.data(), *D = inverse_denominator.data();
     double              *Lambda = lambda.data();
-    const double         inv_dt2 = 1 / (dt * dt);
-    const std::size_t    n       = first.size();
+    const std::size_t    n      = first.size();
     for (std::size_t s = 0; s < n; ++s)
       {
-        const double wa = W[I[s]], wb = W[J[s]];
-        const double alpha = inv_dt2 / K[s]; // α̃ = α/dt², α = 1/k (0 for k = ∞)
-        const double denominator = wa + wb + alpha;
-        if (denominator == 0)
-          continue;
         const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
         const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
         const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
         if (!(L > 0))
           continue;
-        const double d_lambda = (-(L - R[s]) - alpha * Lambda[s]) / denominator;
+        const double d_lambda = (-(L - R[s]) - A[s] * Lambda[s]) * D[s];
         Lambda[s] += d_lambda;
         const double g = d_lambda / L; // Δλ times the unit direction's scale
-        X[a] -= wa * g * dx;
-        X[a + 1] -= wa * g * dy;
-        X[a + 2] -= wa * g * dz;
-        X[b] += wb * g * dx;
-        X[b + 1] += wb * g * dy;
-        X[b + 2] += wb * g * dz;
+        const double wa = W[I[s]] * g, wb = W[J[s]] * g;
+        X[a] -= wa * dx;
+        X[a + 1] -= wa * dy;
+        X[a + 2] -= wa * dz;
+        X[b] += wb * dx;
+        X[b + 1] += wb * dy;
+        X[b + 2] += wb * dz;
       }
   }
+
 
   double
   SpringSet::max_violation(const Matrix3Xd &x) const

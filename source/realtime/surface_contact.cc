@@ -16,9 +16,14 @@ namespace suturesim::realtime
     surface_tree.build(s.nodes.x, triangles, prm.depth);
     suture_tree.build(s.nodes.x.middleCols(suture.begin, suture.size()), prm.radius);
     best.assign(suture.size(), 0);
+    signed_distance.assign(suture.size(), 0);
+    nearest.resize(suture.size());
     slot.assign(suture.size(), -1);
     contacts.reserve(suture.size());
-    candidates.reserve(8 * suture.size());
+    // Broad-phase pairs: a segment's sphere meets a handful of triangle spheres grown by
+    // the detection depth; 64 per node leaves room for dense meshes and folded sutures.
+    // Past it the list grows once to a new maximum (never in a steady state).
+    candidates.reserve(64 * suture.size());
   }
 
   void
@@ -29,6 +34,9 @@ namespace suturesim::realtime
     suture_tree.overlaps(surface_tree, 0, candidates);
     contacts.clear();
     std::fill(slot.begin(), slot.end(), -1);
+    // First the nearest triangle of every candidate node, then the contact test on it
+    // alone: a node above a face near an edge is closer to the face than to the side
+    // face beyond the edge, whose plane it may well be "behind".
     Vector3d bary;
     for (const auto &[segment, leaf] : candidates)
       {
@@ -37,27 +45,40 @@ namespace suturesim::realtime
         const Vector3d n = (b - a).cross(c - a).normalized();
         for (const std::uint32_t k : {segment, segment + 1})
           {
-            const std::uint32_t node = suture.begin + k;
-            const Vector3d      p    = x.col(node);
-            const Vector3d      q    = collision::closest_point_on_triangle(p, a, b, c, bary);
-            const double        d    = (p - q).dot(n);
-            if (!(d < prm.radius && d > -prm.depth))
-              continue;
-            const double distance = (p - q).norm();
-            if (slot[k] >= 0 && best[k] <= distance)
-              continue;
-            const Contact contact{node, t, bary, n, 0};
+            const Vector3d p        = x.col(suture.begin + k);
+            const Vector3d q        = collision::closest_point_on_triangle(p, a, b, c, bary);
+            const double   distance = (p - q).norm();
+            const double   d        = (p - q).dot(n);
             if (slot[k] >= 0)
-              contacts[slot[k]] = contact;
-            else
               {
-                slot[k] = static_cast<std::int32_t>(contacts.size());
-                contacts.push_back(contact);
+                // equally near triangles (closest point on a shared edge or vertex): the
+                // one whose normal points most nearly at the node decides the side
+                const double tie = 1e-9 * (distance + prm.radius);
+                if (distance > best[k] + tie ||
+                    (distance > best[k] - tie && d <= signed_distance[k]))
+                  continue;
               }
-            best[k] = distance;
+            slot[k]            = 0;
+            best[k]            = distance;
+            signed_distance[k] = d;
+            nearest[k]         = Contact{suture.begin + k, t, bary, n, 0};
           }
       }
+    for (std::uint32_t k = 0; k < suture.size(); ++k)
+      if (slot[k] >= 0)
+        {
+          // listed within a skin of r/4 beyond touching, so that a resting contact stays
+          // listed from step to step; its gap constraint acts only while g < 0
+          if (signed_distance[k] < 1.25 * prm.radius && signed_distance[k] > -prm.depth)
+            {
+              slot[k] = static_cast<std::int32_t>(contacts.size());
+              contacts.push_back(nearest[k]);
+            }
+          else
+            slot[k] = -1;
+        }
   }
+
 
   double
   SurfaceContact::gap(const Contact &c, const Matrix3Xd &x) const
@@ -76,6 +97,24 @@ namespace suturesim::realtime
         if (g >= 0)
           continue;
         const Vector3d force = -prm.stiffness * g * c.normal;
+        f.col(c.node) += force;
+        for (unsigned k = 0; k < 3; ++k)
+          f.col(c.triangle[k]) -= c.bary[k] * force;
+      }
+  }
+
+  void
+  SurfaceContact::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
+  {
+    if (!prm.project)
+      {
+        add_forces(x, f);
+        return;
+      }
+    // C = g ≥ 0 with ∇_node C = n: the node is pushed by λ n/dt², the triangle back
+    for (const auto &c : contacts)
+      {
+        const Vector3d force = c.lambda / (dt * dt) * c.normal;
         f.col(c.node) += force;
         for (unsigned k = 0; k < 3; ++k)
           f.col(c.triangle[k]) -= c.bary[k] * force;

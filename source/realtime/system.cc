@@ -46,11 +46,11 @@ namespace suturesim::realtime
   }
 
   void
-  System::internal_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  System::internal_forces(const Matrix3Xd &x, Matrix3Xd &f, const std::size_t first) const
   {
     f.setZero();
-    for (const auto &i : interactions)
-      i->add_forces(x, f);
+    for (std::size_t k = first; k < interactions.size(); ++k)
+      interactions[k]->add_forces(x, f);
   }
 
   void

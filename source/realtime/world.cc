@@ -27,6 +27,7 @@ namespace suturesim::realtime
                           time_integrator->position_based());
     else
       tissue_model.reset();
+    tissue_interactions = sys.interactions.size();
     if (suture_model)
       suture_model->build(sys, setup.suture_geometry);
     sys.gravity = setup.gravity;
@@ -163,6 +164,10 @@ namespace suturesim::realtime
     for (const auto &tool : tools)
       start_poses.push_back(tool.pose);
     transient_nodes.reserve(sys.nodes.size());
+    tools_on_suture = true;
+    for (const auto &tool : tools)
+      for (const auto i : tool.nodes)
+        tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
     initialized = true;
   }
 
@@ -228,7 +233,9 @@ namespace suturesim::realtime
 
     if (!tools.empty())
       {
-        evaluate_forces();
+        // Tools holding suture nodes only feel the suture's own interactions and the
+        // contacts: the tissue's springs and volumes (most of the work) are skipped.
+        evaluate_forces(tools_on_suture ? tissue_interactions : 0);
         for (std::size_t j = 0; j < tools.size(); ++j)
           {
             ToolForce &f = forces[j];
@@ -247,12 +254,25 @@ namespace suturesim::realtime
   }
 
   void
-  World::evaluate_forces()
+  World::evaluate_forces(const std::size_t first_interaction)
   {
     Nodes &n = sys.nodes;
-    sys.internal_forces(n.x, n.force);
-    for (const auto &c : sys.contacts)
-      c->add_forces(n.x, n.force);
+    if (time_integrator->position_based())
+      {
+        // the forces the XPBD solve applied (its multipliers of the last substep)
+        const double dt = h / n_substeps;
+        n.force.setZero();
+        for (std::size_t k = first_interaction; k < sys.interactions.size(); ++k)
+          sys.interactions[k]->add_constraint_forces(n.x, n.force, dt);
+        for (const auto &c : sys.contacts)
+          c->add_constraint_forces(n.x, n.force, dt);
+      }
+    else
+      {
+        sys.internal_forces(n.x, n.force, first_interaction);
+        for (const auto &c : sys.contacts)
+          c->add_forces(n.x, n.force);
+      }
     n.force += n.external;
     if (!sys.gravity.isZero())
       n.force.noalias() += sys.gravity * n.mass.transpose();

@@ -51,7 +51,10 @@ namespace suturesim::realtime
               c->reset_multipliers();
             }
         for (const auto &i : s.interactions)
-          i->reset_multipliers();
+          {
+            i->reset_multipliers();
+            i->prepare_projection(n.inverse_mass, dt);
+          }
         for (unsigned it = 0; it < n_iterations; ++it)
           {
             for (const auto &i : s.interactions)

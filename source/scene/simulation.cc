@@ -20,14 +20,18 @@ namespace suturesim::scene
                       "Name recorded in summary.json. Unit: none.");
     prm.declare_entry("Model",
                       "accurate",
-                      Patterns::Selection("accurate"),
+                      Patterns::Selection("accurate|realtime"),
                       "Model path: 'accurate' (finite-strain hyperelastic FE tissue, "
-                      "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture).");
+                      "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture) or "
+                      "'realtime' (the seed papers' reduced models at haptic rate; subsection "
+                      "Realtime).");
     prm.declare_entry("Bodies",
                       "tissue",
-                      Patterns::Selection("tissue|suture"),
-                      "What the scene simulates: 'tissue' (subsections Mesh, Tissue) or "
-                      "'suture' (subsection Suture). Unit: none.");
+                      Patterns::Selection("tissue|suture|tissue and suture"),
+                      "What the scene simulates: 'tissue' (subsections Mesh, Tissue), "
+                      "'suture' (subsection Suture), or both in contact ('tissue and "
+                      "suture', Model = realtime until the accurate path couples them). "
+                      "Unit: none.");
     prm.enter_subsection("Suture");
     rod::RodParameters::declare(prm);
     prm.leave_subsection();
@@ -52,6 +56,9 @@ namespace suturesim::scene
       if (entry.declare_parameters)
         entry.declare_parameters(prm);
     prm.leave_subsection();
+    prm.enter_subsection("Realtime");
+    RealtimeScene::declare(prm);
+    prm.leave_subsection();
   }
 
   Simulation::Simulation(ParameterHandler &prm, const ParameterFile &file)
@@ -61,6 +68,14 @@ namespace suturesim::scene
     scene_name = prm.get("Scene name");
     model_path = prm.get("Model");
     bodies     = prm.get("Bodies");
+    if (model_path == "realtime")
+      {
+        parse_realtime(prm);
+        return;
+      }
+    root.require(bodies != "tissue and suture", "Bodies",
+                 "the accurate path does not couple tissue and suture yet (pierce points); "
+                 "use Model = realtime");
 
     if (bodies == "suture")
       {
@@ -119,8 +134,57 @@ namespace suturesim::scene
   }
 
   void
+  Simulation::parse_realtime(ParameterHandler &prm)
+  {
+    const ParameterScope root(file, "");
+    RealtimeInputs       inputs;
+    inputs.scene_name = scene_name;
+    inputs.tissue     = bodies != "suture";
+    inputs.suture     = bodies != "tissue";
+    if (inputs.suture)
+      {
+        prm.enter_subsection("Suture");
+        rod_parameters.parse(prm, root.subsection("Suture"));
+        prm.leave_subsection();
+        inputs.rod = &rod_parameters;
+      }
+    if (inputs.tissue)
+      {
+        prm.enter_subsection("Mesh");
+        mesh_parameters.parse(prm, root.subsection("Mesh"));
+        prm.leave_subsection();
+        prm.enter_subsection("Tissue");
+        const ParameterScope tissue = root.subsection("Tissue");
+        tissue_parameters.parse(prm, tissue);
+        prm.enter_subsection("Material");
+        material.emplace(tissue::Material::parse_parameters(prm, tissue.subsection("Material")));
+        prm.leave_subsection();
+        prm.enter_subsection("Boundary conditions");
+        boundary_conditions.parse(prm, tissue.subsection("Boundary conditions"));
+        prm.leave_subsection();
+        prm.leave_subsection();
+        inputs.mesh                = &mesh_parameters;
+        inputs.material            = &*material;
+        inputs.boundary_conditions = &boundary_conditions;
+        inputs.probes              = tissue_parameters.probes;
+      }
+    prm.enter_subsection("Time");
+    time_parameters.parse(prm, root.subsection("Time"));
+    prm.leave_subsection();
+    inputs.time = &time_parameters;
+    prm.enter_subsection("Realtime");
+    realtime = std::make_unique<RealtimeScene>(prm, root.subsection("Realtime"), std::move(inputs));
+    prm.leave_subsection();
+  }
+
+  void
   Simulation::run(io::Recorder &recorder)
   {
+    if (realtime)
+      {
+        realtime->run(recorder);
+        return;
+      }
     // A failure is rethrown only after the timer has printed its table (its destructor
     // refuses to communicate while an exception is in flight).
     std::exception_ptr failure;

@@ -54,6 +54,12 @@ namespace suturesim::mesh
     boundary_name(dealii::types::boundary_id id) const;
   };
 
+  /// The gmsh mesh file of @p parameters: a .msh as given, a .geo meshed by the gmsh CLI
+  /// (with its Geo parameters) into @p work_directory/mesh.msh. InputError naming the
+  /// file and gmsh's log when gmsh fails.
+  std::string
+  mesh_file(const MeshParameters &parameters, const std::string &work_directory);
+
   /// Builds the coarse mesh into @p tria (refined globally as asked), running gmsh into
   /// @p work_directory when the source is a .geo. Checks every cell for a positive
   /// Jacobian determinant; an inverted or degenerate cell is an InputError naming the

@@ -42,6 +42,8 @@ namespace suturesim::realtime
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
     reset_multipliers() override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;

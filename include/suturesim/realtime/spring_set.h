@@ -4,7 +4,7 @@
  * Edge springs (seed 001 §2): F = k (L − L₀) (P_a − P)/|P_a − P| on each end, energy
  * ½ k (L − L₀)²; under XPBD the distance constraint C = L − L₀ with compliance 1/k.
  * Stored as a structure of arrays (end indices, rest lengths, stiffnesses, multipliers),
- * contiguous and sorted by first end, so the force kernel streams through memory.
+ * contiguous and ordered so that consecutive springs share no node (independent_order.h).
  *
  * Stiffness from the material (the rules the issue asks for; calibration against the FE
  * model comes later):
@@ -58,7 +58,8 @@ namespace suturesim::realtime
     void
     add(std::uint32_t i, std::uint32_t j, double rest, double k);
 
-    /// Sorts the springs by (first, second) end for locality; call once after adding.
+    /// Orders the springs so that consecutive ones share no node (independent_order.h);
+    /// call once after adding.
     void
     sort();
 
@@ -67,9 +68,13 @@ namespace suturesim::realtime
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
     reset_multipliers() override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    prepare_projection(const VectorXd &w, double dt) override;
     /// max |L − L₀| / L₀
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -104,9 +109,17 @@ namespace suturesim::realtime
     }
 
   private:
+    /// f += t(s, L) (x_b − x_a)/L on a, the opposite on b: the one kernel of elastic and
+    /// constraint forces.
+    template <typename Tension>
+    void
+    add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension) const;
+
     std::string                label;
     std::vector<std::uint32_t> first, second;
     std::vector<double>        rest, stiffness, lambda;
+    /// α̃ and 1/(w_a + w_b + α̃) of the current step (prepare_projection)
+    std::vector<double> alpha_tilde, inverse_denominator;
   };
 
   /// One spring per tetrahedron edge, k from Van Gelder's rule (above) with c = E.

@@ -6,9 +6,12 @@
  * tissue surface's triangle sphere tree (collision/), both refitted bottom-up every
  * detection. Narrow phase: each suture node against the candidate triangles; a node
  * touches a triangle when its signed distance d = (p − c)·n to the closest point c
- * (outward normal n) lies in (−depth, r): it is then within a suture radius r of the
- * surface or at most the detection depth inside it. Each node keeps its nearest
- * triangle.
+ * (outward normal n) lies in (−depth, 1.25 r): it is then within a suture radius r (and
+ * a skin of r/4, which keeps resting contacts listed from step to step) of the surface
+ * or at most the detection depth inside it. The test is made on the node's
+ * nearest triangle only (ties at shared edges go to the triangle whose normal points
+ * most nearly at the node), so a node resting on a face next to an edge is not taken to
+ * be behind the side face beyond the edge.
  *
  * Response, gap g = (p − Σ bₖ xₖ)·n − r < 0 with the closest point's barycentric
  * weights b and the normal frozen at detection:
@@ -51,6 +54,8 @@ namespace suturesim::realtime
     detect(const Matrix3Xd &x) override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
     bool
     has_projection() const override
     {
@@ -94,7 +99,9 @@ namespace suturesim::realtime
     collision::SphereTree           suture_tree;
     collision::LeafPairs            candidates;
     std::vector<Contact>            contacts;
-    std::vector<double>             best; ///< per suture node: distance of its contact
+    std::vector<double>             best; ///< per suture node: distance to its nearest triangle
+    std::vector<double>             signed_distance; ///< per suture node: (p − q)·n there
+    std::vector<Contact>            nearest;         ///< per suture node
     std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
   };
 } // namespace suturesim::realtime

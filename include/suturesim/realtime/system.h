@@ -110,6 +110,19 @@ namespace suturesim::realtime
     virtual void
     reset_multipliers() = 0;
 
+    /// XPBD: f += ∇Cᵀλ/dt², the forces the last solve applied (Macklin, Müller &
+    /// Chentanez 2016, §4). They equal add_forces() once the solve has converged; with
+    /// few iterations of a stiff constraint they are the forces consistent with the
+    /// motion, whereas k·C of the unresolved violation may be far larger.
+    virtual void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const = 0;
+
+    /// XPBD: per-step constants of the sweeps that follow (α̃ = 1/(k dt²), inverse
+    /// denominators), once the inverse masses @p w of the step are known.
+    virtual void
+    prepare_projection(const VectorXd &, double)
+    {}
+
     /// XPBD: one Gauss–Seidel sweep over the constraints with α̃ = α/dt² (Macklin et
     /// al. 2016, eqs. 17–18), moving nodes by their inverse masses @p w.
     virtual void
@@ -145,6 +158,13 @@ namespace suturesim::realtime
     {
       return false;
     }
+    /// XPBD: ∇Cᵀλ/dt² of the projected contacts (Interaction::add_constraint_forces);
+    /// sets without projection give their forces.
+    virtual void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const
+    {
+      add_forces(x, f);
+    }
     virtual void
     reset_multipliers()
     {}
@@ -176,9 +196,10 @@ namespace suturesim::realtime
     void
     finalize();
 
-    /// Sum of the interactions' forces at @p x into @p f (overwritten).
+    /// Sum of the interactions' forces at @p x into @p f (overwritten), from interaction
+    /// @p first on.
     void
-    internal_forces(const Matrix3Xd &x, Matrix3Xd &f) const;
+    internal_forces(const Matrix3Xd &x, Matrix3Xd &f, std::size_t first = 0) const;
 
     /// Everything a force-based integrator moves by: internal forces, contacts (detected
     /// at @p x), gravity and external loads, into nodes.force.

@@ -42,9 +42,13 @@ namespace suturesim::realtime
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
     reset_multipliers() override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    prepare_projection(const VectorXd &w, double dt) override;
     /// max |V − V₀| / V₀
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -56,5 +60,6 @@ namespace suturesim::realtime
 
     std::vector<mesh::Tetrahedron> tets;
     std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ
+    std::vector<double>            alpha_tilde; ///< 1/(k dt²) of the current step
   };
 } // namespace suturesim::realtime

@@ -218,9 +218,11 @@ namespace suturesim::realtime
       Eigen::Vector4d              weights;
     };
 
-    /// Forces the bodies exert on every node at the current state (nodes.force).
+    /// Forces the bodies exert on every node at the current state (nodes.force), from
+    /// the interactions from @p first_interaction on (0: all; nodes untouched by the
+    /// skipped ones get their exact force).
     void
-    evaluate_forces();
+    evaluate_forces(std::size_t first_interaction = 0);
 
     System                       sys;
     const mesh::SimplexMesh     *mesh = nullptr;
@@ -241,6 +243,8 @@ namespace suturesim::realtime
     std::size_t n_steps    = 0;
     std::string limit_text, warning_text;
     bool        initialized = false;
+    std::size_t tissue_interactions = 0; ///< the tissue's interactions come first
+    bool        tools_on_suture     = false;
 
     DivergenceGuard         guard;
     Matrix3Xd               good_x, good_v;

@@ -3,9 +3,9 @@
  * @file
  * A scene: its parameters (declared by each component into its own subsection), their
  * checks, and the run of the chosen model path into a Recorder. Model paths: "accurate"
- * (finite-strain FE tissue, Cosserat-rod suture); the realtime path registers here when
- * it exists. Bodies: the tissue alone or the suture alone (their coupling comes with the
- * pierce points).
+ * (finite-strain FE tissue, Cosserat-rod suture) and "realtime" (RealtimeScene). Bodies:
+ * the tissue alone, the suture alone, or both (realtime only until the accurate path has
+ * the pierce points).
  */
 
 #include <suturesim/io/recorder.h>
@@ -13,6 +13,7 @@
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/parameter_file.h>
+#include <suturesim/scene/realtime_scene.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
 #include <suturesim/tissue/time_integrator.h>
@@ -51,6 +52,8 @@ namespace suturesim::scene
 
   private:
     void
+    parse_realtime(dealii::ParameterHandler &prm);
+    void
     run(io::Recorder &recorder, dealii::TimerOutput &timer, dealii::ConditionalOStream &pcout);
     void
     run_suture(io::Recorder &recorder, dealii::TimerOutput &timer, dealii::ConditionalOStream &pcout);
@@ -67,5 +70,6 @@ namespace suturesim::scene
     tissue::BoundaryConditions         boundary_conditions;
     tissue::TimeParameters             time_parameters;
     std::unique_ptr<tissue::TimeIntegrator> integrator;
+    std::unique_ptr<RealtimeScene>          realtime;
   };
 } // namespace suturesim::scene

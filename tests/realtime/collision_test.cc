@@ -1,0 +1,159 @@
+// The triangle bounding-sphere hierarchy (seed 000 Algorithm 1, bottom-up refit) after
+// large deformations, and suture–tissue-surface contact.
+#include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/mesh/simplex_mesh.h>
+
+#include <gtest/gtest.h>
+
+#include "realtime/test_meshes.h"
+#include "realtime/test_worlds.h"
+
+#include <random>
+#include <set>
+
+using namespace suturesim;
+using namespace suturesim::realtime;
+
+namespace
+{
+  /// Every leaf bounds its triangle (grown by the thickness), every parent its children.
+  void
+  expect_bounding(const collision::TriangleSphereTree &tree, const Matrix3Xd &x,
+                  const std::vector<mesh::Triangle> &triangles)
+  {
+    const auto &s   = tree.spheres();
+    const double eps = 1e-12;
+    for (std::size_t leaf = 0; leaf < tree.n_leaves(); ++leaf)
+      for (const auto v : triangles[tree.triangle(leaf)])
+        EXPECT_LE((x.col(v) - s[leaf].centre).norm() + tree.thickness(), s[leaf].radius + eps)
+          << "leaf " << leaf;
+    for (std::size_t n = tree.n_leaves(); n < s.size(); ++n)
+      for (const int c : {tree.left_child(n), tree.right_child(n)})
+        if (c >= 0)
+          EXPECT_LE((s[c].centre - s[n].centre).norm() + s[c].radius, s[n].radius + eps)
+            << "node " << n << " child " << c;
+  }
+} // namespace
+
+TEST(TriangleSphereTree, RefitBoundsEveryTriangleAfterLargeDeformations)
+{
+  const auto mesh    = test_support::box_mesh(0.04, 0.04, 0.01, 8, 8, 2);
+  const auto surface = mesh::extract_boundary(mesh);
+  Matrix3Xd  x       = mesh.vertices;
+  collision::TriangleSphereTree tree;
+  tree.build(x, surface.triangles, 1e-4);
+  expect_bounding(tree, x, surface.triangles);
+
+  std::mt19937                           rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int round = 0; round < 4; ++round)
+    {
+      // twist about z, bend in z, stretch in x, and noise of a fifth of the block's size
+      for (Eigen::Index v = 0; v < x.cols(); ++v)
+        {
+          const Vector3d p = x.col(v);
+          x.col(v)         = Eigen::AngleAxisd(10 * p[2], Vector3d::UnitZ()) * p +
+                     Vector3d(0.5 * p[0], 0, 20 * p[0] * p[0]) +
+                     0.008 * Vector3d(u(rng), u(rng), u(rng));
+        }
+      tree.refit(x);
+      expect_bounding(tree, x, surface.triangles);
+
+      // candidate pairs against probe triangles on mesh vertices: every triangle sharing a
+      // point with a probe must be found (both leaf spheres hold that point)
+      collision::TriangleSphereTree other;
+      std::vector<mesh::Triangle>   probe_triangles;
+      Matrix3Xd                     probe = Matrix3Xd::Zero(3, 30);
+      for (int k = 0; k < 10; ++k)
+        {
+          for (int j = 0; j < 3; ++j)
+            probe.col(3 * k + j) = x.col((37 * k + 11 * j) % x.cols());
+          probe_triangles.push_back({std::uint32_t(3 * k), std::uint32_t(3 * k + 1), std::uint32_t(3 * k + 2)});
+        }
+      other.build(probe, probe_triangles, 0);
+      collision::LeafPairs pairs;
+      tree.overlaps(other, 0, pairs);
+      std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+      for (const auto &[a, b] : pairs)
+        found.insert({tree.triangle(a), other.triangle(b)});
+      std::size_t expected = 0;
+      for (std::uint32_t t = 0; t < surface.triangles.size(); ++t)
+        for (std::uint32_t p = 0; p < probe_triangles.size(); ++p)
+          {
+            bool close = false;
+            for (const auto a : surface.triangles[t])
+              for (const auto b : probe_triangles[p])
+                close = close || (x.col(a) - probe.col(b)).norm() == 0;
+            if (close)
+              {
+                ++expected;
+                EXPECT_TRUE(found.count({t, p})) << "triangle " << t << " probe " << p;
+              }
+          }
+      EXPECT_GT(expected, 0u);
+    }
+
+  // a partial refit of the moved vertices equals a full refit
+  collision::TriangleSphereTree full = tree;
+  std::vector<std::uint32_t>    moved{5, 77, 160};
+  for (const auto v : moved)
+    x.col(v) += Vector3d(0.01, -0.02, 0.03);
+  const std::size_t recomputed = tree.refit(x, moved);
+  full.refit(x);
+  for (std::size_t n = 0; n < full.spheres().size(); ++n)
+    {
+      EXPECT_LT((tree.spheres()[n].centre - full.spheres()[n].centre).norm(), 1e-14);
+      EXPECT_NEAR(tree.spheres()[n].radius, full.spheres()[n].radius, 1e-14);
+    }
+  EXPECT_LT(recomputed, tree.spheres().size() / 4);
+  expect_bounding(tree, x, surface.triangles);
+}
+
+TEST(SurfaceContact, SutureLyingAcrossABlockStaysOnItsTopAndIsNotPushedOverTheEdge)
+{
+  // A suture lies two radii above the top of a block and overhangs it on both sides.
+  // Nodes next to the top edges must touch the top, not be taken to be behind the side
+  // faces (regression: they were pushed out over the edge and the run diverged); under
+  // gravity the suture rests on the top with no node inside it.
+  const double H = 0.01, r = 1.1e-4;
+  const auto   mesh = test_support::box_mesh(0.04, 0.04, H, 8, 8, 2);
+  WorldSetup   w;
+  w.mesh              = &mesh;
+  w.material          = {6e3, 0.45, 1060};
+  w.tissue            = test_support::make_model<TissueModel::Registry>("volume");
+  w.suture            = test_support::make_model<SutureModel::Registry>("xpbd-rod");
+  w.suture_geometry   = test_support::straight_suture(99, 0.06, Vector3d(-0.01, 0.02, H + 2 * r),
+                                                      Vector3d::UnitX(), 118, 3.7e-7, r, 1140);
+  w.contact           = true;
+  w.contact_stiffness = 100;
+  w.contact_depth     = 1e-3;
+  w.integrator        = test_support::make_model<Integrator::Registry>("xpbd", {{"Iterations", "4"}});
+  w.gravity           = Vector3d(0, 0, -9.81);
+  World world(std::move(w));
+  world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+  world.initialize();
+  world.step({});
+  // after one step no node over the top is in contact with a side face: the nodes next
+  // to the edges are nearer the top (2 r, no contact yet) than the side faces they are
+  // 0.3 mm "behind"
+  const auto &contact = *world.surface_contact();
+  for (const auto &c : contact.list())
+    if (world.system().nodes.reference(0, c.node) > 0 && world.system().nodes.reference(0, c.node) < 0.04)
+      EXPECT_GT(c.normal[2], 0.999) << "node " << c.node << " normal " << c.normal.transpose();
+  for (int k = 0; k < 500; ++k)
+    world.step({});
+  const auto &n = world.system().nodes;
+  const auto  s = world.system().suture;
+  double deepest = 0, sideways = 0;
+  for (auto i = s.begin; i < s.end; ++i)
+    sideways = std::max(sideways, std::abs(n.x(1, i) - n.reference(1, i)));
+  for (const auto &c : contact.list())
+    deepest = std::min(deepest, contact.gap(c, n.x));
+  std::printf("[ contact ] %zu contacts, deepest gap %.2e m (radius %.1e m), largest sideways "
+              "motion %.2e m\n",
+              contact.active(), deepest, r, sideways);
+  EXPECT_GT(contact.active(), 40u); // the part on the top touches (66 nodes lie over it)
+  EXPECT_GT(deepest, -0.05 * r);    // no node more than 5 % of a radius into the surface
+  EXPECT_LT(sideways, 0.5 * r);     // nothing pushes the suture off its line
+  EXPECT_LT(n.x(2, s.end - 1), H - 0.001); // the overhangs hang down past the edges
+}

@@ -1,0 +1,138 @@
+// The realtime world as a haptic loop uses it: the force a tool feels, and a step that
+// never allocates.
+#include <gtest/gtest.h>
+
+#include "realtime/test_meshes.h"
+#include "realtime/test_worlds.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+#include <tuple>
+
+using namespace suturesim;
+using namespace suturesim::realtime;
+
+// Every allocation of the test binary is counted while `counting` is set.
+namespace
+{
+  std::atomic<bool>        counting{false};
+  std::atomic<std::size_t> allocations{0};
+} // namespace
+
+void *
+operator new(std::size_t size)
+{
+  if (counting)
+    ++allocations;
+  if (void *p = std::malloc(size == 0 ? 1 : size))
+    return p;
+  throw std::bad_alloc();
+}
+void
+operator delete(void *p) noexcept
+{
+  std::free(p);
+}
+void
+operator delete(void *p, std::size_t) noexcept
+{
+  std::free(p);
+}
+
+TEST(RealtimeWorld, XpbdToolFeelsTheWeightItHoldsEvenWithFewIterations)
+{
+  // A real 3-0 suture (EA = 118 N) hangs from a tool under gravity. Two XPBD iterations
+  // cannot resolve its stretch (k = EA/l = 2.4e4 N/m per link), so k·C of the residual
+  // stretch is no force to render; the multipliers λ/dt² are (Macklin et al. 2016 §4),
+  // and at rest they carry exactly the suture's weight.
+  WorldSetup w;
+  w.suture          = test_support::make_model<SutureModel::Registry>("xpbd-rod");
+  w.suture_geometry = test_support::straight_suture(20, 0.1, Vector3d::Zero(), -Vector3d::UnitZ(),
+                                                    118, 3.7e-7, 1.12e-4, 1140);
+  w.integrator      = test_support::make_model<Integrator::Registry>(
+    "xpbd", {{"Iterations", "2"}, {"Damping rate", "20"}});
+  w.gravity         = Vector3d(0, 0, -9.81);
+  World world(std::move(w));
+  const auto s = world.system().suture;
+  world.add_tool("grasper", {s.begin}, {});
+  world.initialize();
+  ToolPose pose;
+  for (int k = 0; k < 3000; ++k)
+    world.step({pose});
+  // the grasper carries the whole suture, the node it holds included
+  double weight = 0;
+  for (auto i = s.begin; i < s.end; ++i)
+    weight += world.system().nodes.mass[i] * 9.81;
+  const Vector3d f = world.tool_forces()[0].force;
+  std::printf("[ tool force ] %.6e N against the suture's weight %.6e N\n", -f[2], weight);
+  EXPECT_NEAR(-f[2], weight, 1e-3 * weight);
+  EXPECT_LT(f.head<2>().norm(), 1e-6 * weight);
+}
+
+class NoAllocation
+  : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string, std::string>>
+{};
+
+TEST_P(NoAllocation, StepDoesNotAllocate)
+{
+  const auto [tissue, integrator, suture, self] = GetParam();
+  const auto mesh = test_support::box_mesh(0.02, 0.02, 0.01, 4, 4, 2);
+  WorldSetup w;
+  w.mesh            = &mesh;
+  w.material        = {6e3, 0.45, 1060};
+  w.tissue          = test_support::make_model<TissueModel::Registry>(tissue);
+  w.suture          = test_support::make_model<SutureModel::Registry>(suture);
+  // a suture soft enough for the force-based integrators at 1 kHz, folded onto itself
+  // over the tissue so that contact and self-collision are active
+  w.suture_geometry = test_support::straight_suture(40, 0.03, Vector3d(0.002, 0.01, 0.0102),
+                                                    Vector3d::UnitX(), 1e-3, 1e-9, 1e-4, 1140);
+  for (std::size_t i = 21; i < w.suture_geometry.points.size(); ++i)
+    w.suture_geometry.points[i] = w.suture_geometry.points[40 - i] + Vector3d(0, 0.0002, 0.0002);
+  w.self_collision            = self;
+  w.self_collision_parameters = test_support::parameters_of(self);
+  w.contact                   = true;
+  w.contact_stiffness         = 1;
+  w.contact_depth             = 1e-3;
+  w.integrator                = test_support::make_model<Integrator::Registry>(integrator);
+  w.gravity                   = Vector3d(0, 0, -9.81);
+  w.substeps                  = integrator == "symplectic-euler" ? 16 : 4; // below dt_crit
+  World world(std::move(w));
+  world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+  const auto s = world.system().suture;
+  world.add_tool("grasper", {s.end - 1}, {world.system().nodes.x.col(s.end - 1)});
+  world.initialize();
+  std::vector<ToolPose> poses(1);
+  poses[0].position = world.system().nodes.x.col(s.end - 1);
+  const auto move = [&] {
+    poses[0].position += Vector3d(-1e-5, 0, 1e-5);
+    world.step(poses);
+  };
+  for (int k = 0; k < 5; ++k) // warm-up: first contacts and pairs size the work lists
+    move();
+  counting    = true;
+  allocations = 0;
+  for (int k = 0; k < 200; ++k)
+    move();
+  counting = false;
+  std::printf("[ allocation ] %s/%s/%s/%s: %zu contacts, %zu allocations in 200 steps\n",
+              tissue.c_str(), integrator.c_str(), suture.c_str(), self.c_str(),
+              world.surface_contact()->active(), std::size_t(allocations));
+  EXPECT_EQ(allocations, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+  RealtimeWorld, NoAllocation,
+  ::testing::Values(std::tuple{"volume", "xpbd", "xpbd-rod", "transient-constraint"},
+                    std::tuple{"volume", "xpbd", "xpbd-rod", "repelling-force"},
+                    std::tuple{"surface", "quasi-static", "mass-spring", "repelling-force"},
+                    std::tuple{"surface", "quasi-static", "ftl", "transient-constraint"},
+                    std::tuple{"volume", "symplectic-euler", "mass-spring", "off"}),
+  [](const auto &info) {
+    std::string name = std::get<0>(info.param) + "_" + std::get<1>(info.param) + "_" +
+                       std::get<2>(info.param) + "_" + std::get<3>(info.param);
+    for (auto &c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)))
+        c = '_';
+    return name;
+  });
