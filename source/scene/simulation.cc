@@ -168,8 +168,11 @@ namespace suturesim::scene
         inputs.boundary_conditions = &boundary_conditions;
         inputs.probes              = tissue_parameters.probes;
       }
+    // The realtime step is 1/Rate; of Time only the end and the output interval apply.
     prm.enter_subsection("Time");
-    time_parameters.parse(prm, root.subsection("Time"));
+    time_parameters.end_time        = prm.get_double("End time");
+    time_parameters.output_interval = prm.get_double("Output interval");
+    root.subsection("Time").require(time_parameters.end_time > 0, "End time", "must be > 0 s");
     prm.leave_subsection();
     inputs.time = &time_parameters;
     prm.enter_subsection("Realtime");

@@ -1,0 +1,216 @@
+// Realtime-path kernels (README, "Realtime path"): the spring-force kernel in ns per
+// spring beside a memory-bandwidth probe measured in the same binary, the FTL and XPBD
+// suture steps at 50, 512 and 4096 nodes, and bounding-sphere refit against rebuild.
+// Plain C++ + Eigen: links the realtime library only.
+#include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/spring_set.h>
+#include <suturesim/realtime/world.h>
+
+#include <benchmark/benchmark.h>
+
+#include "realtime/test_meshes.h"
+#include "realtime/test_worlds.h"
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+using namespace suturesim;
+using namespace suturesim::realtime;
+
+namespace
+{
+  /// Sustained read+write bandwidth (bytes/s) of a STREAM-like triad over 3 × 128 MB,
+  /// the best of five passes: the bound a streaming kernel can reach on this machine.
+  double
+  triad_bandwidth()
+  {
+    static const double bandwidth = [] {
+      const std::size_t   n = std::size_t(16) << 20;
+      std::vector<double> a(n, 1.0), b(n, 2.0), c(n, 0.0);
+      double              best = 0;
+      for (int pass = 0; pass < 5; ++pass)
+        {
+          const auto start = std::chrono::steady_clock::now();
+          for (std::size_t i = 0; i < n; ++i)
+            c[i] = a[i] + 3.0 * b[i];
+          const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          benchmark::DoNotOptimize(c.data());
+          best = std::max(best, 3.0 * sizeof(double) * n / seconds);
+        }
+      return best;
+    }();
+    return bandwidth;
+  }
+
+  /// A cubic lattice with its three axis springs per node: about @p n springs, in the
+  /// order SpringSet::sort() gives the tissue models.
+  void
+  lattice(const std::size_t n, Matrix3Xd &x, SpringSet &springs)
+  {
+    const auto side = static_cast<std::uint32_t>(std::ceil(std::cbrt(n / 3.0))) + 1;
+    x.resize(3, std::size_t(side) * side * side);
+    std::mt19937                           rng(1);
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    const auto index = [&](std::uint32_t i, std::uint32_t j, std::uint32_t k) { return i + side * (j + side * k); };
+    for (std::uint32_t k = 0; k < side; ++k)
+      for (std::uint32_t j = 0; j < side; ++j)
+        for (std::uint32_t i = 0; i < side; ++i)
+          x.col(index(i, j, k)) << i + u(rng), j + u(rng), k + u(rng);
+    for (std::uint32_t k = 0; k < side; ++k)
+      for (std::uint32_t j = 0; j < side; ++j)
+        for (std::uint32_t i = 0; i < side; ++i)
+          {
+            if (i + 1 < side)
+              springs.add(index(i, j, k), index(i + 1, j, k), 1.0, 1.0);
+            if (j + 1 < side)
+              springs.add(index(i, j, k), index(i, j + 1, k), 1.0, 1.0);
+            if (k + 1 < side)
+              springs.add(index(i, j, k), index(i, j, k + 1), 1.0, 1.0);
+          }
+    springs.sort();
+  }
+
+  void
+  SpringForces(benchmark::State &state)
+  {
+    SpringSet springs("lattice");
+    Matrix3Xd x;
+    lattice(state.range(0), x, springs);
+    Matrix3Xd  f     = Matrix3Xd::Zero(3, x.cols());
+    const auto start = std::chrono::steady_clock::now();
+    for (auto _ : state)
+      {
+        springs.add_forces(x, f);
+        benchmark::DoNotOptimize(f.data());
+        benchmark::ClobberMemory();
+      }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double n       = springs.size();
+    const double ns      = seconds / (n * state.iterations()) * 1e9;
+    // Bytes per spring from memory when nothing is cached: two 4-byte ends, rest length
+    // and stiffness streamed (24), both ends' positions read (48) and forces read and
+    // written (96): the bound of a kernel that waits only for memory.
+    const double bandwidth          = triad_bandwidth();
+    const double bound              = (24 + 48 + 96) / bandwidth * 1e9;
+    state.counters["springs"]       = n;
+    state.counters["ns_per_spring"] = ns;
+    state.counters["bandwidth_GBps"] = bandwidth * 1e-9;
+    state.counters["bound_ns"]      = bound;
+    state.counters["ratio_to_bound"] = ns / bound;
+  }
+  BENCHMARK(SpringForces)->Arg(10000)->Arg(1000000)->Unit(benchmark::kMicrosecond);
+
+  /// The same springs as XPBD distance constraints: one Gauss–Seidel sweep.
+  void
+  SpringProjection(benchmark::State &state)
+  {
+    SpringSet springs("lattice");
+    Matrix3Xd x;
+    lattice(state.range(0), x, springs);
+    const VectorXd w = VectorXd::Ones(x.cols());
+    springs.prepare_projection(w, 1e-3);
+    const auto start = std::chrono::steady_clock::now();
+    for (auto _ : state)
+      {
+        springs.project(x, w, 1e-3);
+        benchmark::DoNotOptimize(x.data());
+      }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.counters["ns_per_spring"] = seconds / (double(springs.size()) * state.iterations()) * 1e9;
+  }
+  BENCHMARK(SpringProjection)->Arg(10000)->Arg(1000000)->Unit(benchmark::kMicrosecond);
+
+  /// One haptic step of a suture alone, its end moved by a tool on a circle.
+  void
+  SutureStep(benchmark::State &state, const std::string &suture, const std::string &integrator)
+  {
+    const auto nodes = static_cast<unsigned>(state.range(0));
+    WorldSetup w;
+    w.suture = test_support::make_model<SutureModel::Registry>(suture);
+    // a 3-0 suture, 0.5 mm per link
+    w.suture_geometry = test_support::straight_suture(nodes - 1, 5e-4 * (nodes - 1), Vector3d::Zero(),
+                                                      Vector3d::UnitX(), 118, 3.7e-7, 1.12e-4, 1140);
+    w.integrator = test_support::make_model<Integrator::Registry>(integrator, integrator == "xpbd"
+                                                                                ? std::map<std::string, std::string>{{"Iterations", "10"}}
+                                                                                : std::map<std::string, std::string>{});
+    w.gravity = Vector3d(0, 0, -9.81);
+    World world(std::move(w));
+    const auto end = world.system().suture.end - 1;
+    world.add_tool("grasper", {end}, {world.system().nodes.x.col(end)});
+    world.initialize();
+    std::vector<ToolPose> pose(1);
+    const Vector3d        start = world.system().nodes.x.col(end);
+    double                phase = 0;
+    for (auto _ : state)
+      {
+        phase += 1e-3;
+        pose[0].position = start + 0.01 * Vector3d(std::cos(phase) - 1, std::sin(phase), 0);
+        benchmark::DoNotOptimize(world.step(pose).data());
+      }
+    state.counters["nodes"] = nodes;
+  }
+  BENCHMARK_CAPTURE(SutureStep, ftl, std::string("ftl"), std::string("quasi-static"))
+    ->Arg(50)->Arg(512)->Arg(4096)->Unit(benchmark::kMicrosecond);
+  BENCHMARK_CAPTURE(SutureStep, xpbd_rod_10_iterations, std::string("xpbd-rod"), std::string("xpbd"))
+    ->Arg(50)->Arg(512)->Arg(4096)->Unit(benchmark::kMicrosecond);
+
+  /// The tissue-surface tree of a box of about @p n triangles under a moving deformation.
+  struct SurfaceTree
+  {
+    mesh::SimplexMesh           mesh;
+    std::vector<mesh::Triangle> triangles;
+    Matrix3Xd                   x;
+    explicit SurfaceTree(const unsigned cells)
+      : mesh(test_support::box_mesh(1, 1, 0.25, cells, cells, std::max(1u, cells / 4)))
+      , triangles(mesh::extract_boundary(mesh).triangles)
+      , x(mesh.vertices)
+    {}
+    void
+    deform(const double t)
+    {
+      for (Eigen::Index v = 0; v < x.cols(); ++v)
+        x.col(v) = mesh.vertices.col(v) + 0.05 * std::sin(t + 3 * mesh.vertices(0, v)) * Vector3d::UnitZ();
+    }
+  };
+
+  void
+  TriangleTreeRefit(benchmark::State &state)
+  {
+    SurfaceTree                   s(state.range(0));
+    collision::TriangleSphereTree tree;
+    tree.build(s.x, s.triangles, 1e-3);
+    double t = 0;
+    for (auto _ : state)
+      {
+        state.PauseTiming();
+        s.deform(t += 0.01);
+        state.ResumeTiming();
+        tree.refit(s.x);
+        benchmark::DoNotOptimize(tree.spheres().data());
+      }
+    state.counters["triangles"] = s.triangles.size();
+  }
+  BENCHMARK(TriangleTreeRefit)->Arg(8)->Arg(32)->Unit(benchmark::kMicrosecond);
+
+  void
+  TriangleTreeRebuild(benchmark::State &state)
+  {
+    SurfaceTree s(state.range(0));
+    double      t = 0;
+    for (auto _ : state)
+      {
+        state.PauseTiming();
+        s.deform(t += 0.01);
+        state.ResumeTiming();
+        collision::TriangleSphereTree tree;
+        tree.build(s.x, s.triangles, 1e-3);
+        benchmark::DoNotOptimize(tree.spheres().data());
+      }
+    state.counters["triangles"] = s.triangles.size();
+  }
+  BENCHMARK(TriangleTreeRebuild)->Arg(8)->Arg(32)->Unit(benchmark::kMicrosecond);
+} // namespace
+
+BENCHMARK_MAIN();

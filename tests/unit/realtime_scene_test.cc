@@ -1,0 +1,87 @@
+// The realtime path as a user runs it: `Model = realtime` scenes through the suturesim
+// command (outputs, statistics, the guard's failure path, a mesh it cannot use).
+#include "run_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+using namespace suturesim::test_support;
+
+namespace
+{
+  const std::string scene = "'" + source_path("parameters/benchmarks/realtime_seed004_scale.prm") + "'";
+  // a coarse block (h = 5 mm) keeps these runs short
+  const std::string coarse = " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 0'";
+} // namespace
+
+TEST(RealtimeScene, RunsTheSeed004ScaleSceneAndRecordsItsHapticStatistics)
+{
+  const auto r = run_suturesim("realtime_scale", scene + coarse + " --set 'Time/End time=0.2'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  EXPECT_EQ(r.summary["status"], "completed");
+  EXPECT_EQ(r.summary["model"], "realtime");
+  const auto &m = r.summary["metrics"];
+  EXPECT_EQ(m["steps"], 200);
+  EXPECT_GT(m["step_time_median_us"].get<double>(), 0);
+  EXPECT_GE(m["step_time_p99_us"].get<double>(), m["step_time_median_us"].get<double>());
+  EXPECT_EQ(r.summary["realtime"]["suture_model"], "xpbd-rod");
+  EXPECT_EQ(r.summary["suture"]["nodes"], 100);
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  EXPECT_EQ(rows.size(), 201u); // t = 0 and every haptic step
+  for (const char *column : {"suture_end_force_x [N]", "bottom_reaction_z [N]",
+                             "top_centre_displacement_z [m]", "kinetic_energy [J]"})
+    EXPECT_NE(header.find(column), std::string::npos) << column << " missing in " << header;
+  for (const char *file : {"tissue.pvd", "suture.pvd", "parameters.prm"})
+    EXPECT_TRUE(std::filesystem::exists(r.directory + "/" + file)) << file;
+}
+
+TEST(RealtimeScene, FixedBottomCarriesTheBlocksWeight)
+{
+  // The tissue block alone settles under gravity: the bottom's reaction is its weight
+  // ρ V g = 1060 kg/m³ · 16 cm³ · 9.81 m/s² = 0.166378 N (XPBD multipliers, exact at rest).
+  const auto r = run_suturesim("realtime_weight",
+                               scene + coarse +
+                                 " --set Bodies=tissue --set 'Time/End time=1'"
+                                 " --set 'Realtime/xpbd/Iterations=10'"
+                                 " --set 'Realtime/xpbd/Damping rate=30'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  // bottom_reaction_{x,y,z} follow time (no tool in a tissue-only scene)
+  ASSERT_NE(header.find("time [s],bottom_reaction_x [N],bottom_reaction_y [N],bottom_reaction_z [N]"),
+            std::string::npos)
+    << header;
+  const double weight = 1060 * 0.04 * 0.04 * 0.01 * 9.81;
+  std::printf("[ realtime weight ] bottom reaction %.6f N, weight %.6f N\n", rows.back()[3], weight);
+  EXPECT_NEAR(rows.back()[3], weight, 1e-3 * weight);
+}
+
+TEST(RealtimeScene, DivergenceStopsWithOneLineAndKeepsTheLastGoodState)
+{
+  // A real 3-0 suture under explicit Euler at 1 kHz: dt is 2000 times its limit.
+  const auto r = run_suturesim("realtime_diverge",
+                               scene + " --set Bodies=suture --set 'Time/End time=0.05'"
+                                       " --set Realtime/Integrator=symplectic-euler"
+                                       " --set 'Realtime/Suture model=mass-spring'");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  EXPECT_EQ(r.summary["status"], "failed");
+  EXPECT_NE(r.output.find("warning: "), std::string::npos) << "no stability warning:\n" << r.output;
+  EXPECT_NE(r.output.find("error: diverged at step "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("above the stability limit"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(r.directory + "/suture.pvd"));
+}
+
+TEST(RealtimeScene, RefusesAboveTheStabilityLimitWhenAsked)
+{
+  const auto r = run_suturesim("realtime_refuse",
+                               scene + " --set Bodies=suture --set Realtime/Integrator=symplectic-euler"
+                                       " --set 'Realtime/Suture model=mass-spring'"
+                                       " --set 'Realtime/Above stability limit=refuse'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(r.has_summary);
+  EXPECT_NE(r.output.find("Realtime/Substeps"), std::string::npos) << r.output;
+}
