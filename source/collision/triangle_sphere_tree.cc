@@ -23,13 +23,13 @@ namespace suturesim::collision
   } // namespace
 
   Sphere
-  TriangleSphereTree::triangle_sphere(const Points &x, const std::uint32_t t) const
+  TriangleSphereTree::triangle_sphere(const Points &x, const std::uint32_t t, const double grow) const
   {
     const auto          &v = (*tris)[t];
     const Eigen::Vector3d c = (x.col(v[0]) + x.col(v[1]) + x.col(v[2])) / 3.0;
     const double r2 = std::max({(x.col(v[0]) - c).squaredNorm(), (x.col(v[1]) - c).squaredNorm(),
                                 (x.col(v[2]) - c).squaredNorm()});
-    return {c, std::sqrt(r2) + margin};
+    return {c, std::sqrt(r2) + grow};
   }
 
   void
@@ -65,7 +65,7 @@ namespace suturesim::collision
 
     std::vector<Sphere> leaves(triangles.size());
     for (std::size_t l = 0; l < leaves.size(); ++l)
-      leaves[l] = triangle_sphere(x, order[l]);
+      leaves[l] = triangle_sphere(x, order[l], margin);
     build_from_leaves(leaves);
 
     // vertex → leaves, for refits after a few vertices moved
@@ -85,7 +85,7 @@ namespace suturesim::collision
   TriangleSphereTree::refit(const Points &x)
   {
     for (std::size_t l = 0; l < order.size(); ++l)
-      leaf_sphere(l) = triangle_sphere(x, order[l]);
+      leaf_sphere(l) = triangle_sphere(x, order[l], margin);
     refit_all_inner();
   }
 
@@ -97,7 +97,46 @@ namespace suturesim::collision
       for (auto k = vertex_offsets[i]; k < vertex_offsets[i + 1]; ++k)
         {
           const auto l = vertex_leaves[k];
-          if (set_leaf(l, triangle_sphere(x, order[l])))
+          if (set_leaf(l, triangle_sphere(x, order[l], margin)))
+            ++leaves_updated;
+        }
+    return leaves_updated + refit_marked();
+  }
+
+  std::size_t
+  TriangleSphereTree::update(const Points &x, const double s)
+  {
+    if (slack < 0)
+      {
+        // first call: every leaf grown by the slack, every vertex fitted where it is
+        slack  = s;
+        fitted = x;
+        escaped.reserve(x.cols());
+        for (std::size_t l = 0; l < order.size(); ++l)
+          leaf_sphere(l) = triangle_sphere(x, order[l], margin + slack);
+        refit_all_inner();
+        return n_leaves() + (spheres().size() - n_leaves());
+      }
+    // Leaves are fitted to the recorded positions x₀ (not the current ones): a vertex
+    // that escapes its slack gets x₀ = x, and every leaf touching it is refitted from
+    // the x₀ of its three vertices, so each leaf keeps bounding the slack balls of all
+    // of them.
+    escaped.clear();
+    const double s2 = slack * slack;
+    for (Eigen::Index i = 0; i < x.cols(); ++i)
+      if ((x.col(i) - fitted.col(i)).squaredNorm() > s2)
+        {
+          fitted.col(i) = x.col(i);
+          escaped.push_back(static_cast<std::uint32_t>(i));
+        }
+    if (escaped.empty())
+      return 0;
+    std::size_t leaves_updated = 0;
+    for (const auto i : escaped)
+      for (auto k = vertex_offsets[i]; k < vertex_offsets[i + 1]; ++k)
+        {
+          const auto l = vertex_leaves[k];
+          if (set_leaf(l, triangle_sphere(fitted, order[l], margin + slack)))
             ++leaves_updated;
         }
     return leaves_updated + refit_marked();

@@ -1,3 +1,4 @@
+#include <suturesim/realtime/hot_kernel.h>
 #include <suturesim/realtime/independent_order.h>
 #include <suturesim/realtime/spring_set.h>
 
@@ -25,7 +26,7 @@ namespace suturesim::realtime
     stiffness.push_back(k);
     lambda.push_back(0);
     alpha_tilde.push_back(0);
-    inverse_denominator.push_back(0);
+    prepared_dt = 0;
   }
 
   void
@@ -111,47 +112,57 @@ namespace suturesim::realtime
   }
 
   void
-  SpringSet::prepare_projection(const VectorXd &w, const double dt)
+  SpringSet::prepare_projection(const double dt)
   {
+    if (dt == prepared_dt)
+      return;
+    prepared_dt          = dt;
     const double inv_dt2 = 1 / (dt * dt);
     for (std::size_t s = 0; s < first.size(); ++s)
-      {
-        alpha_tilde[s]   = inv_dt2 / stiffness[s]; // α̃ = α/dt², α = 1/k
-        const double den = w[first[s]] + w[second[s]] + alpha_tilde[s];
-        // both ends held and rigid: nothing moves
-        inverse_denominator[s] = den > 0 ? 1 / den : 0;
-      }
+      alpha_tilde[s] = inv_dt2 / stiffness[s]; // α̃ = α/dt², α = 1/k
   }
+
+  namespace
+  {
+    /// One Gauss–Seidel sweep over n distance constraints (the hot kernel: one square
+    /// root and one division per spring). A free function: GCC multi-versions no
+    /// virtual function.
+    SUTURESIM_HOT_KERNEL void
+    project_distances(double *X, const double *W, const std::uint32_t *I, const std::uint32_t *J,
+                      const double *R, const double *A, double *Lambda, const std::size_t n)
+    {
+      for (std::size_t s = 0; s < n; ++s)
+        {
+          const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
+          const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
+          const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
+          const double      w_a = W[I[s]], w_b = W[J[s]];
+          // both ends held and rigid, or no direction: nothing moves
+          const double den = (w_a + w_b + A[s]) * L;
+          if (!(den > 0))
+            continue;
+          // Δλ = (−C − α̃λ)/(w_a + w_b + α̃), applied along the unit direction d/L: the
+          // two divisions folded into one
+          const double g = (-(L - R[s]) - A[s] * Lambda[s]) / den;
+          Lambda[s] += g * L;
+          const double wa = w_a * g, wb = w_b * g;
+          X[a] -= wa * dx;
+          X[a + 1] -= wa * dy;
+          X[a + 2] -= wa * dz;
+          X[b] += wb * dx;
+          X[b + 1] += wb * dy;
+          X[b + 2] += wb * dz;
+        }
+    }
+  } // namespace
 
   void
   SpringSet::project(Matrix3Xd &x, const VectorXd &w, double)
   {
-    // the hot kernel: one square root and one division per spring
-    double              *X = x.data();
-    const double        *W = w.data();
-    const std::uint32_t *I = first.data(), *J = second.data();
-    const double        *R = rest.data(), *A = alpha_tilde.data(), *D = inverse_denominator.data();
-    double              *Lambda = lambda.data();
-    const std::size_t    n      = first.size();
-    for (std::size_t s = 0; s < n; ++s)
-      {
-        const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
-        const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
-        const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (!(L > 0))
-          continue;
-        const double d_lambda = (-(L - R[s]) - A[s] * Lambda[s]) * D[s];
-        Lambda[s] += d_lambda;
-        const double g = d_lambda / L; // Δλ times the unit direction's scale
-        const double wa = W[I[s]] * g, wb = W[J[s]] * g;
-        X[a] -= wa * dx;
-        X[a + 1] -= wa * dy;
-        X[a + 2] -= wa * dz;
-        X[b] += wb * dx;
-        X[b + 1] += wb * dy;
-        X[b + 2] += wb * dz;
-      }
+    project_distances(x.data(), w.data(), first.data(), second.data(), rest.data(),
+                      alpha_tilde.data(), lambda.data(), first.size());
   }
+
 
 
   double

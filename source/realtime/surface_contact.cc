@@ -14,6 +14,9 @@ namespace suturesim::realtime
     , suture(s.suture)
   {
     surface_tree.build(s.nodes.x, triangles, prm.depth);
+    // the tissue moves micrometres per step: its tree is refitted lazily, a leaf only
+    // when a vertex left a slack of one suture radius (TriangleSphereTree::update)
+    surface_tree.update(s.nodes.x, prm.radius);
     suture_tree.build(s.nodes.x.middleCols(suture.begin, suture.size()), prm.radius);
     best.assign(suture.size(), 0);
     signed_distance.assign(suture.size(), 0);
@@ -29,7 +32,7 @@ namespace suturesim::realtime
   void
   SurfaceContact::detect(const Matrix3Xd &x)
   {
-    surface_tree.refit(x);
+    surface_tree.update(x, prm.radius);
     suture_tree.refit_all(x.middleCols(suture.begin, suture.size()));
     suture_tree.overlaps(surface_tree, 0, candidates);
     contacts.clear();
@@ -43,7 +46,10 @@ namespace suturesim::realtime
         const auto    &t = triangles[surface_tree.triangle(leaf)];
         const Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
         const Vector3d n = (b - a).cross(c - a).normalized();
-        for (const std::uint32_t k : {segment, segment + 1})
+        // node k is tested from segment k only (the last node from the last segment):
+        // segment k's sphere holds node k, so it meets every triangle near the node
+        const std::uint32_t last = segment + 2 == suture.size() ? segment + 1 : segment;
+        for (std::uint32_t k = segment; k <= last; ++k)
           {
             const Vector3d p        = x.col(suture.begin + k);
             const Vector3d q        = collision::closest_point_on_triangle(p, a, b, c, bary);

@@ -1,3 +1,4 @@
+#include <suturesim/realtime/hot_kernel.h>
 #include <suturesim/realtime/independent_order.h>
 #include <suturesim/realtime/volume_constraints.h>
 
@@ -24,6 +25,7 @@ namespace suturesim::realtime
         lambda.push_back(0);
         alpha_tilde.push_back(0);
       }
+    prepared_dt = 0;
     // consecutive tetrahedra share no vertex (independent_order.h)
     std::uint32_t n_nodes = 0;
     for (const auto &v : tets)
@@ -99,58 +101,75 @@ namespace suturesim::realtime
   }
 
   void
-  VolumeConstraints::prepare_projection(const VectorXd &, const double dt)
+  VolumeConstraints::prepare_projection(const double dt)
   {
+    if (dt == prepared_dt)
+      return;
+    prepared_dt = dt;
     for (std::size_t t = 0; t < tets.size(); ++t)
       alpha_tilde[t] = 1 / (stiffness[t] * dt * dt);
   }
 
+  namespace
+  {
+    /// One Gauss–Seidel sweep over n volume constraints (the hot kernel: the gradient
+    /// ∂V/∂x_k inline, one division). A free function: GCC multi-versions no virtual
+    /// function.
+    SUTURESIM_HOT_KERNEL void
+    project_volumes(double *X, const double *W, const mesh::Tetrahedron *tets,
+                    const double *rest, const double *alpha, double *lambda, const std::size_t n)
+    {
+      for (std::size_t t = 0; t < n; ++t)
+        {
+          const auto  &v  = tets[t];
+          double      *p0 = X + 3 * std::size_t(v[0]), *p1 = X + 3 * std::size_t(v[1]),
+                 *p2 = X + 3 * std::size_t(v[2]), *p3 = X + 3 * std::size_t(v[3]);
+          const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+          const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+          const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
+          constexpr double sixth = 1.0 / 6;
+          // g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3)
+          const double g1[3] = {sixth * (e2[1] * e3[2] - e2[2] * e3[1]),
+                                sixth * (e2[2] * e3[0] - e2[0] * e3[2]),
+                                sixth * (e2[0] * e3[1] - e2[1] * e3[0])};
+          const double g2[3] = {sixth * (e3[1] * e1[2] - e3[2] * e1[1]),
+                                sixth * (e3[2] * e1[0] - e3[0] * e1[2]),
+                                sixth * (e3[0] * e1[1] - e3[1] * e1[0])};
+          const double g3[3] = {sixth * (e1[1] * e2[2] - e1[2] * e2[1]),
+                                sixth * (e1[2] * e2[0] - e1[0] * e2[2]),
+                                sixth * (e1[0] * e2[1] - e1[1] * e2[0])};
+          const double g0[3] = {-(g1[0] + g2[0] + g3[0]), -(g1[1] + g2[1] + g3[1]),
+                                -(g1[2] + g2[2] + g3[2])};
+          const double c  = e1[0] * g1[0] + e1[1] * g1[1] + e1[2] * g1[2] - rest[t];
+          const double w0 = W[v[0]], w1 = W[v[1]], w2 = W[v[2]], w3 = W[v[3]];
+          // no lambda here: it would not inherit the kernel's target
+#define SUTURESIM_SQ(a) (a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+          const double denominator = alpha[t] + w0 * SUTURESIM_SQ(g0) + w1 * SUTURESIM_SQ(g1) +
+                                     w2 * SUTURESIM_SQ(g2) + w3 * SUTURESIM_SQ(g3);
+#undef SUTURESIM_SQ
+          if (denominator == 0)
+            continue;
+          const double d_lambda = (-c - alpha[t] * lambda[t]) / denominator;
+          lambda[t] += d_lambda;
+          const double s0 = w0 * d_lambda, s1 = w1 * d_lambda, s2 = w2 * d_lambda, s3 = w3 * d_lambda;
+          for (int d = 0; d < 3; ++d)
+            {
+              p0[d] += s0 * g0[d];
+              p1[d] += s1 * g1[d];
+              p2[d] += s2 * g2[d];
+              p3[d] += s3 * g3[d];
+            }
+        }
+    }
+  } // namespace
+
   void
   VolumeConstraints::project(Matrix3Xd &x, const VectorXd &w, double)
   {
-    // the hot kernel: raw pointers, the gradient ∂V/∂x_k inline, one division
-    double       *X = x.data();
-    const double *W = w.data();
-    for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        const auto  &v  = tets[t];
-        double      *p0 = X + 3 * std::size_t(v[0]), *p1 = X + 3 * std::size_t(v[1]),
-               *p2 = X + 3 * std::size_t(v[2]), *p3 = X + 3 * std::size_t(v[3]);
-        const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-        const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-        const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
-        constexpr double sixth = 1.0 / 6;
-        // g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3)
-        const double g1[3] = {sixth * (e2[1] * e3[2] - e2[2] * e3[1]),
-                              sixth * (e2[2] * e3[0] - e2[0] * e3[2]),
-                              sixth * (e2[0] * e3[1] - e2[1] * e3[0])};
-        const double g2[3] = {sixth * (e3[1] * e1[2] - e3[2] * e1[1]),
-                              sixth * (e3[2] * e1[0] - e3[0] * e1[2]),
-                              sixth * (e3[0] * e1[1] - e3[1] * e1[0])};
-        const double g3[3] = {sixth * (e1[1] * e2[2] - e1[2] * e2[1]),
-                              sixth * (e1[2] * e2[0] - e1[0] * e2[2]),
-                              sixth * (e1[0] * e2[1] - e1[1] * e2[0])};
-        const double g0[3] = {-(g1[0] + g2[0] + g3[0]), -(g1[1] + g2[1] + g3[1]),
-                              -(g1[2] + g2[2] + g3[2])};
-        const double c  = e1[0] * g1[0] + e1[1] * g1[1] + e1[2] * g1[2] - rest[t];
-        const double w0 = W[v[0]], w1 = W[v[1]], w2 = W[v[2]], w3 = W[v[3]];
-        const auto   sq = [](const double *a) { return a[0] * a[0] + a[1] * a[1] + a[2] * a[2]; };
-        const double denominator =
-          alpha_tilde[t] + w0 * sq(g0) + w1 * sq(g1) + w2 * sq(g2) + w3 * sq(g3);
-        if (denominator == 0)
-          continue;
-        const double d_lambda = (-c - alpha_tilde[t] * lambda[t]) / denominator;
-        lambda[t] += d_lambda;
-        const double s0 = w0 * d_lambda, s1 = w1 * d_lambda, s2 = w2 * d_lambda, s3 = w3 * d_lambda;
-        for (int d = 0; d < 3; ++d)
-          {
-            p0[d] += s0 * g0[d];
-            p1[d] += s1 * g1[d];
-            p2[d] += s2 * g2[d];
-            p3[d] += s3 * g3[d];
-          }
-      }
+    project_volumes(x.data(), w.data(), tets.data(), rest.data(), alpha_tilde.data(),
+                    lambda.data(), tets.size());
   }
+
 
 
   double

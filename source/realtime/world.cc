@@ -27,7 +27,8 @@ namespace suturesim::realtime
                           time_integrator->position_based());
     else
       tissue_model.reset();
-    tissue_interactions = sys.interactions.size();
+    tissue_interactions          = sys.interactions.size();
+    sys.first_suture_interaction = tissue_interactions;
     if (suture_model)
       suture_model->build(sys, setup.suture_geometry);
     sys.gravity = setup.gravity;

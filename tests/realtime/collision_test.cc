@@ -157,3 +157,40 @@ TEST(SurfaceContact, SutureLyingAcrossABlockStaysOnItsTopAndIsNotPushedOverTheEd
   EXPECT_LT(sideways, 0.5 * r);     // nothing pushes the suture off its line
   EXPECT_LT(n.x(2, s.end - 1), H - 0.001); // the overhangs hang down past the edges
 }
+
+TEST(TriangleSphereTree, LazyUpdateBoundsEveryTriangleAndRefitsOnlyEscapedVertices)
+{
+  // the fat-bounds refit (TriangleSphereTree::update): leaves grown by a slack s are
+  // refitted only where a vertex moved farther than s since its last fit
+  const auto mesh    = test_support::box_mesh(0.04, 0.04, 0.01, 8, 8, 2);
+  const auto surface = mesh::extract_boundary(mesh);
+  Matrix3Xd  x       = mesh.vertices;
+  const double slack = 2e-4;
+  collision::TriangleSphereTree tree;
+  tree.build(x, surface.triangles, 1e-4);
+  tree.update(x, slack);
+  expect_bounding(tree, x, surface.triangles);
+
+  // 200 small motions (micrometres, as tissue moves per haptic step) adding up far
+  // beyond the slack: the bounds hold after every one, and the work is a fraction of
+  // refitting every node each time
+  std::mt19937                           rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::size_t                            recomputed = 0, updates = 0;
+  for (int step = 0; step < 200; ++step)
+    {
+      for (Eigen::Index v = 0; v < x.cols(); ++v)
+        x.col(v) += 5e-6 * Vector3d(1 + u(rng), u(rng), 0.5 * u(rng));
+      recomputed += tree.update(x, slack);
+      ++updates;
+      expect_bounding(tree, x, surface.triangles);
+    }
+  EXPECT_LT(recomputed, updates * tree.spheres().size() / 4)
+    << "the slack should absorb most small motions";
+
+  // a large deformation escapes everywhere and is bounded at once
+  for (Eigen::Index v = 0; v < x.cols(); ++v)
+    x.col(v) = Eigen::AngleAxisd(8 * x(2, v), Vector3d::UnitZ()) * x.col(v) + Vector3d(0, 0, 10 * x(0, v) * x(0, v));
+  EXPECT_GT(tree.update(x, slack), tree.n_leaves() / 2);
+  expect_bounding(tree, x, surface.triangles);
+}

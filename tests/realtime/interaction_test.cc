@@ -162,7 +162,7 @@ TEST(RealtimeInteractions, XpbdDistanceProjectionMeetsStiffConstraintsAndSharesB
   VectorXd w(2);
   w << 1, 3;
   springs.reset_multipliers();
-  springs.prepare_projection(w, 1e-3);
+  springs.prepare_projection(1e-3);
   springs.project(x, w, 1e-3);
   EXPECT_NEAR((x.col(1) - x.col(0)).norm(), 1.0, 1e-14);
   // the node of inverse mass 3 moved three times as far

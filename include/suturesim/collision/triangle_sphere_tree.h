@@ -40,6 +40,15 @@ namespace suturesim::collision
     std::size_t
     refit(const Points &vertices, const std::vector<std::uint32_t> &moved);
 
+    /// Lazy refit with slack s (the "fat" bounds of Box2D's and Bullet's dynamic trees):
+    /// a leaf fitted when its vertices were at x₀ and grown by s still bounds its
+    /// triangle while every vertex stays within s of x₀ (|x − c| ≤ |x₀ − c| + s). Only
+    /// leaves with a vertex that moved farther are refitted (and their ancestors, once,
+    /// bottom-up); a slowly deforming surface costs one distance test per vertex.
+    /// @p slack (m) is fixed by the first call; returns the number of nodes recomputed.
+    std::size_t
+    update(const Points &vertices, double slack);
+
     /// The triangle bounded by leaf @p leaf.
     std::uint32_t
     triangle(const std::size_t leaf) const
@@ -55,12 +64,16 @@ namespace suturesim::collision
 
   private:
     Sphere
-    triangle_sphere(const Points &vertices, std::uint32_t triangle) const;
+    triangle_sphere(const Points &vertices, std::uint32_t triangle, double grow) const;
 
     const Triangles           *tris = nullptr;
     double                     margin = 0;
     std::vector<std::uint32_t> order;          ///< leaf → triangle
     std::vector<std::uint32_t> vertex_offsets; ///< CSR: vertex → leaves touching it
     std::vector<std::uint32_t> vertex_leaves;
+    // update(): vertex positions at the last fit of their leaves, and the slack
+    Eigen::Matrix3Xd           fitted;
+    std::vector<std::uint32_t> escaped;
+    double                     slack = -1;
   };
 } // namespace suturesim::collision

@@ -65,6 +65,14 @@ namespace suturesim::realtime
     {
       return 0;
     }
+
+    /// The solver settings in a few words for the record ("2 iterations"), empty when
+    /// there are none.
+    virtual std::string
+    settings() const
+    {
+      return "";
+    }
   };
 
   /// Post-step strain limiting of every SpringSet in @p system; returns the number of

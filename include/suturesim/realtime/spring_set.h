@@ -74,7 +74,7 @@ namespace suturesim::realtime
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
-    prepare_projection(const VectorXd &w, double dt) override;
+    prepare_projection(double dt) override;
     /// max |L − L₀| / L₀
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -118,8 +118,9 @@ namespace suturesim::realtime
     std::string                label;
     std::vector<std::uint32_t> first, second;
     std::vector<double>        rest, stiffness, lambda;
-    /// α̃ and 1/(w_a + w_b + α̃) of the current step (prepare_projection)
-    std::vector<double> alpha_tilde, inverse_denominator;
+    /// α̃ = 1/(k dt²) for the step prepared_dt (prepare_projection)
+    std::vector<double> alpha_tilde;
+    double              prepared_dt = 0;
   };
 
   /// One spring per tetrahedron edge, k from Van Gelder's rule (above) with c = E.

@@ -117,10 +117,12 @@ namespace suturesim::realtime
     virtual void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const = 0;
 
-    /// XPBD: per-step constants of the sweeps that follow (α̃ = 1/(k dt²), inverse
-    /// denominators), once the inverse masses @p w of the step are known.
+    /// XPBD: constants of the sweeps that depend on the step only (α̃ = 1/(k dt²));
+    /// implementations recompute them only when @p dt changes. The inverse masses enter
+    /// each projection directly, since holds (tools, transient constraints) change them
+    /// from step to step.
     virtual void
-    prepare_projection(const VectorXd &, double)
+    prepare_projection(double)
     {}
 
     /// XPBD: one Gauss–Seidel sweep over the constraints with α̃ = α/dt² (Macklin et
@@ -191,6 +193,8 @@ namespace suturesim::realtime
     std::vector<std::unique_ptr<ContactSet>>  contacts;
     Vector3d                                  gravity = Vector3d::Zero(); ///< m/s²
     NodeRange                                 tissue, suture;
+    /// Index of the suture's first interaction: the tissue's come before it.
+    std::size_t                               first_suture_interaction = 0;
 
     /// Sizes the work arrays; call after every node was added.
     void

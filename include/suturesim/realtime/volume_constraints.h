@@ -48,7 +48,7 @@ namespace suturesim::realtime
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
-    prepare_projection(const VectorXd &w, double dt) override;
+    prepare_projection(double dt) override;
     /// max |V − V₀| / V₀
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -60,6 +60,7 @@ namespace suturesim::realtime
 
     std::vector<mesh::Tetrahedron> tets;
     std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ
-    std::vector<double>            alpha_tilde; ///< 1/(k dt²) of the current step
+    std::vector<double>            alpha_tilde; ///< 1/(k dt²) for the step prepared_dt
+    double                         prepared_dt = 0;
   };
 } // namespace suturesim::realtime

@@ -1,0 +1,17 @@
+#pragma once
+/**
+ * @file
+ * SUTURESIM_HOT_KERNEL marks the few loops that bound the haptic step (XPBD sweeps,
+ * spring forces). GCC compiles each twice, for x86-64-v3 (AVX2, FMA) and for the
+ * baseline, and picks one when the library loads (function multi-versioning through an
+ * ifunc): the build stays portable while a recent processor runs the fused
+ * multiply-adds (measured in tests/benchmarks/realtime_benchmark.cc). Elsewhere it is
+ * empty.
+ */
+
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
+  __GNUC__ >= 11
+#  define SUTURESIM_HOT_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#  define SUTURESIM_HOT_KERNEL
+#endif
