@@ -444,11 +444,8 @@ namespace suturesim::scene
     summary["model"]      = "realtime";
     summary["machine"]    = processor_name() + ", one core";
     auto &realtime        = summary["realtime"];
-    realtime              = {{"integrator", world.integrator().iterations() > 0
-                                               ? integrator_name + " (" +
-                                                   std::to_string(world.integrator().iterations()) +
-                                                   " iterations)"
-                                               : integrator_name},
+    const std::string settings = world.integrator().settings();
+    realtime = {{"integrator", settings.empty() ? integrator_name : integrator_name + " (" + settings + ")"},
                              {"rate_hz", rate},
                              {"substeps", substeps},
                              {"dt_s", world.dt()},

@@ -30,7 +30,8 @@ namespace
 TEST(Parameters, RoundTripOfEveryShippedScene)
 {
   for (const std::string scene :
-       {"parameters/skin_pad_pull.prm", "parameters/benchmarks/cook_membrane.prm"})
+       {"parameters/skin_pad_pull.prm", "parameters/benchmarks/cook_membrane.prm",
+        "parameters/benchmarks/block_patch_load.prm"})
     {
       dealii::ParameterHandler first;
       scene::Simulation::declare_parameters(first);
