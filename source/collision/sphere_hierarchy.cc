@@ -171,6 +171,32 @@ namespace suturesim::collision
   }
 
   void
+  SphereHierarchy::leaves_near(const Eigen::Vector3d &centre, const double radius,
+                               std::vector<std::uint32_t> &found) const
+  {
+    found.clear();
+    if (nodes.empty())
+      return;
+    // depth-first without recursion: a balanced tree of n leaves is log₂ n deep
+    int stack[64];
+    int top      = 0;
+    stack[top++] = static_cast<int>(root());
+    while (top > 0)
+      {
+        const int     node  = stack[--top];
+        const double  reach = nodes[node].radius + radius;
+        if ((nodes[node].centre - centre).squaredNorm() > reach * reach)
+          continue;
+        if (static_cast<std::size_t>(node) < leaves)
+          found.push_back(static_cast<std::uint32_t>(node));
+        else
+          for (const int c : {children[node].first, children[node].second})
+            if (c >= 0)
+              stack[top++] = c;
+      }
+  }
+
+  void
   SphereHierarchy::self_overlaps(const double margin, LeafPairs &pairs) const
   {
     pairs.clear();

@@ -73,6 +73,11 @@ namespace suturesim::collision
     void
     overlaps(const SphereHierarchy &other, double margin, LeafPairs &pairs) const;
 
+    /// The leaves whose spheres overlap the sphere (@p centre, @p radius) into @p leaves
+    /// (cleared first): a point query, e.g. a needle tip against a surface.
+    void
+    leaves_near(const Eigen::Vector3d &centre, double radius, std::vector<std::uint32_t> &leaves) const;
+
     std::size_t
     n_leaves() const
     {

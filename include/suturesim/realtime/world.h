@@ -20,6 +20,7 @@
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/surface_contact.h>
 #include <suturesim/realtime/tissue_model.h>
+#include <suturesim/tools/trajectory.h>
 
 #include <Eigen/Geometry>
 
@@ -31,11 +32,8 @@
 
 namespace suturesim::realtime
 {
-  struct ToolPose
-  {
-    Vector3d           position    = Vector3d::Zero();
-    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
-  };
+  /// Where a tool is: position and orientation (tools/trajectory.h).
+  using ToolPose = tools::Pose;
 
   /// What the simulated bodies exert on a tool: the force and moment (about the tool's
   /// position) to render on a haptic device.

@@ -1,0 +1,50 @@
+#pragma once
+/**
+ * @file
+ * Stick–slip friction between a pierce point and the thread it sits on (needle, then
+ * suture), shared by both model paths: Coulomb's law f = μ N (seed 000 eq. 2), made
+ * well-posed by an elastic stick with stiffness k_t and a slip rule by return mapping
+ * (the penalty regularisation of Coulomb friction used in FE contact: Wriggers 2006,
+ * "Computational Contact Mechanics", §5.2; Laursen 2002, §4).
+ *
+ * One dimension, along the thread: ζ is where the tissue point now projects on the
+ * thread (thread coordinate, m: tools/curved_needle.h), ζ_a the anchor where it sticks.
+ * The tangential force on the tissue point, along the thread tangent, is
+ *   trial  f = −k_t (ζ − ζ_a);
+ *   stick  |f| ≤ μ N: f as tried, anchor kept;
+ *   slip   |f| > μ N: f = −μ N sign(ζ − ζ_a), anchor moved to ζ − sign(ζ − ζ_a) μ N / k_t,
+ * so that k_t |ζ − ζ_a| = μ N after the step. μ = 0 slides freely (f = 0); k_t → ∞ is
+ * rigid-plastic Coulomb. The anchor is history: it is updated only when a step is
+ * accepted (commit()), so Newton iterations and cut-backs of a step see the anchor of
+ * the last converged state.
+ *
+ * Normal force: the pressure of the hole on the thread. At a pierce point the thread
+ * pulls with tensions T₁, T₂ on either side; the tissue balances their transverse
+ * resultant, which for a wrap angle θ (the angle between the two directions) is
+ * 2 T sin(θ/2) at T₁ = T₂ = T (the discrete capstan relation; Euler–Eytelwein), and
+ * that is what the transverse coupling force carries. The hole also grips a straight
+ * thread: N = N₀ + |f_⊥|, with the grip N₀ a parameter (N).
+ */
+
+namespace suturesim::coupling
+{
+  struct FrictionParameters
+  {
+    double mu        = 0;   ///< Coulomb coefficient, 1
+    double stiffness = 0;   ///< k_t of the elastic stick, N/m
+    double grip      = 0;   ///< N₀, normal force of the hole on a straight thread, N
+  };
+
+  struct FrictionResult
+  {
+    double force      = 0;     ///< f along the tangent on the tissue point, N
+    double derivative = 0;     ///< ∂f/∂ζ at fixed N (−k_t in stick, 0 in slip), N/m
+    double anchor     = 0;     ///< ζ_a after this evaluation, m
+    bool   slipping   = false;
+  };
+
+  /// The return mapping at thread coordinate @p zeta, anchor @p anchor (last converged)
+  /// and normal force @p normal (N ≥ 0).
+  FrictionResult
+  coulomb_friction(const FrictionParameters &p, double zeta, double anchor, double normal);
+} // namespace suturesim::coupling

@@ -1,0 +1,157 @@
+#pragma once
+/**
+ * @file
+ * Puncture by a needle tip, shared by both model paths (each supplies the tissue
+ * surface as triangles over its own points and turns the forces into its own loads).
+ *
+ * The tip is a point. While it is outside the tissue, the first step that finds it
+ * behind the surface (negative signed distance to the nearest surface triangle) starts a
+ * touch: the surface material point under the tip (closest point, as a triangle and
+ * barycentric weights) is pressed by penalty along the surface's outward normal n
+ * captured at the touch, F = k_c max(0, (x_m − x_tip)·n) — the tissue dimples. When F
+ * reaches the tissue's puncture threshold the surface gives way: a pierce point is born
+ * at that material point (seed 000 §VI: "the tension increases continuously and exceeds
+ * the threshold at last. Then, the tension is released and the needle will pierce
+ * through the surface"; seed 002 §4.A). Inside, the tip cuts freely until it reaches the
+ * surface from within; the exit works the same way with the tip pushing the surface
+ * outward (tenting), F = k_c max(0, (x_tip − x_m)·n). A tip that backs off a touch ends
+ * it. Every touch and puncture is an event (kind, time, position, force).
+ */
+
+#include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/mesh/simplex_mesh.h>
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace suturesim::coupling
+{
+  using Eigen::Matrix3Xd;
+  using Eigen::Vector3d;
+
+  /// A material point of the surface: triangle index and barycentric weights.
+  struct SurfacePoint
+  {
+    std::uint32_t triangle = 0;
+    Vector3d      weights  = Vector3d::Zero();
+  };
+
+  struct PunctureParameters
+  {
+    double threshold = 1;    ///< puncture force, N
+    double stiffness = 1e3;  ///< penalty k_c of the tip on the surface, N/m
+    double reach     = 1e-3; ///< how far from the surface the tip is looked for, m
+  };
+
+  struct PunctureEvent
+  {
+    std::string kind; ///< touch_entry, puncture_entry, touch_exit, puncture_exit, release
+    double      time  = 0;
+    Vector3d    position = Vector3d::Zero(); ///< of the tip, m
+    double      force = 0;                   ///< normal force at the event, N
+  };
+
+  class NeedlePuncture
+  {
+  public:
+    enum class Phase
+    {
+      outside,
+      pressing_in,
+      inside,
+      pressing_out
+    };
+
+    /// The touched material point while pressing.
+    struct Touch
+    {
+      SurfacePoint point;
+      Vector3d     reference = Vector3d::Zero(); ///< X of the point, m
+      Vector3d     normal    = Vector3d::Zero(); ///< outward normal at the touch
+      bool         exit      = false;
+    };
+
+    /// @p triangles over the columns of @p reference (outward oriented).
+    NeedlePuncture(const PunctureParameters &parameters, const std::vector<mesh::Triangle> &triangles,
+                   const Matrix3Xd &reference);
+
+    /// Starts or ends a touch for the tip at @p tip and the surface at @p current; call
+    /// once per accepted state, before the step's forces.
+    void
+    update(double time, const Vector3d &tip, const Matrix3Xd &current);
+
+    Phase
+    phase() const
+    {
+      return state;
+    }
+    const Touch *
+    touch() const
+    {
+      return pressing() ? &contact : nullptr;
+    }
+    /// The last touch, also after the puncture that ended it (where the pierce point is
+    /// born).
+    const Touch &
+    last_touch() const
+    {
+      return contact;
+    }
+    bool
+    pressing() const
+    {
+      return state == Phase::pressing_in || state == Phase::pressing_out;
+    }
+
+    /// Penalty force magnitude of the touch for the tip at @p tip and the touched point
+    /// at @p x_point (0 when not pressing or separated), N; the force on the tissue point
+    /// is −F n on entry, +F n on exit.
+    double
+    normal_force(const Vector3d &tip, const Vector3d &x_point) const;
+
+    /// Direction of the force on the tissue point (−n on entry, +n on exit).
+    Vector3d
+    push_direction() const
+    {
+      return contact.exit ? contact.normal : Vector3d(-contact.normal);
+    }
+
+    /// After a converged step whose touch force was @p force: a puncture when it reached
+    /// the threshold (returns true; last_touch() is where the pierce point is born).
+    bool
+    accept(double time, double force, const Vector3d &tip);
+
+    const std::vector<PunctureEvent> &
+    events() const
+    {
+      return log;
+    }
+    const PunctureParameters &
+    parameters() const
+    {
+      return prm;
+    }
+
+    /// The current position of a surface point.
+    Vector3d
+    position(const SurfacePoint &p, const Matrix3Xd &x) const;
+
+  private:
+    /// Nearest surface point to @p tip among the triangles within reach; false if none.
+    bool
+    nearest(const Vector3d &tip, const Matrix3Xd &x, SurfacePoint &point, double &signed_distance,
+            Vector3d &normal);
+
+    PunctureParameters                 prm;
+    const std::vector<mesh::Triangle> &triangles;
+    collision::TriangleSphereTree      tree;
+    Matrix3Xd                          reference;
+    std::vector<std::uint32_t>         candidates;
+    Phase                              state = Phase::outside;
+    Touch                              contact;
+    std::vector<PunctureEvent>         log;
+    double                             last_force = 0;
+  };
+} // namespace suturesim::coupling

@@ -1,0 +1,57 @@
+#pragma once
+/**
+ * @file
+ * The standard surgical pass of a curved needle (the surgeon "follows the curve"): the
+ * needle turns about its own arc centre C, which stays still, so that the tip runs
+ * along the needle's circle into the tissue and out again and the hole is no larger than
+ * the wire.
+ *
+ * Geometry, locally flat surface with outward normal n through the entry point E and a
+ * bite direction b (in the surface, towards the exit): the arc's plane is spanned by b
+ * and n. With the centre at height h above the surface, the circle of radius R meets the
+ * surface at the entry angle α, cos α = h / R, reaches the bite depth δ = R − h below
+ * it, and comes out at the exit X = E + 2 R sin α b (chord 2 R sin α). Given δ,
+ * α = arccos(1 − δ/R); given α, δ = R (1 − cos α): with R fixed by the needle the two
+ * are one choice. C = E + R sin α b + h n.
+ *
+ * The tip enters when it has turned to E and exits after a further turn of 2α; the
+ * swage (Φ behind the tip) leaves the tissue after 2α + Φ. The planned motion starts
+ * with the tip an approach distance (arc length) before E, turns at a constant angular
+ * speed until the swage is out by the same distance, then translates the needle by a
+ * pull vector over a pull duration (drawing the suture through).
+ */
+
+#include <suturesim/tools/curved_needle.h>
+
+namespace suturesim::tools
+{
+  struct PassParameters
+  {
+    Vector3d entry          = Vector3d::Zero(); ///< E, m
+    Vector3d normal         = Vector3d::UnitZ(); ///< outward surface normal at E
+    Vector3d bite_direction = Vector3d::UnitX(); ///< towards the exit (made ⟂ n)
+    double   bite_depth     = 0;    ///< δ, m; 0: from the entry angle
+    double   entry_angle    = M_PI / 2; ///< α, rad (used when bite_depth = 0)
+    double   start_time     = 0;    ///< s
+    double   angular_speed  = 1;    ///< rad/s
+    double   approach       = 1e-3; ///< arc length of the tip before E at the start, m
+    Vector3d pull           = Vector3d::Zero(); ///< translation after the pass, m
+    double   pull_duration  = 1;    ///< s
+  };
+
+  struct SurgicalPass
+  {
+    Trajectory trajectory; ///< pose of the needle's body frame (origin at C)
+    Vector3d   centre, entry, exit;
+    double     entry_angle = 0, bite_depth = 0, bite_width = 0;
+    /// times at which the tip reaches E, the tip reaches X, the swage leaves at X, the
+    /// turn ends, the pull ends (s)
+    double t_tip_entry = 0, t_tip_exit = 0, t_swage_exit = 0, t_turn_end = 0, t_end = 0;
+  };
+
+  /// Plans the pass; throws std::invalid_argument for inconsistent input (a bite deeper
+  /// than R, a bite direction along the normal, a needle too short to leave the
+  /// tissue, ...).
+  SurgicalPass
+  plan_pass(const CurvedNeedle &needle, const PassParameters &parameters);
+} // namespace suturesim::tools

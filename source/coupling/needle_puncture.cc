@@ -1,0 +1,115 @@
+#include <suturesim/collision/proximity.h>
+#include <suturesim/coupling/needle_puncture.h>
+
+#include <Eigen/Geometry>
+
+#include <stdexcept>
+
+namespace suturesim::coupling
+{
+  NeedlePuncture::NeedlePuncture(const PunctureParameters &parameters,
+                                 const std::vector<mesh::Triangle> &surface, const Matrix3Xd &X)
+    : prm(parameters)
+    , triangles(surface)
+    , reference(X)
+  {
+    if (!(prm.threshold > 0) || !(prm.stiffness > 0) || !(prm.reach > 0))
+      throw std::invalid_argument("needle puncture: threshold, stiffness and reach must be > 0");
+    tree.build(X, triangles, prm.reach);
+    candidates.reserve(64);
+  }
+
+  Vector3d
+  NeedlePuncture::position(const SurfacePoint &p, const Matrix3Xd &x) const
+  {
+    const auto &t = triangles[p.triangle];
+    return p.weights[0] * x.col(t[0]) + p.weights[1] * x.col(t[1]) + p.weights[2] * x.col(t[2]);
+  }
+
+  bool
+  NeedlePuncture::nearest(const Vector3d &tip, const Matrix3Xd &x, SurfacePoint &point,
+                          double &signed_distance, Vector3d &normal)
+  {
+    // the surface moves slowly relative to the reach: lazy refit with a slack of a
+    // tenth of it
+    tree.update(x, 0.1 * prm.reach);
+    tree.leaves_near(tip, 0, candidates);
+    double   best = std::numeric_limits<double>::infinity();
+    Vector3d bary;
+    for (const auto leaf : candidates)
+      {
+        const auto     t = tree.triangle(leaf);
+        const auto    &v = triangles[t];
+        const Vector3d a = x.col(v[0]), b = x.col(v[1]), c = x.col(v[2]);
+        const Vector3d q = collision::closest_point_on_triangle(tip, a, b, c, bary);
+        const Vector3d n = (b - a).cross(c - a).normalized();
+        const double   distance = (tip - q).norm();
+        const double   d        = (tip - q).dot(n);
+        // equally near triangles (closest point on a shared edge or vertex): the one whose
+        // normal points most nearly at the tip decides the side
+        const double tie = 1e-9 * (distance + prm.reach);
+        if (distance > best + tie || (distance > best - tie && std::abs(d) <= std::abs(signed_distance)))
+          continue;
+        best            = distance;
+        signed_distance = d;
+        normal          = n;
+        point           = {t, bary};
+      }
+    return best <= prm.reach;
+  }
+
+  void
+  NeedlePuncture::update(const double time, const Vector3d &tip, const Matrix3Xd &x)
+  {
+    SurfacePoint p;
+    double       d = 0;
+    Vector3d     n;
+    switch (state)
+      {
+        case Phase::outside:
+        case Phase::inside:
+          if (nearest(tip, x, p, d, n) && ((state == Phase::outside) == (d < 0)))
+            {
+              // crossed the surface: from outside inwards (entry) or from inside out
+              contact.point     = p;
+              contact.reference = position(p, reference);
+              contact.normal    = n;
+              contact.exit      = state == Phase::inside;
+              state             = contact.exit ? Phase::pressing_out : Phase::pressing_in;
+              log.push_back({contact.exit ? "touch_exit" : "touch_entry", time, tip, 0});
+            }
+          break;
+        case Phase::pressing_in:
+        case Phase::pressing_out:
+          if (normal_force(tip, position(contact.point, x)) <= 0 && last_force <= 0)
+            {
+              // backed off: the touch ends, the tip is where it was before it
+              state = contact.exit ? Phase::inside : Phase::outside;
+              log.push_back({"release", time, tip, 0});
+            }
+          break;
+      }
+  }
+
+  double
+  NeedlePuncture::normal_force(const Vector3d &tip, const Vector3d &x_point) const
+  {
+    if (!pressing())
+      return 0;
+    const double penetration =
+      contact.exit ? (tip - x_point).dot(contact.normal) : (x_point - tip).dot(contact.normal);
+    return prm.stiffness * std::max(0.0, penetration);
+  }
+
+  bool
+  NeedlePuncture::accept(const double time, const double force, const Vector3d &tip)
+  {
+    last_force = force;
+    if (!pressing() || force < prm.threshold)
+      return false;
+    log.push_back({contact.exit ? "puncture_exit" : "puncture_entry", time, tip, force});
+    state      = contact.exit ? Phase::outside : Phase::inside;
+    last_force = 0;
+    return true;
+  }
+} // namespace suturesim::coupling

@@ -1,0 +1,142 @@
+// The path-independent coupling rules: Coulomb stick-slip by return mapping and the
+// order of pierce points along the thread.
+#include <suturesim/coupling/coulomb_friction.h>
+#include <suturesim/coupling/pierce_order.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace suturesim::coupling;
+
+TEST(CoulombFriction, SticksBelowMuNSlipsAboveAndFreeAtZeroMu)
+{
+  const FrictionParameters p{0.3, 1000, 0};
+  const double             N = 2; // capacity μN = 0.6 N, reached at |ζ − ζ_a| = 0.6 mm
+  // stick: the elastic force, anchor kept
+  auto r = coulomb_friction(p, 0.0004, 0, N);
+  EXPECT_FALSE(r.slipping);
+  EXPECT_DOUBLE_EQ(r.force, -0.4);
+  EXPECT_DOUBLE_EQ(r.derivative, -1000);
+  EXPECT_DOUBLE_EQ(r.anchor, 0);
+  // slip both ways: |f| = μN, opposite to the motion, anchor trailing by μN/k_t
+  for (const double zeta : {0.002, -0.002})
+    {
+      r = coulomb_friction(p, zeta, 0, N);
+      EXPECT_TRUE(r.slipping);
+      EXPECT_DOUBLE_EQ(r.force, -std::copysign(0.6, zeta));
+      EXPECT_DOUBLE_EQ(r.derivative, 0);
+      EXPECT_DOUBLE_EQ(r.anchor, zeta - std::copysign(0.0006, zeta));
+      // the new anchor puts the point exactly on the slip surface: a second evaluation
+      // at the same ζ sticks with the same force
+      const auto again = coulomb_friction(p, zeta, r.anchor, N);
+      EXPECT_NEAR(again.force, r.force, 1e-15);
+    }
+  // μ = 0: no tangential force at all, whatever the normal force
+  const auto free = coulomb_friction({0, 1000, 0}, 0.01, 0, 100);
+  EXPECT_EQ(free.force, 0);
+  EXPECT_TRUE(free.slipping);
+}
+
+TEST(PierceOrder, PointsThatWouldSwapMoveTogetherAndNeverCross)
+{
+  // two points pulled towards each other's places
+  std::vector<double> z{0.010, 0.004};
+  EXPECT_TRUE(keep_order(z, 0.001, 0, 1));
+  EXPECT_NEAR(z[0], 0.0065, 1e-15);
+  EXPECT_NEAR(z[1], 0.0075, 1e-15);
+  // already ordered: untouched
+  std::vector<double> ordered{0.001, 0.003, 0.02};
+  EXPECT_FALSE(keep_order(ordered, 0.001, 0, 1));
+  EXPECT_EQ(ordered, (std::vector<double>{0.001, 0.003, 0.02}));
+  // a hard constraint at the upper end stops a block
+  std::vector<double> blocked{0.05, 0.2, 0.3};
+  keep_order(blocked, 0.01, 0, 0.1);
+  EXPECT_NEAR(blocked[2], 0.1, 1e-15);
+  EXPECT_NEAR(blocked[1], 0.09, 1e-15);
+  EXPECT_NEAR(blocked[0], 0.05, 1e-15);
+  // random proposals: the result is always ordered with the gap, inside the bounds,
+  // and the least-squares projection (no point moves when nothing is violated)
+  std::mt19937                           rng(2);
+  std::uniform_real_distribution<double> u(0, 0.1);
+  for (int trial = 0; trial < 200; ++trial)
+    {
+      std::vector<double> p(5);
+      for (auto &v : p)
+        v = u(rng);
+      keep_order(p, 0.002, 0.01, 0.09);
+      for (std::size_t k = 0; k + 1 < p.size(); ++k)
+        EXPECT_GE(p[k + 1] - p[k], 0.002 - 1e-15);
+      EXPECT_GE(p.front(), 0.01 - 1e-15);
+      EXPECT_LE(p.back(), 0.09 + 1e-15);
+    }
+  std::vector<double> crowded{0, 0, 0};
+  EXPECT_THROW(keep_order(crowded, 0.1, 0, 0.1), std::invalid_argument);
+}
+
+#include <suturesim/coupling/needle_puncture.h>
+
+#include "realtime/test_meshes.h"
+
+TEST(NeedlePuncture, TouchPressPunctureInsideAndOutThroughTheFarSide)
+{
+  // a rigid box (the surface does not move): the tip comes down through the top face
+  // (z = 0.01) and leaves through the bottom (z = 0); the touch force is k_c times the
+  // tip's depth behind the touched point, and the puncture fires at the threshold
+  const auto   mesh    = suturesim::test_support::box_mesh(0.04, 0.04, 0.01, 8, 8, 2);
+  const auto   surface = suturesim::mesh::extract_boundary(mesh);
+  const PunctureParameters p{0.5, 1000, 1e-3}; // threshold reached 0.5 mm behind the surface
+  NeedlePuncture puncture(p, surface.triangles, mesh.vertices);
+  const Eigen::Vector3d start(0.0213, 0.0187, 0.0102);
+  int                   punctures = 0;
+  for (int step = 0; step <= 1200; ++step)
+    {
+      const double          t   = step * 1e-3;
+      const Eigen::Vector3d tip = start - Eigen::Vector3d(0, 0, 1e-5 * step); // 10 µm per step
+      puncture.update(t, tip, mesh.vertices);
+      double force = 0;
+      if (const auto *touch = puncture.touch())
+        {
+          const Eigen::Vector3d x = puncture.position(touch->point, mesh.vertices);
+          force                   = puncture.normal_force(tip, x);
+          // the force is the penalty of the depth behind the touched point
+          const double depth = touch->exit ? tip[2] : tip[2] - 0.01; // < 0 behind the face
+          EXPECT_NEAR(force, 1000 * std::max(0.0, -depth), 1e-9) << t;
+          EXPECT_NEAR(touch->normal[2], touch->exit ? -1 : 1, 1e-12);
+        }
+      punctures += puncture.accept(t, force, tip);
+    }
+  ASSERT_EQ(punctures, 2);
+  std::vector<std::string> kinds;
+  for (const auto &e : puncture.events())
+    kinds.push_back(e.kind);
+  EXPECT_EQ(kinds, (std::vector<std::string>{"touch_entry", "puncture_entry", "touch_exit", "puncture_exit"}));
+  const auto &entry = puncture.events()[1], &exit = puncture.events()[3];
+  // within a step (10 µm, 0.01 N) of the threshold, 0.5 mm behind each face
+  EXPECT_GE(entry.force, 0.5);
+  EXPECT_LT(entry.force, 0.5 + 0.0101);
+  EXPECT_NEAR(entry.position[2], 0.01 - 5e-4, 1.01e-5);
+  EXPECT_NEAR(exit.position[2], -5e-4, 1.01e-5);
+  EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
+}
+
+TEST(NeedlePuncture, ATipThatBacksOffReleasesTheTouch)
+{
+  const auto mesh    = suturesim::test_support::box_mesh(0.04, 0.04, 0.01, 4, 4, 1);
+  const auto surface = suturesim::mesh::extract_boundary(mesh);
+  NeedlePuncture puncture({1, 1000, 1e-3}, surface.triangles, mesh.vertices);
+  const Eigen::Vector3d x0(0.013, 0.017, 0.0101);
+  for (int step = 0; step < 80; ++step)
+    {
+      // down 0.4 mm (0.4 N, below the threshold), then back up
+      const double          s   = step < 40 ? step : 80 - step;
+      const Eigen::Vector3d tip = x0 - Eigen::Vector3d(0, 0, 1.25e-5 * s);
+      puncture.update(step, tip, mesh.vertices);
+      const double f = puncture.touch() ? puncture.normal_force(tip, puncture.position(puncture.touch()->point, mesh.vertices)) : 0;
+      EXPECT_FALSE(puncture.accept(step, f, tip));
+    }
+  EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
+  ASSERT_EQ(puncture.events().size(), 2u);
+  EXPECT_EQ(puncture.events()[1].kind, "release");
+}

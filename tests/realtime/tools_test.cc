@@ -1,0 +1,122 @@
+// Tools shared by both paths: keyframed poses (linear + slerp), the curved needle's
+// geometry, and the planned surgical pass (tools/surgical_pass.h: the tip follows the
+// needle's own circle through E and X at the planned times, bite depth and entry angle
+// as the circle geometry gives them).
+#include <suturesim/tools/surgical_pass.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace suturesim::tools;
+
+TEST(Trajectory, InterpolatesLinearlyAndBySlerpAndHoldsOutside)
+{
+  Trajectory path;
+  const Quaterniond turn(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()));
+  path.add(1, {Vector3d(0, 0, 0), Quaterniond::Identity()});
+  path.add(3, {Vector3d(2, 4, 0), turn});
+  EXPECT_LT((path.pose(0).position - Vector3d(0, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((path.pose(5).position - Vector3d(2, 4, 0)).norm(), 1e-15);
+  const Pose mid = path.pose(2);
+  EXPECT_LT((mid.position - Vector3d(1, 2, 0)).norm(), 1e-15);
+  // halfway in time is halfway in angle (constant angular velocity)
+  EXPECT_NEAR(Eigen::AngleAxisd(mid.orientation).angle(), M_PI / 4, 1e-14);
+  EXPECT_LT((mid.apply(Vector3d::UnitX()) - Vector3d(1 + std::sqrt(0.5), 2 + std::sqrt(0.5), 0)).norm(), 1e-14);
+  const auto [v, omega] = path.velocity(2);
+  EXPECT_LT((v - Vector3d(1, 2, 0)).norm(), 1e-14);
+  EXPECT_LT((omega - Vector3d(0, 0, M_PI / 4)).norm(), 1e-14);
+  EXPECT_EQ(path.velocity(4).first, Vector3d::Zero());
+}
+
+TEST(CurvedNeedle, TipSwageTangentAndClosestPoint)
+{
+  const CurvedNeedle needle(0.01, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  EXPECT_NEAR(needle.length(), 0.01 * 0.75 * M_PI, 1e-16);
+  const Pose pose{Vector3d(1, 2, 3), Quaterniond(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 2).normalized()))};
+  EXPECT_LT((needle.swage(pose) - pose.apply(Vector3d(0.01, 0, 0))).norm(), 1e-15);
+  EXPECT_LT((needle.tip(pose) - pose.apply(0.01 * Vector3d(std::cos(0.75 * M_PI), std::sin(0.75 * M_PI), 0))).norm(), 1e-15);
+  for (const double zeta : {0.0, 0.004, 0.0123, needle.length()})
+    {
+      // the tangent points towards the tip: the point moves along −t as ζ grows
+      const double   h  = 1e-7;
+      const double   z  = std::clamp(zeta, h, needle.length() - h);
+      const Vector3d fd = (needle.point(pose, z - h) - needle.point(pose, z + h)) / (2 * h);
+      EXPECT_LT((fd - needle.tangent(pose, z)).norm(), 1e-7) << zeta;
+      EXPECT_NEAR(needle.tangent(pose, zeta).norm(), 1, 1e-15);
+      // points off the arc, radially and out of plane, project back to ζ
+      const Vector3d radial = (needle.point(pose, zeta) - pose.position).normalized();
+      const Vector3d off    = needle.point(pose, zeta) + 0.002 * radial + 0.001 * (pose.orientation * Vector3d::UnitZ());
+      EXPECT_NEAR(needle.closest(pose, off), zeta, 1e-12) << zeta;
+    }
+  // beyond the ends: the nearer end
+  EXPECT_NEAR(needle.closest(pose, pose.apply(Vector3d(0.01, -0.001, 0))), needle.length(), 1e-15);
+  EXPECT_NEAR(needle.closest(pose, pose.apply(Vector3d(-0.01, -0.0001, 0))), 0, 1e-15);
+  EXPECT_THROW(CurvedNeedle::arc_angle_of("5/8"), std::invalid_argument);
+}
+
+TEST(SurgicalPass, TipFollowsTheNeedleCircleThroughEntryAndExitAtThePlannedTimes)
+{
+  for (const std::string shape : {"3/8", "1/2"})
+    for (const double depth : {0.004, 0.007})
+      {
+        const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of(shape), 3e-4);
+        PassParameters     p;
+        p.entry          = Vector3d(0.01, -0.002, 0.006);
+        p.normal         = Vector3d(0, 0, 2);
+        p.bite_direction = Vector3d(-1, 0.1, 0.3); // not in the surface: projected
+        p.bite_depth     = depth;
+        p.start_time     = 0.5;
+        p.angular_speed  = 2;
+        p.pull           = Vector3d(0, 0, 0.03);
+        p.pull_duration  = 2;
+        const SurgicalPass pass = plan_pass(needle, p);
+        const double       R    = needle.radius();
+        EXPECT_NEAR(pass.bite_depth, depth, 1e-15);
+        EXPECT_NEAR(std::cos(pass.entry_angle), 1 - depth / R, 1e-15);
+        EXPECT_NEAR(pass.bite_width, 2 * R * std::sin(pass.entry_angle), 1e-15);
+        const auto &path = pass.trajectory;
+        EXPECT_LT((needle.tip(path.pose(pass.t_tip_entry)) - p.entry).norm(), 1e-12);
+        EXPECT_LT((needle.tip(path.pose(pass.t_tip_exit)) - pass.exit).norm(), 1e-12);
+        EXPECT_LT((needle.swage(path.pose(pass.t_swage_exit)) - pass.exit).norm(), 1e-12);
+        EXPECT_NEAR(pass.exit[2], p.entry[2], 1e-15); // exit on the same surface
+        // during the turn the centre stays put and the tip stays on the circle through
+        // E and X; it is below the surface exactly between entry and exit, and the
+        // lowest point is the bite depth
+        double lowest = 0;
+        for (double t = p.start_time; t <= pass.t_turn_end; t += 0.001)
+          {
+            const Pose     pose = path.pose(t);
+            const Vector3d tip  = needle.tip(pose);
+            EXPECT_LT((pose.position - pass.centre).norm(), 1e-15);
+            EXPECT_NEAR((tip - pass.centre).norm(), R, 1e-12);
+            const bool inside = t > pass.t_tip_entry + 1e-9 && t < pass.t_tip_exit - 1e-9;
+            EXPECT_EQ(tip[2] < p.entry[2], inside) << t;
+            lowest = std::min(lowest, tip[2] - p.entry[2]);
+          }
+        EXPECT_NEAR(lowest, -depth, 1e-6);
+        // entry angle: between the tip's direction of advance and the surface
+        const Vector3d t_in = needle.tangent(path.pose(pass.t_tip_entry), 0);
+        EXPECT_NEAR(std::atan2(-t_in[2], t_in.head<2>().norm()), pass.entry_angle, 1e-12);
+        // the pull translates the needle without turning it
+        const Pose end = path.pose(pass.t_end), turned = path.pose(pass.t_turn_end);
+        EXPECT_LT((end.position - turned.position - p.pull).norm(), 1e-15);
+        EXPECT_LT(end.orientation.angularDistance(turned.orientation), 1e-15);
+      }
+}
+
+TEST(SurgicalPass, RefusesImpossibleBites)
+{
+  const CurvedNeedle needle(0.008, M_PI, 3e-4);
+  PassParameters     p;
+  p.bite_depth = 0.009; // deeper than R
+  EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
+  p.bite_depth     = 0.004;
+  p.bite_direction = Vector3d::UnitZ(); // along the normal
+  EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
+  // a half circle with a full-depth bite (2α + Φ = 2π) would re-enter at E as the
+  // swage leaves at X
+  p.bite_direction = Vector3d::UnitX();
+  p.bite_depth     = 0.008;
+  EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
+}
