@@ -73,6 +73,11 @@ namespace suturesim::realtime
     for (std::uint32_t k = 0; k < suture.size(); ++k)
       if (slot[k] >= 0)
         {
+          if (exempted != nullptr && (*exempted)[k])
+            {
+              slot[k] = -1; // drawn into the tissue through pierce points
+              continue;
+            }
           // listed within a skin of r/4 beyond touching, so that a resting contact stays
           // listed from step to step; its gap constraint acts only while g < 0
           if (signed_distance[k] < 1.25 * prm.radius && signed_distance[k] > -prm.depth)

@@ -101,6 +101,35 @@ namespace suturesim::realtime
     return tools.size() - 1;
   }
 
+  std::size_t
+  World::add_needle(const tools::CurvedNeedle &geometry, const NeedleCouplingParameters &parameters,
+                    const ToolPose &initial, const bool hold_suture)
+  {
+    if (needle_coupling != nullptr)
+      throw std::invalid_argument("realtime world: one needle only");
+    if (!tissue_model)
+      throw std::invalid_argument("realtime world: a needle needs tissue to pierce");
+    NeedleCouplingParameters p = parameters;
+    p.project                  = time_integrator->position_based();
+    p.geometric_suture         = suture_model && suture_model->geometric();
+    auto coupling = std::make_unique<NeedleCoupling>(sys, tissue_model->surface(), geometry, p);
+    coupling->set_pose(initial, 0);
+    needle_coupling = coupling.get();
+    sys.contacts.push_back(std::move(coupling));
+    if (contact != nullptr)
+      contact->exempt(&needle_coupling->suture_inside());
+    std::vector<std::uint32_t> held;
+    if (hold_suture && suture_model)
+      {
+        const double tolerance = 1e-9 * sys.length_scale();
+        if ((sys.nodes.x.col(sys.suture.begin) - geometry.swage(initial)).norm() > tolerance)
+          throw std::invalid_argument("realtime world: the suture does not start at the needle's swage");
+        held = {sys.suture.begin, sys.suture.begin + 1};
+      }
+    needle_tool = add_tool("needle", held, initial);
+    return needle_tool;
+  }
+
   void
   World::set_loads(Loads l)
   {
@@ -187,11 +216,12 @@ namespace suturesim::realtime
         const double tk  = t + (k + 1) * dt;
         for (std::size_t j = 0; j < tools.size(); ++j)
           {
-            const Vector3d p = start_poses[j].position + tau * (poses[j].position - start_poses[j].position);
-            const Eigen::Matrix3d R =
-              start_poses[j].orientation.slerp(tau, poses[j].orientation).toRotationMatrix();
+            const ToolPose        pose = tools::interpolate(start_poses[j], poses[j], tau);
+            const Eigen::Matrix3d R    = pose.orientation.toRotationMatrix();
             for (std::size_t i = 0; i < tools[j].nodes.size(); ++i)
-              n.target.col(tools[j].nodes[i]) = p + R * tools[j].offsets.col(i);
+              n.target.col(tools[j].nodes[i]) = pose.position + R * tools[j].offsets.col(i);
+            if (needle_coupling != nullptr && j == needle_tool)
+              needle_coupling->set_pose(pose, tk);
           }
         for (auto &p : prescribed)
           p.motion(tk, p.nodes, n.reference, n.target);
@@ -248,6 +278,12 @@ namespace suturesim::realtime
                   fi = n.force.col(i);
                 f.force += fi;
                 f.torque += (n.x.col(i) - poses[j].position).cross(fi);
+              }
+            if (needle_coupling != nullptr && j == needle_tool)
+              {
+                const auto [force, torque] = needle_coupling->needle_load(n.x, poses[j].position, h / n_substeps);
+                f.force += force;
+                f.torque += torque;
               }
           }
       }

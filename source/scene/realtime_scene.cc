@@ -5,11 +5,13 @@
 #include <suturesim/realtime/haptic_loop.h>
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/world.h>
+#include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_scene.h>
 
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -280,6 +282,7 @@ namespace suturesim::scene
       }
 
     // --- suture -------------------------------------------------------------------------
+    const bool with_needle = in.needle != nullptr && in.needle->present();
     if (in.suture)
       {
         std::vector<rod::Vec3> x;
@@ -287,6 +290,8 @@ namespace suturesim::scene
         in.rod->initial_configuration(x, q);
         for (const auto &p : x)
           setup.suture_geometry.points.push_back(p);
+        if (with_needle && in.needle->attach_suture)
+          RealtimeNeedle::place_suture(*in.needle, setup.suture_geometry.points);
         const auto &section              = in.rod->section;
         const auto  k                    = section.stiffness();
         setup.suture_geometry.radius     = section.radius;
@@ -392,6 +397,22 @@ namespace suturesim::scene
       const rod::EndCondition *end;
       rt::Vector3d             initial;
     };
+    std::optional<RealtimeNeedle> needle;
+    if (with_needle)
+      {
+        if (!in.tissue)
+          ParameterScope(file, "Needle").fail("Shape", "a needle needs tissue (Bodies = tissue or tissue and suture)");
+        try
+          {
+            needle.emplace(*in.needle, world);
+          }
+        catch (const std::invalid_argument &e)
+          {
+            ParameterScope(file, "Needle").fail("Shape", e.what());
+          }
+      }
+    // the tools of the suture's ends come after the needle's
+    const std::size_t    first_end_tool = needle ? 1 : 0;
     std::vector<ToolEnd> tool_ends;
     if (in.suture)
       {
@@ -483,6 +504,8 @@ namespace suturesim::scene
     for (const auto &t : tool_ends)
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(t.name + "_force_" + std::string(1, c) + " [N]");
+    if (needle)
+      needle->add_columns(columns);
     for (const auto &b : boundaries)
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(b.name + "_reaction_" + std::string(1, c) + " [N]");
@@ -499,7 +522,9 @@ namespace suturesim::scene
       row[c++]      = world.time();
       for (std::size_t k = 0; k < tool_ends.size(); ++k)
         for (int d = 0; d < 3; ++d)
-          row[c++] = world.tool_forces()[k].force[d];
+          row[c++] = world.tool_forces()[first_end_tool + k].force[d];
+      if (needle)
+        needle->fill_row(world, row, c);
       for (const auto &b : boundaries)
         {
           const auto r = world.reaction(b.nodes);
@@ -582,14 +607,16 @@ namespace suturesim::scene
     write_output();
     record_row();
     rt::HapticLoop            loop(world, rate, n_steps, pacing);
-    std::vector<rt::ToolPose> poses(tool_ends.size());
+    std::vector<rt::ToolPose> poses(first_end_tool + tool_ends.size());
     double                    next_output = interval;
     std::string               failure;
     for (std::size_t step = 1; step <= n_steps; ++step)
       {
         const double t = step / rate;
         for (std::size_t k = 0; k < tool_ends.size(); ++k)
-          poses[k] = pose_of(*tool_ends[k].end, tool_ends[k].initial, t);
+          poses[first_end_tool + k] = pose_of(*tool_ends[k].end, tool_ends[k].initial, t);
+        if (needle)
+          poses[needle->tool()] = needle->pose(t);
         try
           {
             loop.tick(poses);
@@ -621,7 +648,9 @@ namespace suturesim::scene
     metrics["deadline_misses"]              = stats.deadline_misses;
     metrics["final_time"]                   = world.time();
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
-      metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[k].force.norm();
+      metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[first_end_tool + k].force.norm();
+    if (needle)
+      needle->finish(world, summary);
     for (const auto &[name, index] : probes)
       {
         const auto u = world.probe_displacement(index);

@@ -59,6 +59,7 @@ namespace suturesim::scene
     prm.enter_subsection("Realtime");
     RealtimeScene::declare(prm);
     prm.leave_subsection();
+    NeedleParameters::declare(prm);
   }
 
   Simulation::Simulation(ParameterHandler &prm, const ParameterFile &file)
@@ -68,11 +69,16 @@ namespace suturesim::scene
     scene_name = prm.get("Scene name");
     model_path = prm.get("Model");
     bodies     = prm.get("Bodies");
+    needle_parameters.parse(prm, root);
     if (model_path == "realtime")
       {
         parse_realtime(prm);
         return;
       }
+    ParameterScope(file, "Needle")
+      .require(!needle_parameters.present(), "Shape",
+               "the accurate path does not model the needle yet (issue 5, in progress); use "
+               "Model = realtime");
     root.require(bodies != "tissue and suture", "Bodies",
                  "the accurate path does not couple tissue and suture yet (pierce points); "
                  "use Model = realtime");
@@ -175,6 +181,14 @@ namespace suturesim::scene
     root.subsection("Time").require(time_parameters.end_time > 0, "End time", "must be > 0 s");
     prm.leave_subsection();
     inputs.time = &time_parameters;
+    if (needle_parameters.present())
+      {
+        inputs.needle = &needle_parameters;
+        if (inputs.suture && needle_parameters.attach_suture)
+          root.subsection("Suture/Start end")
+            .require(rod_parameters.start_end.type == "free", "Type",
+                     "must be free: the needle holds the suture's start (Needle/Attach suture)");
+      }
     prm.enter_subsection("Realtime");
     realtime = std::make_unique<RealtimeScene>(prm, root.subsection("Realtime"), std::move(inputs));
     prm.leave_subsection();

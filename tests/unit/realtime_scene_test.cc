@@ -121,3 +121,40 @@ TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
   EXPECT_NE(output.find("| top_centre |"), std::string::npos) << output;
   EXPECT_TRUE(std::filesystem::exists(rt.directory + "/probe_comparison.csv"));
 }
+
+TEST(RealtimeScene, NeedlePassPuncturesAtTheThresholdAndRecordsTheForceCurves)
+{
+  // parameters/needle_pass.prm through the suturesim command on a coarser pad (h = 2 mm):
+  // entry and exit punctures at the threshold within 5 % (issue 5), both pierce points
+  // drawn onto the suture, the needle columns and metrics, and the plot script's PNG/PDF
+  const auto r = run_suturesim("needle_pass",
+                               "'" + source_path("parameters/needle_pass.prm") +
+                                 "' --set 'Mesh/Geo parameters=h: 0.002, hexahedra: 0'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto  &m         = r.summary["metrics"];
+  const double threshold = r.summary["needle"]["puncture_threshold"];
+  for (const char *k : {"puncture_force_entry", "puncture_force_exit"})
+    {
+      ASSERT_TRUE(m.contains(k)) << k;
+      EXPECT_GE(m[k].get<double>(), threshold) << k;
+      EXPECT_LE(m[k].get<double>(), 1.05 * threshold) << k;
+    }
+  EXPECT_GT(m["peak_pull_force"].get<double>(), 0);
+  std::vector<std::string> kinds;
+  for (const auto &e : r.summary["events"])
+    if (e["kind"] != "touch_entry" && e["kind"] != "touch_exit" && e["kind"] != "release")
+      kinds.push_back(e["kind"]);
+  EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit", "on_suture", "on_suture"}));
+  std::string header;
+  read_forces(r, &header);
+  for (const char *column : {"needle_force_x [N]", "needle_torque_z [N*m]", "suture_tension_swage [N]",
+                             "pierce_0_state [0:none|1:stick|2:slip]", "pierce_1_slip_velocity [m/s]",
+                             "pierce_1_normal_force [N]", "pierce_0_friction_force [N]"})
+    EXPECT_NE(header.find(column), std::string::npos) << column;
+
+  const std::string command = "/usr/bin/python3 '" + source_path("postprocess/plot_forces.py") + "' '" +
+                              r.directory + "' > /dev/null 2>&1";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  for (const char *file : {"forces.png", "needle_forces.png", "needle_forces.pdf"})
+    EXPECT_TRUE(std::filesystem::exists(r.directory + "/" + file)) << file;
+}

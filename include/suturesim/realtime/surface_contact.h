@@ -87,6 +87,14 @@ namespace suturesim::realtime
       return contacts;
     }
 
+    /// Suture nodes (local index, non-zero entries) to leave alone: those the needle's
+    /// pierce points have drawn into the tissue. The mask is read at every detect().
+    void
+    exempt(const std::vector<char> *mask)
+    {
+      exempted = mask;
+    }
+
     /// Signed gap of contact @p c at @p x (m): negative when the node is closer than r.
     double
     gap(const Contact &c, const Matrix3Xd &x) const;
@@ -103,5 +111,6 @@ namespace suturesim::realtime
     std::vector<double>             signed_distance; ///< per suture node: (p − q)·n there
     std::vector<Contact>            nearest;         ///< per suture node
     std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
+    const std::vector<char>        *exempted = nullptr;
   };
 } // namespace suturesim::realtime

@@ -17,6 +17,7 @@
 
 #include <suturesim/realtime/divergence_guard.h>
 #include <suturesim/realtime/integrator.h>
+#include <suturesim/realtime/needle_coupling.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/surface_contact.h>
 #include <suturesim/realtime/tissue_model.h>
@@ -89,6 +90,21 @@ namespace suturesim::realtime
     std::size_t
     add_tool(const std::string &name, const std::vector<std::uint32_t> &nodes,
              const ToolPose &initial);
+
+    /// A rigid curved needle moved as tool (the returned index) with pose @p initial at
+    /// t = 0: its tip punctures the tissue surface and its pierce points slide along
+    /// it and on along the suture (needle_coupling.h). With @p hold_suture the needle
+    /// holds the suture's first two nodes (a hard constraint in position and tangent at
+    /// the swage, seed 002); they must lie at the swage and on the line leaving it.
+    std::size_t
+    add_needle(const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters,
+               const ToolPose &initial, bool hold_suture);
+
+    const NeedleCoupling *
+    needle() const
+    {
+      return needle_coupling;
+    }
 
     /// External loads (tractions) at time t into the given 3 × n array (zeroed before).
     using Loads = std::function<void(double t, Matrix3Xd &external)>;
@@ -228,6 +244,8 @@ namespace suturesim::realtime
     std::unique_ptr<SutureModel> suture_model;
     std::unique_ptr<Integrator>  time_integrator;
     SurfaceContact              *contact = nullptr;
+    NeedleCoupling              *needle_coupling = nullptr;
+    std::size_t                  needle_tool     = 0;
     double                       contact_stiffness = 0;
     bool                         refuse_above_limit = false;
 

@@ -28,6 +28,7 @@
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/rod/rod_parameters.h>
+#include <suturesim/scene/needle_parameters.h>
 #include <suturesim/scene/parameter_file.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
@@ -52,6 +53,7 @@ namespace suturesim::scene
     tissue::BoundaryConditions                       *boundary_conditions = nullptr;
     std::vector<std::pair<std::string, dealii::Point<3>>> probes;
     const rod::RodParameters                         *rod = nullptr;
+    const NeedleParameters                           *needle = nullptr; ///< nullptr or shape none: no needle
     const tissue::TimeParameters                     *time = nullptr;
   };
 

@@ -1,0 +1,219 @@
+#pragma once
+/**
+ * @file
+ * A rigid curved needle in the realtime world, with the suture attached at its swage:
+ * puncture of the tissue surface by the tip (coupling/needle_puncture.h) and the pierce
+ * points it leaves, which slide along the thread — the needle's arc, then the suture's
+ * polyline — held by friction.
+ *
+ * Pierce point (seed 004's node–path constraint): a tissue material point
+ * p = Σ wᵢ xᵢ (the surface triangle it was born on) tied to the thread at its anchor
+ * coordinate ζ_a (tools/curved_needle.h: 0 at the tip, L at the swage, L + material arc
+ * length along the suture beyond it). The anchor is a material point of the thread and
+ * moves only by slip, so a pierce point never jumps between strands of a folded
+ * suture. With c = c(ζ_a), t the tangent there (towards the tip), d = p − c and the
+ * point's own coordinate ζ = ζ_a − d·t:
+ *  - transverse: C⊥ = |P⊥ (p − c)|, P⊥ = I − t tᵀ, compliance 1/k⊥ (seed 004:
+ *    (p − q) × t = 0);
+ *  - along the thread: stick to the anchor ζ_a, C_t = ζ − ζ_a, compliance 1/k_t, with
+ *    the Coulomb limit |f_t| ≤ μ N, N = N₀ + |f⊥| (coupling/coulomb_friction.h; seed 000
+ *    eq. 2). Under XPBD the stick multiplier is clamped to the limit (static friction as
+ *    a position constraint, Müller et al. 2020, "Detailed rigid body simulation with
+ *    extended position based dynamics", §3.5); the force-based integrators use the
+ *    return mapping's penalty forces.
+ * On the suture part the constraint moves the two suture nodes of c's segment too
+ * (weights 1 − s, s). Pierce points keep their order along the thread and stay on it
+ * (coupling/pierce_order.h): the anchors are projected after every step.
+ * The needle is kinematic: what the tissue exerts on it (the reaction of the touch and
+ * of the pierce points on its arc) is reported as its tool force with the suture's
+ * pull at the swage.
+ */
+
+#include <suturesim/coupling/coulomb_friction.h>
+#include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/realtime/system.h>
+#include <suturesim/tools/curved_needle.h>
+
+#include <vector>
+
+namespace suturesim::realtime
+{
+  struct NeedleCouplingParameters
+  {
+    coupling::PunctureParameters puncture;
+    coupling::FrictionParameters friction;
+    double transverse_stiffness = 100;  ///< k⊥, N/m
+    double spacing              = 1e-4; ///< least distance between pierce points along the thread, m
+    /// XPBD: the suture nodes' inverse masses within a pierce constraint are capped at
+    /// this multiple of the tissue point's (mass scaling against jitter), 1
+    double mass_ratio = 10;
+    bool   project              = false; ///< XPBD constraints instead of penalty forces
+    /// The suture is moved geometrically (follow-the-leader): inextensible and held by
+    /// the needle, it passes what the tissue exerts on it at its pierce points straight
+    /// to the needle (otherwise its springs carry it to the nodes the needle holds).
+    bool   geometric_suture     = false;
+  };
+
+  /// One pierce point as recorded per step.
+  struct PiercePointState
+  {
+    double   zeta       = 0;     ///< thread coordinate now, m
+    double   anchor     = 0;     ///< ζ_a, m
+    bool     slipping   = false;
+    bool     on_suture  = false;
+    bool     exit       = false; ///< born where the tip came out
+    double   slip_speed = 0;     ///< dζ_a/dt of the last step, m/s
+    double   normal     = 0;     ///< N, N
+    double   friction   = 0;     ///< tangential force on the tissue point along −t, N
+    Vector3d position   = Vector3d::Zero(); ///< of the tissue point, m
+  };
+
+  class NeedleCoupling : public ContactSet
+  {
+  public:
+    /// @p surface: the tissue's surface triangles (system node indices); the suture is
+    /// the system's suture range, its first node at the swage.
+    NeedleCoupling(const System &system, const std::vector<mesh::Triangle> &surface,
+                   const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters);
+
+    std::string
+    name() const override
+    {
+      return "needle and pierce points";
+    }
+
+    /// The needle's pose and the time at the end of the coming (sub)step.
+    void
+    set_pose(const tools::Pose &pose, double time);
+
+    void
+    detect(const Matrix3Xd &x) override;
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    bool
+    has_projection() const override
+    {
+      return prm.project;
+    }
+    void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
+    reset_multipliers() override;
+    void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    after_step(Nodes &nodes) override;
+    std::size_t
+    active() const override
+    {
+      return points.size() + (puncture.pressing() ? 1 : 0);
+    }
+
+    /// Force and moment (about @p origin) the tissue exerts on the needle at the state of
+    /// the last detect(), N and N m (penalty forces, or the multipliers of the last solve
+    /// under XPBD with @p dt).
+    std::pair<Vector3d, Vector3d>
+    needle_load(const Matrix3Xd &x, const Vector3d &origin, double dt) const;
+
+    const coupling::NeedlePuncture &
+    puncture_state() const
+    {
+      return puncture;
+    }
+    /// The normal force of the touch at the last accepted step, N.
+    double
+    touch_force() const
+    {
+      return last_touch_force;
+    }
+    const std::vector<PiercePointState> &
+    pierce_points() const
+    {
+      return states;
+    }
+    /// Pierce-point events: "on_suture" (passed the swage), "released" (the thread left
+    /// the hole), with the tissue point's position and the normal force.
+    const std::vector<coupling::PunctureEvent> &
+    thread_events() const
+    {
+      return events_on_thread;
+    }
+    /// Suture nodes (local index) between two pierce points, inside the tissue: the
+    /// suture–surface contact leaves them alone.
+    const std::vector<char> &
+    suture_inside() const
+    {
+      return inside;
+    }
+    const tools::CurvedNeedle &
+    geometry() const
+    {
+      return needle;
+    }
+    const tools::Pose &
+    pose() const
+    {
+      return current_pose;
+    }
+
+  private:
+    /// Where a tissue point sits on the thread.
+    struct ThreadPoint
+    {
+      double        zeta = 0;
+      Vector3d      c = Vector3d::Zero(), t = Vector3d::UnitX();
+      bool          on_suture = false;
+      std::uint32_t k         = 0;   ///< suture segment (nodes k, k + 1) on the suture
+      double        s         = 0;   ///< position in it
+    };
+    struct PiercePoint
+    {
+      mesh::Triangle nodes;
+      Vector3d       weights;
+      double         anchor = 0;
+      ThreadPoint    at;
+      double         lambda_n = 0, lambda_t = 0; ///< XPBD multipliers of the step
+      Vector3d       normal_direction = Vector3d::Zero();
+      bool           exit = false; ///< born where the tip came out of the tissue
+      bool           passed_swage = false;
+    };
+
+    Vector3d
+    tissue_point(const PiercePoint &p, const Matrix3Xd &x) const;
+    /// The thread's point and tangent at coordinate @p zeta (the needle's arc up to L,
+    /// the suture's polyline at material coordinate ζ − L beyond).
+    ThreadPoint
+    thread_at(double zeta, const Matrix3Xd &x) const;
+    /// Penalty forces of pierce point @p p on its tissue point (total) and the friction
+    /// return mapping.
+    Vector3d
+    pierce_force(const PiercePoint &p, const Matrix3Xd &x, coupling::FrictionResult *friction,
+                 double *normal) const;
+    /// Adds @p force on the tissue point of @p p to @p f, and its reaction on the suture
+    /// nodes when on the suture.
+    void
+    distribute(const PiercePoint &p, const Vector3d &force, Matrix3Xd &f) const;
+    /// XPBD correction of constraint gradient direction @p n (unit, on the tissue point)
+    /// with violation @p C, compliance @p alpha_tilde and multiplier @p lambda; the
+    /// multiplier's increment is limited to keep λ within ±@p limit (∞: none).
+    double
+    correct(PiercePoint &p, const Vector3d &n, double C, double alpha_tilde, double &lambda,
+            double limit, Matrix3Xd &x, const VectorXd &w) const;
+
+    NeedleCouplingParameters           prm;
+    const std::vector<mesh::Triangle> &triangles;
+    NodeRange                          suture;
+    double                             link = 0; ///< rest length of a suture segment, m
+    tools::CurvedNeedle                needle;
+    tools::Pose                        current_pose;
+    double                             time = 0, last_time = 0, last_dt = 0;
+    coupling::NeedlePuncture           puncture;
+    double                             last_touch_force = 0;
+    double                             touch_lambda     = 0;
+    std::vector<PiercePoint>           points; ///< in thread order: ζ ascending
+    std::vector<PiercePointState>      states;
+    std::vector<char>                  inside;
+    std::vector<double>                zeta_work;
+    std::vector<coupling::PunctureEvent> events_on_thread;
+  };
+} // namespace suturesim::realtime

@@ -1,0 +1,62 @@
+#pragma once
+/**
+ * @file
+ * The needle of a realtime scene: puts it into the world as a tool moved by the scene's
+ * trajectory (NeedleParameters), places the attached suture at the swage, and records
+ * what the issue's force curves need: forces.csv columns for the needle's force, torque
+ * and arc centre, the suture's tension at both ends and, per recorded pierce point, its state
+ * (0 none, 1 stick, 2 slip), thread coordinate, slip velocity, normal and friction
+ * force; summary.json events (touch, puncture, passage onto the suture, release) and
+ * the metrics puncture_force_entry, puncture_force_exit (the first of each, N) and
+ * peak_pull_force (largest needle force after the turn, N).
+ */
+
+#include <suturesim/realtime/world.h>
+#include <suturesim/scene/needle_parameters.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace suturesim::scene
+{
+  class RealtimeNeedle
+  {
+  public:
+    /// Adds the needle to @p world (as its next tool; before initialize()).
+    RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world);
+
+    /// Replaces @p points by a straight suture of the same length and number of nodes
+    /// leaving the needle's swage along the needle (the pose at t = 0).
+    static void
+    place_suture(const NeedleParameters &parameters, std::vector<Eigen::Vector3d> &points);
+
+    std::size_t
+    tool() const
+    {
+      return tool_index;
+    }
+    tools::Pose
+    pose(double t) const
+    {
+      return path.pose(t);
+    }
+
+    void
+    add_columns(std::vector<std::string> &columns) const;
+    /// Writes this step's values from row[c] on (advancing c) and tracks the metrics.
+    void
+    fill_row(const realtime::World &world, std::vector<double> &row, std::size_t &c);
+    /// Events and metrics into @p summary.
+    void
+    finish(const realtime::World &world, nlohmann::json &summary) const;
+
+  private:
+    const NeedleParameters &prm;
+    tools::Trajectory       path;
+    double                  pull_start = 0;
+    std::size_t             tool_index = 0;
+    double                  peak_pull  = 0;
+  };
+} // namespace suturesim::scene

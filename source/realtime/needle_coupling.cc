@@ -1,0 +1,366 @@
+#include <suturesim/coupling/pierce_order.h>
+#include <suturesim/realtime/needle_coupling.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace suturesim::realtime
+{
+  NeedleCoupling::NeedleCoupling(const System &s, const std::vector<mesh::Triangle> &surface,
+                                 const tools::CurvedNeedle &geometry,
+                                 const NeedleCouplingParameters &parameters)
+    : prm(parameters)
+    , triangles(surface)
+    , suture(s.suture)
+    , needle(geometry)
+    , puncture(parameters.puncture, surface, s.nodes.reference)
+  {
+    if (suture.size() >= 2)
+      link = (s.nodes.reference.col(suture.begin + 1) - s.nodes.reference.col(suture.begin)).norm();
+    inside.assign(suture.size(), 0);
+    // a pass makes two pierce points; room for a few stitches without allocating
+    points.reserve(16);
+    states.reserve(16);
+    zeta_work.reserve(16);
+  }
+
+  void
+  NeedleCoupling::set_pose(const tools::Pose &pose, const double t)
+  {
+    current_pose = pose;
+    time         = t;
+  }
+
+  Vector3d
+  NeedleCoupling::tissue_point(const PiercePoint &p, const Matrix3Xd &x) const
+  {
+    return p.weights[0] * x.col(p.nodes[0]) + p.weights[1] * x.col(p.nodes[1]) +
+           p.weights[2] * x.col(p.nodes[2]);
+  }
+
+  NeedleCoupling::ThreadPoint
+  NeedleCoupling::thread_at(const double zeta, const Matrix3Xd &x) const
+  {
+    ThreadPoint  at;
+    const double L = needle.length();
+    at.zeta        = zeta;
+    if (zeta <= L || suture.size() < 2)
+      {
+        at.c = needle.point(current_pose, zeta);
+        at.t = needle.tangent(current_pose, zeta);
+        return at;
+      }
+    const double   u  = std::min((zeta - L) / link, double(suture.size() - 1) - 1e-12);
+    at.on_suture      = true;
+    at.k              = static_cast<std::uint32_t>(u);
+    at.s              = u - at.k;
+    const Vector3d a  = x.col(suture.begin + at.k), b = x.col(suture.begin + at.k + 1);
+    at.c              = (1 - at.s) * a + at.s * b;
+    const double l    = (a - b).norm();
+    at.t              = l > 0 ? Vector3d((a - b) / l) : needle.tangent(current_pose, L);
+    return at;
+  }
+
+  void
+  NeedleCoupling::detect(const Matrix3Xd &x)
+  {
+    puncture.update(time, needle.tip(current_pose), x);
+    for (auto &p : points)
+      p.at = thread_at(p.anchor, x);
+  }
+
+  Vector3d
+  NeedleCoupling::pierce_force(const PiercePoint &p, const Matrix3Xd &x,
+                               coupling::FrictionResult *friction, double *normal) const
+  {
+    const Vector3d d       = tissue_point(p, x) - p.at.c;
+    const Vector3d d_perp  = d - d.dot(p.at.t) * p.at.t;
+    const Vector3d f_perp  = -prm.transverse_stiffness * d_perp;
+    const double   N       = prm.friction.grip + f_perp.norm();
+    // ζ of the tissue point, to first order along the tangent from the located point
+    const double zeta = p.at.zeta - d.dot(p.at.t);
+    const auto   r    = coupling::coulomb_friction(prm.friction, zeta, p.anchor, N);
+    if (friction)
+      *friction = r;
+    if (normal)
+      *normal = N;
+    // the generalised force f_ζ acts along dx/dζ = −t
+    return f_perp - r.force * p.at.t;
+  }
+
+  void
+  NeedleCoupling::distribute(const PiercePoint &p, const Vector3d &force, Matrix3Xd &f) const
+  {
+    for (unsigned i = 0; i < 3; ++i)
+      f.col(p.nodes[i]) += p.weights[i] * force;
+    if (p.at.on_suture)
+      {
+        f.col(suture.begin + p.at.k) -= (1 - p.at.s) * force;
+        f.col(suture.begin + p.at.k + 1) -= p.at.s * force;
+      }
+  }
+
+  void
+  NeedleCoupling::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    if (const auto *touch = puncture.touch())
+      {
+        const double   F     = puncture.normal_force(needle.tip(current_pose), puncture.position(touch->point, x));
+        const Vector3d force = F * puncture.push_direction();
+        const auto    &tri   = triangles[touch->point.triangle];
+        for (unsigned i = 0; i < 3; ++i)
+          f.col(tri[i]) += touch->point.weights[i] * force;
+      }
+    for (const auto &p : points)
+      distribute(p, pierce_force(p, x, nullptr, nullptr), f);
+  }
+
+  void
+  NeedleCoupling::reset_multipliers()
+  {
+    touch_lambda = 0;
+    for (auto &p : points)
+      p.lambda_n = p.lambda_t = 0;
+  }
+
+  double
+  NeedleCoupling::correct(PiercePoint &p, const Vector3d &n, const double C, const double alpha_tilde,
+                          double &lambda, const double limit, Matrix3Xd &x, const VectorXd &w) const
+  {
+    double w_tissue = 0; // inverse mass of the tissue point p = Σ wᵢ xᵢ
+    for (unsigned i = 0; i < 3; ++i)
+      w_tissue += p.weights[i] * p.weights[i] * w[p.nodes[i]];
+    // Mass scaling: a suture node is some 300 times lighter than a tissue node, and a
+    // few sweeps of a constraint between them throw the suture about (measured: the
+    // anchor then oscillates by millimetres from step to step). Within this constraint
+    // the suture nodes' inverse masses are capped at prm.mass_ratio times the tissue
+    // point's — the corrections are shared as if the suture were that heavy, the
+    // multipliers (forces) stay equal and opposite.
+    const double        cap = prm.mass_ratio * w_tissue;
+    const std::uint32_t a = suture.begin + p.at.k, b = a + 1;
+    const double        w_a = p.at.on_suture ? std::min(w[a], cap) : 0.0;
+    const double        w_b = p.at.on_suture ? std::min(w[b], cap) : 0.0;
+    double denominator = alpha_tilde + w_tissue;
+    if (p.at.on_suture)
+      denominator += (1 - p.at.s) * (1 - p.at.s) * w_a + p.at.s * p.at.s * w_b;
+    if (!(denominator > 0))
+      return 0;
+    double d_lambda = (-C - alpha_tilde * lambda) / denominator;
+    if (std::isfinite(limit))
+      {
+        // keep |λ| within the limit, but never by a correction against the constraint's
+        // own direction: the limit may shrink between sweeps (it follows λ_n), and
+        // pulling λ back to it would throw the light suture nodes (w ≈ 4e7 1/kg) far
+        const double clamped = std::clamp(lambda + d_lambda, -limit, limit) - lambda;
+        d_lambda             = clamped * d_lambda > 0 ? clamped : 0.0;
+      }
+    lambda += d_lambda;
+    for (unsigned i = 0; i < 3; ++i)
+      x.col(p.nodes[i]) += w[p.nodes[i]] * p.weights[i] * d_lambda * n;
+    if (p.at.on_suture)
+      {
+        x.col(a) -= w_a * (1 - p.at.s) * d_lambda * n;
+        x.col(b) -= w_b * p.at.s * d_lambda * n;
+      }
+    return d_lambda;
+  }
+
+  void
+  NeedleCoupling::project(Matrix3Xd &x, const VectorXd &w, const double dt)
+  {
+    const double inv_dt2 = 1 / (dt * dt);
+    if (const auto *touch = puncture.touch())
+      {
+        // unilateral: the touched point stays on its side of the tip, C ≥ 0
+        const auto    &tri = triangles[touch->point.triangle];
+        const Vector3d n   = touch->exit ? touch->normal : Vector3d(-touch->normal);
+        const Vector3d tip = needle.tip(current_pose);
+        const Vector3d xm  = puncture.position(touch->point, x);
+        const double   C   = (xm - tip).dot(n) >= 0 ? 0.0 : (xm - tip).dot(n);
+        // the tissue point is pushed along n: C = (x_m − tip)·n ≥ 0 with ∇C = n
+        const double alpha = inv_dt2 / prm.puncture.stiffness;
+        double       den   = alpha;
+        for (unsigned i = 0; i < 3; ++i)
+          den += touch->point.weights[i] * touch->point.weights[i] * w[tri[i]];
+        if (C < 0 && den > 0)
+          {
+            const double d_lambda = std::max((-C - alpha * touch_lambda) / den, -touch_lambda);
+            touch_lambda += d_lambda;
+            for (unsigned i = 0; i < 3; ++i)
+              x.col(tri[i]) += w[tri[i]] * touch->point.weights[i] * d_lambda * n;
+          }
+      }
+    const double alpha_n = inv_dt2 / prm.transverse_stiffness;
+    const double alpha_t = prm.friction.stiffness > 0 ? inv_dt2 / prm.friction.stiffness : 0;
+    for (auto &p : points)
+      {
+        // transverse (node-path): back onto the thread
+        const Vector3d d      = tissue_point(p, x) - p.at.c;
+        const Vector3d d_perp = d - d.dot(p.at.t) * p.at.t;
+        const double   C      = d_perp.norm();
+        if (C > 0)
+          {
+            p.normal_direction = d_perp / C;
+            correct(p, p.normal_direction, C, alpha_n, p.lambda_n, std::numeric_limits<double>::infinity(), x, w);
+          }
+        // along the thread: stick to the anchor within the Coulomb limit
+        if (prm.friction.mu > 0 && prm.friction.stiffness > 0)
+          {
+            const Vector3d dd    = tissue_point(p, x) - p.at.c;
+            const double   zeta  = p.at.zeta - dd.dot(p.at.t);
+            const double   limit = prm.friction.mu * (prm.friction.grip * dt * dt + std::abs(p.lambda_n));
+            correct(p, -p.at.t, zeta - p.anchor, alpha_t, p.lambda_t, limit, x, w);
+          }
+      }
+    last_dt = dt;
+  }
+
+  void
+  NeedleCoupling::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
+  {
+    if (!prm.project)
+      {
+        add_forces(x, f);
+        return;
+      }
+    const double inv_dt2 = 1 / (dt * dt);
+    if (const auto *touch = puncture.touch())
+      {
+        const auto    &tri = triangles[touch->point.triangle];
+        const Vector3d n   = touch->exit ? touch->normal : Vector3d(-touch->normal);
+        for (unsigned i = 0; i < 3; ++i)
+          f.col(tri[i]) += touch->point.weights[i] * touch_lambda * inv_dt2 * n;
+      }
+    for (const auto &p : points)
+      distribute(p, (p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2, f);
+  }
+
+  std::pair<Vector3d, Vector3d>
+  NeedleCoupling::needle_load(const Matrix3Xd &x, const Vector3d &origin, const double dt) const
+  {
+    Vector3d     force = Vector3d::Zero(), torque = Vector3d::Zero();
+    const auto   add   = [&](const Vector3d &at, const Vector3d &f) {
+      force += f;
+      torque += (at - origin).cross(f);
+    };
+    const double   inv_dt2 = 1 / (dt * dt);
+    const Vector3d tip     = needle.tip(current_pose);
+    if (const auto *touch = puncture.touch())
+      {
+        const double F = prm.project ? touch_lambda * inv_dt2
+                                     : puncture.normal_force(tip, puncture.position(touch->point, x));
+        add(tip, -F * puncture.push_direction());
+      }
+    for (const auto &p : points)
+      if (!p.at.on_suture || prm.geometric_suture)
+        {
+          const Vector3d on_tissue = prm.project
+                                       ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2)
+                                       : pierce_force(p, x, nullptr, nullptr);
+          add(p.at.c, -on_tissue);
+        }
+    return {force, torque};
+  }
+
+  void
+  NeedleCoupling::after_step(Nodes &nodes)
+  {
+    const Matrix3Xd &x   = nodes.x;
+    const Vector3d   tip = needle.tip(current_pose);
+
+    // the touch: its force decides the puncture
+    double F = 0;
+    if (const auto *touch = puncture.touch())
+      F = prm.project && last_dt > 0 ? touch_lambda / (last_dt * last_dt)
+                                     : puncture.normal_force(tip, puncture.position(touch->point, x));
+    last_touch_force = F;
+    if (puncture.accept(time, F, tip))
+      {
+        const auto &touch = puncture.last_touch();
+        PiercePoint p;
+        p.nodes   = triangles[touch.point.triangle];
+        p.weights = touch.point.weights;
+        // the stick starts where the point projects on the needle now
+        p.anchor  = needle.closest(current_pose, tissue_point(p, x));
+        p.at      = thread_at(p.anchor, x);
+        p.exit    = touch.exit;
+        // the newest point is nearest the tip: first in thread order
+        points.insert(points.begin(), p);
+      }
+
+    // friction: the anchors of the accepted state
+    const double step = time - last_time;
+    zeta_work.clear();
+    states.resize(points.size());
+    for (std::size_t k = 0; k < points.size(); ++k)
+      {
+        auto &p = points[k];
+        p.at    = thread_at(p.anchor, x);
+        // the anchor of the accepted state: the return mapping at the end-of-step
+        // positions, in both modes (under XPBD the stick multiplier was clamped to the
+        // Coulomb limit, but a few iterations may leave a violation whose elastic force
+        // k_t (ζ − ζ_a) exceeds μN: that is slip, and the anchor must follow)
+        coupling::FrictionResult r;
+        double                   N = 0;
+        pierce_force(p, x, &r, &N);
+        const double anchor   = r.anchor;
+        const bool   slipping = r.slipping;
+        const double friction = r.force;
+        if (p.at.on_suture && !p.passed_swage)
+          {
+            p.passed_swage = true;
+            events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
+          }
+        auto &s      = states[k];
+        s.slip_speed = step > 0 ? (anchor - p.anchor) / step : 0;
+        p.anchor     = anchor;
+        s.slipping   = slipping;
+        s.normal     = N;
+        s.friction   = friction;
+        zeta_work.push_back(p.anchor);
+      }
+    // a point that reached the end of the thread (the swage without a suture, or the
+    // suture's far end) is free: the thread has left its hole
+    const double end = needle.length() + link * (suture.size() > 0 ? suture.size() - 1 : 0);
+    for (std::size_t k = points.size(); k-- > 0;)
+      if (points[k].anchor >= end * (1 - 1e-9))
+        {
+          events_on_thread.push_back({"released", time, tissue_point(points[k], x), states[k].normal});
+          points.erase(points.begin() + k);
+          states.erase(states.begin() + k);
+          zeta_work.erase(zeta_work.begin() + k);
+        }
+    // order along the thread, between the tip and the thread's far end
+    if (!zeta_work.empty())
+      {
+        coupling::keep_order(zeta_work, prm.spacing, 0, end);
+        for (std::size_t k = 0; k < points.size(); ++k)
+          points[k].anchor = zeta_work[k];
+      }
+    for (auto &p : points)
+      p.at = thread_at(p.anchor, x);
+    std::fill(inside.begin(), inside.end(), 0);
+    for (std::size_t k = 0; k < points.size(); ++k)
+      {
+        auto          &s = states[k];
+        const Vector3d d = tissue_point(points[k], x) - points[k].at.c;
+        s.zeta           = points[k].anchor - d.dot(points[k].at.t);
+        s.anchor    = points[k].anchor;
+        s.on_suture = points[k].at.on_suture;
+        s.exit      = points[k].exit;
+        s.position  = tissue_point(points[k], x);
+        // thread between an exit point and the next entry point further along it lies
+        // inside the tissue
+        if (points[k].exit && k + 1 < points.size() && !points[k + 1].exit)
+          for (std::uint32_t i = 0; i < suture.size(); ++i)
+            {
+              const double zeta = needle.length() + link * i;
+              inside[i] = inside[i] || (zeta > points[k].anchor - link && zeta < points[k + 1].anchor + link);
+            }
+      }
+    last_time = time;
+  }
+} // namespace suturesim::realtime

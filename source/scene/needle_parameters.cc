@@ -1,0 +1,228 @@
+#include <suturesim/scene/needle_parameters.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <stdexcept>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  namespace
+  {
+    const Patterns::List vector_pattern(Patterns::Double(), 3, 3, ",");
+
+    Eigen::Vector3d
+    get_vector(const ParameterHandler &prm, const std::string &key)
+    {
+      const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(key), ','));
+      return {v[0], v[1], v[2]};
+    }
+  } // namespace
+
+  void
+  NeedleParameters::declare(ParameterHandler &prm)
+  {
+    const NeedleParameters d;
+    prm.enter_subsection("Needle");
+    prm.declare_entry("Shape", d.shape, Patterns::Selection("none|3/8|1/2"),
+                      "The curved suture needle: none, a 3/8 circle (135 degrees of arc) or a "
+                      "1/2 circle (180 degrees). Unit: none.");
+    prm.declare_entry("Arc radius", "0.008", Patterns::Double(0),
+                      "Radius R of the needle's arc. Unit: m. Range: > 0.");
+    prm.declare_entry("Wire diameter", "4e-4", Patterns::Double(0),
+                      "Diameter of the needle wire. Unit: m. Range: (0, R).");
+    prm.declare_entry("Attach suture", "true", Patterns::Bool(),
+                      "The suture starts at the swage, leaving it along the needle's "
+                      "tangent, held there in position and direction (seed 002's hard "
+                      "constraint); the Suture subsection's Straight start point and "
+                      "direction are then set from the needle. Unit: none.");
+    prm.declare_entry("Motion", d.motion, Patterns::Selection("pass|keyframes"),
+                      "pass: the standard surgical pass of subsection Pass (the needle "
+                      "turns about its arc centre, then is pulled); keyframes: the poses of "
+                      "Keyframes. Unit: none.");
+    prm.declare_entry("Keyframes", "0: 0, 0, 0.02, 0, 0, 0",
+                      Patterns::Map(Patterns::Double(0), Patterns::List(Patterns::Double(), 6, 6, ","),
+                                    1, Patterns::Map::max_int_value, ";", ":"),
+                      "For Motion = keyframes: 't: cx, cy, cz, rx, ry, rz; ...', the arc "
+                      "centre (m) and the rotation vector of the needle's frame (rad; in "
+                      "the frame the arc lies in the x-y plane, swage on +x, tip at the arc "
+                      "angle); positions linear and rotations by slerp between keyframes. "
+                      "Unit: s: m, m, m, rad, rad, rad.");
+    prm.enter_subsection("Pass");
+    prm.declare_entry("Entry point", "0, 0, 0", vector_pattern,
+                      "Where the tip enters the tissue surface. Unit: m.");
+    prm.declare_entry("Surface normal", "0, 0, 1", vector_pattern,
+                      "Outward normal of the surface at the entry point. Unit: none. "
+                      "Range: non-zero.");
+    prm.declare_entry("Bite direction", "1, 0, 0", vector_pattern,
+                      "From the entry towards the exit (projected onto the surface). Unit: "
+                      "none. Range: not along the normal.");
+    prm.declare_entry("Bite depth", "0.003", Patterns::Double(0),
+                      "Depth delta the tip reaches below the surface; the entry angle is "
+                      "then arccos(1 - delta/R). 0: use the entry angle. Unit: m. Range: "
+                      "[0, R].");
+    prm.declare_entry("Entry angle", "1.5707963267948966", Patterns::Double(0, 1.5707963267948966),
+                      "Angle between the tip's path and the surface at entry (used when "
+                      "Bite depth = 0). Unit: rad. Range: (0, pi/2].");
+    prm.declare_entry("Start time", "0", Patterns::Double(0), "Unit: s. Range: >= 0.");
+    prm.declare_entry("Angular speed", "1", Patterns::Double(0),
+                      "Turning rate of the needle about its arc centre. Unit: rad/s. Range: "
+                      "> 0.");
+    prm.declare_entry("Approach", "0.001", Patterns::Double(0),
+                      "Arc length of the tip before the entry point at the start. Unit: m. "
+                      "Range: >= 0.");
+    prm.declare_entry("Pull", "0, 0, 0.03", vector_pattern,
+                      "Translation of the needle after the pass, drawing the suture "
+                      "through. Unit: m.");
+    prm.declare_entry("Pull duration", "1", Patterns::Double(0), "Unit: s. Range: > 0.");
+    prm.leave_subsection();
+    prm.leave_subsection();
+
+    prm.enter_subsection("Puncture");
+    prm.declare_entry("Threshold", "0.7", Patterns::Double(0),
+                      "Normal force of the tip on the surface at which it punctures "
+                      "(default: 0.61-0.90 N for suture needles, Maloney et al. 2025). "
+                      "Unit: N. Range: > 0.");
+    prm.declare_entry("Tip stiffness", "2000", Patterns::Double(0),
+                      "Penalty k_c of the tip on the surface before puncture (the dimple). "
+                      "Unit: N/m. Range: > 0.");
+    prm.declare_entry("Reach", "0.001", Patterns::Double(0),
+                      "Distance from the surface within which the tip is looked for. Unit: "
+                      "m. Range: > 0.");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Pierce points");
+    prm.declare_entry("Transverse stiffness", "500", Patterns::Double(0),
+                      "k of the pierce point's tie across the thread (node-path "
+                      "constraint, seed 004). Unit: N/m. Range: > 0.");
+    prm.declare_entry("Friction coefficient", "0.2", Patterns::Double(0),
+                      "Coulomb mu between tissue and thread (seed 000 eq. 2). Unit: 1. "
+                      "Range: >= 0.");
+    prm.declare_entry("Stick stiffness", "500", Patterns::Double(0),
+                      "k_t of the elastic stick before slip (regularised Coulomb). Unit: "
+                      "N/m. Range: > 0.");
+    prm.declare_entry("Grip", "0.05", Patterns::Double(0),
+                      "Normal force N0 of the hole on a straight thread; N = N0 + |f_perp|. "
+                      "Unit: N. Range: >= 0.");
+    prm.declare_entry("Spacing", "1e-4", Patterns::Double(0),
+                      "Least distance between pierce points along the thread. Unit: m. "
+                      "Range: >= 0.");
+    prm.declare_entry("Enforcement", "penalty", Patterns::Selection("penalty|lagrange"),
+                      "Accurate path: penalty, or Lagrange multipliers (augmented "
+                      "Lagrangian). Unit: none.");
+    prm.declare_entry("Mass ratio", "10", Patterns::Double(1),
+                      "Realtime XPBD: the suture nodes' inverse masses within a pierce "
+                      "constraint are capped at this multiple of the tissue point's (mass "
+                      "scaling). Unit: 1. Range: >= 1.");
+    prm.declare_entry("Recorded", "4", Patterns::Integer(0, 64),
+                      "Pierce points given columns in forces.csv (state, slip velocity, "
+                      "normal and friction force). Unit: 1. Range: 0-64.");
+    prm.leave_subsection();
+  }
+
+  void
+  NeedleParameters::parse(ParameterHandler &prm, const ParameterScope &root)
+  {
+    prm.enter_subsection("Needle");
+    const ParameterScope scope = root.subsection("Needle");
+    shape                      = prm.get("Shape");
+    radius                     = prm.get_double("Arc radius");
+    wire_diameter              = prm.get_double("Wire diameter");
+    attach_suture              = prm.get_bool("Attach suture");
+    motion                     = prm.get("Motion");
+    if (present())
+      {
+        scope.require(radius > 0, "Arc radius", "must be > 0 m");
+        scope.require(wire_diameter > 0 && wire_diameter < radius, "Wire diameter",
+                      "must lie in (0, Arc radius) m");
+      }
+    keyframes = tools::Trajectory();
+    for (const auto &item : Utilities::split_string_list(prm.get("Keyframes"), ';'))
+      {
+        const auto   colon = item.find(':');
+        const double t     = Utilities::string_to_double(item.substr(0, colon));
+        const auto v = Utilities::string_to_double(Utilities::split_string_list(item.substr(colon + 1), ','));
+        const Eigen::Vector3d r(v[3], v[4], v[5]);
+        const double          angle = r.norm();
+        tools::Pose           pose;
+        pose.position = {v[0], v[1], v[2]};
+        if (angle > 0)
+          pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, r / angle));
+        scope.require(keyframes.keyframes().count(t) == 0, "Keyframes",
+                      "time " + item.substr(0, colon) + " appears twice");
+        keyframes.add(t, pose);
+      }
+    prm.enter_subsection("Pass");
+    const ParameterScope p = scope.subsection("Pass");
+    pass.entry             = get_vector(prm, "Entry point");
+    pass.normal            = get_vector(prm, "Surface normal");
+    pass.bite_direction    = get_vector(prm, "Bite direction");
+    pass.bite_depth        = prm.get_double("Bite depth");
+    pass.entry_angle       = prm.get_double("Entry angle");
+    pass.start_time        = prm.get_double("Start time");
+    pass.angular_speed     = prm.get_double("Angular speed");
+    pass.approach          = prm.get_double("Approach");
+    pass.pull              = get_vector(prm, "Pull");
+    pass.pull_duration     = prm.get_double("Pull duration");
+    prm.leave_subsection();
+    prm.leave_subsection();
+    if (present() && motion == "pass")
+      {
+        p.require(pass.angular_speed > 0, "Angular speed", "must be > 0 rad/s");
+        p.require(pass.pull_duration > 0, "Pull duration", "must be > 0 s");
+        p.require(pass.bite_depth <= radius, "Bite depth",
+                  "must not exceed the needle's Arc radius (" + std::to_string(radius) + " m)");
+        try
+          {
+            planned_pass();
+          }
+        catch (const std::invalid_argument &e)
+          {
+            p.fail("Bite direction", e.what());
+          }
+      }
+
+    prm.enter_subsection("Puncture");
+    const ParameterScope ps = root.subsection("Puncture");
+    puncture.threshold      = prm.get_double("Threshold");
+    puncture.stiffness      = prm.get_double("Tip stiffness");
+    puncture.reach          = prm.get_double("Reach");
+    ps.require(puncture.threshold > 0, "Threshold", "must be > 0 N");
+    ps.require(puncture.stiffness > 0, "Tip stiffness", "must be > 0 N/m");
+    ps.require(puncture.reach > 0, "Reach", "must be > 0 m");
+    prm.leave_subsection();
+
+    prm.enter_subsection("Pierce points");
+    const ParameterScope pp = root.subsection("Pierce points");
+    transverse_stiffness    = prm.get_double("Transverse stiffness");
+    friction.mu             = prm.get_double("Friction coefficient");
+    friction.stiffness      = prm.get_double("Stick stiffness");
+    friction.grip           = prm.get_double("Grip");
+    spacing                 = prm.get_double("Spacing");
+    enforcement             = prm.get("Enforcement");
+    mass_ratio              = prm.get_double("Mass ratio");
+    recorded                = prm.get_integer("Recorded");
+    pp.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
+    pp.require(friction.stiffness > 0, "Stick stiffness", "must be > 0 N/m");
+    prm.leave_subsection();
+  }
+
+  tools::CurvedNeedle
+  NeedleParameters::needle() const
+  {
+    return {radius, tools::CurvedNeedle::arc_angle_of(shape), wire_diameter};
+  }
+
+  tools::SurgicalPass
+  NeedleParameters::planned_pass() const
+  {
+    return tools::plan_pass(needle(), pass);
+  }
+
+  tools::Trajectory
+  NeedleParameters::trajectory() const
+  {
+    return motion == "pass" ? planned_pass().trajectory : keyframes;
+  }
+} // namespace suturesim::scene

@@ -1,0 +1,137 @@
+#include <suturesim/scene/realtime_needle.h>
+
+#include <algorithm>
+
+namespace suturesim::scene
+{
+  namespace rt = realtime;
+
+  RealtimeNeedle::RealtimeNeedle(const NeedleParameters &parameters, rt::World &world)
+    : prm(parameters)
+    , path(parameters.trajectory())
+  {
+    pull_start = prm.motion == "pass" ? prm.planned_pass().t_turn_end : 0;
+    rt::NeedleCouplingParameters c;
+    c.puncture             = prm.puncture;
+    c.friction             = prm.friction;
+    c.transverse_stiffness = prm.transverse_stiffness;
+    c.spacing              = prm.spacing;
+    c.mass_ratio           = prm.mass_ratio;
+    tool_index             = world.add_needle(prm.needle(), c, path.pose(0),
+                                              prm.attach_suture && world.suture() != nullptr);
+  }
+
+  void
+  RealtimeNeedle::place_suture(const NeedleParameters &p, std::vector<Eigen::Vector3d> &points)
+  {
+    const auto        needle = p.needle();
+    const tools::Pose start  = p.trajectory().pose(0);
+    double            length = 0;
+    for (std::size_t i = 0; i + 1 < points.size(); ++i)
+      length += (points[i + 1] - points[i]).norm();
+    const Eigen::Vector3d swage = needle.swage(start);
+    const Eigen::Vector3d away  = -needle.tangent(start, needle.length());
+    for (std::size_t i = 0; i < points.size(); ++i)
+      points[i] = swage + length * double(i) / double(points.size() - 1) * away;
+  }
+
+  void
+  RealtimeNeedle::add_columns(std::vector<std::string> &columns) const
+  {
+    for (const char c : {'x', 'y', 'z'})
+      columns.push_back(std::string("needle_force_") + c + " [N]");
+    for (const char c : {'x', 'y', 'z'})
+      columns.push_back(std::string("needle_torque_") + c + " [N*m]");
+    for (const char c : {'x', 'y', 'z'})
+      columns.push_back(std::string("needle_centre_") + c + " [m]");
+    columns.push_back("suture_tension_swage [N]");
+    columns.push_back("suture_tension_free_end [N]");
+    for (unsigned k = 0; k < prm.recorded; ++k)
+      {
+        const std::string p = "pierce_" + std::to_string(k) + "_";
+        columns.push_back(p + "state [0:none|1:stick|2:slip]");
+        columns.push_back(p + "zeta [m]");
+        columns.push_back(p + "slip_velocity [m/s]");
+        columns.push_back(p + "normal_force [N]");
+        columns.push_back(p + "friction_force [N]");
+      }
+  }
+
+  void
+  RealtimeNeedle::fill_row(const rt::World &world, std::vector<double> &row, std::size_t &c)
+  {
+    const auto &f = world.tool_forces().at(tool_index);
+    for (int d = 0; d < 3; ++d)
+      row[c++] = f.force[d];
+    for (int d = 0; d < 3; ++d)
+      row[c++] = f.torque[d];
+    const Eigen::Vector3d centre = world.needle()->pose().position;
+    for (int d = 0; d < 3; ++d)
+      row[c++] = centre[d];
+    if (world.time() >= pull_start)
+      peak_pull = std::max(peak_pull, f.force.norm());
+    std::vector<double> tension;
+    if (world.suture() != nullptr)
+      world.suture()->segment_tension(world.system(), tension);
+    row[c++] = tension.empty() ? 0.0 : tension.front();
+    row[c++] = tension.empty() ? 0.0 : tension.back();
+    const auto &points = world.needle()->pierce_points();
+    for (unsigned k = 0; k < prm.recorded; ++k)
+      {
+        if (k < points.size())
+          {
+            const auto &p = points[k];
+            row[c++]      = p.slipping ? 2 : 1;
+            row[c++]      = p.zeta;
+            row[c++]      = p.slip_speed;
+            row[c++]      = p.normal;
+            row[c++]      = p.friction;
+          }
+        else
+          for (int j = 0; j < 5; ++j)
+            row[c++] = 0;
+      }
+  }
+
+  void
+  RealtimeNeedle::finish(const rt::World &world, nlohmann::json &summary) const
+  {
+    std::vector<coupling::PunctureEvent> events = world.needle()->puncture_state().events();
+    const auto &thread                          = world.needle()->thread_events();
+    events.insert(events.end(), thread.begin(), thread.end());
+    std::stable_sort(events.begin(), events.end(),
+                     [](const auto &a, const auto &b) { return a.time < b.time; });
+    auto &list = summary["events"];
+    list       = nlohmann::json::array();
+    auto &metrics = summary["metrics"];
+    for (const auto &e : events)
+      {
+        list.push_back({{"kind", e.kind},
+                        {"time", e.time},
+                        {"position", {e.position[0], e.position[1], e.position[2]}},
+                        {"force", e.force}});
+        for (const std::string kind : {"entry", "exit"})
+          if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
+            metrics["puncture_force_" + kind] = e.force;
+      }
+    metrics["peak_pull_force"] = peak_pull;
+    summary["needle"]          = {{"shape", prm.shape},
+                                  {"arc_radius", prm.radius},
+                                  {"wire_diameter", prm.wire_diameter},
+                                  {"motion", prm.motion},
+                                  {"puncture_threshold", prm.puncture.threshold}};
+    if (prm.motion == "pass")
+      {
+        const auto pass = prm.planned_pass();
+        summary["needle"]["pass"] = {{"entry_angle_rad", pass.entry_angle},
+                                     {"bite_depth", pass.bite_depth},
+                                     {"bite_width", pass.bite_width},
+                                     {"exit", {pass.exit[0], pass.exit[1], pass.exit[2]}},
+                                     {"t_tip_entry", pass.t_tip_entry},
+                                     {"t_tip_exit", pass.t_tip_exit},
+                                     {"t_swage_exit", pass.t_swage_exit},
+                                     {"t_turn_end", pass.t_turn_end},
+                                     {"t_end", pass.t_end}};
+      }
+  }
+} // namespace suturesim::scene
