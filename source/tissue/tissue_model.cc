@@ -492,6 +492,8 @@ namespace suturesim::tissue
                         }
                     }
                 }
+          if (point_loads != nullptr)
+            embedded->add(cell, u_local, r, with_matrix ? &K : nullptr);
           cell->get_dof_indices(dofs);
           full_residual.add(dofs, r);
           r *= -1.0;
@@ -653,6 +655,31 @@ namespace suturesim::tissue
         r_ref    = std::max(r_ref, r_norm);
         report.residual_norms.push_back(r_norm);
       }
+  }
+
+  void
+  TissueModel::set_point_loads(const PointLoads *loads)
+  {
+    point_loads = loads;
+    if (!loads)
+      return;
+    if (!embedded)
+      embedded = std::make_unique<EmbeddedPoints>(mapping, fe, dof_handler, comm);
+    embedded->locate(*loads);
+  }
+
+  Point<3>
+  TissueModel::point_position(const std::size_t k) const
+  {
+    Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    ghost = solution;
+    const Point<3> mine = embedded->position(k, ghost);
+    // the owner's value; NaN elsewhere
+    Point<3> x;
+    const bool here = !std::isnan(mine[0]);
+    for (unsigned d = 0; d < 3; ++d)
+      x[d] = Utilities::MPI::sum(here ? mine[d] : 0.0, comm);
+    return x;
   }
 
   void

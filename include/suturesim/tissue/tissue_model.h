@@ -14,6 +14,7 @@
 #include <suturesim/tissue/cell_assembler.h>
 #include <suturesim/tissue/linear_solver.h>
 #include <suturesim/tissue/material.h>
+#include <suturesim/tissue/point_loads.h>
 
 #include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
@@ -120,6 +121,15 @@ namespace suturesim::tissue
     /// dynamics, pass v and v̇: the support then also carries M v̇ + C v.
     std::vector<Reaction>
     reactions(double t, const Vector *velocity = nullptr, const Vector *acceleration = nullptr);
+
+    /// Loads at material points that follow the deformation (needle coupling); nullptr
+    /// removes them. Call again whenever @p loads' set of points changes (collective).
+    void
+    set_point_loads(const PointLoads *loads);
+
+    /// Current position x = X + u(X) of point @p k of the point loads (collective), m.
+    dealii::Point<3>
+    point_position(std::size_t k) const;
 
     /// Displacements at the probe points (m), in the order of the parameters.
     std::vector<dealii::Tensor<1, 3>>
@@ -250,6 +260,8 @@ namespace suturesim::tissue
     dealii::QGauss<3>        quadrature;
     dealii::QGauss<2>        face_quadrature;
     std::unique_ptr<CellAssembler> cell_assembler;
+    std::unique_ptr<EmbeddedPoints> embedded;
+    const PointLoads               *point_loads = nullptr;
     std::unique_ptr<LinearSolver>  solver;
 
     dealii::IndexSet                        locally_owned_dofs, locally_relevant_dofs;
