@@ -109,8 +109,8 @@ namespace suturesim::scene
                       "Least distance between pierce points along the thread. Unit: m. "
                       "Range: >= 0.");
     prm.declare_entry("Enforcement", "penalty", Patterns::Selection("penalty|lagrange"),
-                      "Accurate path: penalty, or Lagrange multipliers (augmented "
-                      "Lagrangian). Unit: none.");
+                      "Accurate path: penalty (lagrange, Lagrange multipliers, is not "
+                      "available yet). Unit: none.");
     prm.declare_entry("Mass ratio", "10", Patterns::Double(1),
                       "Realtime XPBD: the suture nodes' inverse masses within a pierce "
                       "constraint are capped at this multiple of the tissue point's (mass "
@@ -205,6 +205,9 @@ namespace suturesim::scene
     recorded                = prm.get_integer("Recorded");
     pp.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
     pp.require(friction.stiffness > 0, "Stick stiffness", "must be > 0 N/m");
+    pp.require(enforcement == "penalty", "Enforcement",
+               "lagrange is not available yet: an augmented-Lagrangian (Uzawa) iteration did "
+               "not converge on the skin pad (issue 5); use penalty");
     prm.leave_subsection();
   }
 

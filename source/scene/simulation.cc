@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/scene/accurate_needle_pass.h>
 #include <suturesim/scene/simulation.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -76,9 +77,9 @@ namespace suturesim::scene
         return;
       }
     ParameterScope(file, "Needle")
-      .require(!needle_parameters.present(), "Shape",
-               "the accurate path does not model the needle yet (issue 5, in progress); use "
-               "Model = realtime");
+      .require(!needle_parameters.present() || bodies == "tissue", "Shape",
+               "the accurate path couples the needle to the tissue only (Bodies = tissue); "
+               "the suture's pierce points are not coupled there yet: use Model = realtime");
     root.require(bodies != "tissue and suture", "Bodies",
                  "the accurate path does not couple tissue and suture yet (pierce points); "
                  "use Model = realtime");
@@ -236,6 +237,17 @@ namespace suturesim::scene
   void
   Simulation::run(io::Recorder &recorder, TimerOutput &timer, ConditionalOStream &pcout)
   {
+    if (needle_parameters.present())
+      {
+        AccurateNeedleInputs inputs{scene_name,          file.name(),      &mesh_parameters,
+                                    &tissue_parameters,  &*material,       &boundary_conditions,
+                                    &time_parameters,    &needle_parameters};
+        run_accurate_needle_pass(inputs, recorder, timer, pcout);
+        auto &timings = recorder.summary()["timings"];
+        for (const auto &[section, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))
+          timings[section] = seconds;
+        return;
+      }
     MPI_Comm comm = MPI_COMM_WORLD;
 
     parallel::distributed::Triangulation<3> tria(comm);

@@ -25,6 +25,8 @@
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
+#include <Eigen/Core>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,6 +78,16 @@ namespace suturesim::tissue
     declare(dealii::ParameterHandler &prm);
     void
     parse(dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+  };
+
+  /// The tissue's boundary as triangles over the mesh vertices on it: two per boundary
+  /// face (its corners; the faces of a Q2 mesh are flattened to bilinear patches),
+  /// oriented outward, with the x, y, z DoFs of every vertex. The same on every rank.
+  struct BoundarySurface
+  {
+    Eigen::Matrix3Xd                                             reference; ///< X, m
+    std::vector<std::array<std::uint32_t, 3>>                    triangles;
+    std::vector<std::array<dealii::types::global_dof_index, 3>> dofs;
   };
 
   struct Reaction
@@ -130,6 +142,15 @@ namespace suturesim::tissue
     /// Current position x = X + u(X) of point @p k of the point loads (collective), m.
     dealii::Point<3>
     point_position(std::size_t k) const;
+
+    /// The boundary as triangles (collective). Needs an unrefined mesh (vertex numbers
+    /// then agree across ranks).
+    BoundarySurface
+    boundary_surface() const;
+
+    /// Current positions x = X + u of the surface's vertices (collective), m.
+    void
+    surface_positions(const BoundarySurface &surface, Eigen::Matrix3Xd &x) const;
 
     /// Displacements at the probe points (m), in the order of the parameters.
     std::vector<dealii::Tensor<1, 3>>

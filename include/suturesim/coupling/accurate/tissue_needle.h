@@ -1,0 +1,141 @@
+#pragma once
+/**
+ * @file
+ * The needle against the accurate (FE) tissue: the loads the tip's touch and the pierce
+ * points put on embedded material points (tissue::PointLoads), with the same puncture
+ * rule (coupling/needle_puncture.h) and friction law (coupling/coulomb_friction.h) as
+ * the realtime path.
+ *
+ * Pierce point at material point X (reference coordinates in its cell, no remeshing),
+ * current position x, anchor ζ_a on the needle (fixed within a load step; history
+ * updated when a step is accepted), c = c(ζ_a), t the tangent there, d = x − c:
+ *  - transverse: f⊥ = −k⊥ P⊥ d, P⊥ = I − t tᵀ (penalty; Lagrange multipliers are not
+ *    available yet in this path);
+ *  - along the needle: the return mapping at ζ = ζ_a − d·t with N = N₀ + |f⊥|:
+ *    f_t = −k_t (d·t) t in stick (tangent −k_t t tᵀ), ±μN t in slip (tangent left out:
+ *    its ∂N/∂x part would make the tangent non-symmetric; the residual stays exact).
+ * Touch: f = −F n_push with F = k_c max(0, penetration) (tangent −k_c n nᵀ while pressed).
+ * The needle carries the opposite of all of these.
+ */
+
+#include <suturesim/coupling/coulomb_friction.h>
+#include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/tissue/point_loads.h>
+#include <suturesim/tools/curved_needle.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace suturesim::coupling
+{
+  struct TissueNeedleParameters
+  {
+    PunctureParameters puncture;
+    FrictionParameters friction;
+    double             transverse_stiffness = 500; ///< k⊥, N/m
+    double             spacing              = 1e-4; ///< m
+  };
+
+  struct AccuratePiercePoint
+  {
+    dealii::Point<3>     X;
+    double               anchor = 0;
+    bool                 exit   = false;
+    // of the last accepted state, for the record
+    double zeta = 0, normal = 0, friction = 0, slip_speed = 0;
+    bool   slipping = false;
+  };
+
+  class TissueNeedle : public tissue::PointLoads
+  {
+  public:
+    TissueNeedle(const tools::CurvedNeedle &needle, const TissueNeedleParameters &parameters,
+                 const std::vector<mesh::Triangle> &triangles, const Eigen::Matrix3Xd &reference);
+
+    /// The step to time @p t with the needle at @p pose: the tip's touch starts or ends
+    /// against the surface at @p surface (the last accepted state). Returns true when the
+    /// set of points changed (the tissue must locate them again).
+    bool
+    begin_step(double t, const tools::Pose &pose, const Eigen::Matrix3Xd &surface);
+
+    /// Keeps the state before begin_step() / restores it (a step cut back).
+    void
+    save();
+    void
+    restore();
+
+    // --- PointLoads ---------------------------------------------------------------------
+    const std::vector<dealii::Point<3>> &
+    points() const override
+    {
+      return X;
+    }
+    void
+    force(std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
+          dealii::Tensor<2, 3> &df_dx) const override;
+
+    /// Index of the touch among points() (−1 when not pressing) and of pierce point j.
+    int
+    touch_index() const
+    {
+      return puncture->pressing() ? 0 : -1;
+    }
+
+    /// The touch force at the converged positions @p x (one per point), N.
+    double
+    touch_force(const std::vector<dealii::Point<3>> &x) const;
+
+    /// Accepts the converged step at positions @p x: puncture, friction anchors, order,
+    /// release at the swage (no suture in the accurate path yet). Returns true when the
+    /// set of points changed.
+    bool
+    accept_step(const std::vector<dealii::Point<3>> &x);
+
+    /// Force and moment (about the needle's pose position) the tissue exerts on the
+    /// needle at positions @p x, N and N m.
+    std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
+    needle_load(const std::vector<dealii::Point<3>> &x) const;
+
+    const std::vector<AccuratePiercePoint> &
+    pierce_points() const
+    {
+      return pierce;
+    }
+    /// Touches, punctures and releases so far, in time order.
+    std::vector<PunctureEvent>
+    all_events() const;
+    const tools::Pose &
+    pose() const
+    {
+      return current;
+    }
+    double
+    last_touch_force() const
+    {
+      return touch_value;
+    }
+
+  private:
+    /// Rebuilds X (touch first, then the pierce points).
+    void
+    rebuild_points();
+    /// Pierce point j's force at x, with its friction result and normal force.
+    dealii::Tensor<1, 3>
+    pierce_force(const AccuratePiercePoint &p, const dealii::Point<3> &x, FrictionResult *r,
+                 double *N, dealii::Tensor<2, 3> *df_dx) const;
+
+    tools::CurvedNeedle                needle;
+    TissueNeedleParameters             prm;
+    const std::vector<mesh::Triangle> &triangles;
+    Eigen::Matrix3Xd                   reference;
+    std::optional<NeedlePuncture>      puncture, saved_puncture;
+    std::vector<AccuratePiercePoint>   pierce, saved_pierce;
+    std::vector<PunctureEvent>         log;
+    std::size_t                        saved_log = 0;
+    std::vector<dealii::Point<3>>      X;
+    tools::Pose                        current, saved_pose;
+    double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
+    double                             touch_value = 0;
+  };
+} // namespace suturesim::coupling

@@ -1,0 +1,230 @@
+#include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/coupling/pierce_order.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace suturesim::coupling
+{
+  using namespace dealii;
+
+  namespace
+  {
+    Point<3>
+    point(const Eigen::Vector3d &v)
+    {
+      return {v[0], v[1], v[2]};
+    }
+    Tensor<1, 3>
+    tensor(const Eigen::Vector3d &v)
+    {
+      Tensor<1, 3> t;
+      for (unsigned d = 0; d < 3; ++d)
+        t[d] = v[d];
+      return t;
+    }
+    Eigen::Vector3d
+    eigen(const Point<3> &p)
+    {
+      return {p[0], p[1], p[2]};
+    }
+  } // namespace
+
+  TissueNeedle::TissueNeedle(const tools::CurvedNeedle &geometry, const TissueNeedleParameters &parameters,
+                             const std::vector<mesh::Triangle> &surface, const Eigen::Matrix3Xd &X0)
+    : needle(geometry)
+    , prm(parameters)
+    , triangles(surface)
+    , reference(X0)
+  {
+    puncture.emplace(prm.puncture, triangles, reference);
+  }
+
+  void
+  TissueNeedle::rebuild_points()
+  {
+    X.clear();
+    if (puncture->pressing())
+      X.push_back(point(puncture->touch()->reference));
+    for (const auto &p : pierce)
+      X.push_back(p.X);
+  }
+
+  bool
+  TissueNeedle::begin_step(const double t, const tools::Pose &pose, const Eigen::Matrix3Xd &surface)
+  {
+    time                  = t;
+    current               = pose;
+    const bool   before   = puncture->pressing();
+    const double was_at   = before ? puncture->touch()->reference.norm() : -1;
+    puncture->update(t, needle.tip(pose), surface);
+    const bool changed = puncture->pressing() != before ||
+                         (before && puncture->touch()->reference.norm() != was_at);
+    if (changed)
+      rebuild_points();
+    return changed;
+  }
+
+  void
+  TissueNeedle::save()
+  {
+    saved_puncture.emplace(*puncture);
+    saved_pierce    = pierce;
+    saved_log       = log.size();
+    saved_pose      = current;
+    saved_time      = time;
+    saved_last_time = last_time;
+  }
+
+  void
+  TissueNeedle::restore()
+  {
+    puncture.emplace(*saved_puncture);
+    pierce    = saved_pierce;
+    log.resize(saved_log);
+    current   = saved_pose;
+    time      = saved_time;
+    last_time = saved_last_time;
+    rebuild_points();
+  }
+
+  Tensor<1, 3>
+  TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
+                             double *N_out, Tensor<2, 3> *df_dx) const
+  {
+    const Tensor<1, 3> c      = tensor(needle.point(current, p.anchor));
+    const Tensor<1, 3> t      = tensor(needle.tangent(current, p.anchor));
+    const Tensor<1, 3> d      = Tensor<1, 3>(x) - c;
+    const double       along  = d * t;
+    const Tensor<1, 3> d_perp = d - along * t;
+    const Tensor<1, 3> f_perp = -prm.transverse_stiffness * d_perp;
+    const double       N      = prm.friction.grip + f_perp.norm();
+    // ζ = ζ_a − d·t: the generalised force f_ζ acts along dx/dζ = −t
+    const FrictionResult r = coulomb_friction(prm.friction, p.anchor - along, p.anchor, N);
+    if (r_out)
+      *r_out = r;
+    if (N_out)
+      *N_out = N;
+    if (df_dx)
+      {
+        const Tensor<2, 3> ttT = outer_product(t, t);
+        *df_dx                 = -prm.transverse_stiffness * (unit_symmetric_tensor<3>() - ttT);
+        if (!r.slipping)
+          *df_dx -= prm.friction.stiffness * ttT;
+      }
+    return f_perp - r.force * t;
+  }
+
+  void
+  TissueNeedle::force(const std::size_t k, const Point<3> &x, Tensor<1, 3> &f, Tensor<2, 3> &df_dx) const
+  {
+    if (touch_index() == 0 && k == 0)
+      {
+        const auto        *touch = puncture->touch();
+        const Tensor<1, 3> n     = tensor(touch->normal);
+        const Tensor<1, 3> tip   = tensor(needle.tip(current));
+        const double pen = touch->exit ? (tip - Tensor<1, 3>(x)) * n : (Tensor<1, 3>(x) - tip) * n;
+        const Tensor<1, 3> push = touch->exit ? n : -n;
+        f                       = prm.puncture.stiffness * std::max(0.0, pen) * push;
+        df_dx = pen > 0 ? Tensor<2, 3>(-prm.puncture.stiffness * outer_product(n, n)) : Tensor<2, 3>();
+        return;
+      }
+    f = pierce_force(pierce[k - (touch_index() == 0 ? 1 : 0)], x, nullptr, nullptr, &df_dx);
+  }
+
+  double
+  TissueNeedle::touch_force(const std::vector<Point<3>> &x) const
+  {
+    if (touch_index() != 0)
+      return 0;
+    return puncture->normal_force(needle.tip(current), eigen(x[0]));
+  }
+
+  bool
+  TissueNeedle::accept_step(const std::vector<Point<3>> &x)
+  {
+    bool              changed = false;
+    const std::size_t offset  = touch_index() == 0 ? 1 : 0;
+    const double      step    = time - last_time;
+    // friction anchors by the return mapping at the converged positions
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      {
+        auto          &p = pierce[j];
+        FrictionResult r;
+        double         N = 0;
+        pierce_force(p, x[offset + j], &r, &N, nullptr);
+        const double along = (Tensor<1, 3>(x[offset + j]) - tensor(needle.point(current, p.anchor))) *
+                             tensor(needle.tangent(current, p.anchor));
+        p.zeta       = p.anchor - along;
+        p.slip_speed = step > 0 ? (r.anchor - p.anchor) / step : 0;
+        p.anchor     = r.anchor;
+        p.normal     = N;
+        p.friction   = r.force;
+        p.slipping   = r.slipping;
+      }
+    // the touch: a puncture at the threshold turns its point into a pierce point at the
+    // tip end of the thread
+    touch_value = touch_force(x);
+    const Eigen::Vector3d tip = needle.tip(current);
+    if (puncture->accept(time, touch_value, tip))
+      {
+        AccuratePiercePoint p;
+        p.X      = point(puncture->last_touch().reference);
+        p.anchor = needle.closest(current, eigen(x[0]));
+        p.zeta   = p.anchor;
+        p.exit   = puncture->last_touch().exit;
+        pierce.insert(pierce.begin(), p);
+        changed = true;
+      }
+    // order along the needle; a point that reaches the swage is free (no suture here)
+    std::vector<double> anchors;
+    for (const auto &p : pierce)
+      anchors.push_back(p.anchor);
+    if (!anchors.empty())
+      {
+        keep_order(anchors, prm.spacing, 0, needle.length());
+        for (std::size_t j = 0; j < pierce.size(); ++j)
+          pierce[j].anchor = anchors[j];
+      }
+    for (std::size_t j = pierce.size(); j-- > 0;)
+      if (pierce[j].anchor >= needle.length() * (1 - 1e-9))
+        {
+          log.push_back({"released", time, eigen(pierce[j].X), pierce[j].normal});
+          pierce.erase(pierce.begin() + j);
+          changed = true;
+        }
+    last_time = time;
+    if (changed)
+      rebuild_points();
+    return changed;
+  }
+
+  std::vector<PunctureEvent>
+  TissueNeedle::all_events() const
+  {
+    std::vector<PunctureEvent> all = puncture->events();
+    all.insert(all.end(), log.begin(), log.end());
+    std::stable_sort(all.begin(), all.end(), [](const auto &a, const auto &b) { return a.time < b.time; });
+    return all;
+  }
+
+  std::pair<Tensor<1, 3>, Tensor<1, 3>>
+  TissueNeedle::needle_load(const std::vector<Point<3>> &x) const
+  {
+    Tensor<1, 3>       force, torque;
+    const Tensor<1, 3> origin = tensor(current.position);
+    for (std::size_t k = 0; k < x.size(); ++k)
+      {
+        Tensor<1, 3> f;
+        Tensor<2, 3> unused;
+        this->force(k, x[k], f, unused);
+        const std::size_t  offset = touch_index() == 0 ? 1 : 0;
+        const Tensor<1, 3> at     = (touch_index() == 0 && k == 0)
+                                      ? tensor(needle.tip(current))
+                                      : tensor(needle.point(current, pierce[k - offset].anchor));
+        force -= f;
+        torque -= cross_product_3d(at - origin, f);
+      }
+    return {force, torque};
+  }
+} // namespace suturesim::coupling
