@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Both model paths through parameters/needle_pass.prm and their force curves side by
+# side (issue 5). Usage:
+#   postprocess/needle_pass_figure.sh [path/to/suturesim] [output folder]
+# Writes <output>/realtime and <output>/accurate, and the overlaid figure
+# <output>/realtime/needle_forces.{png,pdf}. The accurate run couples the needle to the
+# tissue only (Bodies = tissue: no suture there yet) on Q1 hexahedra of 2 mm with 20 ms
+# load steps (about a minute); the realtime run is the scene as shipped.
+set -euo pipefail
+bin=${1:-build/suturesim}
+out=${2:-output/needle_pass_both}
+scene=$(dirname "$0")/../parameters/needle_pass.prm
+mkdir -p "$out"
+"$bin" "$scene" --output "$out/realtime" > "$out/realtime.log" 2>&1
+"$bin" "$scene" --output "$out/accurate" --set Model=accurate --set Bodies=tissue \
+  --set "Mesh/Geo parameters=h: 0.002, hexahedra: 1" --set "Tissue/Element degree=1" \
+  --set "Time/Step size=0.02" --set "Time/End time=3.2" --set "Time/Output interval=0.1" \
+  > "$out/accurate.log" 2>&1
+/usr/bin/python3 "$(dirname "$0")/plot_forces.py" "$out/realtime" "$out/accurate"
+for run in realtime accurate; do
+  /usr/bin/python3 - "$out/$run/summary.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+m = s["metrics"]
+print(f"{s['model']:9s} puncture entry {m.get('puncture_force_entry', float('nan')):.4f} N, "
+      f"exit {m.get('puncture_force_exit', float('nan')):.4f} N, peak pull {m['peak_pull_force']:.4f} N, "
+      f"wall {s.get('wall_time_seconds', float('nan')):.1f} s")
+PY
+done
