@@ -62,13 +62,7 @@ namespace suturesim::scene
     for (const auto &[name, point] : model.probes())
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(name + "_displacement_" + std::string(1, c) + " [m]");
-    for (const std::string q : {"needle_force_", "needle_torque_", "needle_centre_"})
-      for (const char c : {'x', 'y', 'z'})
-        columns.push_back(q + c + (q == "needle_force_" ? " [N]" : q == "needle_torque_" ? " [N*m]" : " [m]"));
-    for (unsigned k = 0; k < np.recorded; ++k)
-      for (const std::string q : {"state [0:none|1:stick|2:slip]", "zeta [m]", "slip_velocity [m/s]",
-                                  "normal_force [N]", "friction_force [N]"})
-        columns.push_back("pierce_" + std::to_string(k) + "_" + q);
+    np.add_columns(columns);
     recorder.set_columns(columns);
 
     const auto positions = [&]() {
@@ -204,34 +198,7 @@ namespace suturesim::scene
         dt       = std::min(2 * dt, h);
       }
 
-    auto &list = summary["events"];
-    list       = nlohmann::json::array();
-    auto &metrics = summary["metrics"];
-    for (const auto &e : needle.all_events())
-      {
-        list.push_back({{"kind", e.kind},
-                        {"time", e.time},
-                        {"position", {e.position[0], e.position[1], e.position[2]}},
-                        {"force", e.force}});
-        for (const std::string kind : {"entry", "exit"})
-          if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
-            metrics["puncture_force_" + kind] = e.force;
-      }
-    metrics["peak_pull_force"] = peak_pull;
-    summary["needle"]          = {{"shape", np.shape},
-                                  {"arc_radius", np.radius},
-                                  {"wire_diameter", np.wire_diameter},
-                                  {"motion", np.motion},
-                                  {"enforcement", np.enforcement},
-                                  {"puncture_threshold", np.puncture.threshold}};
-    if (np.motion == "pass")
-      {
-        const auto pass           = np.planned_pass();
-        summary["needle"]["pass"] = {{"t_tip_entry", pass.t_tip_entry},
-                                     {"t_tip_exit", pass.t_tip_exit},
-                                     {"t_turn_end", pass.t_turn_end},
-                                     {"t_end", pass.t_end}};
-      }
+    np.write_summary(summary, needle.all_events(), peak_pull);
     summary["solver"]["steps"]                   = steps;
     summary["solver"]["newton_iterations_total"] = total_iterations;
   }

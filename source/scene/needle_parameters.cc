@@ -211,6 +211,57 @@ namespace suturesim::scene
     prm.leave_subsection();
   }
 
+  void
+  NeedleParameters::add_columns(std::vector<std::string> &columns) const
+  {
+    for (const std::string q : {"needle_force_", "needle_torque_", "needle_centre_"})
+      for (const char c : {'x', 'y', 'z'})
+        columns.push_back(q + c + (q == "needle_force_" ? " [N]" : q == "needle_torque_" ? " [N*m]" : " [m]"));
+    for (unsigned k = 0; k < recorded; ++k)
+      for (const std::string q : {"state [0:none|1:stick|2:slip]", "zeta [m]", "slip_velocity [m/s]",
+                                  "normal_force [N]", "friction_force [N]"})
+        columns.push_back("pierce_" + std::to_string(k) + "_" + q);
+  }
+
+  void
+  NeedleParameters::write_summary(nlohmann::json &summary, const std::vector<coupling::PunctureEvent> &events,
+                                  const double peak_pull_force) const
+  {
+    auto &list    = summary["events"];
+    list          = nlohmann::json::array();
+    auto &metrics = summary["metrics"];
+    for (const auto &e : events)
+      {
+        list.push_back({{"kind", e.kind},
+                        {"time", e.time},
+                        {"position", {e.position[0], e.position[1], e.position[2]}},
+                        {"force", e.force}});
+        for (const std::string kind : {"entry", "exit"})
+          if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
+            metrics["puncture_force_" + kind] = e.force;
+      }
+    metrics["peak_pull_force"] = peak_pull_force;
+    summary["needle"]          = {{"shape", shape},
+                                  {"arc_radius", radius},
+                                  {"wire_diameter", wire_diameter},
+                                  {"motion", motion},
+                                  {"enforcement", enforcement},
+                                  {"puncture_threshold", puncture.threshold}};
+    if (motion == "pass")
+      {
+        const auto pass           = planned_pass();
+        summary["needle"]["pass"] = {{"entry_angle_rad", pass.entry_angle},
+                                     {"bite_depth", pass.bite_depth},
+                                     {"bite_width", pass.bite_width},
+                                     {"exit", {pass.exit[0], pass.exit[1], pass.exit[2]}},
+                                     {"t_tip_entry", pass.t_tip_entry},
+                                     {"t_tip_exit", pass.t_tip_exit},
+                                     {"t_swage_exit", pass.t_swage_exit},
+                                     {"t_turn_end", pass.t_turn_end},
+                                     {"t_end", pass.t_end}};
+      }
+  }
+
   tools::CurvedNeedle
   NeedleParameters::needle() const
   {

@@ -38,23 +38,9 @@ namespace suturesim::scene
   void
   RealtimeNeedle::add_columns(std::vector<std::string> &columns) const
   {
-    for (const char c : {'x', 'y', 'z'})
-      columns.push_back(std::string("needle_force_") + c + " [N]");
-    for (const char c : {'x', 'y', 'z'})
-      columns.push_back(std::string("needle_torque_") + c + " [N*m]");
-    for (const char c : {'x', 'y', 'z'})
-      columns.push_back(std::string("needle_centre_") + c + " [m]");
+    prm.add_columns(columns);
     columns.push_back("suture_tension_swage [N]");
     columns.push_back("suture_tension_free_end [N]");
-    for (unsigned k = 0; k < prm.recorded; ++k)
-      {
-        const std::string p = "pierce_" + std::to_string(k) + "_";
-        columns.push_back(p + "state [0:none|1:stick|2:slip]");
-        columns.push_back(p + "zeta [m]");
-        columns.push_back(p + "slip_velocity [m/s]");
-        columns.push_back(p + "normal_force [N]");
-        columns.push_back(p + "friction_force [N]");
-      }
   }
 
   void
@@ -70,11 +56,6 @@ namespace suturesim::scene
       row[c++] = centre[d];
     if (world.time() >= pull_start)
       peak_pull = std::max(peak_pull, f.force.norm());
-    std::vector<double> tension;
-    if (world.suture() != nullptr)
-      world.suture()->segment_tension(world.system(), tension);
-    row[c++] = tension.empty() ? 0.0 : tension.front();
-    row[c++] = tension.empty() ? 0.0 : tension.back();
     const auto &points = world.needle()->pierce_points();
     for (unsigned k = 0; k < prm.recorded; ++k)
       {
@@ -91,6 +72,11 @@ namespace suturesim::scene
           for (int j = 0; j < 5; ++j)
             row[c++] = 0;
       }
+    std::vector<double> tension;
+    if (world.suture() != nullptr)
+      world.suture()->segment_tension(world.system(), tension);
+    row[c++] = tension.empty() ? 0.0 : tension.front();
+    row[c++] = tension.empty() ? 0.0 : tension.back();
   }
 
   void
@@ -101,37 +87,6 @@ namespace suturesim::scene
     events.insert(events.end(), thread.begin(), thread.end());
     std::stable_sort(events.begin(), events.end(),
                      [](const auto &a, const auto &b) { return a.time < b.time; });
-    auto &list = summary["events"];
-    list       = nlohmann::json::array();
-    auto &metrics = summary["metrics"];
-    for (const auto &e : events)
-      {
-        list.push_back({{"kind", e.kind},
-                        {"time", e.time},
-                        {"position", {e.position[0], e.position[1], e.position[2]}},
-                        {"force", e.force}});
-        for (const std::string kind : {"entry", "exit"})
-          if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
-            metrics["puncture_force_" + kind] = e.force;
-      }
-    metrics["peak_pull_force"] = peak_pull;
-    summary["needle"]          = {{"shape", prm.shape},
-                                  {"arc_radius", prm.radius},
-                                  {"wire_diameter", prm.wire_diameter},
-                                  {"motion", prm.motion},
-                                  {"puncture_threshold", prm.puncture.threshold}};
-    if (prm.motion == "pass")
-      {
-        const auto pass = prm.planned_pass();
-        summary["needle"]["pass"] = {{"entry_angle_rad", pass.entry_angle},
-                                     {"bite_depth", pass.bite_depth},
-                                     {"bite_width", pass.bite_width},
-                                     {"exit", {pass.exit[0], pass.exit[1], pass.exit[2]}},
-                                     {"t_tip_entry", pass.t_tip_entry},
-                                     {"t_tip_exit", pass.t_tip_exit},
-                                     {"t_swage_exit", pass.t_swage_exit},
-                                     {"t_turn_end", pass.t_turn_end},
-                                     {"t_end", pass.t_end}};
-      }
+    prm.write_summary(summary, events, peak_pull);
   }
 } // namespace suturesim::scene

@@ -20,6 +20,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 
@@ -67,5 +69,19 @@ namespace suturesim::scene
     /// Parses them; bad values fail through @p root (file, line, key).
     void
     parse(dealii::ParameterHandler &prm, const ParameterScope &root);
+
+    // --- the record both paths keep ------------------------------------------------------
+
+    /// forces.csv columns: needle force (N), torque (N*m) and arc centre (m), then per
+    /// recorded pierce point its state, ζ, slip velocity, normal and friction force.
+    void
+    add_columns(std::vector<std::string> &columns) const;
+
+    /// summary.json: @p events (in time order) under "events", the first entry and exit
+    /// puncture forces and @p peak_pull_force under "metrics", the needle and its pass
+    /// under "needle".
+    void
+    write_summary(nlohmann::json &summary, const std::vector<coupling::PunctureEvent> &events,
+                  double peak_pull_force) const;
   };
 } // namespace suturesim::scene
