@@ -10,15 +10,6 @@ namespace suturesim::rod
 
   namespace
   {
-    const Patterns::List vector_pattern(Patterns::Double(), 3, 3, ",");
-
-    Vec3
-    get_vector(const ParameterHandler &prm, const std::string &key)
-    {
-      const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(key), ','));
-      return Vec3(v[0], v[1], v[2]);
-    }
-
     std::string
     to_string(const Vec3 &v)
     {
@@ -90,18 +81,14 @@ namespace suturesim::rod
   EndCondition::parse(const ParameterHandler &prm, const scene::ParameterScope &scope)
   {
     type = prm.get("Type");
-    keyframes.clear();
+    keyframes = scene::get_keyframes(prm, "Keyframes", scope);
     std::size_t count = 0;
-    for (const auto &item : Utilities::split_string_list(prm.get("Keyframes"), ';'))
+    for (const auto &[t, v] : keyframes)
       {
-        const auto colon = item.find(':');
-        const double t   = Utilities::string_to_double(item.substr(0, colon));
-        const auto   v   = Utilities::string_to_double(Utilities::split_string_list(item.substr(colon + 1), ','));
         scope.require(v.size() == 3 || v.size() == 6, "Keyframes",
                       "each keyframe needs 3 (displacement) or 6 (displacement and rotation) numbers");
         scope.require(count == 0 || v.size() == count, "Keyframes",
                       "every keyframe needs the same number of values (3 or 6)");
-        scope.require(keyframes.emplace(t, v).second, "Keyframes", "time " + item.substr(0, colon) + " appears twice");
         count = v.size();
       }
     scope.require(type != "prescribed" || !keyframes.empty(), "Keyframes",
@@ -119,15 +106,15 @@ namespace suturesim::rod
     prm.declare_entry("Elements", std::to_string(d.elements), Patterns::Integer(1, 1000000),
                       "Number of two-node elements. Unit: 1. Range: >= 1.");
     prm.enter_subsection("Straight");
-    prm.declare_entry("Start point", to_string(d.start), vector_pattern, "First node. Unit: m.");
-    prm.declare_entry("Direction", to_string(d.direction), vector_pattern,
+    prm.declare_entry("Start point", to_string(d.start), scene::vector_pattern(), "First node. Unit: m.");
+    prm.declare_entry("Direction", to_string(d.direction), scene::vector_pattern(),
                       "Direction of the rod (normalised). Unit: none. Range: non-zero.");
     prm.declare_entry("Length", "0.1", Patterns::Double(0), "Length. Unit: m. Range: > 0.");
     prm.leave_subsection();
     prm.enter_subsection("Arc");
-    prm.declare_entry("Centre", to_string(d.centre), vector_pattern, "Centre of the circle. Unit: m.");
+    prm.declare_entry("Centre", to_string(d.centre), scene::vector_pattern(), "Centre of the circle. Unit: m.");
     prm.declare_entry("Radius", "0.01", Patterns::Double(0), "Radius. Unit: m. Range: > 0.");
-    prm.declare_entry("Plane normal", to_string(d.normal), vector_pattern,
+    prm.declare_entry("Plane normal", to_string(d.normal), scene::vector_pattern(),
                       "Normal of the arc's plane; angles turn positively about it. Unit: "
                       "none. Range: non-zero.");
     prm.declare_entry("Start angle", "0", Patterns::Double(),
@@ -180,13 +167,13 @@ namespace suturesim::rod
       }
 
     prm.enter_subsection("Loads");
-    prm.declare_entry("End force", "0, 0, 0", vector_pattern,
+    prm.declare_entry("End force", "0, 0, 0", scene::vector_pattern(),
                       "Force of fixed direction at the last end. Unit: N.");
-    prm.declare_entry("End moment", "0, 0, 0", vector_pattern,
+    prm.declare_entry("End moment", "0, 0, 0", scene::vector_pattern(),
                       "Moment of fixed (spatial) direction at the last end. Unit: N m.");
-    prm.declare_entry("Gravity", "0, 0, 0", vector_pattern,
+    prm.declare_entry("Gravity", "0, 0, 0", scene::vector_pattern(),
                       "Gravitational acceleration (weight rho A g per length). Unit: m/s^2.");
-    prm.declare_entry("Distributed load", "0, 0, 0", vector_pattern,
+    prm.declare_entry("Distributed load", "0, 0, 0", scene::vector_pattern(),
                       "Force per unit reference length, fixed direction. Unit: N/m.");
     prm.declare_entry("Load ramp", d.load_ramp, Patterns::Selection("linear|constant"),
                       "linear: loads grow as t/T over the run (load stepping); constant: full "
@@ -225,8 +212,8 @@ namespace suturesim::rod
     elements   = prm.get_integer("Elements");
     prm.enter_subsection("Straight");
     const auto s = scope.subsection("Straight");
-    start        = get_vector(prm, "Start point");
-    direction    = get_vector(prm, "Direction");
+    start        = scene::get_vector(prm, "Start point");
+    direction    = scene::get_vector(prm, "Direction");
     length       = prm.get_double("Length");
     prm.leave_subsection();
     if (centreline == "straight")
@@ -237,9 +224,9 @@ namespace suturesim::rod
     direction.normalize();
     prm.enter_subsection("Arc");
     const auto a = scope.subsection("Arc");
-    centre       = get_vector(prm, "Centre");
+    centre       = scene::get_vector(prm, "Centre");
     arc_radius   = prm.get_double("Radius");
-    normal       = get_vector(prm, "Plane normal");
+    normal       = scene::get_vector(prm, "Plane normal");
     start_angle  = prm.get_double("Start angle");
     sweep        = prm.get_double("Sweep");
     prm.leave_subsection();
@@ -304,10 +291,10 @@ namespace suturesim::rod
       }
 
     prm.enter_subsection("Loads");
-    end_force   = get_vector(prm, "End force");
-    end_moment  = get_vector(prm, "End moment");
-    gravity     = get_vector(prm, "Gravity");
-    distributed = get_vector(prm, "Distributed load");
+    end_force   = scene::get_vector(prm, "End force");
+    end_moment  = scene::get_vector(prm, "End moment");
+    gravity     = scene::get_vector(prm, "Gravity");
+    distributed = scene::get_vector(prm, "Distributed load");
     load_ramp   = prm.get("Load ramp");
     prm.leave_subsection();
 

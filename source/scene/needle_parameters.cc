@@ -8,18 +8,6 @@ namespace suturesim::scene
 {
   using namespace dealii;
 
-  namespace
-  {
-    const Patterns::List vector_pattern(Patterns::Double(), 3, 3, ",");
-
-    Eigen::Vector3d
-    get_vector(const ParameterHandler &prm, const std::string &key)
-    {
-      const auto v = Utilities::string_to_double(Utilities::split_string_list(prm.get(key), ','));
-      return {v[0], v[1], v[2]};
-    }
-  } // namespace
-
   void
   NeedleParameters::declare(ParameterHandler &prm)
   {
@@ -50,12 +38,12 @@ namespace suturesim::scene
                       "angle); positions linear and rotations by slerp between keyframes. "
                       "Unit: s: m, m, m, rad, rad, rad.");
     prm.enter_subsection("Pass");
-    prm.declare_entry("Entry point", "0, 0, 0", vector_pattern,
+    prm.declare_entry("Entry point", "0, 0, 0", vector_pattern(),
                       "Where the tip enters the tissue surface. Unit: m.");
-    prm.declare_entry("Surface normal", "0, 0, 1", vector_pattern,
+    prm.declare_entry("Surface normal", "0, 0, 1", vector_pattern(),
                       "Outward normal of the surface at the entry point. Unit: none. "
                       "Range: non-zero.");
-    prm.declare_entry("Bite direction", "1, 0, 0", vector_pattern,
+    prm.declare_entry("Bite direction", "1, 0, 0", vector_pattern(),
                       "From the entry towards the exit (projected onto the surface). Unit: "
                       "none. Range: not along the normal.");
     prm.declare_entry("Bite depth", "0.003", Patterns::Double(0),
@@ -72,7 +60,7 @@ namespace suturesim::scene
     prm.declare_entry("Approach", "0.001", Patterns::Double(0),
                       "Arc length of the tip before the entry point at the start. Unit: m. "
                       "Range: >= 0.");
-    prm.declare_entry("Pull", "0, 0, 0.03", vector_pattern,
+    prm.declare_entry("Pull", "0, 0, 0.03", vector_pattern(),
                       "Translation of the needle after the pass, drawing the suture "
                       "through. Unit: m.");
     prm.declare_entry("Pull duration", "1", Patterns::Double(0), "Unit: s. Range: > 0.");
@@ -138,19 +126,14 @@ namespace suturesim::scene
                       "must lie in (0, Arc radius) m");
       }
     keyframes = tools::Trajectory();
-    for (const auto &item : Utilities::split_string_list(prm.get("Keyframes"), ';'))
+    for (const auto &[t, v] : get_keyframes(prm, "Keyframes", scope))
       {
-        const auto   colon = item.find(':');
-        const double t     = Utilities::string_to_double(item.substr(0, colon));
-        const auto v = Utilities::string_to_double(Utilities::split_string_list(item.substr(colon + 1), ','));
         const Eigen::Vector3d r(v[3], v[4], v[5]);
         const double          angle = r.norm();
         tools::Pose           pose;
         pose.position = {v[0], v[1], v[2]};
         if (angle > 0)
           pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, r / angle));
-        scope.require(keyframes.keyframes().count(t) == 0, "Keyframes",
-                      "time " + item.substr(0, colon) + " appears twice");
         keyframes.add(t, pose);
       }
     prm.enter_subsection("Pass");

@@ -1,6 +1,8 @@
 #include <suturesim/core/error.h>
 #include <suturesim/scene/parameter_file.h>
 
+#include <deal.II/base/utilities.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -193,5 +195,34 @@ namespace suturesim::scene
     if (fs::exists(project))
       return project.lexically_normal().string();
     return local.lexically_normal().string();
+  }
+
+  const dealii::Patterns::List &
+  vector_pattern()
+  {
+    static const dealii::Patterns::List pattern(dealii::Patterns::Double(), 3, 3, ",");
+    return pattern;
+  }
+
+  Eigen::Vector3d
+  get_vector(const dealii::ParameterHandler &prm, const std::string &key)
+  {
+    const auto v = dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(key), ','));
+    return {v[0], v[1], v[2]};
+  }
+
+  std::map<double, std::vector<double>>
+  get_keyframes(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope)
+  {
+    std::map<double, std::vector<double>> keyframes;
+    for (const auto &item : dealii::Utilities::split_string_list(prm.get(key), ';'))
+      {
+        const auto   colon = item.find(':');
+        const double t     = dealii::Utilities::string_to_double(item.substr(0, colon));
+        const auto   v =
+          dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(item.substr(colon + 1), ','));
+        scope.require(keyframes.emplace(t, v).second, key, "time " + item.substr(0, colon) + " appears twice");
+      }
+    return keyframes;
   }
 } // namespace suturesim::scene

@@ -7,6 +7,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <Eigen/Core>
+
 #include <map>
 #include <string>
 #include <vector>
@@ -102,4 +104,17 @@ namespace suturesim::scene
     const ParameterFile *file;
     std::string          path;
   };
+
+  /// The pattern of a 3-vector entry "x, y, z".
+  const dealii::Patterns::List &
+  vector_pattern();
+
+  /// Reads the 3-vector entry @p key of the current subsection.
+  Eigen::Vector3d
+  get_vector(const dealii::ParameterHandler &prm, const std::string &key);
+
+  /// Reads the keyframe entry @p key, "t: v, v, ...; t: ...", into time → values; a time
+  /// given twice fails through @p scope. Value counts are the caller's to check.
+  std::map<double, std::vector<double>>
+  get_keyframes(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope);
 } // namespace suturesim::scene
