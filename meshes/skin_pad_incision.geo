@@ -8,6 +8,11 @@
 // with two distinct top curves between the same corner points, so the wound
 // faces get separate nodes while the crack front (shared curves) stays shared.
 // Assumes 0 < Li < Ly and 0 < Di < H.
+//
+// Wg > 0 opens the wound (a fusiform defect, as after the excision of a lesion): the
+// top edges of the wound faces become x = -/+ (Wg/2) cos(pi y / Li), meeting at the
+// incision's ends; the faces are ruled down to the straight crack front at z = H - Di,
+// so the gap narrows linearly with depth. The pad is stress-free in this state.
 
 DefineConstant[
   Lx = {0.040,  Name "Parameters/Lx pad length in x [m]"},
@@ -15,6 +20,7 @@ DefineConstant[
   H  = {0.006,  Name "Parameters/H pad thickness [m]"},
   Li = {0.020,  Name "Parameters/Li incision length in y [m]"},
   Di = {0.003,  Name "Parameters/Di incision depth from top [m]"},
+  Wg = {0,      Name "Parameters/Wg wound gap at mid-incision top [m]"},
   h  = {0.0015, Name "Parameters/h target element size [m]"},
   hexahedra = {1, Choices {0, 1}, Name "Parameters/hexahedra (1) or tetrahedra (0)"}
 ];
@@ -58,7 +64,29 @@ For k In {0:2}
   EndFor
 EndFor
 // Twin of the slit top curve 222 (same end points) for the x>0 side.
-Line(250) = {1 + 1 + 3*1 + 12*2, 4 + 1 + 3*1 + 12*2};
+If (Wg > 0)
+  // both top edges as splines through nw interior points of the cosine profile
+  Delete { Curve{222}; }
+  nw = 15;
+  For side In {0:1}
+    sign = (side == 0) ? -1 : 1;
+    pts[] = {};
+    pts[] += {1 + 1 + 3*1 + 12*2};
+    For m In {1:nw}
+      yy = -Li/2 + Li*m/(nw + 1);
+      Point(1000 + 100*side + m) = {sign*(Wg/2)*Cos(Pi*yy/Li), yy, H, h};
+      pts[] += {1000 + 100*side + m};
+    EndFor
+    pts[] += {4 + 1 + 3*1 + 12*2};
+    If (side == 0)
+      Spline(222) = pts[];
+    Else
+      Spline(250) = pts[];
+    EndIf
+  EndFor
+Else
+  Line(250) = {1 + 1 + 3*1 + 12*2, 4 + 1 + 3*1 + 12*2};
+EndIf
 // Curves along z
 For k In {0:1}
   For j In {0:3}
@@ -75,13 +103,21 @@ For k In {0:1}
       t = 400 + i + 3*j + 9*k;
       Curve Loop(t) = {200 + i + 3*j + 9*k, 300 + i + 3*(j+1) + 12*k,
                        -(200 + i + 3*j + 9*(k+1)), -(300 + i + 3*j + 12*k)};
-      Plane Surface(t) = {t};
+      If (t == 413 && Wg > 0)
+        Surface(t) = {t};
+      Else
+        Plane Surface(t) = {t};
+      EndIf
     EndFor
   EndFor
 EndFor
 // Right-side slit face, bounded by the twin top curve.
 Curve Loop(450) = {213, 319, -250, -316};
-Plane Surface(450) = {450};
+If (Wg > 0)
+  Surface(450) = {450};
+Else
+  Plane Surface(450) = {450};
+EndIf
 
 // Faces normal to y
 For k In {0:1}

@@ -14,13 +14,21 @@
  * unconstrained node not adjacent to a constraint downwards prior to each dynamics
  * step" — a constant fall speed.
  *
- * Constraints here: nodes held by a tool (hard) and nodes held for one step by a
+ * Constraints here: nodes held by a tool (hard), nodes held for one step by a
  * collision (seed 002's collision constraints, set by the self-collision and tissue
- * contact responses). Soft constraints at pierce points come with the coupling.
+ * contact responses), and soft constraints where the suture passes through pierced
+ * tissue (set by the needle coupling). A soft constraint at material coordinate s lies
+ * in segment k = ⌊s/l⌋ at fraction f = s/l − k: that segment is laid through the tissue
+ * point p along the local direction of the thread t (the chord of its neighbours),
+ * x_k = p − f l t, x_{k+1} = p + (1 − f) l t, and both nodes are constraints of the FTL
+ * update (two constraints in one segment share it). The sections between hard and soft
+ * constraints carry the quasi-spring tension, measured from constraint to constraint
+ * along the thread: T = k_q max(0, L_path − (s_b − s_a)).
  */
 #include <suturesim/realtime/suture_model.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace suturesim::realtime
 {
@@ -64,6 +72,8 @@ namespace suturesim::realtime
                 p.col(i) += fall;
           }
 
+        place_soft_constraints(s);
+
         if (constraints.empty())
           follow(0, count - 1, +1, p);
         else
@@ -96,14 +106,22 @@ namespace suturesim::realtime
         if (!s.suture.contains(node))
           return false;
         const std::uint32_t i = node - s.suture.begin;
+        anchors_of(s, s.nodes.x, soft);
         force.setZero();
+        // the anchor at this node, then its neighbours on either side
+        const auto at = std::find_if(anchors.begin(), anchors.end(),
+                                     [&](const Anchor &a) { return a.hard && a.node == i; });
+        if (at == anchors.end())
+          return true;
+        const std::size_t k = at - anchors.begin();
         for (const int side : {-1, +1})
           {
-            const auto other = hard_neighbour(s, i, side);
-            if (other < 0)
+            const std::int64_t j = std::int64_t(k) + side, neighbour = std::int64_t(i) + side;
+            if (j < 0 || j >= std::int64_t(anchors.size()) || neighbour < 0 || neighbour >= s.suture.size())
               continue;
-            const double T = section_tension(s, std::min<std::int64_t>(i, other), std::max<std::int64_t>(i, other));
-            force += T * (s.nodes.x.col(s.suture.begin + i + side) - s.nodes.x.col(node)).normalized();
+            const double T = section_tension(s.nodes.x, s.suture.begin, anchors[std::min<std::int64_t>(k, j)],
+                                             anchors[std::max<std::int64_t>(k, j)]);
+            force += T * (s.nodes.x.col(s.suture.begin + neighbour) - s.nodes.x.col(node)).normalized();
           }
         return true;
       }
@@ -112,18 +130,71 @@ namespace suturesim::realtime
       segment_tension(const System &s, std::vector<double> &tension) const override
       {
         tension.assign(s.suture.size() - 1, 0.0);
-        std::int64_t last = -1;
-        for (std::uint32_t i = 0; i < s.suture.size(); ++i)
-          if (s.nodes.held[s.suture.begin + i] & Nodes::boundary)
-            {
-              if (last >= 0)
-                {
-                  const double T = section_tension(s, last, i);
-                  for (std::uint32_t k = last; k < i; ++k)
-                    tension[k] = T;
-                }
-              last = i;
-            }
+        anchors_of(s, s.nodes.x, soft);
+        for (std::size_t a = 0; a + 1 < anchors.size(); ++a)
+          {
+            const double T = section_tension(s.nodes.x, s.suture.begin, anchors[a], anchors[a + 1]);
+            // segments whose middle lies in the section
+            for (std::uint32_t k = 0; k + 1 < s.suture.size(); ++k)
+              {
+                const double middle = (k + 0.5) * link;
+                if (middle >= anchors[a].s && middle < anchors[a + 1].s)
+                  tension[k] = T;
+              }
+          }
+      }
+
+      bool
+      takes_soft_constraints() const override
+      {
+        return true;
+      }
+
+      void
+      set_soft_constraints(const std::vector<SoftConstraint> &c) override
+      {
+        soft = c;
+      }
+
+      void
+      soft_constraint_loads(const System &s, const Matrix3Xd &x, const std::vector<SoftConstraint> &c,
+                            std::vector<SoftConstraintLoad> &loads) const override
+      {
+        loads.assign(c.size(), SoftConstraintLoad());
+        anchors_of(s, x, c);
+        for (std::size_t a = 0; a < anchors.size(); ++a)
+          {
+            if (anchors[a].hard)
+              continue;
+            auto &load = loads[anchors[a].soft];
+            const auto direction = [&](const Anchor &other, const int side) {
+              // towards the first node beyond the constrained segment on that side (the
+              // segment itself is laid straight through the point)
+              const std::int64_t k = anchors[a].k;
+              const std::int64_t n = std::clamp<std::int64_t>(side < 0 ? k - 1 : k + 2, 0, s.suture.size() - 1);
+              Vector3d           d = x.col(s.suture.begin + n) - anchors[a].position;
+              if ((side < 0 && other.k == k) || (side > 0 && other.k == k) || !(d.norm() > 1e-3 * link))
+                d = other.position - anchors[a].position;
+              const double l = d.norm();
+              return l > 0 ? Vector3d(d / l) : Vector3d::Zero();
+            };
+            if (a > 0)
+              {
+                load.before    = section_tension(x, s.suture.begin, anchors[a - 1], anchors[a]);
+                load.to_before = direction(anchors[a - 1], -1);
+              }
+            if (a + 1 < anchors.size())
+              {
+                load.after    = section_tension(x, s.suture.begin, anchors[a], anchors[a + 1]);
+                load.to_after = direction(anchors[a + 1], +1);
+              }
+          }
+      }
+
+      double
+      soft_constraint_stiffness() const override
+      {
+        return k_q;
       }
 
     protected:
@@ -137,6 +208,8 @@ namespace suturesim::realtime
         forward.resize(3, count);
         backward.resize(3, count);
         constraints.reserve(count);
+        anchors.reserve(count + 16);
+        soft.reserve(16);
         k_q = quasi_spring > 0 ? quasi_spring : axial_stiffness;
       }
 
@@ -169,29 +242,102 @@ namespace suturesim::realtime
           }
       }
 
-      /// The nearest node on side @p side of @p i that a tool holds, −1 if none.
-      std::int64_t
-      hard_neighbour(const System &s, const std::uint32_t i, const int side) const
+      /// A section end: a node held by a tool, or a soft constraint.
+      struct Anchor
       {
-        for (std::int64_t k = std::int64_t(i) + side; k >= 0 && k < s.suture.size(); k += side)
-          if (s.nodes.held[s.suture.begin + k] & Nodes::boundary)
-            return k;
-        return -1;
+        double        s = 0;    ///< material coordinate, m
+        Vector3d      position; ///< m
+        std::int64_t  k = 0;    ///< segment (nodes k, k + 1) it lies in
+        bool          hard = false;
+        std::uint32_t node = 0; ///< hard: the suture node
+        std::size_t   soft = 0; ///< soft: index in the list given
+      };
+
+      /// The anchors of the suture (nodes held by tools and @p c), ascending in s, into
+      /// the work list.
+      void
+      anchors_of(const System &s, const Matrix3Xd &x, const std::vector<SoftConstraint> &c) const
+      {
+        const std::uint32_t count = s.suture.size();
+        anchors.clear();
+        for (std::uint32_t i = 0; i < count; ++i)
+          if (s.nodes.held[s.suture.begin + i] & Nodes::boundary)
+            anchors.push_back({i * link, x.col(s.suture.begin + i), std::min<std::int64_t>(i, count - 2), true, i, 0});
+        for (std::size_t j = 0; j < c.size(); ++j)
+          anchors.push_back({c[j].s, c[j].position, segment_of(c[j].s, count), false, 0, j});
+        // std::sort, not stable_sort: the latter allocates, and the haptic step must not
+        std::sort(anchors.begin(), anchors.end(), [](const Anchor &a, const Anchor &b) {
+          return a.s < b.s || (a.s == b.s && a.hard && !b.hard);
+        });
       }
 
-      /// Quasi-spring tension of the section between suture nodes a < c.
+      std::int64_t
+      segment_of(const double s, const std::uint32_t count) const
+      {
+        return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(s / link)), 0, count - 2);
+      }
+
+      /// Quasi-spring tension of the section between anchors a and b (a.s ≤ b.s): the
+      /// thread's length from a to b against the material length between them.
       double
-      section_tension(const System &s, const std::int64_t a, const std::int64_t c) const
+      section_tension(const Matrix3Xd &x, const std::uint32_t first, const Anchor &a, const Anchor &b) const
       {
         double L = 0;
-        for (std::int64_t k = a; k < c; ++k)
-          L += (s.nodes.x.col(s.suture.begin + k + 1) - s.nodes.x.col(s.suture.begin + k)).norm();
-        return std::max(0.0, k_q * (L - (c - a) * link));
+        if (a.k == b.k)
+          L = (b.position - a.position).norm();
+        else
+          {
+            L = (x.col(first + a.k + 1) - a.position).norm() + (b.position - x.col(first + b.k)).norm();
+            for (std::int64_t k = a.k + 1; k < b.k; ++k)
+              L += (x.col(first + k + 1) - x.col(first + k)).norm();
+          }
+        return std::max(0.0, k_q * (L - (b.s - a.s)));
+      }
+
+      /// Lays the segment of each soft constraint through its tissue point and makes its
+      /// nodes constraints of the FTL update (held nodes stay where the tool has them).
+      void
+      place_soft_constraints(const System &s)
+      {
+        if (soft.empty())
+          return;
+        const std::uint32_t count = s.suture.size(), b = s.suture.begin;
+        placed.setZero(3, count);
+        placed_count.assign(count, 0);
+        for (const auto &c : soft)
+          {
+            const std::int64_t k = segment_of(c.s, count);
+            const double       f = std::clamp(c.s / link - k, 0.0, 1.0);
+            const std::int64_t lo = std::max<std::int64_t>(k - 1, 0), hi = std::min<std::int64_t>(k + 2, count - 1);
+            Vector3d           t  = p.col(hi) - p.col(lo);
+            if (!(t.norm() > 0))
+              t = Vector3d::UnitX();
+            t.normalize();
+            const std::int64_t nodes[2] = {k, k + 1};
+            const Vector3d     at[2]    = {c.position - f * link * t, c.position + (1 - f) * link * t};
+            for (int m = 0; m < 2; ++m)
+              if (!(s.nodes.held[b + nodes[m]] & Nodes::boundary))
+                {
+                  placed.col(nodes[m]) += at[m];
+                  ++placed_count[nodes[m]];
+                }
+          }
+        for (std::uint32_t i = 0; i < count; ++i)
+          if (placed_count[i] > 0)
+            {
+              p.col(i) = placed.col(i) / placed_count[i];
+              constraints.push_back(i);
+            }
+        std::sort(constraints.begin(), constraints.end());
+        constraints.erase(std::unique(constraints.begin(), constraints.end()), constraints.end());
       }
 
       double                     quasi_spring, fall_speed, k_q = 0;
-      Matrix3Xd                  p, forward, backward;
+      Matrix3Xd                  p, forward, backward, placed;
       std::vector<std::uint32_t> constraints;
+      std::vector<int>           placed_count;
+      std::vector<SoftConstraint> soft;
+      mutable std::vector<Anchor> anchors;
     };
 
     const bool registered = SutureModel::Registry::instance().add(

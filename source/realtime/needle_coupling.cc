@@ -17,6 +17,7 @@ namespace suturesim::realtime
     , suture(s.suture)
     , needle(geometry)
     , puncture(parameters.puncture, surface, s.nodes.reference)
+    , sys(s)
   {
     if (suture.size() >= 2)
       link = (s.nodes.reference.col(suture.begin + 1) - s.nodes.reference.col(suture.begin)).norm();
@@ -25,6 +26,9 @@ namespace suturesim::realtime
     points.reserve(16);
     states.reserve(16);
     zeta_work.reserve(16);
+    soft_work.reserve(16);
+    load_work.reserve(16);
+    soft_index.reserve(16);
   }
 
   void
@@ -39,6 +43,22 @@ namespace suturesim::realtime
   {
     return p.weights[0] * x.col(p.nodes[0]) + p.weights[1] * x.col(p.nodes[1]) +
            p.weights[2] * x.col(p.nodes[2]);
+  }
+
+  void
+  NeedleCoupling::soft_loads(const Matrix3Xd &x) const
+  {
+    soft_work.clear();
+    soft_index.assign(points.size(), -1);
+    const double L = needle.length();
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (is_soft(points[k]))
+        {
+          soft_index[k] = soft_work.size();
+          soft_work.push_back({points[k].anchor - L, tissue_point(points[k], x)});
+        }
+    if (!soft_work.empty())
+      soft_model->soft_constraint_loads(sys, x, soft_work, load_work);
   }
 
   NeedleCoupling::ThreadPoint
@@ -114,8 +134,22 @@ namespace suturesim::realtime
         for (unsigned i = 0; i < 3; ++i)
           f.col(tri[i]) += touch->point.weights[i] * force;
       }
-    for (const auto &p : points)
-      distribute(p, pierce_force(p, x, nullptr, nullptr), f);
+    if (soft_model != nullptr)
+      soft_loads(x);
+    for (std::size_t k = 0; k < points.size(); ++k)
+      {
+        const auto &p = points[k];
+        if (is_soft(p))
+          {
+            // the suture is geometric: only the tissue point feels the tensions
+            const auto    &l     = load_work[soft_index[k]];
+            const Vector3d force = l.before * l.to_before + l.after * l.to_after;
+            for (unsigned i = 0; i < 3; ++i)
+              f.col(p.nodes[i]) += p.weights[i] * force;
+          }
+        else
+          distribute(p, pierce_force(p, x, nullptr, nullptr), f);
+      }
   }
 
   void
@@ -255,7 +289,7 @@ namespace suturesim::realtime
         add(tip, -F * puncture.push_direction());
       }
     for (const auto &p : points)
-      if (!p.at.on_suture || prm.geometric_suture)
+      if (!is_soft(p) && (!p.at.on_suture || prm.geometric_suture))
         {
           const Vector3d on_tissue = prm.project
                                        ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2)
@@ -295,10 +329,37 @@ namespace suturesim::realtime
     const double step = time - last_time;
     zeta_work.clear();
     states.resize(points.size());
+    for (auto &p : points)
+      p.at = thread_at(p.anchor, x);
+    if (soft_model != nullptr)
+      soft_loads(x);
     for (std::size_t k = 0; k < points.size(); ++k)
       {
         auto &p = points[k];
-        p.at    = thread_at(p.anchor, x);
+        if (is_soft(p))
+          {
+            // seed 002 slip on the suture with a Coulomb threshold (see the header)
+            const auto    &l     = load_work[soft_index[k]];
+            const double   D     = l.before - l.after;
+            const double   N     = prm.friction.grip + (l.before * l.to_before + l.after * l.to_after).norm();
+            const double   limit = prm.friction.mu * N;
+            const double   k_q   = soft_model->soft_constraint_stiffness();
+            const bool     slip  = std::abs(D) > limit && k_q > 0;
+            const double   ds    = slip ? std::copysign((std::abs(D) - limit) / (2 * k_q), D) : 0.0;
+            auto          &st    = states[k];
+            st.slip_speed        = step > 0 ? ds / step : 0;
+            st.slipping          = slip;
+            st.normal            = N;
+            st.friction          = std::clamp(D, -limit, limit);
+            if (!p.passed_swage)
+              {
+                p.passed_swage = true;
+                events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
+              }
+            p.anchor += ds;
+            zeta_work.push_back(p.anchor);
+            continue;
+          }
         // the anchor of the accepted state: the return mapping at the end-of-step
         // positions, in both modes (under XPBD the stick multiplier was clamped to the
         // Coulomb limit, but a few iterations may leave a violation whose elastic force
@@ -342,6 +403,15 @@ namespace suturesim::realtime
       }
     for (auto &p : points)
       p.at = thread_at(p.anchor, x);
+    if (soft_model != nullptr)
+      {
+        // the accepted soft constraints for the suture's next update
+        soft_work.clear();
+        for (const auto &p : points)
+          if (is_soft(p))
+            soft_work.push_back({p.anchor - needle.length(), tissue_point(p, x)});
+        soft_model->set_soft_constraints(soft_work);
+      }
     std::fill(inside.begin(), inside.end(), 0);
     for (std::size_t k = 0; k < points.size(); ++k)
       {

@@ -101,6 +101,30 @@ namespace suturesim::realtime
     return tools.size() - 1;
   }
 
+  void
+  World::grasp(const std::size_t tool, const std::vector<std::uint32_t> &nodes, const ToolPose &pose)
+  {
+    if (tool >= tools.size())
+      throw std::invalid_argument("realtime world: grasp by a tool that does not exist");
+    Tool                 &g = tools[tool];
+    const Eigen::Matrix3d R = pose.orientation.toRotationMatrix();
+    g.nodes                 = nodes;
+    g.offsets.resize(3, nodes.size());
+    g.pose = pose;
+    if (initialized)
+      start_poses[tool] = pose;
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      {
+        if (nodes[k] >= sys.nodes.size())
+          throw std::invalid_argument("tool '" + g.name + "' grasps a node that does not exist");
+        g.offsets.col(k) = R.transpose() * (sys.nodes.x.col(nodes[k]) - pose.position);
+        sys.nodes.set_held(nodes[k], Nodes::boundary, true);
+        sys.nodes.target.col(nodes[k]) = sys.nodes.x.col(nodes[k]);
+      }
+    for (const auto i : nodes)
+      tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
+  }
+
   std::size_t
   World::add_needle(const tools::CurvedNeedle &geometry, const NeedleCouplingParameters &parameters,
                     const ToolPose &initial, const bool hold_suture)
@@ -114,6 +138,8 @@ namespace suturesim::realtime
     p.geometric_suture         = suture_model && suture_model->geometric();
     auto coupling = std::make_unique<NeedleCoupling>(sys, tissue_model->surface(), geometry, p);
     coupling->set_pose(initial, 0);
+    if (suture_model && suture_model->takes_soft_constraints() && !p.project)
+      coupling->use_soft_constraints(suture_model.get());
     needle_coupling = coupling.get();
     sys.contacts.push_back(std::move(coupling));
     if (contact != nullptr)

@@ -75,13 +75,20 @@ namespace suturesim::rod
                       "time t (s >= 0); linear between keyframes, constant outside. With "
                       "three numbers the frame is free (a moving pin), with six it is "
                       "clamped to the motion. Unit: s: m, m, m[, rad, rad, rad].");
+    prm.declare_entry("Grasp time", "0", Patterns::Double(0),
+                      "Time at which a grasper closes on the end (realtime path): free "
+                      "before, held by Type after, the keyframes then displacing it from "
+                      "where it was at that time. 0: held from the start. Unit: s. Range: "
+                      ">= 0.");
   }
 
   void
   EndCondition::parse(const ParameterHandler &prm, const scene::ParameterScope &scope)
   {
-    type = prm.get("Type");
-    keyframes = scene::get_keyframes(prm, "Keyframes", scope);
+    type       = prm.get("Type");
+    keyframes  = scene::get_keyframes(prm, "Keyframes", scope);
+    grasp_time = prm.get_double("Grasp time");
+    scope.require(grasp_time == 0 || type != "free", "Grasp time", "needs a Type other than free");
     std::size_t count = 0;
     for (const auto &[t, v] : keyframes)
       {

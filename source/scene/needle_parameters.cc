@@ -64,6 +64,10 @@ namespace suturesim::scene
                       "Translation of the needle after the pass, drawing the suture "
                       "through. Unit: m.");
     prm.declare_entry("Pull duration", "1", Patterns::Double(0), "Unit: s. Range: > 0.");
+    prm.declare_entry("Tighten", "0, 0, 0", vector_pattern(),
+                      "A second translation after the pull, drawing the suture tight (0: "
+                      "none). Unit: m.");
+    prm.declare_entry("Tighten duration", "1", Patterns::Double(0), "Unit: s. Range: > 0.");
     prm.leave_subsection();
     prm.leave_subsection();
 
@@ -148,12 +152,15 @@ namespace suturesim::scene
     pass.approach          = prm.get_double("Approach");
     pass.pull              = get_vector(prm, "Pull");
     pass.pull_duration     = prm.get_double("Pull duration");
+    pass.tighten           = get_vector(prm, "Tighten");
+    pass.tighten_duration  = prm.get_double("Tighten duration");
     prm.leave_subsection();
     prm.leave_subsection();
     if (present() && motion == "pass")
       {
         p.require(pass.angular_speed > 0, "Angular speed", "must be > 0 rad/s");
         p.require(pass.pull_duration > 0, "Pull duration", "must be > 0 s");
+        p.require(pass.tighten_duration > 0, "Tighten duration", "must be > 0 s");
         p.require(pass.bite_depth <= radius, "Bite depth",
                   "must not exceed the needle's Arc radius (" + std::to_string(radius) + " m)");
         try

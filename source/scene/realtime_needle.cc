@@ -75,7 +75,9 @@ namespace suturesim::scene
     std::vector<double> tension;
     if (world.suture() != nullptr)
       world.suture()->segment_tension(world.system(), tension);
-    row[c++] = tension.empty() ? 0.0 : tension.front();
+    // at the swage: the first segment the needle does not hold (it holds the first
+    // two nodes, so the first segment carries no tension of its own)
+    row[c++] = tension.size() < 2 ? 0.0 : tension[1];
     row[c++] = tension.empty() ? 0.0 : tension.back();
   }
 

@@ -8,6 +8,7 @@
 #include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_scene.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -393,9 +394,11 @@ namespace suturesim::scene
 
     struct ToolEnd
     {
-      std::string              name;
-      const rod::EndCondition *end;
-      rt::Vector3d             initial;
+      std::string                name;
+      const rod::EndCondition   *end;
+      rt::Vector3d               initial;
+      std::vector<std::uint32_t> held;
+      bool                       grasped = true; ///< false until its Grasp time
     };
     std::optional<RealtimeNeedle> needle;
     if (with_needle)
@@ -430,8 +433,10 @@ namespace suturesim::scene
             if (end->fixes_rotation())
               held.push_back(b);
             const rt::Vector3d X = sys.nodes.x.col(a);
-            world.add_tool(name, held, pose_of(*end, X, 0));
-            tool_ends.push_back({name, end, X});
+            // a grasper that closes later holds nothing until then
+            const bool later = end->grasp_time > 0;
+            world.add_tool(name, later ? std::vector<std::uint32_t>() : held, pose_of(*end, X, 0));
+            tool_ends.push_back({name, end, X, held, !later});
           }
       }
 
@@ -445,6 +450,25 @@ namespace suturesim::scene
         {
           ParameterScope(file, "Tissue").fail("Probes", "'" + name + "': " + e.problem);
         }
+
+    // the closure measurement: two probes per pair
+    std::optional<ClosureMonitor>                  closure;
+    std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
+    if (in.closure != nullptr)
+      {
+        if (!in.tissue)
+          ParameterScope(file, "Closure").fail("Gap probes", "closure needs tissue");
+        closure.emplace(*in.closure);
+        for (const auto &pair : in.closure->pairs)
+          try
+            {
+              gap_probes.emplace_back(world.add_probe(pair.a), world.add_probe(pair.b));
+            }
+          catch (const rt::ParameterError &e)
+            {
+              ParameterScope(file, "Closure").fail("Gap probes", "'" + pair.name + "': " + e.problem);
+            }
+      }
 
     try
       {
@@ -512,9 +536,32 @@ namespace suturesim::scene
     for (const auto &[name, index] : probes)
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(name + "_displacement_" + std::string(1, c) + " [m]");
+    if (closure)
+      for (const auto &pair : in.closure->pairs)
+        columns.push_back("gap_" + pair.name + " [m]");
     columns.push_back("kinetic_energy [J]");
     columns.push_back("elastic_energy [J]");
     recorder.set_columns(columns);
+
+    // the gaps of the current state, and the suture tension the closure is charged to:
+    // what the grasper on the suture's far end feels, else the needle's pull
+    std::vector<double> gaps(gap_probes.size());
+    const auto          measure_closure = [&]() {
+      if (!closure)
+        return;
+      for (std::size_t k = 0; k < gap_probes.size(); ++k)
+        {
+          const auto &pair = in.closure->pairs[k];
+          gaps[k]          = closure->gap(k, pair.a + world.probe_displacement(gap_probes[k].first),
+                                          pair.b + world.probe_displacement(gap_probes[k].second));
+        }
+      double tension = 0;
+      if (!tool_ends.empty())
+        tension = world.tool_forces()[first_end_tool + tool_ends.size() - 1].force.norm();
+      else if (needle)
+        tension = world.tool_forces()[needle->tool()].force.norm();
+      closure->update(world.time(), gaps, tension);
+    };
 
     std::vector<double> row(columns.size());
     const auto          record_row = [&]() {
@@ -537,6 +584,8 @@ namespace suturesim::scene
           for (int d = 0; d < 3; ++d)
             row[c++] = u[d];
         }
+      for (const double g : gaps)
+        row[c++] = g;
       row[c++] = sys.kinetic_energy();
       row[c++] = sys.elastic_energy(sys.nodes.x);
       recorder.add_row(row);
@@ -604,17 +653,30 @@ namespace suturesim::scene
               << integrator_name << ", " << rate << " Hz x " << substeps << " substeps, "
               << n_steps << " steps\n";
 
+    measure_closure();
     write_output();
     record_row();
+    const auto                wall_start = std::chrono::steady_clock::now();
     rt::HapticLoop            loop(world, rate, n_steps, pacing);
     std::vector<rt::ToolPose> poses(first_end_tool + tool_ends.size());
     double                    next_output = interval;
     std::string               failure;
     for (std::size_t step = 1; step <= n_steps; ++step)
       {
-        const double t = step / rate;
+        // prescribed motions stop at a tie-off
+        const double t = closure ? closure->motion_time(step / rate) : step / rate;
         for (std::size_t k = 0; k < tool_ends.size(); ++k)
-          poses[first_end_tool + k] = pose_of(*tool_ends[k].end, tool_ends[k].initial, t);
+          {
+            auto &e = tool_ends[k];
+            if (!e.grasped && t >= e.end->grasp_time)
+              {
+                // the grasper closes on the end where it is now
+                e.initial = sys.nodes.x.col(e.held.front());
+                world.grasp(first_end_tool + k, e.held, pose_of(*e.end, e.initial, e.end->grasp_time));
+                e.grasped = true;
+              }
+            poses[first_end_tool + k] = pose_of(*e.end, e.initial, std::max(t, e.end->grasp_time));
+          }
         if (needle)
           poses[needle->tool()] = needle->pose(t);
         try
@@ -626,6 +688,7 @@ namespace suturesim::scene
             failure = e.what();
             break;
           }
+        measure_closure();
         record_row();
         if (interval > 0 && t >= next_output - 1e-12 * end_time)
           {
@@ -647,6 +710,10 @@ namespace suturesim::scene
     metrics["deadline_us"]                  = stats.deadline_us;
     metrics["deadline_misses"]              = stats.deadline_misses;
     metrics["final_time"]                   = world.time();
+    metrics["simulated_time"]               = world.time();
+    metrics["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (closure)
+      closure->write(metrics);
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[first_end_tool + k].force.norm();
     if (needle)

@@ -61,6 +61,7 @@ namespace suturesim::scene
     RealtimeScene::declare(prm);
     prm.leave_subsection();
     NeedleParameters::declare(prm);
+    ClosureParameters::declare(prm);
   }
 
   Simulation::Simulation(ParameterHandler &prm, const ParameterFile &file)
@@ -71,11 +72,15 @@ namespace suturesim::scene
     model_path = prm.get("Model");
     bodies     = prm.get("Bodies");
     needle_parameters.parse(prm, root);
+    closure_parameters.parse(prm, root);
     if (model_path == "realtime")
       {
         parse_realtime(prm);
         return;
       }
+    ParameterScope(file, "Closure")
+      .require(!closure_parameters.present(), "Gap probes",
+               "wound closure needs the suture in the tissue, realtime only so far: use Model = realtime");
     ParameterScope(file, "Needle")
       .require(!needle_parameters.present() || bodies == "tissue", "Shape",
                "the accurate path couples the needle to the tissue only (Bodies = tissue); "
@@ -89,6 +94,10 @@ namespace suturesim::scene
         prm.enter_subsection("Suture");
         rod_parameters.parse(prm, root.subsection("Suture"));
         prm.leave_subsection();
+        for (const auto &[name, end] : {std::pair{"Suture/Start end", &rod_parameters.start_end},
+                                        std::pair{"Suture/Last end", &rod_parameters.last_end}})
+          root.subsection(name).require(end->grasp_time == 0, "Grasp time",
+                                        "a grasp during the run is realtime only (Model = realtime)");
         prm.enter_subsection("Time");
         const ParameterScope time = root.subsection("Time");
         time_parameters.parse(prm, time);
@@ -190,6 +199,7 @@ namespace suturesim::scene
             .require(rod_parameters.start_end.type == "free", "Type",
                      "must be free: the needle holds the suture's start (Needle/Attach suture)");
       }
+    inputs.closure = closure_parameters.present() ? &closure_parameters : nullptr;
     prm.enter_subsection("Realtime");
     realtime = std::make_unique<RealtimeScene>(prm, root.subsection("Realtime"), std::move(inputs));
     prm.leave_subsection();

@@ -38,8 +38,8 @@ namespace suturesim::tools
     pass.entry         = p.entry;
     pass.centre        = p.entry + R * std::sin(alpha) * b + h * n;
     pass.exit          = p.entry + pass.bite_width * b;
-    if (!(p.angular_speed > 0) || !(p.pull_duration > 0) || !(p.approach >= 0))
-      throw std::invalid_argument("surgical pass: angular speed and pull duration must be > 0");
+    if (!(p.angular_speed > 0) || !(p.pull_duration > 0) || !(p.approach >= 0) || !(p.tighten_duration > 0))
+      throw std::invalid_argument("surgical pass: angular speed, pull and tighten durations must be > 0");
     if (2 * alpha + Phi >= 2 * M_PI)
       throw std::invalid_argument("surgical pass: the needle's arc closes on itself inside the tissue");
 
@@ -73,6 +73,12 @@ namespace suturesim::tools
       }
     const Pose last = pass.trajectory.pose(pass.t_turn_end);
     pass.trajectory.add(pass.t_end, {last.position + p.pull, last.orientation});
+    pass.t_tightened = pass.t_end;
+    if (!p.tighten.isZero())
+      {
+        pass.t_tightened = pass.t_end + p.tighten_duration;
+        pass.trajectory.add(pass.t_tightened, {last.position + p.pull + p.tighten, last.orientation});
+      }
     return pass;
   }
 } // namespace suturesim::tools

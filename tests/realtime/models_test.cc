@@ -323,3 +323,60 @@ TEST(RealtimeModels, XpbdSutureIterationsResolveTheSutureAndLeaveTheTissueAlone)
   EXPECT_LT(stretch8, 0.25 * stretch0);
   EXPECT_EQ(tissue0, tissue8);
 }
+
+TEST(RealtimeModels, FollowTheLeaderSoftConstraintSplitsTheQuasiSpringTension)
+{
+  // seed 002 §3: a soft constraint between nodes, here at s = 7.5 mm of a 20 mm suture
+  // held at both ends and pulled 2 mm aside there (a pierced tissue point). The segment
+  // holding s is laid through the point, and each side's tension is k_q times the
+  // thread's length from constraint to constraint minus the material length between them
+  const double k_q = 1000;
+  WorldSetup   w;
+  w.suture = test_support::make_model<SutureModel::Registry>(
+    "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", std::to_string(k_q)}});
+  w.suture_geometry = test_support::straight_suture(20, 0.02, Vector3d::Zero(), Vector3d::UnitX());
+  w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
+  World       world(std::move(w));
+  const auto &s = world.system();
+  world.add_tool("left", {s.suture.begin}, ToolPose());
+  ToolPose right;
+  right.position = s.nodes.x.col(s.suture.end - 1);
+  world.add_tool("right", {s.suture.end - 1}, right);
+  world.initialize();
+  ASSERT_TRUE(world.suture()->takes_soft_constraints());
+
+  const double                s_c = 0.0075, l = world.suture()->link_length();
+  const Vector3d              p(0.0075, 0.002, 0);
+  auto                       *model = const_cast<SutureModel *>(world.suture());
+  model->set_soft_constraints({{s_c, p}});
+  const auto &forces = world.step({ToolPose(), right});
+  const auto  x      = [&](const int i) { return Vector3d(s.nodes.x.col(s.suture.begin + i)); };
+
+  // the constrained segment (nodes 7, 8) passes through p at its fraction 0.5
+  EXPECT_NEAR((0.5 * (x(7) + x(8)) - p).norm(), 0, 1e-12);
+  EXPECT_NEAR((x(8) - x(7)).norm(), l, 1e-12);
+
+  std::vector<SoftConstraintLoad> loads;
+  model->soft_constraint_loads(s, s.nodes.x, {{s_c, p}}, loads);
+  ASSERT_EQ(loads.size(), 1u);
+  double before = (p - x(7)).norm(), after = (x(8) - p).norm();
+  for (int i = 0; i < 7; ++i)
+    before += (x(i + 1) - x(i)).norm();
+  for (int i = 8; i < 20; ++i)
+    after += (x(i + 1) - x(i)).norm();
+  const double T_before = k_q * (before - s_c), T_after = k_q * (after - (0.02 - s_c));
+  std::printf("[ FTL soft constraint ] tensions %.4f N (towards the first node), %.4f N (towards the last)\n",
+              loads[0].before, loads[0].after);
+  EXPECT_GT(T_before, 0);
+  EXPECT_NEAR(loads[0].before, T_before, 1e-9 * T_before);
+  EXPECT_NEAR(loads[0].after, T_after, 1e-9 * T_after);
+  // the thread pulls the point back towards its straight line, along each side
+  const Vector3d pull = loads[0].before * loads[0].to_before + loads[0].after * loads[0].to_after;
+  EXPECT_LT(pull[1], -0.5 * (T_before + T_after) * 0.002 / 0.0125);
+  EXPECT_GT(loads[0].to_before[0], 0.9 * -1.0);
+  EXPECT_LT(loads[0].to_before[0], 0);
+  EXPECT_GT(loads[0].to_after[0], 0);
+  // the hands feel the tension of their own section
+  EXPECT_NEAR(forces[0].force.norm(), T_before, 1e-9 * T_before);
+  EXPECT_NEAR(forces[1].force.norm(), T_after, 1e-9 * T_after);
+}

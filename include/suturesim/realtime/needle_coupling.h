@@ -27,10 +27,25 @@
  * The needle is kinematic: what the tissue exerts on it (the reaction of the touch and
  * of the pierce points on its arc) is reported as its tool force with the suture's
  * pull at the swage.
+ *
+ * On a suture that takes soft constraints (FTL, use_soft_constraints()) a pierce point
+ * that has passed the swage is seed 002's soft constraint instead (§3–4): the thread is
+ * laid through the tissue point, and the point is pulled by the quasi-spring tension of
+ * the thread on either side, f = T₋ e₋ + T₊ e₊ ("pierced vertices [are] pulled by
+ * suture tension"; e± the unit directions of the thread leaving the point). The thread
+ * slides through the hole when the tension difference D = T₋ − T₊ exceeds the friction
+ * μN, the normal force being the grip plus the resultant of the two tensions,
+ * N = N₀ + |T₋ e₋ + T₊ e₊| (the wrap: zero on a straight pass, 2T sin(θ/2) at a bend of
+ * θ): Δs = sign(D) (|D| − μN) / (2 k_q), the slip that brings D back to the limit since
+ * each unit slid moves k_q of tension from one section to the other. This is seed 002
+ * eq. (3)'s first term with a = 1/(2 k_q) and a Coulomb threshold in place of its
+ * constant friction; its second term (the mesh force along the thread) is left out: the
+ * quasi-static tissue point is in balance with the tensions it feels.
  */
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/system.h>
 #include <suturesim/tools/curved_needle.h>
 
@@ -80,6 +95,14 @@ namespace suturesim::realtime
     name() const override
     {
       return "needle and pierce points";
+    }
+
+    /// Pierce points on the suture become soft constraints of @p model (seed 002; force-
+    /// based integrators only).
+    void
+    use_soft_constraints(SutureModel *model)
+    {
+      soft_model = model;
     }
 
     /// The needle's pose and the time at the end of the coming (sub)step.
@@ -180,6 +203,18 @@ namespace suturesim::realtime
 
     Vector3d
     tissue_point(const PiercePoint &p, const Matrix3Xd &x) const;
+    /// A soft constraint of the suture model (seed 002) rather than a node-path tie.
+    bool
+    is_soft(const PiercePoint &p) const
+    {
+      // the suture's first segment is held by the needle (position and tangent at the
+      // swage): a point there is still tied to the needle, node-path
+      return soft_model != nullptr && p.at.on_suture && p.at.k >= 1;
+    }
+    /// The soft constraints at @p x and their loads into the work lists; returns, per
+    /// pierce point, its index there (or −1).
+    void
+    soft_loads(const Matrix3Xd &x) const;
     /// The thread's point and tangent at coordinate @p zeta (the needle's arc up to L,
     /// the suture's polyline at material coordinate ζ − L beyond).
     ThreadPoint
@@ -215,5 +250,10 @@ namespace suturesim::realtime
     std::vector<char>                  inside;
     std::vector<double>                zeta_work;
     std::vector<coupling::PunctureEvent> events_on_thread;
+    SutureModel                         *soft_model = nullptr;
+    const System                        &sys;
+    mutable std::vector<SoftConstraint>     soft_work;
+    mutable std::vector<SoftConstraintLoad> load_work;
+    mutable std::vector<std::int64_t>       soft_index;
   };
 } // namespace suturesim::realtime

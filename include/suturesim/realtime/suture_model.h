@@ -32,6 +32,24 @@ namespace suturesim::realtime
     mass_per_length() const;
   };
 
+  /// Seed 002's soft constraint: the suture passes through a pierced tissue point. It
+  /// sits at material coordinate @p s (m from the suture's first node), between nodes,
+  /// and slides along the suture as the coupling decides (seed 002 §3: "soft constraints
+  /// exist at any point between nodes, and slide smoothly as the suture is pulled").
+  struct SoftConstraint
+  {
+    double   s        = 0;
+    Vector3d position = Vector3d::Zero(); ///< of the tissue point, m
+  };
+
+  /// What the suture does at a soft constraint: the quasi-spring tension of the section
+  /// on each side and the direction in which it pulls the tissue point.
+  struct SoftConstraintLoad
+  {
+    double   before = 0, after = 0; ///< towards the first / the last node, N
+    Vector3d to_before = Vector3d::Zero(), to_after = Vector3d::Zero(); ///< unit
+  };
+
   class SutureModel
   {
   public:
@@ -61,6 +79,33 @@ namespace suturesim::realtime
     holding_force(const System &, std::uint32_t, Vector3d &) const
     {
       return false;
+    }
+
+    /// True for models that pass through pierce points as soft constraints (FTL); the
+    /// others are coupled to the tissue by forces or constraints.
+    virtual bool
+    takes_soft_constraints() const
+    {
+      return false;
+    }
+
+    /// The soft constraints for the coming steps, in ascending s.
+    virtual void
+    set_soft_constraints(const std::vector<SoftConstraint> &)
+    {}
+
+    /// The load of each of @p constraints (ascending s; positions as given) with the
+    /// suture's nodes at their positions in @p x.
+    virtual void
+    soft_constraint_loads(const System &, const Matrix3Xd &, const std::vector<SoftConstraint> &,
+                          std::vector<SoftConstraintLoad> &) const
+    {}
+
+    /// The change of a section's tension per unit of material slid into it, N/m.
+    virtual double
+    soft_constraint_stiffness() const
+    {
+      return 0;
     }
 
     /// Axial force of each segment (N) at the current state, for output.

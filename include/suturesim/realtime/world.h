@@ -91,6 +91,12 @@ namespace suturesim::realtime
     add_tool(const std::string &name, const std::vector<std::uint32_t> &nodes,
              const ToolPose &initial);
 
+    /// Tool @p tool closes on system nodes @p nodes during the run (a grasper taking the
+    /// suture's end): from the next step they are held at their present offsets from
+    /// the tool's present pose @p pose.
+    void
+    grasp(std::size_t tool, const std::vector<std::uint32_t> &nodes, const ToolPose &pose);
+
     /// A rigid curved needle moved as tool (the returned index) with pose @p initial at
     /// t = 0: its tip punctures the tissue surface and its pierce points slide along
     /// it and on along the suture (needle_coupling.h). With @p hold_suture the needle

@@ -28,6 +28,9 @@ namespace suturesim::rod
     /// vector applied to its initial frame [rad]); piecewise linear in t, held constant
     /// outside the keyframes.
     std::map<double, std::vector<double>> keyframes;
+    /// From this time on the end is held (a grasper closing on it, realtime path); the
+    /// keyframes then move it from where it was at that time, s. 0: from the start.
+    double grasp_time = 0;
 
     bool
     fixes_rotation() const;

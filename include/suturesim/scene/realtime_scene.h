@@ -29,6 +29,7 @@
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
+#include <suturesim/scene/wound_closure.h>
 #include <suturesim/scene/parameter_file.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
@@ -54,6 +55,7 @@ namespace suturesim::scene
     std::vector<std::pair<std::string, dealii::Point<3>>> probes;
     const rod::RodParameters                         *rod = nullptr;
     const NeedleParameters                           *needle = nullptr; ///< nullptr or shape none: no needle
+    const ClosureParameters                          *closure = nullptr; ///< nullptr: no closure measurement
     const tissue::TimeParameters                     *time = nullptr;
   };
 

@@ -13,6 +13,7 @@
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
+#include <suturesim/scene/wound_closure.h>
 #include <suturesim/scene/parameter_file.h>
 #include <suturesim/scene/realtime_scene.h>
 #include <suturesim/tissue/boundary_conditions.h>
@@ -65,6 +66,7 @@ namespace suturesim::scene
     std::string                        bodies;
     rod::RodParameters                 rod_parameters;
     NeedleParameters                   needle_parameters;
+    ClosureParameters                  closure_parameters;
     std::unique_ptr<rod::RodIntegrator> rod_integrator;
     mesh::MeshParameters               mesh_parameters;
     tissue::TissueParameters           tissue_parameters;

@@ -37,6 +37,9 @@ namespace suturesim::tools
     double   approach       = 1e-3; ///< arc length of the tip before E at the start, m
     Vector3d pull           = Vector3d::Zero(); ///< translation after the pass, m
     double   pull_duration  = 1;    ///< s
+    /// a second translation after the pull (drawing the suture tight), m; zero: none
+    Vector3d tighten        = Vector3d::Zero();
+    double   tighten_duration = 1; ///< s
   };
 
   struct SurgicalPass
@@ -45,8 +48,8 @@ namespace suturesim::tools
     Vector3d   centre, entry, exit;
     double     entry_angle = 0, bite_depth = 0, bite_width = 0;
     /// times at which the tip reaches E, the tip reaches X, the swage leaves at X, the
-    /// turn ends, the pull ends (s)
-    double t_tip_entry = 0, t_tip_exit = 0, t_swage_exit = 0, t_turn_end = 0, t_end = 0;
+    /// turn ends, the pull ends, the tightening ends (= t_end without one) (s)
+    double t_tip_entry = 0, t_tip_exit = 0, t_swage_exit = 0, t_turn_end = 0, t_end = 0, t_tightened = 0;
   };
 
   /// Plans the pass; throws std::invalid_argument for inconsistent input (a bite deeper

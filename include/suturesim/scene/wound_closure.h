@@ -1,0 +1,90 @@
+#pragma once
+/**
+ * @file
+ * Wound closure, measured (subsection "Closure"): pairs of tissue probes across the
+ * wound, each giving the gap g = (x_b − x_a)·e with e = (X_b − X_a)/|X_b − X_a| (the
+ * opening along the line between the two reference points; negative when the edges
+ * overlap). The first pair decides closure: the first time its gap falls below
+ * "Closure gap" the wound counts as closed, the suture tension then is the closure
+ * tension, and with "Tie off" every prescribed motion stops there — both suture ends
+ * are fixed where they are, the tie-off of an interrupted stitch until knots exist.
+ * Both model paths read the same struct.
+ */
+
+#include <suturesim/scene/parameter_file.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <Eigen/Core>
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace suturesim::scene
+{
+  struct ClosureParameters
+  {
+    struct Pair
+    {
+      std::string     name;
+      Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero(); ///< reference points, m
+    };
+    std::vector<Pair> pairs;
+    double            closure_gap = 1e-4; ///< m
+    bool              tie_off     = true;
+
+    bool
+    present() const
+    {
+      return !pairs.empty();
+    }
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
+  };
+
+  /// Follows the gaps of a run: call update() once per accepted step with the current
+  /// positions of each pair's two points and the suture tension.
+  class ClosureMonitor
+  {
+  public:
+    explicit ClosureMonitor(const ClosureParameters &parameters);
+
+    /// Gap of pair @p k for current positions @p xa, @p xb, m.
+    double
+    gap(std::size_t k, const Eigen::Vector3d &xa, const Eigen::Vector3d &xb) const;
+
+    /// Records the gaps of the step at time @p t (one per pair) and @p tension (N).
+    void
+    update(double t, const std::vector<double> &gaps, double tension);
+
+    /// The time up to which prescribed motions run: ∞ until a tie-off, then its time.
+    double
+    motion_time(double t) const
+    {
+      return t < tie_time ? t : tie_time;
+    }
+    bool
+    closed() const
+    {
+      return closure_time < std::numeric_limits<double>::infinity();
+    }
+
+    /// metrics.initial_gap, final_gap (first pair), closure_tension, closure_time (null
+    /// when never closed), gaps.<name>.{initial, final, min}.
+    void
+    write(nlohmann::json &metrics) const;
+
+  private:
+    const ClosureParameters &prm;
+    std::vector<double>      initial, last, least;
+    double                   closure_time = std::numeric_limits<double>::infinity();
+    double                   tie_time     = std::numeric_limits<double>::infinity();
+    double                   closure_tension = 0;
+  };
+} // namespace suturesim::scene

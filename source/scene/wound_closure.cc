@@ -1,0 +1,100 @@
+#include <suturesim/scene/wound_closure.h>
+
+#include <deal.II/base/utilities.h>
+
+#include <algorithm>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  void
+  ClosureParameters::declare(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Closure");
+    prm.declare_entry("Gap probes", "",
+                      Patterns::Map(Patterns::Anything(), Patterns::List(Patterns::Double(), 6, 6, ","), 0,
+                                    Patterns::Map::max_int_value, ";", ":"),
+                      "Pairs of tissue points across the wound, 'name: xa, ya, za, xb, yb, zb; "
+                      "...' (reference positions); the gap of a pair is its opening along the "
+                      "line from a to b (negative: overlap). The first pair decides closure. "
+                      "Empty: no closure measurement. Unit: m.");
+    prm.declare_entry("Closure gap", "1e-4", Patterns::Double(0),
+                      "The wound counts as closed when the first pair's gap falls below this. "
+                      "Unit: m. Range: > 0.");
+    prm.declare_entry("Tie off", "true", Patterns::Bool(),
+                      "At closure every prescribed motion (needle, graspers) stops: the "
+                      "suture's ends are held where they are. Unit: none.");
+    prm.leave_subsection();
+  }
+
+  void
+  ClosureParameters::parse(ParameterHandler &prm, const ParameterScope &root)
+  {
+    prm.enter_subsection("Closure");
+    const ParameterScope scope = root.subsection("Closure");
+    pairs.clear();
+    for (const auto &item : Utilities::split_string_list(prm.get("Gap probes"), ';'))
+      {
+        const auto colon = item.find(':');
+        Pair       pair;
+        pair.name    = Utilities::trim(item.substr(0, colon));
+        const auto v = Utilities::string_to_double(Utilities::split_string_list(item.substr(colon + 1), ','));
+        pair.a       = {v[0], v[1], v[2]};
+        pair.b       = {v[3], v[4], v[5]};
+        scope.require((pair.b - pair.a).norm() > 0, "Gap probes", "pair '" + pair.name + "' has a = b");
+        scope.require(std::none_of(pairs.begin(), pairs.end(), [&](const Pair &p) { return p.name == pair.name; }),
+                      "Gap probes", "the name '" + pair.name + "' appears twice");
+        pairs.push_back(pair);
+      }
+    closure_gap = prm.get_double("Closure gap");
+    tie_off     = prm.get_bool("Tie off");
+    scope.require(closure_gap > 0, "Closure gap", "must be > 0 m");
+    prm.leave_subsection();
+  }
+
+  ClosureMonitor::ClosureMonitor(const ClosureParameters &parameters)
+    : prm(parameters)
+  {}
+
+  double
+  ClosureMonitor::gap(const std::size_t k, const Eigen::Vector3d &xa, const Eigen::Vector3d &xb) const
+  {
+    const auto &p = prm.pairs[k];
+    return (xb - xa).dot((p.b - p.a).normalized());
+  }
+
+  void
+  ClosureMonitor::update(const double t, const std::vector<double> &gaps, const double tension)
+  {
+    if (initial.empty())
+      {
+        initial = gaps;
+        least   = gaps;
+      }
+    last = gaps;
+    for (std::size_t k = 0; k < gaps.size(); ++k)
+      least[k] = std::min(least[k], gaps[k]);
+    if (!closed() && !gaps.empty() && gaps.front() < prm.closure_gap)
+      {
+        closure_time    = t;
+        closure_tension = tension;
+        if (prm.tie_off)
+          tie_time = t;
+      }
+  }
+
+  void
+  ClosureMonitor::write(nlohmann::json &metrics) const
+  {
+    if (initial.empty())
+      return;
+    metrics["initial_gap"]     = initial.front();
+    metrics["final_gap"]       = last.front();
+    metrics["closure_gap"]     = prm.closure_gap;
+    metrics["closure_tension"] = closed() ? nlohmann::json(closure_tension) : nlohmann::json(nullptr);
+    metrics["closure_time"]    = closed() ? nlohmann::json(closure_time) : nlohmann::json(nullptr);
+    for (std::size_t k = 0; k < prm.pairs.size(); ++k)
+      metrics["gaps"][prm.pairs[k].name] = {{"initial", initial[k]}, {"final", last[k]}, {"least", least[k]}};
+  }
+} // namespace suturesim::scene
