@@ -43,6 +43,16 @@ def column(header, data, name):
     return None
 
 
+def save(fig, folder, stem):
+    """Writes fig as <folder>/<stem>.png and .pdf and closes it."""
+    fig.tight_layout()
+    for suffix in ("png", "pdf"):
+        out = folder / f"{stem}.{suffix}"
+        fig.savefig(out, dpi=150)
+        print(out)
+    plt.close(fig)
+
+
 def plot_columns(run, figure):
     header, data = read(run)
     time = [r[0] for r in data]
@@ -101,12 +111,7 @@ def plot_needle(runs):
     ax_pull.grid(alpha=0.3)
     if ax_pull.lines:
         ax_pull.legend(fontsize="small")
-    fig.tight_layout()
-    for suffix in ("png", "pdf"):
-        out = runs[0] / f"needle_forces.{suffix}"
-        fig.savefig(out, dpi=150)
-        print(out)
-    plt.close(fig)
+    save(fig, runs[0], "needle_forces")
 
 
 def main():

@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from plot_forces import column, read  # noqa: E402
+from plot_forces import column, read, save  # noqa: E402
 
 
 def magnitude(header, data, base):
@@ -74,12 +74,7 @@ def main():
         ax.grid(alpha=0.3)
         if ax.lines:
             ax.legend(fontsize="small")
-    fig.tight_layout()
-    for suffix in ("png", "pdf"):
-        out = runs[0] / f"stitch_curves.{suffix}"
-        fig.savefig(out, dpi=150)
-        print(out)
-    plt.close(fig)
+    save(fig, runs[0], "stitch_curves")
 
 
 if __name__ == "__main__":

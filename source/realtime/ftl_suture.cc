@@ -173,7 +173,8 @@ namespace suturesim::realtime
               const std::int64_t k = anchors[a].k;
               const std::int64_t n = std::clamp<std::int64_t>(side < 0 ? k - 1 : k + 2, 0, s.suture.size() - 1);
               Vector3d           d = x.col(s.suture.begin + n) - anchors[a].position;
-              if ((side < 0 && other.k == k) || (side > 0 && other.k == k) || !(d.norm() > 1e-3 * link))
+              // (or at the neighbouring constraint when it shares the segment)
+              if (other.k == k || !(d.norm() > 1e-3 * link))
                 d = other.position - anchors[a].position;
               const double l = d.norm();
               return l > 0 ? Vector3d(d / l) : Vector3d::Zero();

@@ -87,18 +87,26 @@ namespace suturesim::realtime
   World::add_tool(const std::string &name, const std::vector<std::uint32_t> &nodes,
                   const ToolPose &initial)
   {
-    Tool tool{name, nodes, Matrix3Xd(3, nodes.size()), initial};
-    const Eigen::Matrix3d R = initial.orientation.toRotationMatrix();
+    tools.push_back(Tool{name, {}, Matrix3Xd(), initial});
+    hold(tools.back(), nodes, initial);
+    return tools.size() - 1;
+  }
+
+  void
+  World::hold(Tool &tool, const std::vector<std::uint32_t> &nodes, const ToolPose &pose)
+  {
+    const Eigen::Matrix3d R = pose.orientation.toRotationMatrix();
+    tool.nodes              = nodes;
+    tool.offsets.resize(3, nodes.size());
+    tool.pose = pose;
     for (std::size_t k = 0; k < nodes.size(); ++k)
       {
         if (nodes[k] >= sys.nodes.size())
-          throw std::invalid_argument("tool '" + name + "' holds a node that does not exist");
-        tool.offsets.col(k) = R.transpose() * (sys.nodes.x.col(nodes[k]) - initial.position);
+          throw std::invalid_argument("tool '" + tool.name + "' holds a node that does not exist");
+        tool.offsets.col(k) = R.transpose() * (sys.nodes.x.col(nodes[k]) - pose.position);
         sys.nodes.set_held(nodes[k], Nodes::boundary, true);
         sys.nodes.target.col(nodes[k]) = sys.nodes.x.col(nodes[k]);
       }
-    tools.push_back(std::move(tool));
-    return tools.size() - 1;
   }
 
   void
@@ -106,21 +114,9 @@ namespace suturesim::realtime
   {
     if (tool >= tools.size())
       throw std::invalid_argument("realtime world: grasp by a tool that does not exist");
-    Tool                 &g = tools[tool];
-    const Eigen::Matrix3d R = pose.orientation.toRotationMatrix();
-    g.nodes                 = nodes;
-    g.offsets.resize(3, nodes.size());
-    g.pose = pose;
+    hold(tools[tool], nodes, pose);
     if (initialized)
       start_poses[tool] = pose;
-    for (std::size_t k = 0; k < nodes.size(); ++k)
-      {
-        if (nodes[k] >= sys.nodes.size())
-          throw std::invalid_argument("tool '" + g.name + "' grasps a node that does not exist");
-        g.offsets.col(k) = R.transpose() * (sys.nodes.x.col(nodes[k]) - pose.position);
-        sys.nodes.set_held(nodes[k], Nodes::boundary, true);
-        sys.nodes.target.col(nodes[k]) = sys.nodes.x.col(nodes[k]);
-      }
     for (const auto i : nodes)
       tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
   }

@@ -211,18 +211,27 @@ namespace suturesim::scene
     return {v[0], v[1], v[2]};
   }
 
+  std::vector<std::pair<std::string, std::vector<double>>>
+  get_named_values(const dealii::ParameterHandler &prm, const std::string &key)
+  {
+    std::vector<std::pair<std::string, std::vector<double>>> entries;
+    for (const auto &item : dealii::Utilities::split_string_list(prm.get(key), ';'))
+      {
+        const auto colon = item.find(':');
+        entries.emplace_back(dealii::Utilities::trim(item.substr(0, colon)),
+                             dealii::Utilities::string_to_double(
+                               dealii::Utilities::split_string_list(item.substr(colon + 1), ',')));
+      }
+    return entries;
+  }
+
   std::map<double, std::vector<double>>
   get_keyframes(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope)
   {
     std::map<double, std::vector<double>> keyframes;
-    for (const auto &item : dealii::Utilities::split_string_list(prm.get(key), ';'))
-      {
-        const auto   colon = item.find(':');
-        const double t     = dealii::Utilities::string_to_double(item.substr(0, colon));
-        const auto   v =
-          dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(item.substr(colon + 1), ','));
-        scope.require(keyframes.emplace(t, v).second, key, "time " + item.substr(0, colon) + " appears twice");
-      }
+    for (const auto &[time, v] : get_named_values(prm, key))
+      scope.require(keyframes.emplace(dealii::Utilities::string_to_double(time), v).second, key,
+                    "time " + time + " appears twice");
     return keyframes;
   }
 } // namespace suturesim::scene

@@ -1,7 +1,5 @@
 #include <suturesim/scene/wound_closure.h>
 
-#include <deal.II/base/utilities.h>
-
 #include <algorithm>
 
 namespace suturesim::scene
@@ -34,13 +32,11 @@ namespace suturesim::scene
     prm.enter_subsection("Closure");
     const ParameterScope scope = root.subsection("Closure");
     pairs.clear();
-    for (const auto &item : Utilities::split_string_list(prm.get("Gap probes"), ';'))
+    for (const auto &[name, v] : get_named_values(prm, "Gap probes"))
       {
-        const auto colon = item.find(':');
-        Pair       pair;
-        pair.name    = Utilities::trim(item.substr(0, colon));
-        const auto v = Utilities::string_to_double(Utilities::split_string_list(item.substr(colon + 1), ','));
-        pair.a       = {v[0], v[1], v[2]};
+        Pair pair;
+        pair.name = name;
+        pair.a    = {v[0], v[1], v[2]};
         pair.b       = {v[3], v[4], v[5]};
         scope.require((pair.b - pair.a).norm() > 0, "Gap probes", "pair '" + pair.name + "' has a = b");
         scope.require(std::none_of(pairs.begin(), pairs.end(), [&](const Pair &p) { return p.name == pair.name; }),

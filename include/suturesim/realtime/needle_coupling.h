@@ -211,8 +211,8 @@ namespace suturesim::realtime
       // swage): a point there is still tied to the needle, node-path
       return soft_model != nullptr && p.at.on_suture && p.at.k >= 1;
     }
-    /// The soft constraints at @p x and their loads into the work lists; returns, per
-    /// pierce point, its index there (or −1).
+    /// The soft constraints at @p x and their loads into the work lists (soft_work,
+    /// load_work); soft_index maps each pierce point to its entry there (−1: none).
     void
     soft_loads(const Matrix3Xd &x) const;
     /// The thread's point and tangent at coordinate @p zeta (the needle's arc up to L,

@@ -238,6 +238,10 @@ namespace suturesim::realtime
       Eigen::Vector4d              weights;
     };
 
+    /// Holds @p nodes by @p tool at their present offsets from @p pose.
+    void
+    hold(Tool &tool, const std::vector<std::uint32_t> &nodes, const ToolPose &pose);
+
     /// Forces the bodies exert on every node at the current state (nodes.force), from
     /// the interactions from @p first_interaction on (0: all; nodes untouched by the
     /// skipped ones get their exact force).

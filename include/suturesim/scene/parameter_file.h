@@ -113,6 +113,10 @@ namespace suturesim::scene
   Eigen::Vector3d
   get_vector(const dealii::ParameterHandler &prm, const std::string &key);
 
+  /// Reads a map entry @p key, "name: v, v, ...; name: ...", in its order; names trimmed.
+  std::vector<std::pair<std::string, std::vector<double>>>
+  get_named_values(const dealii::ParameterHandler &prm, const std::string &key);
+
   /// Reads the keyframe entry @p key, "t: v, v, ...; t: ...", into time → values; a time
   /// given twice fails through @p scope. Value counts are the caller's to check.
   std::map<double, std::vector<double>>
