@@ -13,6 +13,9 @@
 // top edges of the wound faces become x = -/+ (Wg/2) cos(pi y / Li), meeting at the
 // incision's ends; the faces are ruled down to the straight crack front at z = H - Di,
 // so the gap narrows linearly with depth. The pad is stress-free in this state.
+//
+// layered = 1 tags the blocks below the incision's floor (z < H - Di) "hypodermis" and
+// those above "dermis": a full-thickness skin wound, the cut through the dermis, over fat.
 
 DefineConstant[
   Lx = {0.040,  Name "Parameters/Lx pad length in x [m]"},
@@ -21,6 +24,7 @@ DefineConstant[
   Li = {0.020,  Name "Parameters/Li incision length in y [m]"},
   Di = {0.003,  Name "Parameters/Di incision depth from top [m]"},
   Wg = {0,      Name "Parameters/Wg wound gap at mid-incision top [m]"},
+  layered = {0, Choices {0, 1}, Name "Parameters/layered: hypodermis under the incision's floor (1)"},
   h  = {0.0015, Name "Parameters/h target element size [m]"},
   hexahedra = {1, Choices {0, 1}, Name "Parameters/hexahedra (1) or tetrahedra (0)"}
 ];
@@ -198,4 +202,10 @@ Physical Surface("wound_right", 4) = {450};
 Physical Surface("sides", 5) = {400, 403, 406, 409, 412, 415,
                                 402, 405, 408, 411, 414, 417,
                                 500, 501, 508, 509, 506, 507, 514, 515};
-Physical Volume("dermis", 1) = {700:711};
+If (layered)
+  // the incision cuts the dermis through (Di its thickness); below it, hypodermis
+  Physical Volume("dermis", 1) = {706:711};
+  Physical Volume("hypodermis", 2) = {700:705};
+Else
+  Physical Volume("dermis", 1) = {700:711};
+EndIf

@@ -40,6 +40,7 @@ namespace suturesim::realtime
       explicit FtlSuture(const ParameterValues &p)
         : quasi_spring(p.real("Quasi-spring constant"))
         , fall_speed(p.real("Gravity speed"))
+        , per_link(p.text("Tension law") == "per link")
       {}
 
       bool
@@ -181,21 +182,17 @@ namespace suturesim::realtime
             };
             if (a > 0)
               {
-                load.before    = section_tension(x, s.suture.begin, anchors[a - 1], anchors[a]);
+                load.before    = section_tension(x, s.suture.begin, anchors[a - 1], anchors[a],
+                                              &load.stiffness_before);
                 load.to_before = direction(anchors[a - 1], -1);
               }
             if (a + 1 < anchors.size())
               {
-                load.after    = section_tension(x, s.suture.begin, anchors[a], anchors[a + 1]);
+                load.after    = section_tension(x, s.suture.begin, anchors[a], anchors[a + 1],
+                                             &load.stiffness_after);
                 load.to_after = direction(anchors[a + 1], +1);
               }
           }
-      }
-
-      double
-      soft_constraint_stiffness() const override
-      {
-        return k_q;
       }
 
     protected:
@@ -279,9 +276,13 @@ namespace suturesim::realtime
       }
 
       /// Quasi-spring tension of the section between anchors a and b (a.s ≤ b.s): the
-      /// thread's length from a to b against the material length between them.
+      /// thread's length L from a to b against the material length m between them,
+      /// T = k_q (L − m) (seed 002) or T = k_q l (L − m)/max(m, l) (per link: the section's
+      /// n = m/l links in series, one link at least); @p stiffness gets −∂T/∂m, the slip
+      /// rule's rate.
       double
-      section_tension(const Matrix3Xd &x, const std::uint32_t first, const Anchor &a, const Anchor &b) const
+      section_tension(const Matrix3Xd &x, const std::uint32_t first, const Anchor &a, const Anchor &b,
+                      double *stiffness = nullptr) const
       {
         double L = 0;
         if (a.k == b.k)
@@ -292,7 +293,20 @@ namespace suturesim::realtime
             for (std::int64_t k = a.k + 1; k < b.k; ++k)
               L += (x.col(first + k + 1) - x.col(first + k)).norm();
           }
-        return std::max(0.0, k_q * (L - (b.s - a.s)));
+        const double m = b.s - a.s;
+        if (!per_link)
+          {
+            if (stiffness != nullptr)
+              *stiffness = k_q;
+            return std::max(0.0, k_q * (L - m));
+          }
+        // a section shorter than a link is as stiff as one link (k_q): the discretisation
+        // resolves no shorter spring, and a point just past a hard constraint (the swage)
+        // would otherwise see k_q l/m → ∞ and the explicit coupling blow up
+        const double m_eff = std::max(m, link);
+        if (stiffness != nullptr)
+          *stiffness = m < link ? k_q : k_q * link * std::max(L, m) / (m * m);
+        return std::max(0.0, k_q * link * (L - m) / m_eff);
       }
 
       /// Lays the segment of each soft constraint through its tissue point and makes its
@@ -334,6 +348,7 @@ namespace suturesim::realtime
       }
 
       double                     quasi_spring, fall_speed, k_q = 0;
+      bool                       per_link;
       Matrix3Xd                  p, forward, backward, placed;
       std::vector<std::uint32_t> constraints;
       std::vector<int>           placed_count;
@@ -350,6 +365,14 @@ namespace suturesim::realtime
          d.add_real("Quasi-spring constant", 0, 0, 1e12,
                     "k_q turning the stretch between constraints into tension; 0 = EA/l. "
                     "Unit: N/m. Range: >= 0.");
+         d.add_selection("Tension law", "per section", "per section|per link",
+                         "'per section': T = k_q (L - m) for each section between "
+                         "constraints, whatever its length (seed 002 sec. 3: 'a displacement "
+                         "of one end of a short suture creates the same amount of tension as "
+                         "[on] a long suture', so short stitches stretch); 'per link': "
+                         "T = k_q l (L - m)/max(m, l), the section's m/l links of stiffness "
+                         "k_q in series (an elastic thread of EA = k_q l; a section shorter "
+                         "than a link is one link). Unit: none.");
          d.add_real("Gravity speed", 0.02, 0, 100,
                     "Constant speed at which free nodes fall (seed 002); 0 = no gravity. "
                     "Unit: m/s. Range: >= 0.");

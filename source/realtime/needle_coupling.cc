@@ -343,9 +343,11 @@ namespace suturesim::realtime
             const double   D     = l.before - l.after;
             const double   N     = prm.friction.grip + (l.before * l.to_before + l.after * l.to_after).norm();
             const double   limit = prm.friction.mu * N;
-            const double   k_q   = soft_model->soft_constraint_stiffness();
-            const bool     slip  = std::abs(D) > limit && k_q > 0;
-            const double   ds    = slip ? std::copysign((std::abs(D) - limit) / (2 * k_q), D) : 0.0;
+            // sliding ds into the section before lowers its tension by k_b ds and raises
+            // the other's by k_a ds: the slip that leaves exactly μN between them
+            const double   rate  = l.stiffness_before + l.stiffness_after;
+            const bool     slip  = std::abs(D) > limit && rate > 0;
+            const double   ds    = slip ? std::copysign((std::abs(D) - limit) / rate, D) : 0.0;
             auto          &st    = states[k];
             st.slip_speed        = step > 0 ? ds / step : 0;
             st.slipping          = slip;

@@ -218,13 +218,22 @@ namespace suturesim::realtime
   add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
                      const std::vector<std::uint32_t> &node, const double E)
   {
-    // Σ_{T∋e} V_T per edge, in the order edges are first met (deterministic)
+    add_volume_springs(springs, mesh, node, std::vector<double>(mesh.tetrahedra.size(), E));
+  }
+
+  void
+  add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                     const std::vector<std::uint32_t> &node, const std::vector<double> &E)
+  {
+    if (E.size() != mesh.tetrahedra.size())
+      throw std::invalid_argument("add_volume_springs: one Young's modulus per tetrahedron");
+    // Σ_{T∋e} E_T V_T per edge, in the order edges are first met (deterministic)
     std::unordered_map<std::uint64_t, std::size_t> index;
     std::vector<std::pair<std::uint64_t, double>>  edges;
     for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
       {
         const auto  &v = mesh.tetrahedra[t];
-        const double V = mesh.volume(t);
+        const double V = E[t] * mesh.volume(t);
         for (unsigned a = 0; a < 4; ++a)
           for (unsigned b = a + 1; b < 4; ++b)
             {
@@ -234,11 +243,11 @@ namespace suturesim::realtime
               edges[it->second].second += V;
             }
       }
-    for (const auto &[key, volume] : edges)
+    for (const auto &[key, EV] : edges)
       {
         const std::uint32_t a = key >> 32, b = key & 0xffffffffu;
         const double        L = (mesh.vertices.col(a) - mesh.vertices.col(b)).norm();
-        springs.add(node[a], node[b], L, E * volume / (L * L));
+        springs.add(node[a], node[b], L, EV / (L * L));
       }
   }
 

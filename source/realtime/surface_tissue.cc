@@ -37,6 +37,9 @@ namespace suturesim::realtime
       add_body(System &s, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &surface,
                const TissueMaterial &m, bool) override
       {
+        if (!m.regions.empty())
+          throw ParameterError("Tissue model", "'surface' has no volume to layer: Tissue/Region "
+                                               "moduli needs Tissue model = volume");
         const Matrix3Xd &X = mesh.vertices;
         // nodal surface areas (a third of each triangle) and the body's volume
         std::vector<double> area(X.cols(), 0.0);

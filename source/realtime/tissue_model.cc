@@ -20,6 +20,20 @@ namespace suturesim::realtime
                "springs resist a lateral motion with. Unit: 1. Range: > 0.");
   }
 
+  double
+  TissueMaterial::youngs_modulus_of(const int tag) const
+  {
+    const auto r = regions.find(tag);
+    return r == regions.end() ? youngs_modulus : r->second.first;
+  }
+
+  double
+  TissueMaterial::bulk_modulus_of(const int tag) const
+  {
+    const auto r = regions.find(tag);
+    return r == regions.end() ? bulk_modulus() : r->second.first / (3 * (1 - 2 * r->second.second));
+  }
+
   void
   TissueModel::build(System &s, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &boundary,
                      const TissueMaterial &material, const bool position_based)

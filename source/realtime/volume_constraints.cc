@@ -13,10 +13,20 @@ namespace suturesim::realtime
   VolumeConstraints::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
                               const double K)
   {
-    if (!(K > 0))
-      throw std::invalid_argument("volume constraints with bulk stiffness <= 0");
+    add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), K));
+  }
+
+  void
+  VolumeConstraints::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
+                              const std::vector<double> &bulk)
+  {
+    if (bulk.size() != mesh.tetrahedra.size())
+      throw std::invalid_argument("volume constraints: one bulk stiffness per tetrahedron");
     for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
       {
+        const double K = bulk[t];
+        if (!(K > 0))
+          throw std::invalid_argument("volume constraints with bulk stiffness <= 0");
         const auto &v = mesh.tetrahedra[t];
         tets.push_back({node[v[0]], node[v[1]], node[v[2]], node[v[3]]});
         const double V0 = mesh.volume(t);

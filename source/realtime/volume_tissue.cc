@@ -41,12 +41,21 @@ namespace suturesim::realtime
         std::vector<std::uint32_t> node(node_of_vertex.begin(), node_of_vertex.end());
 
         auto springs = std::make_unique<SpringSet>("tissue springs");
-        add_volume_springs(*springs, mesh, node, m.youngs_modulus);
+        // per tetrahedron: E, and the bulk stiffness K − 2E/3 the springs lack
+        std::vector<double> E(mesh.tetrahedra.size()), bulk(mesh.tetrahedra.size());
+        bool                all_bulk = true;
+        for (std::size_t t = 0; t < E.size(); ++t)
+          {
+            const int tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
+            E[t]          = m.youngs_modulus_of(tag);
+            bulk[t]       = m.bulk_modulus_of(tag) - 2 * E[t] / 3;
+            all_bulk      = all_bulk && bulk[t] > 0;
+          }
+        add_volume_springs(*springs, mesh, node, E);
         springs->sort();
         s.interactions.push_back(std::move(springs));
 
-        const double bulk = m.bulk_modulus() - 2 * m.youngs_modulus / 3;
-        if ((volume_mode == "on" || (volume_mode == "auto" && position_based)) && bulk > 0)
+        if ((volume_mode == "on" || (volume_mode == "auto" && position_based)) && all_bulk)
           {
             auto volumes = std::make_unique<VolumeConstraints>();
             volumes->add_mesh(mesh, node, bulk);

@@ -105,7 +105,7 @@ namespace suturesim::scene
       const auto &points = needle.pierce_points();
       for (unsigned k = 0; k < np.recorded; ++k)
         if (k < points.size())
-          for (const double v : {points[k].slipping ? 2.0 : 1.0, points[k].zeta, points[k].slip_speed,
+          for (const double v : {points[k].slipping ? 2.0 : 1.0, points[k].anchor, points[k].slip_speed,
                                  points[k].normal, points[k].friction})
             row.push_back(v);
         else

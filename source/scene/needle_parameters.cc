@@ -208,7 +208,7 @@ namespace suturesim::scene
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(q + c + (q == "needle_force_" ? " [N]" : q == "needle_torque_" ? " [N*m]" : " [m]"));
     for (unsigned k = 0; k < recorded; ++k)
-      for (const std::string q : {"state [0:none|1:stick|2:slip]", "zeta [m]", "slip_velocity [m/s]",
+      for (const std::string q : {"state [0:none|1:stick|2:slip]", "anchor [m]", "slip_velocity [m/s]",
                                   "normal_force [N]", "friction_force [N]"})
         columns.push_back("pierce_" + std::to_string(k) + "_" + q);
   }

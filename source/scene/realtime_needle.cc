@@ -63,7 +63,7 @@ namespace suturesim::scene
           {
             const auto &p = points[k];
             row[c++]      = p.slipping ? 2 : 1;
-            row[c++]      = p.zeta;
+            row[c++]      = p.anchor; // its material point: the order holds on these
             row[c++]      = p.slip_speed;
             row[c++]      = p.normal;
             row[c++]      = p.friction;

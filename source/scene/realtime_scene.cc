@@ -8,6 +8,7 @@
 #include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_scene.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -277,6 +278,17 @@ namespace suturesim::scene
         setup.material.youngs_modulus = 9 * K * mu / (3 * K + mu);
         setup.material.poisson_ratio  = (3 * K - 2 * mu) / (2 * (3 * K + mu));
         setup.material.density        = in.material->density();
+        for (const auto &r : in.region_moduli)
+          {
+            const auto named = std::find_if(tissue_mesh.material_names.begin(), tissue_mesh.material_names.end(),
+                                            [&](const auto &m) { return m.second == r.name; });
+            if (named == tissue_mesh.material_names.end())
+              throw InputError(file.name() + ": Tissue/Region moduli: the mesh (" + in.mesh->file +
+                               ") has no physical volume '" + r.name + "'");
+            const double mu = r.shear_modulus, K = r.bulk_modulus;
+            setup.material.regions[named->first] = {9 * K * mu / (3 * K + mu),
+                                                    (3 * K - 2 * mu) / (2 * (3 * K + mu))};
+          }
         setup.mesh                    = &tissue_mesh;
         setup.tissue                  = std::move(tissue_model);
         setup.gravity                 = to_eigen(in.boundary_conditions->gravity);

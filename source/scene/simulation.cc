@@ -122,6 +122,8 @@ namespace suturesim::scene
     prm.enter_subsection("Tissue");
     const ParameterScope tissue = root.subsection("Tissue");
     tissue_parameters.parse(prm, tissue);
+    tissue.require(tissue_parameters.region_moduli.empty(), "Region moduli",
+                   "layered tissue is realtime only so far: use Model = realtime");
     prm.enter_subsection("Material");
     material.emplace(tissue::Material::parse_parameters(prm, tissue.subsection("Material")));
     prm.leave_subsection();
@@ -183,6 +185,7 @@ namespace suturesim::scene
         inputs.material            = &*material;
         inputs.boundary_conditions = &boundary_conditions;
         inputs.probes              = tissue_parameters.probes;
+        inputs.region_moduli       = tissue_parameters.region_moduli;
       }
     // The realtime step is 1/Rate; of Time only the end and the output interval apply.
     prm.enter_subsection("Time");

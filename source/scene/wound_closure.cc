@@ -20,6 +20,10 @@ namespace suturesim::scene
     prm.declare_entry("Closure gap", "1e-4", Patterns::Double(0),
                       "The wound counts as closed when the first pair's gap falls below this. "
                       "Unit: m. Range: > 0.");
+    prm.declare_entry("Start time", "0", Patterns::Double(0),
+                      "Closure is looked for from this time on (when the suture is drawn "
+                      "tight), not while the needle crossing the wound moves its edges. "
+                      "Unit: s. Range: >= 0.");
     prm.declare_entry("Tie off", "true", Patterns::Bool(),
                       "At closure every prescribed motion (needle, graspers) stops: the "
                       "suture's ends are held where they are. Unit: none.");
@@ -44,6 +48,7 @@ namespace suturesim::scene
         pairs.push_back(pair);
       }
     closure_gap = prm.get_double("Closure gap");
+    start_time  = prm.get_double("Start time");
     tie_off     = prm.get_bool("Tie off");
     scope.require(closure_gap > 0, "Closure gap", "must be > 0 m");
     prm.leave_subsection();
@@ -71,7 +76,7 @@ namespace suturesim::scene
     last = gaps;
     for (std::size_t k = 0; k < gaps.size(); ++k)
       least[k] = std::min(least[k], gaps[k]);
-    if (!closed() && !gaps.empty() && gaps.front() < prm.closure_gap)
+    if (!closed() && t >= prm.start_time && !gaps.empty() && gaps.front() < prm.closure_gap)
       {
         closure_time    = t;
         closure_tension = tension;

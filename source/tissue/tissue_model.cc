@@ -109,6 +109,15 @@ namespace suturesim::tissue
                       probe_pattern,
                       "Named points in the reference configuration whose displacement is "
                       "recorded, 'name: x, y, z; name: x, y, z'. Unit: m.");
+    prm.declare_entry("Region moduli",
+                      "",
+                      Patterns::Map(Patterns::Anything(), Patterns::List(Patterns::Double(0), 2, 2, ","),
+                                    0, Patterns::Map::max_int_value, ";", ":"),
+                      "Layers of other tissue: 'name: mu, K; ...', the gmsh physical volume "
+                      "'name' taking shear modulus mu and bulk modulus K in place of the "
+                      "Material's (e.g. hypodermis under dermis, Tran et al. 2007: mu = "
+                      "0.84e3, K = 36e3). Realtime path only for now. Unit: Pa. Range: "
+                      "0 < mu < 1.5 K.");
     prm.enter_subsection("Newton");
     NewtonParameters::declare(prm);
     prm.leave_subsection();
@@ -137,6 +146,16 @@ namespace suturesim::tissue
         for (const auto &[other, point] : probes)
           scope.require(other != name, "Probes", "probe '" + name + "' is named twice");
         probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
+      }
+
+    region_moduli.clear();
+    for (const auto &[name, v] : scene::get_named_values(prm, "Region moduli"))
+      {
+        scope.require(v[0] > 0 && v[1] > 0 && v[0] < 1.5 * v[1], "Region moduli",
+                      "region '" + name + "': needs 0 < mu < 1.5 K (Poisson's ratio in (0, 0.5))");
+        for (const auto &r : region_moduli)
+          scope.require(r.name != name, "Region moduli", "region '" + name + "' is named twice");
+        region_moduli.push_back({name, v[0], v[1]});
       }
 
     prm.enter_subsection("Newton");

@@ -110,6 +110,48 @@ TEST(RealtimeInteractions, VanGelderNetworkStoresTheDilatationEnergyOfBulkModulu
   EXPECT_NEAR(total, 0.5 * 9 * K * e * e * V, 1e-2 * 0.5 * 9 * K * e * e * V);
 }
 
+TEST(RealtimeInteractions, LayeredVanGelderNetworkSumsEachTetrahedronsOwnModulus)
+{
+  // Per-tetrahedron moduli (Tissue/Region moduli: dermis over hypodermis): each
+  // tetrahedron adds E_T V_T / L² to its edges, so under x = (1 + e) X the springs store
+  // 3 e² Σ_T E_T V_T (the identity above, tetrahedron by tetrahedron) and, with volume
+  // constraints of K_T − 2E_T/3, the continuum's ½ 9 e² Σ_T K_T V_T. A modulus contrast
+  // of 2600 (Tran et al. 2007: dermis 2.22 MPa, hypodermis 0.84 kPa shear moduli).
+  const auto mesh = test_support::box_mesh(0.03, 0.02, 0.01, 3, 2, 2);
+  std::vector<std::uint32_t> node(mesh.vertices.cols());
+  for (std::uint32_t v = 0; v < node.size(); ++v)
+    node[v] = v;
+  const double        e = 1e-3;
+  std::vector<double> E(mesh.tetrahedra.size()), bulk(mesh.tetrahedra.size());
+  double              EV = 0, KV = 0;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    {
+      double z = 0;
+      for (const auto v : mesh.tetrahedra[t])
+        z += mesh.vertices(2, v) / 4;
+      const bool   upper = z > 0.005;
+      const double K     = upper ? 29.6e6 : 36e3;
+      E[t]               = upper ? 6.5e6 : 2.5e3;
+      bulk[t]            = K - 2 * E[t] / 3;
+      EV += E[t] * mesh.volume(t);
+      KV += K * mesh.volume(t);
+    }
+  ASSERT_GT(EV, 0);
+  SpringSet springs("springs");
+  add_volume_springs(springs, mesh, node, E);
+  const Matrix3Xd x = (1 + e) * mesh.vertices;
+  EXPECT_NEAR(springs.energy(x), 3 * e * e * EV, 1e-12 * 3 * e * e * EV);
+  VolumeConstraints volumes;
+  volumes.add_mesh(mesh, node, bulk);
+  EXPECT_NEAR(springs.energy(x) + volumes.energy(x), 4.5 * e * e * KV, 1e-2 * 4.5 * e * e * KV);
+  // a uniform list is the single-modulus network, spring by spring
+  SpringSet uniform("uniform"), listed("listed");
+  add_volume_springs(uniform, mesh, node, 7e3);
+  add_volume_springs(listed, mesh, node, std::vector<double>(mesh.tetrahedra.size(), 7e3));
+  EXPECT_EQ(uniform.energy(x), listed.energy(x));
+  EXPECT_THROW(add_volume_springs(listed, mesh, node, std::vector<double>(3, 7e3)), std::invalid_argument);
+}
+
 TEST(RealtimeInteractions, MembraneRuleIsExactForEquilateralTrianglesAtPoissonOneThird)
 {
   // Plane-stress energy of a constant-strain triangle, ½ t A ε:C:ε with

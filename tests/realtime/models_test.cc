@@ -381,3 +381,66 @@ TEST(RealtimeModels, FollowTheLeaderSoftConstraintSplitsTheQuasiSpringTension)
   EXPECT_NEAR(forces[0].force.norm(), T_before, 1e-9 * T_before);
   EXPECT_NEAR(forces[1].force.norm(), T_after, 1e-9 * T_after);
 }
+
+TEST(RealtimeModels, FollowTheLeaderPerLinkTensionIsTheStrainOfLinksInSeries)
+{
+  // "Tension law = per link": a section of m/l links of stiffness k_q in series carries
+  // T = k_q l (L − m)/m, so equal strains give equal tensions whatever the lengths (seed
+  // 002's per-section law gives equal tensions for equal elongations instead, which is
+  // why its short stitches stretch, seed 002 sec. 6). The slip rule's rates −∂T/∂m are
+  // checked against central differences of the tensions in the constraint's coordinate.
+  for (const std::string law : {"per link", "per section"})
+    {
+      const double k_q = 1000;
+      WorldSetup   w;
+      w.suture = test_support::make_model<SutureModel::Registry>(
+        "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", std::to_string(k_q)}, {"Tension law", law}});
+      w.suture_geometry = test_support::straight_suture(20, 0.02, Vector3d::Zero(), Vector3d::UnitX());
+      w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
+      World       world(std::move(w));
+      const auto &s = world.system();
+      world.add_tool("left", {s.suture.begin}, ToolPose());
+      ToolPose right;
+      right.position = s.nodes.x.col(s.suture.end - 1);
+      world.add_tool("right", {s.suture.end - 1}, right);
+      world.initialize();
+      const double   s_c = 0.0075, l = world.suture()->link_length(), total = 0.02;
+      const Vector3d p(0.0075, 0.002, 0);
+      auto          *model = const_cast<SutureModel *>(world.suture());
+      model->set_soft_constraints({{s_c, p}});
+      world.step({ToolPose(), right});
+      const auto x = [&](const int i) { return Vector3d(s.nodes.x.col(s.suture.begin + i)); };
+
+      std::vector<SoftConstraintLoad> loads;
+      model->soft_constraint_loads(s, s.nodes.x, {{s_c, p}}, loads);
+      double before = (p - x(7)).norm(), after = (x(8) - p).norm();
+      for (int i = 0; i < 7; ++i)
+        before += (x(i + 1) - x(i)).norm();
+      for (int i = 8; i < 20; ++i)
+        after += (x(i + 1) - x(i)).norm();
+      const double m_b = s_c, m_a = total - s_c;
+      const double T_b = law == "per link" ? k_q * l * (before - m_b) / m_b : k_q * (before - m_b);
+      const double T_a = law == "per link" ? k_q * l * (after - m_a) / m_a : k_q * (after - m_a);
+      ASSERT_GT(T_b, 0);
+      EXPECT_NEAR(loads[0].before, T_b, 1e-9 * T_b) << law;
+      EXPECT_NEAR(loads[0].after, T_a, 1e-9 * T_a) << law;
+
+      // rates: the same node positions, the constraint moved by ±h along the thread
+      const double                    h = 1e-7;
+      std::vector<SoftConstraintLoad> plus, minus;
+      model->soft_constraint_loads(s, s.nodes.x, {{s_c + h, p}}, plus);
+      model->soft_constraint_loads(s, s.nodes.x, {{s_c - h, p}}, minus);
+      const double dTb = (plus[0].before - minus[0].before) / (2 * h);
+      const double dTa = (plus[0].after - minus[0].after) / (2 * h);
+      std::printf("[ FTL %s ] T = %.5f / %.5f N; -dT/dm = %.6g / %.6g N/m, differences %.6g / %.6g\n",
+                  law.c_str(), loads[0].before, loads[0].after, loads[0].stiffness_before,
+                  loads[0].stiffness_after, -dTb, dTa);
+      // sliding the point towards the last node adds material to the section before
+      EXPECT_NEAR(loads[0].stiffness_before, -dTb, 1e-5 * loads[0].stiffness_before) << law;
+      EXPECT_NEAR(loads[0].stiffness_after, dTa, 1e-5 * loads[0].stiffness_after) << law;
+      if (law == "per section")
+        EXPECT_EQ(loads[0].stiffness_before, k_q);
+      else // the shorter section is the stiffer: k_q l L/m² each
+        EXPECT_GT(loads[0].stiffness_before, loads[0].stiffness_after);
+    }
+}

@@ -36,9 +36,10 @@
  * slides through the hole when the tension difference D = T₋ − T₊ exceeds the friction
  * μN, the normal force being the grip plus the resultant of the two tensions,
  * N = N₀ + |T₋ e₋ + T₊ e₊| (the wrap: zero on a straight pass, 2T sin(θ/2) at a bend of
- * θ): Δs = sign(D) (|D| − μN) / (2 k_q), the slip that brings D back to the limit since
- * each unit slid moves k_q of tension from one section to the other. This is seed 002
- * eq. (3)'s first term with a = 1/(2 k_q) and a Coulomb threshold in place of its
+ * θ): Δs = sign(D) (|D| − μN) / (k₋ + k₊), the slip that brings D back to the limit,
+ * k± = −∂T±/∂(material length) of each section (SoftConstraintLoad; 2 k_q for seed 002's
+ * tension law). This is seed 002
+ * eq. (3)'s first term with a = 1/(k₋ + k₊) and a Coulomb threshold in place of its
  * constant friction; its second term (the mesh force along the thread) is left out: the
  * quasi-static tissue point is in balance with the tensions it feels.
  */

@@ -123,8 +123,15 @@ namespace suturesim::realtime
     double              prepared_dt = 0;
   };
 
-  /// One spring per tetrahedron edge, k from Van Gelder's rule (above) with c = E.
-  /// @p node maps mesh vertices to system nodes.
+  /// One spring per tetrahedron edge, k from Van Gelder's rule (above) with c = E:
+  /// k_e = Σ_{T∋e} E_T V_T / L_e², so a tetrahedron contributes its own modulus to each
+  /// of its edges (layers of different tissue share the edges on their interface).
+  /// @p node maps mesh vertices to system nodes; @p youngs_modulus has one E (Pa) per
+  /// tetrahedron.
+  void
+  add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                     const std::vector<std::uint32_t> &node, const std::vector<double> &youngs_modulus);
+  /// The same with one E for every tetrahedron.
   void
   add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
                      const std::vector<std::uint32_t> &node, double youngs_modulus);

@@ -43,11 +43,13 @@ namespace suturesim::realtime
   };
 
   /// What the suture does at a soft constraint: the quasi-spring tension of the section
-  /// on each side and the direction in which it pulls the tissue point.
+  /// on each side, the direction in which it pulls the tissue point, and how fast each
+  /// tension falls per unit of material slid into its section (the slip rule needs it).
   struct SoftConstraintLoad
   {
     double   before = 0, after = 0; ///< towards the first / the last node, N
     Vector3d to_before = Vector3d::Zero(), to_after = Vector3d::Zero(); ///< unit
+    double   stiffness_before = 0, stiffness_after = 0; ///< −∂T/∂(material length), N/m
   };
 
   class SutureModel
@@ -100,13 +102,6 @@ namespace suturesim::realtime
     soft_constraint_loads(const System &, const Matrix3Xd &, const std::vector<SoftConstraint> &,
                           std::vector<SoftConstraintLoad> &) const
     {}
-
-    /// The change of a section's tension per unit of material slid into it, N/m.
-    virtual double
-    soft_constraint_stiffness() const
-    {
-      return 0;
-    }
 
     /// Axial force of each segment (N) at the current state, for output.
     virtual void

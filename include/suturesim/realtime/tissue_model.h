@@ -18,22 +18,32 @@
 #include <suturesim/realtime/model_parameters.h>
 #include <suturesim/realtime/system.h>
 
+#include <map>
 #include <vector>
 
 namespace suturesim::realtime
 {
-  /// Isotropic elastic constants of the tissue (from the scene's Tissue/Material).
+  /// Isotropic elastic constants of the tissue (from the scene's Tissue/Material and
+  /// Tissue/Region moduli).
   struct TissueMaterial
   {
     double youngs_modulus = 0; ///< E, Pa
     double poisson_ratio  = 0; ///< ν
     double density        = 0; ///< ρ, kg/m³
+    /// Tetrahedra tagged with these gmsh physical volumes take their own (E, ν); the
+    /// others take the values above (a layered tissue: dermis over hypodermis).
+    std::map<int, std::pair<double, double>> regions;
 
     double
     bulk_modulus() const
     {
       return youngs_modulus / (3 * (1 - 2 * poisson_ratio));
     }
+    /// E (Pa) and K (Pa) of a tetrahedron tagged @p tag.
+    double
+    youngs_modulus_of(int tag) const;
+    double
+    bulk_modulus_of(int tag) const;
   };
 
   class TissueModel

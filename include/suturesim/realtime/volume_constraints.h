@@ -32,10 +32,13 @@ namespace suturesim::realtime
     }
 
     /// One constraint per tetrahedron (@p node maps mesh vertices to system nodes),
-    /// bulk stiffness @p bulk_modulus (Pa).
+    /// bulk stiffness @p bulk_modulus (Pa): one value for all, or one per tetrahedron.
     void
     add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
              double bulk_modulus);
+    void
+    add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
+             const std::vector<double> &bulk_modulus);
 
     double
     energy(const Matrix3Xd &x) const override;

@@ -53,6 +53,7 @@ namespace suturesim::scene
     const tissue::Material                           *material = nullptr;
     tissue::BoundaryConditions                       *boundary_conditions = nullptr;
     std::vector<std::pair<std::string, dealii::Point<3>>> probes;
+    std::vector<tissue::TissueParameters::RegionModuli> region_moduli;
     const rod::RodParameters                         *rod = nullptr;
     const NeedleParameters                           *needle = nullptr; ///< nullptr or shape none: no needle
     const ClosureParameters                          *closure = nullptr; ///< nullptr: no closure measurement

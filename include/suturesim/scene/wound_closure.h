@@ -8,6 +8,8 @@
  * "Closure gap" the wound counts as closed, the suture tension then is the closure
  * tension, and with "Tie off" every prescribed motion stops there — both suture ends
  * are fixed where they are, the tie-off of an interrupted stitch until knots exist.
+ * Closure counts from "Start time" on: the needle crossing the wound pushes its edges
+ * about, and a gap that dips then is not a closure by the suture.
  * Both model paths read the same struct.
  */
 
@@ -34,6 +36,7 @@ namespace suturesim::scene
     };
     std::vector<Pair> pairs;
     double            closure_gap = 1e-4; ///< m
+    double            start_time  = 0;    ///< s
     bool              tie_off     = true;
 
     bool

@@ -71,8 +71,16 @@ namespace suturesim::tissue
     NewtonParameters newton;
     LinearSolver::Parameters linear;
     std::vector<std::pair<std::string, dealii::Point<3>>> probes;
+    /// A region (gmsh physical volume, by name) with its own shear and bulk moduli.
+    struct RegionModuli
+    {
+      std::string name;
+      double      shear_modulus = 0, bulk_modulus = 0; ///< Pa
+    };
+    std::vector<RegionModuli> region_moduli;
 
-    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes" and the
+    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes", "Region
+    /// moduli" and the
     /// subsections "Newton" and "Linear solver" into the current subsection.
     static void
     declare(dealii::ParameterHandler &prm);
