@@ -77,19 +77,12 @@ TEST(RealtimeModels, FollowTheLeaderKeepsEveryLinkAtItsLength)
 
 TEST(RealtimeModels, FollowTheLeaderTensionIsTheQuasiSpringFormula)
 {
-  const double k_q = 250;
-  WorldSetup   w;
-  w.suture = test_support::make_model<SutureModel::Registry>(
-    "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", std::to_string(k_q)}});
-  w.suture_geometry = test_support::straight_suture(20, 0.02, Vector3d::Zero(), Vector3d::UnitX());
-  w.integrator      = test_support::make_model<Integrator::Registry>("xpbd");
-  World       world(std::move(w));
-  const auto &s = world.system();
-  world.add_tool("left", {s.suture.begin}, ToolPose());
-  ToolPose right;
-  right.position = s.nodes.x.col(s.suture.end - 1);
-  world.add_tool("right", {s.suture.end - 1}, right);
-  world.initialize();
+  const double k_q   = 250;
+  auto         owner = test_support::held_ftl_suture("xpbd", {{"Quasi-spring constant", std::to_string(k_q)}});
+  World       &world = *owner;
+  const auto  &s     = world.system();
+  ToolPose     right;
+  right.position = Vector3d(0.02, 0, 0);
 
   const double n_links = 20, l = world.suture()->link_length();
   const auto   length  = [&] {
@@ -330,19 +323,12 @@ TEST(RealtimeModels, FollowTheLeaderSoftConstraintSplitsTheQuasiSpringTension)
   // held at both ends and pulled 2 mm aside there (a pierced tissue point). The segment
   // holding s is laid through the point, and each side's tension is k_q times the
   // thread's length from constraint to constraint minus the material length between them
-  const double k_q = 1000;
-  WorldSetup   w;
-  w.suture = test_support::make_model<SutureModel::Registry>(
-    "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", std::to_string(k_q)}});
-  w.suture_geometry = test_support::straight_suture(20, 0.02, Vector3d::Zero(), Vector3d::UnitX());
-  w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
-  World       world(std::move(w));
-  const auto &s = world.system();
-  world.add_tool("left", {s.suture.begin}, ToolPose());
-  ToolPose right;
-  right.position = s.nodes.x.col(s.suture.end - 1);
-  world.add_tool("right", {s.suture.end - 1}, right);
-  world.initialize();
+  const double k_q   = 1000;
+  auto         owner = test_support::held_ftl_suture("quasi-static", {{"Quasi-spring constant", std::to_string(k_q)}});
+  World       &world = *owner;
+  const auto  &s     = world.system();
+  ToolPose     right;
+  right.position = Vector3d(0.02, 0, 0);
   ASSERT_TRUE(world.suture()->takes_soft_constraints());
 
   const double                s_c = 0.0075, l = world.suture()->link_length();
@@ -391,19 +377,13 @@ TEST(RealtimeModels, FollowTheLeaderPerLinkTensionIsTheStrainOfLinksInSeries)
   // checked against central differences of the tensions in the constraint's coordinate.
   for (const std::string law : {"per link", "per section"})
     {
-      const double k_q = 1000;
-      WorldSetup   w;
-      w.suture = test_support::make_model<SutureModel::Registry>(
-        "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", std::to_string(k_q)}, {"Tension law", law}});
-      w.suture_geometry = test_support::straight_suture(20, 0.02, Vector3d::Zero(), Vector3d::UnitX());
-      w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
-      World       world(std::move(w));
-      const auto &s = world.system();
-      world.add_tool("left", {s.suture.begin}, ToolPose());
-      ToolPose right;
-      right.position = s.nodes.x.col(s.suture.end - 1);
-      world.add_tool("right", {s.suture.end - 1}, right);
-      world.initialize();
+      const double k_q   = 1000;
+      auto         owner = test_support::held_ftl_suture(
+        "quasi-static", {{"Quasi-spring constant", std::to_string(k_q)}, {"Tension law", law}});
+      World       &world = *owner;
+      const auto  &s     = world.system();
+      ToolPose     right;
+      right.position = Vector3d(0.02, 0, 0);
       const double   s_c = 0.0075, l = world.suture()->link_length(), total = 0.02;
       const Vector3d p(0.0075, 0.002, 0);
       auto          *model = const_cast<SutureModel *>(world.suture());

@@ -4,6 +4,7 @@
 #include <suturesim/realtime/world.h>
 
 #include <map>
+#include <memory>
 #include <string>
 
 namespace suturesim::test_support
@@ -52,5 +53,25 @@ namespace suturesim::test_support
     g.EI      = EI;
     g.density = density;
     return g;
+  }
+
+  /// A 20 mm FTL suture of 20 links along x, held by the tools "left" (at the origin)
+  /// and "right" (at x = 20 mm), initialised; @p ftl overrides its parameters (gravity off).
+  inline std::unique_ptr<realtime::World>
+  held_ftl_suture(const std::string &integrator, std::map<std::string, std::string> ftl)
+  {
+    ftl.emplace("Gravity speed", "0");
+    realtime::WorldSetup w;
+    w.suture          = make_model<realtime::SutureModel::Registry>("ftl", ftl);
+    w.suture_geometry = straight_suture(20, 0.02, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
+    w.integrator      = make_model<realtime::Integrator::Registry>(integrator);
+    auto        world = std::make_unique<realtime::World>(std::move(w));
+    const auto &s     = world->system();
+    world->add_tool("left", {s.suture.begin}, realtime::ToolPose());
+    realtime::ToolPose right;
+    right.position = s.nodes.x.col(s.suture.end - 1);
+    world->add_tool("right", {s.suture.end - 1}, right);
+    world->initialize();
+    return world;
   }
 } // namespace suturesim::test_support
