@@ -218,6 +218,21 @@ namespace suturesim::rod
         s.r.segment<3>(6 * i) -= force[i];
         s.r.segment<3>(6 * i + 3) -= moment[i];
       }
+    if (element_terms && element_list)
+      for (const std::size_t k : *element_list)
+        {
+          Vec12 r = Vec12::Zero();
+          Mat12 J = Mat12::Zero();
+          (*element_terms)(k, r, J);
+          s.r.segment<12>(6 * k) += r;
+          if (with_jacobian)
+            {
+              s.diag[k] += J.topLeftCorner<6, 6>();
+              s.diag[k + 1] += J.bottomRightCorner<6, 6>();
+              s.upper[k] += J.topRightCorner<6, 6>();
+              s.lower[k] += J.bottomLeftCorner<6, 6>();
+            }
+        }
     if (extra)
       for (std::size_t i = 0; i < n; ++i)
         {

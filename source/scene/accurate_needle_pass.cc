@@ -1,11 +1,15 @@
 #include <suturesim/core/error.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/io/polyline_writer.h>
 #include <suturesim/scene/accurate_needle_pass.h>
 
 #include <deal.II/distributed/tria.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <iomanip>
+#include <limits>
+#include <optional>
 #include <sstream>
 
 namespace suturesim::scene
@@ -39,6 +43,67 @@ namespace suturesim::scene
     const tools::Trajectory   path       = np.trajectory();
     const double              pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;
 
+    // the suture: straight from the swage along the needle's trailing direction, its
+    // first node clamped to the swage's frame (which turns with the needle)
+    std::optional<rod::RodModel> suture;
+    const tools::Pose            pose0 = path.pose(0);
+    rod::Quat                    frame0;
+    bool                         grasped = false;
+    rod::Vec3                    grasped_at;
+    if (in.suture)
+      {
+        rod::RodParameters rp = *in.suture;
+        rp.centreline         = "straight";
+        rp.start              = geometry.swage(pose0);
+        rp.direction          = -geometry.tangent(pose0, geometry.length());
+        suture.emplace(rp.create_model());
+        suture->constrain(0, {{true, true, true, true, true, true}});
+        if (in.suture->last_end.grasp_time > 0)
+          suture->constrain(suture->n_nodes() - 1, {{false, false, false, false, false, false}});
+        frame0 = suture->rotations()[0];
+        std::vector<double> lengths;
+        for (const auto &r : suture->references())
+          lengths.push_back(r.length);
+        needle.set_thread(&suture->positions(), lengths);
+      }
+    // moves the suture's held nodes to time t: the swage, and the far end once grasped
+    // (where it was then, displaced by its keyframes, as in the realtime path)
+    const auto hold_suture = [&](const double t) {
+      const tools::Pose pose = path.pose(t);
+      suture->set_node(0, geometry.swage(pose), pose.orientation * pose0.orientation.inverse() * frame0);
+      const auto       &end  = in.suture->last_end;
+      const std::size_t last = suture->n_nodes() - 1;
+      if (end.type == "free" || t < end.grasp_time)
+        return;
+      if (!grasped)
+        {
+          grasped    = true;
+          grasped_at = suture->positions()[last];
+          const bool r = end.fixes_rotation();
+          suture->constrain(last, {{true, true, true, r, r, r}});
+        }
+      suture->set_node(last, grasped_at + end.motion(std::max(t, end.grasp_time)).first, suture->rotations()[last]);
+    };
+    // The suture's Newton solve leaves the turn of the element's tangent out of the
+    // pierce terms' Jacobian, so it converges linearly once pierced: it stops at a
+    // residual that moves the nodes on the pierce springs by a hundredth of the coupling
+    // tolerance.
+    rod::NewtonParameters suture_newton;
+    if (in.suture)
+      {
+        suture_newton                = in.suture->newton;
+        suture_newton.absolute_floor = std::max(suture_newton.absolute_floor,
+                                                0.01 * np.transverse_stiffness * np.coupling_tolerance);
+        suture_newton.max_iterations = std::max(suture_newton.max_iterations, 200u);
+      }
+    std::vector<rod::Vec3> saved_x;
+    std::vector<rod::Quat> saved_q;
+    // the suture's side of the pierce forces with the tissue points at x
+    const auto thread_terms = [&needle](const std::vector<Point<3>> &x) {
+      return rod::ElementTerms([&needle, &x](const std::size_t e, Eigen::Matrix<double, 12, 1> &r,
+                                             Eigen::Matrix<double, 12, 12> &J) { needle.thread_terms(x, e, r, J); });
+    };
+
     auto &summary      = recorder.summary();
     summary["scene"]      = in.scene_name;
     summary["scene_file"] = in.scene_file;
@@ -49,11 +114,17 @@ namespace suturesim::scene
                              {"element_degree", in.tissue->degree},
                              {"formulation", in.tissue->formulation},
                              {"surface_triangles", surface.triangles.size()}};
+    if (suture)
+      summary["suture"] = {{"elements", suture->n_elements()},
+                           {"length", needle.curve_length() - geometry.length()},
+                           {"coupling_tolerance", np.coupling_tolerance},
+                           {"coupling", "block Gauss-Seidel rounds of tissue and suture solves"}};
     summary["metrics"]    = nlohmann::json::object();
     summary["steps"]      = nlohmann::json::array();
     pcout << "suturesim: scene '" << in.scene_name << "', " << mesh_info.description << ", "
           << tria.n_global_active_cells() << " cells, " << model.n_dofs() << " DoFs, needle "
-          << np.shape << " R = " << np.radius << " m, " << np.enforcement << " pierce points\n";
+          << np.shape << " R = " << np.radius << " m, " << np.enforcement << " pierce points"
+          << (suture ? ", Cosserat suture of " + std::to_string(suture->n_elements()) + " elements" : "") << "\n";
 
     std::vector<std::string> columns{"time [s]"};
     for (const auto &d : in.boundary_conditions->dirichlet)
@@ -63,6 +134,9 @@ namespace suturesim::scene
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(name + "_displacement_" + std::string(1, c) + " [m]");
     np.add_columns(columns);
+    if (suture)
+      for (const std::string end : {"swage", "free_end"})
+        columns.push_back("suture_tension_" + end + " [N]");
     recorder.set_columns(columns);
 
     const auto positions = [&]() {
@@ -111,11 +185,33 @@ namespace suturesim::scene
         else
           for (int j = 0; j < 5; ++j)
             row.push_back(0);
+      if (suture)
+        {
+          const auto states = suture->element_states();
+          row.push_back(states.front().N[0]);
+          row.push_back(states.back().N[0]);
+        }
       recorder.add_row(row);
       const auto &time = *in.time;
       if (time.output_interval <= 0 || last_output < 0 ||
           t >= last_output + time.output_interval * (1 - 1e-9) || t >= time.end_time * (1 - 1e-12))
         {
+          if (suture)
+            {
+              io::PolylineData data;
+              data.points = suture->positions();
+              data.point_fields.emplace_back("radius",
+                                             std::vector<double>(suture->n_nodes(), in.suture->section.radius));
+              std::vector<double> axial;
+              for (const auto &e : suture->element_states())
+                axial.push_back(e.N[0]);
+              data.segment_fields = {{"axial_force", axial}};
+              char name[32];
+              std::snprintf(name, sizeof(name), "suture_%05u.vtu", output_index);
+              if (recorder.is_root())
+                io::write_polyline_vtu(recorder.directory() + "/" + name, data, t);
+              recorder.add_vtu("suture", t, name);
+            }
           last_file = model.write_vtu(recorder.directory(), output_index++, t);
           recorder.add_vtu("tissue", t, last_file);
           last_output = t;
@@ -151,12 +247,66 @@ namespace suturesim::scene
         const double step_dt = std::min(dt, T - t), tn = t + step_dt;
         needle.save();
         model.save_state();
+        if (suture)
+          {
+            saved_x = suture->positions();
+            saved_q = suture->rotations();
+            hold_suture(tn);
+          }
         if (needle.begin_step(tn, path.pose(tn), x_surface))
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);
-        const tissue::NewtonReport report = model.solve_static(tn);
+        tissue::NewtonReport report = model.solve_static(tn);
+        unsigned             rounds = 0;
+        if (suture && report.converged)
+          {
+            // block Gauss–Seidel: the suture with the tissue points held, then the tissue
+            // with the suture held, until neither moves by more than the tolerance
+            double tissue_moved = std::numeric_limits<double>::infinity();
+            for (rounds = 1;; ++rounds)
+              {
+                const auto             x     = positions();
+                const auto             terms = thread_terms(x);
+                const auto             elements = needle.thread_elements();
+                const std::vector<rod::Vec3> before = suture->positions();
+                suture->set_element_terms(&terms, &elements);
+                const rod::NewtonResult r = suture->solve(suture_newton);
+                suture->set_element_terms(nullptr, nullptr);
+                if (!r.converged)
+                  {
+                    report.converged = false;
+                    report.failure   = "suture: " + r.reason;
+                    break;
+                  }
+                double moved = 0;
+                for (std::size_t i = 0; i < before.size(); ++i)
+                  moved = std::max(moved, (suture->positions()[i] - before[i]).norm());
+                // the tissue feels the suture only through pierce points on it
+                if (needle.n_on_thread() == 0 || (moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance))
+                  break;
+                if (rounds == np.coupling_iterations)
+                  {
+                    std::ostringstream why;
+                    why << "tissue and suture still moved by " << std::max(moved, tissue_moved) << " m after "
+                        << rounds << " rounds (Pierce points/Coupling tolerance " << np.coupling_tolerance << " m)";
+                    report.converged = false;
+                    report.failure   = why.str();
+                    break;
+                  }
+                report = model.solve_static(tn);
+                if (!report.converged)
+                  break;
+                const auto x_new = positions();
+                tissue_moved     = 0;
+                for (std::size_t k = 0; k < x.size(); ++k)
+                  tissue_moved = std::max(tissue_moved, x_new[k].distance(x[k]));
+              }
+          }
         const auto cut = [&](const std::string &reason) {
           model.restore_state();
           needle.restore();
+          if (suture)
+            for (std::size_t i = 0; i < saved_x.size(); ++i)
+              suture->set_node(i, saved_x[i], saved_q[i]);
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);
           if (cutbacks == in.time->max_cutbacks)
             fail(tn, reason);
@@ -174,12 +324,37 @@ namespace suturesim::scene
           {
             model.restore_state();
             needle.restore();
+            if (suture)
+              for (std::size_t i = 0; i < saved_x.size(); ++i)
+                suture->set_node(i, saved_x[i], saved_q[i]);
             model.set_point_loads(needle.points().empty() ? nullptr : &needle);
             ++cutbacks;
             dt = 0.5 * step_dt;
             continue;
           }
-        load               = needle.needle_load(x);
+        load = needle.needle_load(x);
+        if (suture)
+          {
+            // the suture pulls on the swage: minus the support's reaction at node 0
+            const auto terms    = thread_terms(x);
+            const auto elements = needle.thread_elements();
+            suture->set_element_terms(&terms, &elements);
+            const Eigen::VectorXd r = suture->residual();
+            suture->set_element_terms(nullptr, nullptr);
+            const Tensor<1, 3>    swage = Tensor<1, 3>(Point<3>(suture->positions()[0][0], suture->positions()[0][1],
+                                                                suture->positions()[0][2]));
+            Tensor<1, 3>          f, m;
+            for (unsigned d = 0; d < 3; ++d)
+              {
+                f[d] = -r[d];
+                m[d] = -r[3 + d];
+              }
+            Tensor<1, 3> centre;
+            for (unsigned d = 0; d < 3; ++d)
+              centre[d] = needle.pose().position[d];
+            load.first += f;
+            load.second += cross_product_3d(swage - centre, f) + m;
+          }
         const bool changed = needle.accept_step(x);
         t                  = tn;
         ++steps;
@@ -187,6 +362,7 @@ namespace suturesim::scene
         record(t, {{"dt", step_dt},
                    {"newton_iterations", report.iterations},
                    {"cutbacks", cutbacks},
+                   {"coupling_rounds", rounds},
                    {"residual_norms", report.residual_norms}});
         if (changed)
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);

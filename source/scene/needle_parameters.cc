@@ -107,6 +107,15 @@ namespace suturesim::scene
                       "Realtime XPBD: the suture nodes' inverse masses within a pierce "
                       "constraint are capped at this multiple of the tissue point's (mass "
                       "scaling). Unit: 1. Range: >= 1.");
+    prm.declare_entry("Coupling tolerance", "1e-7", Patterns::Double(0),
+                      "Accurate path with the suture: tissue and suture are solved in turn "
+                      "within each step until neither the pierced tissue points nor the "
+                      "suture's nodes move by more than this between two rounds. Unit: m. "
+                      "Range: > 0.");
+    prm.declare_entry("Coupling iterations", "40", Patterns::Integer(1, 1000),
+                      "Accurate path with the suture: most rounds of tissue and suture "
+                      "solves per step; a step that does not converge in them is halved. "
+                      "Unit: 1. Range: 1-1000.");
     prm.declare_entry("Recorded", "4", Patterns::Integer(0, 64),
                       "Pierce points given columns in forces.csv (state, slip velocity, "
                       "normal and friction force). Unit: 1. Range: 0-64.");
@@ -193,6 +202,9 @@ namespace suturesim::scene
     enforcement             = prm.get("Enforcement");
     mass_ratio              = prm.get_double("Mass ratio");
     recorded                = prm.get_integer("Recorded");
+    coupling_tolerance      = prm.get_double("Coupling tolerance");
+    coupling_iterations     = prm.get_integer("Coupling iterations");
+    pp.require(coupling_tolerance > 0, "Coupling tolerance", "must be > 0 m");
     pp.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
     pp.require(friction.stiffness > 0, "Stick stiffness", "must be > 0 N/m");
     pp.require(enforcement == "penalty", "Enforcement",

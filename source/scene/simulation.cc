@@ -31,7 +31,8 @@ namespace suturesim::scene
                       Patterns::Selection("tissue|suture|tissue and suture"),
                       "What the scene simulates: 'tissue' (subsections Mesh, Tissue), "
                       "'suture' (subsection Suture), or both in contact ('tissue and "
-                      "suture', Model = realtime until the accurate path couples them). "
+                      "suture'; the accurate path couples them through a needle's pierce "
+                      "points, the suture attached at its swage). "
                       "Unit: none.");
     prm.enter_subsection("Suture");
     rod::RodParameters::declare(prm);
@@ -81,13 +82,22 @@ namespace suturesim::scene
     ParameterScope(file, "Closure")
       .require(!closure_parameters.present(), "Gap probes",
                "wound closure needs the suture in the tissue, realtime only so far: use Model = realtime");
+    root.require(bodies != "tissue and suture" || (needle_parameters.present() && needle_parameters.attach_suture),
+                 "Bodies",
+                 "the accurate path couples tissue and suture through a needle's pierce points: "
+                 "set Needle/Shape and Needle/Attach suture = true, or use Model = realtime");
     ParameterScope(file, "Needle")
-      .require(!needle_parameters.present() || bodies == "tissue", "Shape",
-               "the accurate path couples the needle to the tissue only (Bodies = tissue); "
-               "the suture's pierce points are not coupled there yet: use Model = realtime");
-    root.require(bodies != "tissue and suture", "Bodies",
-                 "the accurate path does not couple tissue and suture yet (pierce points); "
-                 "use Model = realtime");
+      .require(!needle_parameters.present() || bodies != "suture", "Shape",
+               "the needle needs the tissue (Bodies = tissue, or tissue and suture)");
+    if (bodies == "tissue and suture")
+      {
+        prm.enter_subsection("Suture");
+        rod_parameters.parse(prm, root.subsection("Suture"));
+        prm.leave_subsection();
+        root.subsection("Suture/Start end")
+          .require(rod_parameters.start_end.type == "free", "Type",
+                   "must be free: the needle holds the suture's start (Needle/Attach suture)");
+      }
 
     if (bodies == "suture")
       {
@@ -254,7 +264,8 @@ namespace suturesim::scene
       {
         AccurateNeedleInputs inputs{scene_name,          file.name(),      &mesh_parameters,
                                     &tissue_parameters,  &*material,       &boundary_conditions,
-                                    &time_parameters,    &needle_parameters};
+                                    &time_parameters,    &needle_parameters,
+                                    bodies == "tissue and suture" ? &rod_parameters : nullptr};
         run_accurate_needle_pass(inputs, recorder, timer, pcout);
         auto &timings = recorder.summary()["timings"];
         for (const auto &[section, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))

@@ -99,14 +99,16 @@ TEST(RodElement, TangentMatchesFiniteDifferences)
 }
 
 // The assembled Jacobian of the spatial residual (elastic, fixed-direction end moment,
-// self-contact with interior closest points and generalized-α inertia terms) against
+// self-contact with interior closest points, generalized-α inertia terms, and element
+// terms: a spring at a point inside an element, as a pierce point loads the suture) against
 // central differences of the residual along x + εe_k and exp(εê_k)R. This checks the
 // −½ r̂ correction of a non-conservative moment, the envelope Hessian of the contact and
 // the J_r(Ψ)⁻¹ of the inertia.
 TEST(RodModel, JacobianMatchesFiniteDifferences)
 {
-  for (const bool with_dynamics : {false, true})
+  for (const int variant : {0, 1, 2})
     {
+      const bool with_dynamics = variant == 1;
       RodModel model = deformed_rod(6, 0.4);
       model.moments().back() = Vec3(0.1, 0.3, 0.2);
       model.forces()[2]      = Vec3(0.2, -0.1, 0.05);
@@ -121,6 +123,20 @@ TEST(RodModel, JacobianMatchesFiniteDifferences)
                        quaternion_exp(random_vector(0.2)) * model.rotations()[i]);
       const NodalTerms  terms = ga.inertia_terms(0.01);
       const NodalTerms *extra = with_dynamics ? &terms : nullptr;
+      // a spring k (c − p) at c = 0.3 x₂ + 0.7 x₃ (element 2) towards a fixed point p
+      const ElementTerms spring = [&model](const std::size_t e, Vec12 &r, Mat12 &J) {
+        const double w[2] = {0.3, 0.7}, k = 30;
+        const Vec3   c    = w[0] * model.positions()[e] + w[1] * model.positions()[e + 1];
+        for (int a = 0; a < 2; ++a)
+          {
+            r.segment<3>(6 * a) += w[a] * k * (c - Vec3(0.4, 0.3, 0.2));
+            for (int b = 0; b < 2; ++b)
+              J.block<3, 3>(6 * a, 6 * b) += w[a] * w[b] * k * Mat3::Identity();
+          }
+      };
+      const ElementList springs{2};
+      if (variant == 2)
+        model.set_element_terms(&spring, &springs);
       const Eigen::MatrixXd J  = model.dense_jacobian(extra);
       ASSERT_GT(model.contact_forces()[0] + model.contact_forces()[6], 0) << "contact must be active";
       Eigen::MatrixXd   J_fd(J.rows(), J.cols());
@@ -141,7 +157,13 @@ TEST(RodModel, JacobianMatchesFiniteDifferences)
             model.set_node(i, x[i], q[i]);
           J_fd.col(k) = (rp - rm) / (2 * h);
         }
-      EXPECT_LT((J - J_fd).norm(), 1e-7 * J.norm()) << (with_dynamics ? "with inertia" : "static");
+      EXPECT_LT((J - J_fd).norm(), 1e-7 * J.norm()) << "variant " << variant << " (0 static, 1 inertia, 2 element spring)";
+      if (variant == 2)
+        {
+          // the spring's own blocks are there (not only the elastic ones)
+          model.set_element_terms(nullptr, nullptr);
+          EXPECT_GT((J - model.dense_jacobian(extra)).norm(), 1.0);
+        }
     }
 }
 

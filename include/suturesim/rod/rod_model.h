@@ -48,6 +48,14 @@ namespace suturesim::rod
   using NodalTerms = std::function<void(std::size_t node, const Vec3 &x, const Quat &q,
                                         Vec6 &residual, Mat6 &jacobian)>;
 
+  /// Terms coupling the two nodes of element e (a load at a point inside it, such as a
+  /// pierce point the suture slides through): residual (12, nodes e and e + 1) and its
+  /// Jacobian (12 × 12), added to the element's blocks.
+  using ElementTerms = std::function<void(std::size_t element, Eigen::Matrix<double, 12, 1> &residual,
+                                          Eigen::Matrix<double, 12, 12> &jacobian)>;
+  /// Elements that @ref ElementTerms acts on (the others are skipped).
+  using ElementList = std::vector<std::size_t>;
+
   struct NewtonParameters
   {
     unsigned max_iterations    = 50;
@@ -139,6 +147,15 @@ namespace suturesim::rod
       return moment;
     }
 
+    /// Adds @p terms on the elements @p elements at every assembly (residual, Jacobian,
+    /// solve) until cleared with nullptr; the caller keeps both alive meanwhile.
+    void
+    set_element_terms(const ElementTerms *terms, const ElementList *elements)
+    {
+      element_terms    = terms;
+      element_list     = elements;
+    }
+
     void
     set_contact(const ContactParameters &parameters);
     const SelfContact &
@@ -216,6 +233,8 @@ namespace suturesim::rod
     std::vector<Vec3>                  force, moment;
     SelfContact                        self_contact;
     std::vector<double>                contact_force;
+    const ElementTerms                *element_terms = nullptr;
+    const ElementList                 *element_list  = nullptr;
     Workspace                          work;
   };
 } // namespace suturesim::rod

@@ -1,9 +1,19 @@
 #pragma once
 /**
  * @file
- * The needle in the accurate path (Model = accurate, Bodies = tissue): quasi-static
- * steps along the needle's trajectory, each a Newton solve of the FE tissue with the
- * needle's loads at embedded material points (coupling/accurate/tissue_needle.h).
+ * The needle in the accurate path (Model = accurate, Bodies = tissue, or tissue and
+ * suture): quasi-static steps along the needle's trajectory, each a Newton solve of the
+ * FE tissue with the needle's loads at embedded material points
+ * (coupling/accurate/tissue_needle.h).
+ *  - With the suture (Bodies = tissue and suture, Needle/Attach suture): a Cosserat rod
+ *    (rod/rod_model.h) clamped at the swage (position and frame move with the needle:
+ *    the hard constraint of seed 002), its far end free or held by a grasper from its
+ *    Grasp time on. Pierce points pass onto it at the swage and slide along it with the
+ *    same friction law. Tissue and suture are solved in turn (block Gauss–Seidel) until
+ *    neither the pierced tissue points nor the suture's nodes move by more than
+ *    Pierce points/Coupling tolerance between two rounds; a step that does not converge
+ *    in Coupling iterations rounds is halved like a failed Newton solve. No contact
+ *    between the suture and the tissue's surface outside the pierce points yet.
  *  - A step whose Newton solve fails is halved (Time/Max cutbacks in a row) and the
  *    needle's state with it; the run stops with the reason, keeping the last converged
  *    state on disk.
@@ -17,6 +27,7 @@
 
 #include <suturesim/io/recorder.h>
 #include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
@@ -37,6 +48,7 @@ namespace suturesim::scene
     tissue::BoundaryConditions       *boundary_conditions = nullptr;
     const tissue::TimeParameters     *time   = nullptr;
     const NeedleParameters           *needle = nullptr;
+    const rod::RodParameters         *suture = nullptr; ///< attached at the swage when given
   };
 
   /// Runs the scene into @p recorder; SolverError when a step fails after every

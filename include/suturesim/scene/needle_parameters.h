@@ -44,6 +44,8 @@ namespace suturesim::scene
     double      mass_ratio           = 10;
     std::string enforcement          = "penalty"; ///< penalty | lagrange (accurate path)
     unsigned    recorded             = 4; ///< pierce points given columns in forces.csv
+    double      coupling_tolerance   = 1e-7; ///< m, tissue–suture rounds (accurate path)
+    unsigned    coupling_iterations  = 40;
 
     bool
     present() const

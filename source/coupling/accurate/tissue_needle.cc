@@ -41,6 +41,89 @@ namespace suturesim::coupling
   }
 
   void
+  TissueNeedle::set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths)
+  {
+    thread = nodes;
+    thread_s.assign(1, 0.0);
+    for (const double l : element_lengths)
+      thread_s.push_back(thread_s.back() + l);
+  }
+
+  double
+  TissueNeedle::curve_length() const
+  {
+    return needle.length() + (thread ? thread_s.back() : 0.0);
+  }
+
+  unsigned
+  TissueNeedle::n_on_thread() const
+  {
+    unsigned n = 0;
+    for (const auto &p : pierce)
+      n += thread && p.anchor > needle.length();
+    return n;
+  }
+
+  std::pair<std::size_t, double>
+  TissueNeedle::thread_element(const double s) const
+  {
+    const std::size_t n = thread_s.size() - 1;
+    const std::size_t e = std::min<std::size_t>(
+      n - 1, std::upper_bound(thread_s.begin(), thread_s.end(), std::max(0.0, s)) - thread_s.begin() - 1);
+    const double xi = std::clamp((s - thread_s[e]) / (thread_s[e + 1] - thread_s[e]), 0.0, 1.0);
+    return {e, xi};
+  }
+
+  std::pair<Tensor<1, 3>, Tensor<1, 3>>
+  TissueNeedle::curve(const double zeta) const
+  {
+    if (!thread || zeta <= needle.length())
+      return {tensor(needle.point(current, zeta)), tensor(needle.tangent(current, zeta))};
+    const auto [e, xi]       = thread_element(zeta - needle.length());
+    const auto           &x  = *thread;
+    const Eigen::Vector3d c  = (1 - xi) * x[e] + xi * x[e + 1];
+    return {tensor(c), tensor((x[e] - x[e + 1]).normalized())};
+  }
+
+  std::vector<std::size_t>
+  TissueNeedle::thread_elements() const
+  {
+    std::vector<std::size_t> elements;
+    for (const auto &p : pierce)
+      if (thread && p.anchor > needle.length())
+        elements.push_back(thread_element(p.anchor - needle.length()).first);
+    std::sort(elements.begin(), elements.end());
+    elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+    return elements;
+  }
+
+  void
+  TissueNeedle::thread_terms(const std::vector<Point<3>> &x, const std::size_t element,
+                             Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const
+  {
+    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      {
+        if (!thread || pierce[j].anchor <= needle.length())
+          continue;
+        const auto [e, xi] = thread_element(pierce[j].anchor - needle.length());
+        if (e != element)
+          continue;
+        const double       w[2] = {1 - xi, xi};
+        Tensor<2, 3>       df_dx;
+        const Tensor<1, 3> f = pierce_force(pierce[j], x[offset + j], nullptr, nullptr, &df_dx);
+        for (unsigned a = 0; a < 2; ++a)
+          for (unsigned i = 0; i < 3; ++i)
+            {
+              residual[6 * a + i] += w[a] * f[i];
+              for (unsigned b = 0; b < 2; ++b)
+                for (unsigned k = 0; k < 3; ++k)
+                  jacobian(6 * a + i, 6 * b + k) -= w[a] * w[b] * df_dx[i][k];
+            }
+      }
+  }
+
+  void
   TissueNeedle::rebuild_points()
   {
     X.clear();
@@ -92,8 +175,7 @@ namespace suturesim::coupling
   TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
                              double *N_out, Tensor<2, 3> *df_dx) const
   {
-    const Tensor<1, 3> c      = tensor(needle.point(current, p.anchor));
-    const Tensor<1, 3> t      = tensor(needle.tangent(current, p.anchor));
+    const auto [c, t]         = curve(p.anchor);
     const Tensor<1, 3> d      = Tensor<1, 3>(x) - c;
     const double       along  = d * t;
     const Tensor<1, 3> d_perp = d - along * t;
@@ -146,6 +228,9 @@ namespace suturesim::coupling
     bool              changed = false;
     const std::size_t offset  = touch_index() == 0 ? 1 : 0;
     const double      step    = time - last_time;
+    std::vector<bool> on_needle;
+    for (const auto &p : pierce)
+      on_needle.push_back(p.anchor <= needle.length());
     // friction anchors by the return mapping at the converged positions
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
@@ -153,8 +238,8 @@ namespace suturesim::coupling
         FrictionResult r;
         double         N = 0;
         pierce_force(p, x[offset + j], &r, &N, nullptr);
-        const double along = (Tensor<1, 3>(x[offset + j]) - tensor(needle.point(current, p.anchor))) *
-                             tensor(needle.tangent(current, p.anchor));
+        const auto [c, t]  = curve(p.anchor);
+        const double along = (Tensor<1, 3>(x[offset + j]) - c) * t;
         p.zeta       = p.anchor - along;
         p.slip_speed = step > 0 ? (r.anchor - p.anchor) / step : 0;
         p.anchor     = r.anchor;
@@ -176,18 +261,27 @@ namespace suturesim::coupling
         pierce.insert(pierce.begin(), p);
         changed = true;
       }
-    // order along the needle; a point that reaches the swage is free (no suture here)
+    // order along needle and thread; a point that reaches the end of the curve (the
+    // swage without a thread) is free
     std::vector<double> anchors;
     for (const auto &p : pierce)
       anchors.push_back(p.anchor);
+    const double end = curve_length();
     if (!anchors.empty())
       {
-        keep_order(anchors, prm.spacing, 0, needle.length());
+        keep_order(anchors, prm.spacing, 0, end);
         for (std::size_t j = 0; j < pierce.size(); ++j)
-          pierce[j].anchor = anchors[j];
+          {
+            // (on_needle is one shorter than pierce after a puncture inserted at the front)
+            const std::size_t before = j + on_needle.size() - pierce.size();
+            if (thread && j + on_needle.size() >= pierce.size() && on_needle[before] &&
+                anchors[j] > needle.length())
+              log.push_back({"onto_suture", time, eigen(pierce[j].X), pierce[j].normal});
+            pierce[j].anchor = anchors[j];
+          }
       }
     for (std::size_t j = pierce.size(); j-- > 0;)
-      if (pierce[j].anchor >= needle.length() * (1 - 1e-9))
+      if (pierce[j].anchor >= end * (1 - 1e-9))
         {
           log.push_back({"released", time, eigen(pierce[j].X), pierce[j].normal});
           pierce.erase(pierce.begin() + j);
@@ -219,9 +313,11 @@ namespace suturesim::coupling
         Tensor<2, 3> unused;
         this->force(k, x[k], f, unused);
         const std::size_t  offset = touch_index() == 0 ? 1 : 0;
-        const Tensor<1, 3> at     = (touch_index() == 0 && k == 0)
-                                      ? tensor(needle.tip(current))
-                                      : tensor(needle.point(current, pierce[k - offset].anchor));
+        const bool tip = touch_index() == 0 && k == 0;
+        // points on the thread load the suture, not the needle
+        if (!tip && thread && pierce[k - offset].anchor > needle.length())
+          continue;
+        const Tensor<1, 3> at = tip ? tensor(needle.tip(current)) : curve(pierce[k - offset].anchor).first;
         force -= f;
         torque -= cross_product_3d(at - origin, f);
       }

@@ -16,10 +16,18 @@
  *    its ∂N/∂x part would make the tangent non-symmetric; the residual stays exact).
  * Touch: f = −F n_push with F = k_c max(0, penetration) (tangent −k_c n nᵀ while pressed).
  * The needle carries the opposite of all of these.
+ *
+ * The thread (set_thread(): the Cosserat suture's nodes, node 0 at the swage) continues
+ * the needle's curve: ζ = L + s at the suture's reference arc length s, the point
+ * c = (1 − ξ) x_e + ξ x_{e+1} on the element e holding s, the tangent along
+ * x_e − x_{e+1} (the way the needle advances). Pierce points pass onto it at the swage
+ * and are released at its far end. A point on the thread loads the suture's two nodes
+ * with −(1 − ξ) f and −ξ f (thread_terms(); the tissue side takes f at x).
  */
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/rod/rod_model.h>
 #include <suturesim/tissue/point_loads.h>
 #include <suturesim/tools/curved_needle.h>
 
@@ -58,6 +66,33 @@ namespace suturesim::coupling
     /// set of points changed (the tissue must locate them again).
     bool
     begin_step(double t, const tools::Pose &pose, const Eigen::Matrix3Xd &surface);
+
+    /// The suture beyond the swage: its current node positions (kept by the caller and
+    /// read at every evaluation; node 0 at the swage) and the reference length of each
+    /// element (m). Without it points are released at the swage.
+    void
+    set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths);
+
+    /// Residual and Jacobian the pierce points on the thread add to suture element
+    /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
+    /// fixed): the suture's side of the pierce forces, r_a += w_a f and
+    /// ∂r_a/∂x_b = −w_a w_b ∂f/∂x for the nodes a, b of the element, w = (1 − ξ, ξ). The
+    /// turn of the element's tangent is left out of the Jacobian (the residual is exact).
+    void
+    thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
+                 Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
+
+    /// The suture elements that hold pierce points now.
+    std::vector<std::size_t>
+    thread_elements() const;
+
+    /// Number of pierce points on the thread (anchor beyond the swage).
+    unsigned
+    n_on_thread() const;
+
+    /// Total length of needle and thread, m.
+    double
+    curve_length() const;
 
     /// Keeps the state before begin_step() / restores it (a step cut back).
     void
@@ -117,6 +152,12 @@ namespace suturesim::coupling
     }
 
   private:
+    /// Point and advancing tangent of the curve (needle, then thread) at ζ.
+    std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
+    curve(double zeta) const;
+    /// Element of the thread holding arc length s and the weight ξ of its second node.
+    std::pair<std::size_t, double>
+    thread_element(double s) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();
@@ -134,6 +175,8 @@ namespace suturesim::coupling
     std::vector<PunctureEvent>         log;
     std::size_t                        saved_log = 0;
     std::vector<dealii::Point<3>>      X;
+    const std::vector<rod::Vec3>      *thread = nullptr;
+    std::vector<double>                thread_s; ///< reference arc length at each node
     tools::Pose                        current, saved_pose;
     double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
     double                             touch_value = 0;
