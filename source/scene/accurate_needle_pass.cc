@@ -301,35 +301,29 @@ namespace suturesim::scene
                   tissue_moved = std::max(tissue_moved, x_new[k].distance(x[k]));
               }
           }
-        const auto cut = [&](const std::string &reason) {
+        // back to the state before the step, which is then halved
+        const auto halve = [&]() {
           model.restore_state();
           needle.restore();
           if (suture)
             for (std::size_t i = 0; i < saved_x.size(); ++i)
               suture->set_node(i, saved_x[i], saved_q[i]);
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);
-          if (cutbacks == in.time->max_cutbacks)
-            fail(tn, reason);
           ++cutbacks;
           dt = 0.5 * step_dt;
         };
         if (!report.converged)
           {
-            cut(report.failure);
+            if (cutbacks == in.time->max_cutbacks)
+              fail(tn, report.failure);
+            halve();
             continue;
           }
         const auto x = positions();
         // land the puncture within 4 % above the threshold: cut a step that overshoots
         if (needle.touch_force(x) > 1.04 * np.puncture.threshold && cutbacks < in.time->max_cutbacks + 8)
           {
-            model.restore_state();
-            needle.restore();
-            if (suture)
-              for (std::size_t i = 0; i < saved_x.size(); ++i)
-                suture->set_node(i, saved_x[i], saved_q[i]);
-            model.set_point_loads(needle.points().empty() ? nullptr : &needle);
-            ++cutbacks;
-            dt = 0.5 * step_dt;
+            halve();
             continue;
           }
         load = needle.needle_load(x);
