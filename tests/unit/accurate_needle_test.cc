@@ -104,8 +104,10 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
         continue;
       EXPECT_GE(row[a1] - row[a0], 1e-4 * (1 - 1e-9)) << "t = " << row[0]; // order and spacing
       for (const auto [s, n, f] : {std::tuple{s0, n0, f0}, std::tuple{s1, n1, f1}})
-        if (row[s] == 2)
-          EXPECT_NEAR(std::abs(row[f]), mu * row[n], 1e-9 + 1e-6 * row[n]) << "t = " << row[0];
+        {
+          if (row[s] == 2)
+            EXPECT_NEAR(std::abs(row[f]), mu * row[n], 1e-9 + 1e-6 * row[n]) << "t = " << row[0];
+        }
       if (row[0] >= t_pull + 0.1)
         {
           ASSERT_GT(row[a0], L) << "both on the suture during the pull";
@@ -119,6 +121,8 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
   EXPECT_GE(checked, 5u);
   EXPECT_GT(rows.back()[a0], L + 0.002); // drawn on by millimetres
   for (const auto &step : r.summary["steps"])
-    if (step.contains("coupling_rounds"))
-      EXPECT_LT(step["coupling_rounds"].get<int>(), 40);
+    {
+      if (step.contains("coupling_rounds"))
+        EXPECT_LT(step["coupling_rounds"].get<int>(), 40);
+    }
 }
