@@ -84,10 +84,10 @@ namespace suturesim::scene
         }
       suture->set_node(last, grasped_at + end.motion(std::max(t, end.grasp_time)).first, suture->rotations()[last]);
     };
-    // The suture's Newton solve leaves the turn of the element's tangent out of the
-    // pierce terms' Jacobian, so it converges linearly once pierced: it stops at a
-    // residual that moves the nodes on the pierce springs by a hundredth of the coupling
-    // tolerance.
+    // The suture's Newton solve leaves the friction's turn with the element and, in
+    // slip, the change of its normal force out of the pierce terms' Jacobian, so it may
+    // converge linearly once pierced: it stops at a residual that moves the nodes on the
+    // pierce ties by a hundredth of the coupling tolerance.
     rod::NewtonParameters suture_newton;
     if (in.suture)
       {

@@ -1,5 +1,6 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/coupling/pierce_order.h>
+#include <suturesim/coupling/thread_tie.h>
 
 #include <algorithm>
 #include <cmath>
@@ -109,16 +110,28 @@ namespace suturesim::coupling
         const auto [e, xi] = thread_element(pierce[j].anchor - needle.length());
         if (e != element)
           continue;
-        const double       w[2] = {1 - xi, xi};
-        Tensor<2, 3>       df_dx;
-        const Tensor<1, 3> f = pierce_force(pierce[j], x[offset + j], nullptr, nullptr, &df_dx);
+        // the tie across the thread from its energy (exact, the element's turn
+        // included); the friction along it as the force it is
+        const auto            &xs = *thread;
+        const Eigen::Vector3d  xj = eigen(x[offset + j]);
+        const ThreadTie        tie = thread_tie(xj, xs[e], xs[e + 1], 1 - xi, prm.transverse_stiffness);
+        Tensor<2, 3>           df_dx;
+        const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], nullptr, nullptr, &df_dx);
+        const double           w[2] = {1 - xi, xi};
+        const Tensor<1, 3>     t    = curve(pierce[j].anchor).second;
         for (unsigned a = 0; a < 2; ++a)
           for (unsigned i = 0; i < 3; ++i)
             {
-              residual[6 * a + i] += w[a] * f[i];
+              // friction f − f⊥ on the tissue, its reaction on the node by weight
+              residual[6 * a + i] += tie.gradient[3 * a + i] + w[a] * (f[i] - tie.tissue_force[i]);
               for (unsigned b = 0; b < 2; ++b)
                 for (unsigned k = 0; k < 3; ++k)
-                  jacobian(6 * a + i, 6 * b + k) -= w[a] * w[b] * df_dx[i][k];
+                  {
+                    // ∂(friction)/∂x = df_dx + k⊥ P
+                    const double friction_rate =
+                      df_dx[i][k] + prm.transverse_stiffness * ((i == k ? 1.0 : 0.0) - t[i] * t[k]);
+                    jacobian(6 * a + i, 6 * b + k) += tie.hessian(3 * a + i, 3 * b + k) - w[a] * w[b] * friction_rate;
+                  }
             }
       }
   }

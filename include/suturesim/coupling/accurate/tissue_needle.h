@@ -75,9 +75,10 @@ namespace suturesim::coupling
 
     /// Residual and Jacobian the pierce points on the thread add to suture element
     /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
-    /// fixed): the suture's side of the pierce forces, r_a += w_a f and
-    /// ∂r_a/∂x_b = −w_a w_b ∂f/∂x for the nodes a, b of the element, w = (1 − ξ, ξ). The
-    /// turn of the element's tangent is left out of the Jacobian (the residual is exact).
+    /// fixed): the transverse tie from its energy (coupling/thread_tie.h: exact, with
+    /// the element's turn), and the reaction of the friction, −w_a f_t on node a,
+    /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x (the friction's turn with the
+    /// element and its normal force's change in slip are left out).
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
