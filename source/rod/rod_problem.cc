@@ -7,6 +7,33 @@
 
 namespace suturesim::rod
 {
+  io::PolylineData
+  polyline_data(const RodModel &model, const double radius)
+  {
+    io::PolylineData data;
+    data.points         = model.positions();
+    const std::size_t n = model.n_nodes();
+    data.point_fields.emplace_back("radius", std::vector<double>(n, radius));
+    data.point_fields.emplace_back("contact_force", model.contact_forces());
+    std::vector<double> axial, shear, bending, twisting, twist, curvature;
+    const auto          states = model.element_states();
+    for (std::size_t e = 0; e < states.size(); ++e)
+      {
+        const auto &s = states[e];
+        const Vec3  K = s.K + model.references()[e].kappa0;
+        axial.push_back(s.N[0]);
+        shear.push_back(s.N.tail<2>().norm());
+        bending.push_back(s.M.tail<2>().norm());
+        twisting.push_back(s.M[0]);
+        twist.push_back(K[0]);
+        curvature.push_back(K.tail<2>().norm());
+      }
+    data.segment_fields = {{"axial_force", axial},   {"shear_force", shear},
+                           {"bending_moment", bending}, {"twisting_moment", twisting},
+                           {"twist", twist},          {"curvature", curvature}};
+    return data;
+  }
+
   RodProblem::RodProblem(const RodParameters &parameters, const tissue::TimeParameters &time,
                          io::Recorder &recorder)
     : model(parameters.create_model())
@@ -94,26 +121,7 @@ namespace suturesim::rod
                      t >= time.end_time * (1 - 1e-12);
     if (due)
       {
-        io::PolylineData data;
-        data.points = model.positions();
-        const std::size_t n = model.n_nodes();
-        data.point_fields.emplace_back("radius", std::vector<double>(n, parameters.section.radius));
-        data.point_fields.emplace_back("contact_force", model.contact_forces());
-        std::vector<double> axial, shear, bending, twisting, twist, curvature;
-        for (std::size_t e = 0; e < states.size(); ++e)
-          {
-            const auto &s = states[e];
-            const Vec3  K = s.K + model.references()[e].kappa0;
-            axial.push_back(s.N[0]);
-            shear.push_back(s.N.tail<2>().norm());
-            bending.push_back(s.M.tail<2>().norm());
-            twisting.push_back(s.M[0]);
-            twist.push_back(K[0]);
-            curvature.push_back(K.tail<2>().norm());
-          }
-        data.segment_fields = {{"axial_force", axial},   {"shear_force", shear},
-                               {"bending_moment", bending}, {"twisting_moment", twisting},
-                               {"twist", twist},          {"curvature", curvature}};
+        const io::PolylineData data = polyline_data(model, parameters.section.radius);
         char name[32];
         std::snprintf(name, sizeof(name), "suture_%05u.vtu", output_index++);
         if (recorder.is_root())

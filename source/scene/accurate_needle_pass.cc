@@ -1,6 +1,6 @@
 #include <suturesim/core/error.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
-#include <suturesim/io/polyline_writer.h>
+#include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
 
 #include <deal.II/distributed/tria.h>
@@ -56,10 +56,9 @@ namespace suturesim::scene
         rp.centreline         = "straight";
         rp.start              = geometry.swage(pose0);
         rp.direction          = -geometry.tangent(pose0, geometry.length());
+        rp.last_end.type      = "free"; // held by hold_suture() from its grasp time on
         suture.emplace(rp.create_model());
         suture->constrain(0, {{true, true, true, true, true, true}});
-        if (in.suture->last_end.grasp_time > 0)
-          suture->constrain(suture->n_nodes() - 1, {{false, false, false, false, false, false}});
         frame0 = suture->rotations()[0];
         std::vector<double> lengths;
         for (const auto &r : suture->references())
@@ -98,10 +97,15 @@ namespace suturesim::scene
       }
     std::vector<rod::Vec3> saved_x;
     std::vector<rod::Quat> saved_q;
-    // the suture's side of the pierce forces with the tissue points at x
-    const auto thread_terms = [&needle](const std::vector<Point<3>> &x) {
-      return rod::ElementTerms([&needle, &x](const std::size_t e, Eigen::Matrix<double, 12, 1> &r,
-                                             Eigen::Matrix<double, 12, 12> &J) { needle.thread_terms(x, e, r, J); });
+    // runs @p work on the suture with the pierce forces of the tissue points at x on it
+    const auto with_pierce_terms = [&](const std::vector<Point<3>> &x, const auto &work) {
+      const rod::ElementTerms terms = [&needle, &x](const std::size_t e, Eigen::Matrix<double, 12, 1> &r,
+                                                    Eigen::Matrix<double, 12, 12> &J) { needle.thread_terms(x, e, r, J); };
+      const rod::ElementList  elements = needle.thread_elements();
+      suture->set_element_terms(&terms, &elements);
+      const auto result = work();
+      suture->set_element_terms(nullptr, nullptr);
+      return result;
     };
 
     auto &summary      = recorder.summary();
@@ -198,14 +202,7 @@ namespace suturesim::scene
         {
           if (suture)
             {
-              io::PolylineData data;
-              data.points = suture->positions();
-              data.point_fields.emplace_back("radius",
-                                             std::vector<double>(suture->n_nodes(), in.suture->section.radius));
-              std::vector<double> axial;
-              for (const auto &e : suture->element_states())
-                axial.push_back(e.N[0]);
-              data.segment_fields = {{"axial_force", axial}};
+              const io::PolylineData data = rod::polyline_data(*suture, in.suture->section.radius);
               char name[32];
               std::snprintf(name, sizeof(name), "suture_%05u.vtu", output_index);
               if (recorder.is_root())
@@ -264,13 +261,9 @@ namespace suturesim::scene
             double tissue_moved = std::numeric_limits<double>::infinity();
             for (rounds = 1;; ++rounds)
               {
-                const auto             x     = positions();
-                const auto             terms = thread_terms(x);
-                const auto             elements = needle.thread_elements();
+                const auto                   x      = positions();
                 const std::vector<rod::Vec3> before = suture->positions();
-                suture->set_element_terms(&terms, &elements);
-                const rod::NewtonResult r = suture->solve(suture_newton);
-                suture->set_element_terms(nullptr, nullptr);
+                const rod::NewtonResult      r = with_pierce_terms(x, [&]() { return suture->solve(suture_newton); });
                 if (!r.converged)
                   {
                     report.converged = false;
@@ -326,29 +319,11 @@ namespace suturesim::scene
             halve();
             continue;
           }
-        load = needle.needle_load(x);
+        // the suture pulls on the swage: minus the support's reaction at its node 0
+        rod::Vec6 swage_pull = rod::Vec6::Zero();
         if (suture)
-          {
-            // the suture pulls on the swage: minus the support's reaction at node 0
-            const auto terms    = thread_terms(x);
-            const auto elements = needle.thread_elements();
-            suture->set_element_terms(&terms, &elements);
-            const Eigen::VectorXd r = suture->residual();
-            suture->set_element_terms(nullptr, nullptr);
-            const Tensor<1, 3>    swage = Tensor<1, 3>(Point<3>(suture->positions()[0][0], suture->positions()[0][1],
-                                                                suture->positions()[0][2]));
-            Tensor<1, 3>          f, m;
-            for (unsigned d = 0; d < 3; ++d)
-              {
-                f[d] = -r[d];
-                m[d] = -r[3 + d];
-              }
-            Tensor<1, 3> centre;
-            for (unsigned d = 0; d < 3; ++d)
-              centre[d] = needle.pose().position[d];
-            load.first += f;
-            load.second += cross_product_3d(swage - centre, f) + m;
-          }
+          swage_pull = -with_pierce_terms(x, [&]() { return suture->residual(); }).head<6>();
+        load = needle.needle_load(x, swage_pull);
         const bool changed = needle.accept_step(x);
         t                  = tn;
         ++steps;

@@ -12,6 +12,7 @@
  */
 
 #include <suturesim/core/registry.h>
+#include <suturesim/io/polyline_writer.h>
 #include <suturesim/io/recorder.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/parameter_file.h>
@@ -21,6 +22,11 @@
 
 namespace suturesim::rod
 {
+  /// The rod as a polyline for suture_*.vtu: nodes with radius and contact force, per
+  /// segment the axial and shear force, bending and twisting moment, twist, curvature.
+  io::PolylineData
+  polyline_data(const RodModel &model, double radius);
+
   class RodProblem
   {
   public:

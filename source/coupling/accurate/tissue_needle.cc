@@ -61,7 +61,7 @@ namespace suturesim::coupling
   {
     unsigned n = 0;
     for (const auto &p : pierce)
-      n += thread && p.anchor > needle.length();
+      n += on_thread(p);
     return n;
   }
 
@@ -91,7 +91,7 @@ namespace suturesim::coupling
   {
     std::vector<std::size_t> elements;
     for (const auto &p : pierce)
-      if (thread && p.anchor > needle.length())
+      if (on_thread(p))
         elements.push_back(thread_element(p.anchor - needle.length()).first);
     std::sort(elements.begin(), elements.end());
     elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
@@ -105,7 +105,7 @@ namespace suturesim::coupling
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
-        if (!thread || pierce[j].anchor <= needle.length())
+        if (!on_thread(pierce[j]))
           continue;
         const auto [e, xi] = thread_element(pierce[j].anchor - needle.length());
         if (e != element)
@@ -118,7 +118,7 @@ namespace suturesim::coupling
         Tensor<2, 3>           df_dx;
         const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], nullptr, nullptr, &df_dx);
         const double           w[2] = {1 - xi, xi};
-        const Tensor<1, 3>     t    = curve(pierce[j].anchor).second;
+        const Eigen::Vector3d  t    = (xs[e] - xs[e + 1]).normalized();
         for (unsigned a = 0; a < 2; ++a)
           for (unsigned i = 0; i < 3; ++i)
             {
@@ -272,6 +272,7 @@ namespace suturesim::coupling
         p.zeta   = p.anchor;
         p.exit   = puncture->last_touch().exit;
         pierce.insert(pierce.begin(), p);
+        on_needle.insert(on_needle.begin(), true);
         changed = true;
       }
     // order along needle and thread; a point that reaches the end of the curve (the
@@ -285,10 +286,7 @@ namespace suturesim::coupling
         keep_order(anchors, prm.spacing, 0, end);
         for (std::size_t j = 0; j < pierce.size(); ++j)
           {
-            // (on_needle is one shorter than pierce after a puncture inserted at the front)
-            const std::size_t before = j + on_needle.size() - pierce.size();
-            if (thread && j + on_needle.size() >= pierce.size() && on_needle[before] &&
-                anchors[j] > needle.length())
+            if (thread && on_needle[j] && anchors[j] > needle.length())
               log.push_back({"onto_suture", time, eigen(pierce[j].X), pierce[j].normal});
             pierce[j].anchor = anchors[j];
           }
@@ -316,20 +314,22 @@ namespace suturesim::coupling
   }
 
   std::pair<Tensor<1, 3>, Tensor<1, 3>>
-  TissueNeedle::needle_load(const std::vector<Point<3>> &x) const
+  TissueNeedle::needle_load(const std::vector<Point<3>> &x, const rod::Vec6 &swage_pull) const
   {
-    Tensor<1, 3>       force, torque;
     const Tensor<1, 3> origin = tensor(current.position);
+    Tensor<1, 3>       force  = tensor(swage_pull.head<3>());
+    Tensor<1, 3>       torque = tensor(swage_pull.tail<3>()) +
+                          cross_product_3d(tensor(needle.swage(current)) - origin, force);
     for (std::size_t k = 0; k < x.size(); ++k)
       {
+        const std::size_t offset = touch_index() == 0 ? 1 : 0;
+        const bool        tip    = touch_index() == 0 && k == 0;
+        // points on the thread load the suture, not the needle
+        if (!tip && on_thread(pierce[k - offset]))
+          continue;
         Tensor<1, 3> f;
         Tensor<2, 3> unused;
         this->force(k, x[k], f, unused);
-        const std::size_t  offset = touch_index() == 0 ? 1 : 0;
-        const bool tip = touch_index() == 0 && k == 0;
-        // points on the thread load the suture, not the needle
-        if (!tip && thread && pierce[k - offset].anchor > needle.length())
-          continue;
         const Tensor<1, 3> at = tip ? tensor(needle.tip(current)) : curve(pierce[k - offset].anchor).first;
         force -= f;
         torque -= cross_product_3d(at - origin, f);

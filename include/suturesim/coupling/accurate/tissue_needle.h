@@ -129,9 +129,10 @@ namespace suturesim::coupling
     accept_step(const std::vector<dealii::Point<3>> &x);
 
     /// Force and moment (about the needle's pose position) the tissue exerts on the
-    /// needle at positions @p x, N and N m.
+    /// needle at positions @p x, plus @p swage_pull (force, N, and moment, N m, the
+    /// suture puts on the swage), N and N m.
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
-    needle_load(const std::vector<dealii::Point<3>> &x) const;
+    needle_load(const std::vector<dealii::Point<3>> &x, const rod::Vec6 &swage_pull = rod::Vec6::Zero()) const;
 
     const std::vector<AccuratePiercePoint> &
     pierce_points() const
@@ -153,6 +154,12 @@ namespace suturesim::coupling
     }
 
   private:
+    /// Whether @p p sits on the thread (beyond the swage).
+    bool
+    on_thread(const AccuratePiercePoint &p) const
+    {
+      return thread && p.anchor > needle.length();
+    }
     /// Point and advancing tangent of the curve (needle, then thread) at ζ.
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
     curve(double zeta) const;
