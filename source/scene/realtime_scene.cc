@@ -1,3 +1,4 @@
+#include <suturesim/collision/volume_penetration.h>
 #include <suturesim/core/error.h>
 #include <suturesim/io/polyline_writer.h>
 #include <suturesim/io/simplex_writer.h>
@@ -726,6 +727,24 @@ namespace suturesim::scene
     metrics["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     if (closure)
       closure->write(metrics);
+    // no suture node may end inside the tissue, deeper than its radius below the surface,
+    // but those the thread carries between two pierce points
+    if (in.tissue && in.suture && !world.tissue()->volume_cells().empty())
+      {
+        const rt::Matrix3Xd nodes = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
+        std::vector<char> pierced;
+        if (world.needle())
+          pierced = world.needle()->suture_inside();
+        const auto inside = [&](const std::vector<char> &skip) {
+          return collision::volume_penetration(sys.nodes.x.leftCols(sys.tissue.end), world.tissue()->volume_cells(),
+                                               world.tissue()->surface(), nodes, skip, in.rod->section.radius);
+        };
+        const auto outside_tracts = inside(pierced);
+        metrics["suture_nodes_inside_tissue"] = outside_tracts.points.size();
+        metrics["suture_penetration_depth"]   = outside_tracts.depth;
+        // and those in the stitch's tracts, which are meant to be inside
+        metrics["suture_nodes_in_tracts"] = inside({}).points.size() - outside_tracts.points.size();
+      }
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[first_end_tool + k].force.norm();
     if (needle)

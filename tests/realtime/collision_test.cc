@@ -1,6 +1,7 @@
 // The triangle bounding-sphere hierarchy (seed 000 Algorithm 1, bottom-up refit) after
 // large deformations, and suture–tissue-surface contact.
 #include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/collision/volume_penetration.h>
 #include <suturesim/mesh/simplex_mesh.h>
 
 #include <gtest/gtest.h>
@@ -193,4 +194,33 @@ TEST(TriangleSphereTree, LazyUpdateBoundsEveryTriangleAndRefitsOnlyEscapedVertic
     x.col(v) = Eigen::AngleAxisd(8 * x(2, v), Vector3d::UnitZ()) * x.col(v) + Vector3d(0, 0, 10 * x(0, v) * x(0, v));
   EXPECT_GT(tree.update(x, slack), tree.n_leaves() / 2);
   expect_bounding(tree, x, surface.triangles);
+}
+
+TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepth)
+{
+  // a 2 × 1 × 1 cm box of 4 × 2 × 2 Kuhn cubes; its boundary from the cells
+  const auto mesh    = test_support::box_mesh(0.02, 0.01, 0.01, 4, 2, 2);
+  const auto surface = mesh::extract_boundary(mesh);
+  Matrix3Xd  points(3, 5);
+  points.col(0) << 0.010, 0.005, 0.007;  // inside, 3 mm below the top
+  points.col(1) << 0.0031, 0.0047, 0.0098; // inside, 0.2 mm below the top: within tolerance
+  points.col(2) << 0.010, 0.005, 0.0105; // above the top
+  points.col(3) << 0.0195, 0.004, 0.005;  // inside, 0.5 mm from the end face x = 0.02
+  points.col(4) << 0.012, 0.005, 0.004;  // inside, 4 mm deep, but skipped (between pierce points)
+  const std::vector<char> skip{0, 0, 0, 0, 1};
+  const auto r = collision::volume_penetration(mesh.vertices, mesh.tetrahedra, surface.triangles, points, skip, 3e-4);
+  ASSERT_EQ(r.points, (std::vector<std::size_t>{0, 3}));
+  EXPECT_NEAR(r.depth, 3e-3, 1e-12);
+  // a point on a face shared by two cells, and one at a vertex, count as inside
+  EXPECT_TRUE(collision::inside_tetrahedron(Vector3d(0.25, 0.25, 0), Vector3d(0, 0, 0), Vector3d(1, 0, 0),
+                                            Vector3d(0, 1, 0), Vector3d(0, 0, 1)));
+  EXPECT_FALSE(collision::inside_tetrahedron(Vector3d(0.5, 0.5, 0.1), Vector3d(0, 0, 0), Vector3d(1, 0, 0),
+                                             Vector3d(0, 1, 0), Vector3d(0, 0, 1)));
+  // deformed: the box's top pushed down by 4 mm near x = 1 cm leaves point 0 above it
+  Matrix3Xd x = mesh.vertices;
+  for (Eigen::Index v = 0; v < x.cols(); ++v)
+    if (x(2, v) > 0.009 && std::abs(x(0, v) - 0.01) < 1e-9)
+      x(2, v) -= 0.004;
+  const auto dented = collision::volume_penetration(x, mesh.tetrahedra, surface.triangles, points, skip, 3e-4);
+  EXPECT_EQ(dented.points, (std::vector<std::size_t>{3}));
 }

@@ -239,7 +239,8 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   // top: its moment arm Di - delta falls from 1.25 mm (d = 5 mm) to 0.29 mm (d = 6 mm),
   // so the larger bite needs a larger tension to close the top. Drawn as far, the 6 mm
   // bite's tail carries more than 1.5 times the 5 mm bite's closure tension and the
-  // wound is still open.
+  // wound is still open. At the end no suture node lies inside the tissue outside the
+  // bites' tracts (the realtime path's suture–surface contact).
   const std::string stitch = "'" + source_path("parameters/stitch_interrupted.prm") + "'";
   const auto        r5     = run_suturesim("stitch_closes", stitch);
   ASSERT_EQ(r5.exit_code, 0) << r5.output;
@@ -248,6 +249,10 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   ASSERT_FALSE(m5["closure_tension"].is_null());
   EXPECT_GT(m5["closure_time"].get<double>(), 2.5); // after the tail's grasp
   expect_pierce_order(r5, 4);
+  // no suture node ends inside the tissue (deeper than the suture's radius) but those
+  // the bites carry between their pierce points, and the check sees those
+  EXPECT_EQ(m5["suture_nodes_inside_tissue"].get<int>(), 0) << m5["suture_penetration_depth"];
+  EXPECT_GT(m5["suture_nodes_in_tracts"].get<int>(), 5);
 
   const auto r6 = run_suturesim("stitch_bite_6mm", stitch +
                                                      " --set 'Needle/Pass/Entry point=-0.006, 0, 0.006'"

@@ -1,0 +1,65 @@
+#include <suturesim/collision/proximity.h>
+#include <suturesim/collision/volume_penetration.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace suturesim::collision
+{
+  bool
+  inside_tetrahedron(const Eigen::Vector3d &p, const Eigen::Vector3d &a, const Eigen::Vector3d &b,
+                     const Eigen::Vector3d &c, const Eigen::Vector3d &d)
+  {
+    Eigen::Matrix3d J;
+    J << b - a, c - a, d - a;
+    const double det = J.determinant();
+    if (det == 0)
+      return false;
+    const Eigen::Vector3d l = J.inverse() * (p - a);
+    // a relative slack of round-off, so that a point on a shared face counts
+    const double eps = 1e-12;
+    return l.minCoeff() >= -eps && l.sum() <= 1 + eps;
+  }
+
+  VolumePenetration
+  volume_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 4>> &cells,
+                     const std::vector<std::array<std::uint32_t, 3>> &surface, const Eigen::Matrix3Xd &points,
+                     const std::vector<char> &skip, const double tolerance)
+  {
+    VolumePenetration result;
+    for (Eigen::Index k = 0; k < points.cols(); ++k)
+      {
+        if (static_cast<std::size_t>(k) < skip.size() && skip[k])
+          continue;
+        const Eigen::Vector3d p      = points.col(k);
+        const bool            inside = std::any_of(cells.begin(), cells.end(), [&](const auto &cell) {
+          Eigen::Vector3d lo = x.col(cell[0]), hi = lo;
+          for (unsigned v = 1; v < 4; ++v)
+            {
+              lo = lo.cwiseMin(x.col(cell[v]));
+              hi = hi.cwiseMax(x.col(cell[v]));
+            }
+          if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any())
+            return false;
+          return inside_tetrahedron(p, x.col(cell[0]), x.col(cell[1]), x.col(cell[2]), x.col(cell[3]));
+        });
+        if (!inside)
+          continue;
+        double depth = std::numeric_limits<double>::infinity();
+        for (const auto &t : surface)
+          {
+            Eigen::Vector3d bary;
+            depth = std::min(depth, (p - closest_point_on_triangle(p, x.col(t[0]), x.col(t[1]), x.col(t[2]), bary)).norm());
+          }
+        if (depth > tolerance)
+          {
+            result.points.push_back(k);
+            result.depth = std::max(result.depth, depth);
+          }
+      }
+    return result;
+  }
+} // namespace suturesim::collision
