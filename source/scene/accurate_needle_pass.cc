@@ -38,6 +38,8 @@ namespace suturesim::scene
     parameters.friction             = np.friction;
     parameters.transverse_stiffness = np.transverse_stiffness;
     parameters.spacing              = np.spacing;
+    parameters.lagrange             = np.enforcement == "lagrange";
+    const bool lagrange             = parameters.lagrange;
     const tools::CurvedNeedle geometry = np.needle();
     coupling::TissueNeedle    needle(geometry, parameters, surface.triangles, surface.reference);
     const tools::Trajectory   path       = np.trajectory();
@@ -254,37 +256,47 @@ namespace suturesim::scene
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);
         tissue::NewtonReport report = model.solve_static(tn);
         unsigned             rounds = 0;
-        if (suture && report.converged)
+        if ((suture || lagrange) && report.converged)
           {
-            // block Gauss–Seidel: the suture with the tissue points held, then the tissue
-            // with the suture held, until neither moves by more than the tolerance
+            // block Gauss–Seidel: the suture with the tissue points held, then the
+            // multipliers' update, then the tissue with both held, until nothing moves
+            // and no tie gapes by more than the tolerance
             double tissue_moved = std::numeric_limits<double>::infinity();
             for (rounds = 1;; ++rounds)
               {
-                const auto                   x      = positions();
-                const std::vector<rod::Vec3> before = suture->positions();
-                const rod::NewtonResult      r = with_pierce_terms(x, [&]() { return suture->solve(suture_newton); });
-                if (!r.converged)
+                const auto x     = positions();
+                double     moved = 0;
+                if (suture)
                   {
-                    report.converged = false;
-                    report.failure   = "suture: " + r.reason;
-                    break;
+                    const std::vector<rod::Vec3> before = suture->positions();
+                    const rod::NewtonResult r = with_pierce_terms(x, [&]() { return suture->solve(suture_newton); });
+                    if (!r.converged)
+                      {
+                        report.converged = false;
+                        report.failure   = "suture: " + r.reason;
+                        break;
+                      }
+                    for (std::size_t i = 0; i < before.size(); ++i)
+                      moved = std::max(moved, (suture->positions()[i] - before[i]).norm());
                   }
-                double moved = 0;
-                for (std::size_t i = 0; i < before.size(); ++i)
-                  moved = std::max(moved, (suture->positions()[i] - before[i]).norm());
                 // the tissue feels the suture only through pierce points on it
-                if (needle.n_on_thread() == 0 || (moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance))
+                const bool   coupled = suture && needle.n_on_thread() > 0;
+                const double gap     = lagrange ? needle.constraint_gap(x) : 0;
+                if ((!coupled || (moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance)) &&
+                    gap <= np.coupling_tolerance)
                   break;
                 if (rounds == np.coupling_iterations)
                   {
                     std::ostringstream why;
-                    why << "tissue and suture still moved by " << std::max(moved, tissue_moved) << " m after "
-                        << rounds << " rounds (Pierce points/Coupling tolerance " << np.coupling_tolerance << " m)";
+                    why << "after " << rounds << " rounds tissue and suture still moved by "
+                        << std::max(moved, tissue_moved) << " m, the pierce ties gape by " << gap
+                        << " m (Pierce points/Coupling tolerance " << np.coupling_tolerance << " m)";
                     report.converged = false;
                     report.failure   = why.str();
                     break;
                   }
+                if (lagrange)
+                  needle.update_multipliers(x);
                 report = model.solve_static(tn);
                 if (!report.converged)
                   break;

@@ -101,20 +101,24 @@ namespace suturesim::scene
                       "Least distance between pierce points along the thread. Unit: m. "
                       "Range: >= 0.");
     prm.declare_entry("Enforcement", "penalty", Patterns::Selection("penalty|lagrange"),
-                      "Accurate path: penalty (lagrange, Lagrange multipliers, is not "
-                      "available yet). Unit: none.");
+                      "Accurate path, the tie across the thread: penalty (a gap of "
+                      "force / Transverse stiffness remains) or lagrange (Lagrange "
+                      "multipliers by augmented-Lagrangian Uzawa updates until the gap is "
+                      "below Coupling tolerance; Transverse stiffness then sets the rate). "
+                      "The realtime path's XPBD constraints ignore it. Unit: none.");
     prm.declare_entry("Mass ratio", "10", Patterns::Double(1),
                       "Realtime XPBD: the suture nodes' inverse masses within a pierce "
                       "constraint are capped at this multiple of the tissue point's (mass "
                       "scaling). Unit: 1. Range: >= 1.");
     prm.declare_entry("Coupling tolerance", "1e-7", Patterns::Double(0),
-                      "Accurate path with the suture: tissue and suture are solved in turn "
-                      "within each step until neither the pierced tissue points nor the "
-                      "suture's nodes move by more than this between two rounds. Unit: m. "
-                      "Range: > 0.");
+                      "Accurate path with the suture or Lagrange enforcement: tissue and "
+                      "suture are solved in turn within each step (the multipliers updated "
+                      "between) until neither the pierced tissue points nor the suture's "
+                      "nodes move by more than this between two rounds and, with lagrange, "
+                      "no pierce tie gapes by more. Unit: m. Range: > 0.");
     prm.declare_entry("Coupling iterations", "40", Patterns::Integer(1, 1000),
-                      "Accurate path with the suture: most rounds of tissue and suture "
-                      "solves per step; a step that does not converge in them is halved. "
+                      "Accurate path with the suture or Lagrange enforcement: most rounds "
+                      "per step; a step that does not converge in them is halved. "
                       "Unit: 1. Range: 1-1000.");
     prm.declare_entry("Recorded", "4", Patterns::Integer(0, 64),
                       "Pierce points given columns in forces.csv (state, slip velocity, "
@@ -207,9 +211,6 @@ namespace suturesim::scene
     pp.require(coupling_tolerance > 0, "Coupling tolerance", "must be > 0 m");
     pp.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
     pp.require(friction.stiffness > 0, "Stick stiffness", "must be > 0 N/m");
-    pp.require(enforcement == "penalty", "Enforcement",
-               "lagrange is not available yet: an augmented-Lagrangian (Uzawa) iteration did "
-               "not converge on the skin pad (issue 5); use penalty");
     prm.leave_subsection();
   }
 

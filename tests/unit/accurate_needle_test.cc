@@ -1,12 +1,14 @@
 // The needle in the accurate path as a user runs it: parameters/needle_pass.prm with
 // Model = accurate through the suturesim command, on Q1 hexahedra of 2 mm (the tissue
-// alone, then with the Cosserat suture through the pierce points).
+// alone, then with the Cosserat suture through the pierce points; penalty and Lagrange
+// enforcement of the pierce ties).
 #include "run_scene.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -132,4 +134,34 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
         ++coupled;
       }
   EXPECT_GT(coupled, 10u);
+}
+
+TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
+{
+  // The coarse pass to 0.4 s (the entry point sliding on the needle). With Lagrange
+  // multipliers the tie holds the tissue point on the needle's curve to the coupling
+  // tolerance (1e-7 m), so the normal force, which is the tie's force, does not depend
+  // on Transverse stiffness: 5e4 and 5e5 N/m give the same N to 1e-3 (the tolerance
+  // times the point's stiffness, about 2e4 N/m here, is 2e-3 N of 2.5 N). A penalty tie
+  // of 5e4 N/m leaves a gap: its N is lower, by K/(K + k) of it (springs in series).
+  const auto run = [](const std::string &name, const std::string &enforcement, const double k) {
+    const auto r = run_suturesim(name, coarse_pass + " --set Bodies=tissue --set 'Time/Step size=0.02'"
+                                                     " --set 'Time/End time=0.4' --set 'Time/Output interval=0.4'"
+                                                     " --set 'Pierce points/Stick stiffness=5e4'"
+                                                     " --set 'Pierce points/Enforcement=" + enforcement + "'"
+                                                     " --set 'Pierce points/Transverse stiffness=" + std::to_string(k) + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::string header;
+    const auto  rows = read_forces(r, &header);
+    EXPECT_EQ(rows.back()[column(header, "pierce_0_state")], 2); // sliding on the needle
+    return rows.back()[column(header, "pierce_0_normal")];
+  };
+  const double lagrange = run("needle_lagrange_5e4", "lagrange", 5e4);
+  const double stiffer  = run("needle_lagrange_5e5", "lagrange", 5e5);
+  const double penalty  = run("needle_penalty_5e4", "penalty", 5e4);
+  std::printf("normal force on the needle: Lagrange %.6f N (k = 5e4), %.6f N (k = 5e5); penalty %.6f N (k = 5e4)\n",
+              lagrange, stiffer, penalty);
+  EXPECT_GT(lagrange, 1.0);
+  EXPECT_NEAR(stiffer, lagrange, 1e-3 * lagrange);
+  EXPECT_LT(penalty, 0.9 * lagrange);
 }

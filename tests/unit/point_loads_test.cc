@@ -2,14 +2,7 @@
 // material point of the top of a fixed-bottom block towards a target. The tangent of
 // the point load keeps Newton quadratic, the fixed bottom carries the spring force,
 // and the spring's force equals k times the remaining distance at equilibrium.
-#include <suturesim/mesh/mesh_loader.h>
-#include <suturesim/scene/parameter_file.h>
-#include <suturesim/scene/simulation.h>
-#include <suturesim/tissue/tissue_model.h>
-
-#include <deal.II/base/timer.h>
-#include <deal.II/distributed/tria.h>
-#include <deal.II/grid/grid_generator.h>
+#include "block_model.h"
 
 #include <gtest/gtest.h>
 
@@ -48,37 +41,13 @@ namespace
 
 TEST(PointLoads, SpringAtAnEmbeddedPointBalancesAndNewtonStaysQuadratic)
 {
-  ParameterHandler prm;
-  scene::Simulation::declare_parameters(prm);
-  const std::string text = "subsection Tissue\n"
-                           " set Element degree = 2\n"
-                           " subsection Newton\n  set Line search = false\n end\n"
-                           " subsection Material\n  set Model = neo-Hookean\n  set Bulk modulus = 1e6\n"
-                           "  subsection neo-Hookean\n   set Shear modulus = 2e5\n  end\n end\n"
-                           " subsection Boundary conditions\n  set Fixed = bottom\n end\n"
-                           "end\n";
-  const scene::ParameterFile file(prm, text, "point_loads.prm", ".");
-  const scene::ParameterScope root(file, "");
-  prm.enter_subsection("Tissue");
-  tissue::TissueParameters parameters;
-  parameters.parse(prm, root.subsection("Tissue"));
-  prm.enter_subsection("Material");
-  const auto material = tissue::Material::parse_parameters(prm, root.subsection("Tissue/Material"));
-  prm.leave_subsection();
-  prm.enter_subsection("Boundary conditions");
-  tissue::BoundaryConditions bc;
-  bc.parse(prm, root.subsection("Tissue/Boundary conditions"));
-  prm.leave_subsection();
-  prm.leave_subsection();
-
-  parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
-  GridGenerator::subdivided_hyper_rectangle(tria, {4, 4, 2}, Point<3>(0, 0, 0), Point<3>(0.02, 0.02, 0.01), true);
-  mesh::MeshInfo info;
-  info.boundary_names = {{0, "x0"}, {1, "x1"}, {2, "y0"}, {3, "y1"}, {4, "bottom"}, {5, "top"}};
-  bc.resolve(info);
-  TimerOutput timer(MPI_COMM_WORLD, std::cout, TimerOutput::never, TimerOutput::wall_times);
-  tissue::TissueModel model(MPI_COMM_WORLD, parameters, material, bc, tria, timer);
-  model.setup();
+  test_support::BlockModel block(" set Element degree = 2\n"
+                                 " subsection Newton\n  set Line search = false\n end\n"
+                                 " subsection Material\n  set Model = neo-Hookean\n  set Bulk modulus = 1e6\n"
+                                 "  subsection neo-Hookean\n   set Shear modulus = 2e5\n  end\n end\n"
+                                 " subsection Boundary conditions\n  set Fixed = bottom\n end\n",
+                                 Point<3>(0.02, 0.02, 0.01), {4, 4, 2});
+  auto &model = *block.model;
 
   // a material point off the nodes (inside a cell face of the top), pulled up and sideways
   const Point<3> X(0.0071, 0.0093, 0.01);

@@ -19,7 +19,9 @@
  *    state on disk.
  *  - A step that would carry the touch force past 1.04 × the puncture threshold is
  *    halved too, so that the puncture lands within 4 % above the threshold.
- *  - Penalty enforcement only, so far.
+ *  - Enforcement = lagrange adds the multipliers' Uzawa update to each round
+ *    (coupling/accurate/tissue_needle.h); a step converges once, besides, no tie gapes
+ *    by more than the coupling tolerance.
  * Records as the realtime path does (scene/realtime_needle.h): forces.csv columns for
  * the needle force, torque and arc centre and per pierce point its state, ζ, slip
  * velocity, normal and friction force; summary.json events and puncture / pull metrics.

@@ -184,30 +184,112 @@ namespace suturesim::coupling
     rebuild_points();
   }
 
+  double
+  TissueNeedle::projection(const AccuratePiercePoint &p, const Point<3> &x) const
+  {
+    const auto [c, t] = curve(p.anchor);
+    // on the thread, the anchor's straight element (extended)
+    if (on_thread(p))
+      return p.anchor - (Tensor<1, 3>(x) - c) * t;
+    // on the needle, the circle through the arc, taken within half a turn of the anchor
+    // and continued straight along the end tangents beyond the tip and the swage
+    const double    R   = needle.radius(), L = needle.length();
+    const auto      X   = current.inverse_apply(eigen(x));
+    const double    phi = needle.arc_angle() - p.anchor / R;
+    double          psi = std::atan2(X[1], X[0]);
+    psi += 2 * M_PI * std::round((phi - psi) / (2 * M_PI));
+    const double zeta = R * (needle.arc_angle() - psi);
+    const double end  = std::clamp(zeta, 0.0, L);
+    if (zeta == end)
+      return zeta;
+    const auto [ce, te] = curve(end);
+    return end - (Tensor<1, 3>(x) - ce) * te;
+  }
+
+  std::pair<Tensor<1, 3>, Tensor<1, 3>>
+  TissueNeedle::projected_curve(const AccuratePiercePoint &p, const double zeta) const
+  {
+    if (on_thread(p))
+      {
+        const auto [c, t] = curve(p.anchor);
+        return {c - (zeta - p.anchor) * t, t};
+      }
+    const double end   = std::clamp(zeta, 0.0, needle.length());
+    const auto [c, t]  = curve(end);
+    return {c - (zeta - end) * t, t};
+  }
+
   Tensor<1, 3>
   TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
                              double *N_out, Tensor<2, 3> *df_dx) const
   {
-    const auto [c, t]         = curve(p.anchor);
+    // the tie across the curve at the point's projection ζ, the friction along it by ζ − ζ_a
+    const double       zeta   = projection(p, x);
+    const auto [c, t]         = projected_curve(p, zeta);
     const Tensor<1, 3> d      = Tensor<1, 3>(x) - c;
-    const double       along  = d * t;
-    const Tensor<1, 3> d_perp = d - along * t;
-    const Tensor<1, 3> f_perp = -prm.transverse_stiffness * d_perp;
+    const Tensor<1, 3> d_perp = d - (d * t) * t;
+    const Tensor<1, 3> lambda = p.multiplier - (p.multiplier * t) * t;
+    const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * d_perp);
     const double       N      = prm.friction.grip + f_perp.norm();
-    // ζ = ζ_a − d·t: the generalised force f_ζ acts along dx/dζ = −t
-    const FrictionResult r = coulomb_friction(prm.friction, p.anchor - along, p.anchor, N);
+    // the generalised force f_ζ acts along dx/dζ = −t
+    const FrictionResult r = coulomb_friction(prm.friction, zeta, p.anchor, N);
     if (r_out)
       *r_out = r;
     if (N_out)
       *N_out = N;
     if (df_dx)
       {
+        // the curvature's part (|d_perp| / R against 1) is left out
         const Tensor<2, 3> ttT = outer_product(t, t);
         *df_dx                 = -prm.transverse_stiffness * (unit_symmetric_tensor<3>() - ttT);
         if (!r.slipping)
           *df_dx -= prm.friction.stiffness * ttT;
       }
     return f_perp - r.force * t;
+  }
+
+  double
+  TissueNeedle::constraint_gap(const std::vector<Point<3>> &x) const
+  {
+    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    double            gap    = 0;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      {
+        const double zeta = projection(pierce[j], x[offset + j]);
+        const auto [c, t] = projected_curve(pierce[j], zeta);
+        const Tensor<1, 3> d = Tensor<1, 3>(x[offset + j]) - c;
+        gap                  = std::max(gap, (d - (d * t) * t).norm());
+      }
+    return gap;
+  }
+
+  double
+  TissueNeedle::update_multipliers(const std::vector<Point<3>> &x)
+  {
+    const double      gap    = constraint_gap(x);
+    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      {
+        const double zeta = projection(pierce[j], x[offset + j]);
+        const auto [c, t] = projected_curve(pierce[j], zeta);
+        const Tensor<1, 3> d    = Tensor<1, 3>(x[offset + j]) - c;
+        const Tensor<1, 3> next = pierce[j].multiplier + prm.transverse_stiffness * d;
+        pierce[j].multiplier    = next - (next * t) * t;
+      }
+    return gap;
+  }
+
+  void
+  TissueNeedle::add_pierce_point(const Point<3> &X, const double anchor)
+  {
+    AccuratePiercePoint p;
+    p.X      = X;
+    p.anchor = anchor;
+    p.zeta   = anchor;
+    auto at  = std::upper_bound(pierce.begin(), pierce.end(), anchor,
+                               [](const double a, const AccuratePiercePoint &q) { return a < q.anchor; });
+    pierce.insert(at, p);
+    rebuild_points();
   }
 
   void
@@ -251,9 +333,7 @@ namespace suturesim::coupling
         FrictionResult r;
         double         N = 0;
         pierce_force(p, x[offset + j], &r, &N, nullptr);
-        const auto [c, t]  = curve(p.anchor);
-        const double along = (Tensor<1, 3>(x[offset + j]) - c) * t;
-        p.zeta       = p.anchor - along;
+        p.zeta       = projection(p, x[offset + j]);
         p.slip_speed = step > 0 ? (r.anchor - p.anchor) / step : 0;
         p.anchor     = r.anchor;
         p.normal     = N;

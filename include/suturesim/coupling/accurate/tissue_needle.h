@@ -8,12 +8,25 @@
  *
  * Pierce point at material point X (reference coordinates in its cell, no remeshing),
  * current position x, anchor ζ_a on the needle (fixed within a load step; history
- * updated when a step is accepted), c = c(ζ_a), t the tangent there, d = x − c:
- *  - transverse: f⊥ = −k⊥ P⊥ d, P⊥ = I − t tᵀ (penalty; Lagrange multipliers are not
- *    available yet in this path);
- *  - along the needle: the return mapping at ζ = ζ_a − d·t with N = N₀ + |f⊥|:
- *    f_t = −k_t (d·t) t in stick (tangent −k_t t tᵀ), ±μN t in slip (tangent left out:
- *    its ∂N/∂x part would make the tangent non-symmetric; the residual stays exact).
+ * updated when a step is accepted). ζ is where x projects on the curve (closest point,
+ * the convected coordinate of sliding contact: Wriggers 2006, "Computational Contact
+ * Mechanics", §4.3), c = c(ζ), t the tangent there, d = x − c:
+ *  - transverse: f⊥ = −P⊥ (λ + k⊥ d), P⊥ = I − t tᵀ. Penalty: λ = 0, the tie leaves
+ *    a gap |P⊥ d| = |f⊥| / k⊥. Lagrange multipliers: λ is the constraint force, found by
+ *    the augmented-Lagrangian (Uzawa) update λ ← P⊥ (λ + k⊥ d) between solves until
+ *    the gap is below a tolerance (Simo & Laursen 1992, Comput. Struct. 42:97–116;
+ *    Wriggers 2006, §6.3.3): the limit satisfies P⊥ d = 0 exactly whatever k⊥, which
+ *    then only sets the rate (update_multipliers());
+ *  - along the needle: the return mapping at ζ against ζ_a with N = N₀ + |f⊥|:
+ *    f_t = k_t (ζ − ζ_a) t in stick (tangent −k_t t tᵀ), ±μN t in slip (tangent left
+ *    out: its ∂N/∂x part would make the tangent non-symmetric; the residual stays exact).
+ * Why the projection and not the anchor's point c(ζ_a): on the needle's circle (radius R)
+ * a point that sticks Δ behind its anchor lies Δ²/(2R) off the anchor's tangent line, so
+ * measuring across that line turns stick into normal force, N into a larger stick
+ * capacity μN and Δ into more normal force: with k⊥ Δ/(2R) > k_t/μ the point locks on
+ * the needle and is dragged through the tissue (measured at k⊥ = 5e4 N/m before this
+ * change: N = 86 N, the point 4.5 mm off). On a thread element, a straight line, both
+ * measures agree.
  * Touch: f = −F n_push with F = k_c max(0, penetration) (tangent −k_c n nᵀ while pressed).
  * The needle carries the opposite of all of these.
  *
@@ -42,6 +55,7 @@ namespace suturesim::coupling
     PunctureParameters puncture;
     FrictionParameters friction;
     double             transverse_stiffness = 500; ///< k⊥, N/m
+    bool               lagrange             = false; ///< Uzawa multipliers on the tie
     double             spacing              = 1e-4; ///< m
   };
 
@@ -50,6 +64,7 @@ namespace suturesim::coupling
     dealii::Point<3>     X;
     double               anchor = 0;
     bool                 exit   = false;
+    dealii::Tensor<1, 3> multiplier; ///< λ, N (zero with penalty enforcement)
     // of the last accepted state, for the record
     double zeta = 0, normal = 0, friction = 0, slip_speed = 0;
     bool   slipping = false;
@@ -82,6 +97,21 @@ namespace suturesim::coupling
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
+
+    /// Largest gap |P⊥ d| of the pierce points at tissue positions @p x (one per
+    /// points()), m.
+    double
+    constraint_gap(const std::vector<dealii::Point<3>> &x) const;
+
+    /// The Uzawa update of every pierce point's multiplier at @p x: λ ← P⊥ (λ + k⊥ d),
+    /// the force the tie carries now. Returns the largest gap before the update, m.
+    double
+    update_multipliers(const std::vector<dealii::Point<3>> &x);
+
+    /// Adds a pierce point at material point @p X anchored at thread coordinate
+    /// @p anchor (m), as if punctured there: a start that is already pierced.
+    void
+    add_pierce_point(const dealii::Point<3> &X, double anchor);
 
     /// The suture elements that hold pierce points now.
     std::vector<std::size_t>
@@ -166,6 +196,14 @@ namespace suturesim::coupling
     /// Element of the thread holding arc length s and the weight ξ of its second node.
     std::pair<std::size_t, double>
     thread_element(double s) const;
+    /// Where pierce point @p p at @p x projects on the curve, ζ (m): on the needle, the
+    /// nearest point of its circle (straight on past the tip and the swage); on the
+    /// thread, of the anchor's element's line.
+    double
+    projection(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
+    /// Point and tangent of that curve (circle or line) at ζ.
+    std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
+    projected_curve(const AccuratePiercePoint &p, double zeta) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();

@@ -1,0 +1,128 @@
+// Penalty against Lagrange-multiplier enforcement of a pierce point's tie across the
+// needle (coupling/accurate/tissue_needle.h). A material point inside a fixed-bottom
+// block is pierced by a needle that passes 0.2 mm beside it radially and 0.1 mm across
+// its plane, so the tie must pull the tissue onto the needle. With Lagrange multipliers
+// (Uzawa updates between solves) the tie closes to the tolerance whatever k⊥; with
+// penalty a gap |f⊥| / k⊥ remains, and for a body of point stiffness K the penalty
+// solution differs from the constrained one by K δ / (K + k⊥), which falls as 1/k⊥
+// (springs in series; Wriggers 2006, "Computational Contact Mechanics", §6.2). The test
+// prints that convergence, checks it against the series formula with K taken from the
+// Lagrange solution, and checks its order.
+#include "block_model.h"
+
+#include <suturesim/coupling/accurate/tissue_needle.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+using namespace suturesim;
+using namespace dealii;
+
+namespace
+{
+  struct Pierced
+  {
+    Point<3> x;                ///< the tissue point, m
+    double   force  = 0;       ///< |f⊥| of the tie, N
+    double   gap    = 0;       ///< |P⊥ d|, m
+    unsigned rounds = 0;       ///< solves
+  };
+} // namespace
+
+TEST(PierceEnforcement, PenaltyConvergesToTheLagrangeSolutionAtFirstOrderInTheStiffness)
+{
+  test_support::BlockModel block(" set Element degree = 2\n"
+                                 " subsection Material\n  set Model = neo-Hookean\n  set Bulk modulus = 1e6\n"
+                                 "  subsection neo-Hookean\n   set Shear modulus = 2e5\n  end\n end\n"
+                                 " subsection Boundary conditions\n  set Fixed = bottom\n end\n",
+                                 Point<3>(0.02, 0.02, 0.01), {4, 4, 2});
+  auto      &model   = *block.model;
+  const auto surface = model.boundary_surface();
+
+  // the needle (R = 8 mm, 3/8) in the plane y = const, its point at φ = 45° beside X;
+  // its tip lies 1.7 mm outside the face x = 0, out of the puncture's reach
+  const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
+  const Point<3>            X(0.0095, 0.0093, 0.0051);
+  const Eigen::Vector3d     radial(std::sqrt(0.5), 0, std::sqrt(0.5)), across(0, 1, 0);
+  const double              delta = 2e-4, delta_across = 1e-4;
+  tools::Pose               pose;
+  pose.orientation      = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  pose.position         = Eigen::Vector3d(X[0], X[1], X[2]) + (delta - needle.radius()) * radial + delta_across * across;
+  const double anchor   = needle.radius() * (needle.arc_angle() - M_PI / 4);
+  const double distance = std::hypot(delta, delta_across);
+  ASSERT_NEAR((needle.point(pose, anchor) - Eigen::Vector3d(X[0], X[1], X[2])).norm(), distance, 1e-12);
+
+  const double tolerance = 1e-10; // m, the Lagrange gap
+  const auto   solve     = [&](const double k, const bool lagrange) {
+    coupling::TissueNeedleParameters p;
+    p.puncture.threshold   = 1;
+    p.friction             = {0, 500, 0.05}; // μ = 0: the force is the tie's alone
+    p.transverse_stiffness = k;
+    p.lagrange             = lagrange;
+    coupling::TissueNeedle tie(needle, p, surface.triangles, surface.reference);
+    tie.begin_step(1, pose, surface.reference);
+    tie.add_pierce_point(X, anchor);
+    model.set_point_loads(&tie);
+    Pierced result;
+    for (;;)
+      {
+        const auto report = model.solve_static(1);
+        EXPECT_TRUE(report.converged) << report.failure;
+        ++result.rounds;
+        const std::vector<Point<3>> x{model.point_position(0)};
+        if (!lagrange || tie.constraint_gap(x) <= tolerance || result.rounds == 200)
+          {
+            Tensor<1, 3> f;
+            Tensor<2, 3> unused;
+            tie.force(0, x[0], f, unused);
+            result.x     = x[0];
+            result.gap   = tie.constraint_gap(x);
+            result.force = f.norm();
+            break;
+          }
+        tie.update_multipliers(x);
+      }
+    model.set_point_loads(nullptr);
+    return result;
+  };
+
+  // the constrained solution, by two rates of the Uzawa iteration: the same point
+  const Pierced lagrange = solve(1e4, true), lagrange_fast = solve(1e5, true);
+  std::printf("Lagrange: |f| = %.6e N, gap %.2e m in %u solves (k = 1e4 N/m); %.2e m in %u solves (k = 1e5 N/m)\n",
+              lagrange.force, lagrange.gap, lagrange.rounds, lagrange_fast.gap, lagrange_fast.rounds);
+  ASSERT_LE(lagrange.gap, tolerance);
+  ASSERT_LE(lagrange_fast.gap, tolerance);
+  EXPECT_LT(lagrange_fast.rounds, lagrange.rounds); // a stiffer tie, a faster iteration
+  EXPECT_LT(lagrange.x.distance(lagrange_fast.x), 1e-8);
+  EXPECT_NEAR(lagrange.force, lagrange_fast.force, 1e-4 * lagrange.force);
+  EXPECT_GT(lagrange.force, 0.05); // the tissue is moved 0.22 mm: the tie carries load
+
+  // the body's stiffness at the point, seen by the constraint: K = f_L / δ; a penalty
+  // tie in series with it leaves the gap K δ / (K + k⊥)
+  const double K = lagrange.force / distance;
+  std::printf("point stiffness K = f_L / delta = %.1f N/m\n", K);
+  std::printf("%12s %14s %14s %14s %14s %8s\n", "k [N/m]", "gap [m]", "K d/(K+k) [m]", "|x - x_L| [m]",
+              "|f - f_L| [N]", "order");
+  double last = 0;
+  for (const double k : {1e3, 1e4, 1e5, 1e6})
+    {
+      const Pierced penalty = solve(k, false);
+      EXPECT_EQ(penalty.rounds, 1u);
+      const double difference = penalty.x.distance(lagrange.x);
+      const double order      = last > 0 ? std::log10(last / difference) : 0;
+      const double series     = K * distance / (K + k);
+      std::printf("%12.0e %14.4e %14.4e %14.4e %14.4e %8.3f\n", k, penalty.gap, series, difference,
+                  std::abs(penalty.force - lagrange.force), order);
+      EXPECT_NEAR(penalty.gap, penalty.force / k, 1e-9 * penalty.gap); // the penalty's gap is f / k
+      EXPECT_NEAR(penalty.gap, series, 0.02 * series) << "k = " << k;   // springs in series
+      EXPECT_NEAR(difference, penalty.gap, 0.02 * penalty.gap) << "k = " << k;
+      if (k == 1e6) // k⊥ far past K: first order, log10((k + K) / (k/10 + K)) → 1
+        {
+          EXPECT_NEAR(order, 1.0, 0.05);
+        }
+      last = difference;
+    }
+  EXPECT_LT(last, 1e-2 * distance); // k = 1e6 N/m: within 1 % of the offset
+}
