@@ -434,6 +434,17 @@ namespace suturesim::rod
                 const auto q0        = rot;
                 bool       assembled = false;
                 double     step      = 1;
+                // the step capped in length and turn (a quasi-static free end swings
+                // far on the first, large correction of a stiffly held node)
+                for (std::size_t i = 0; i < n_nodes(); ++i)
+                  {
+                    const double moved  = delta.segment<3>(6 * i).norm();
+                    const double turned = delta.segment<3>(6 * i + 3).norm();
+                    if (prm.max_displacement > 0 && step * moved > prm.max_displacement)
+                      step = prm.max_displacement / moved;
+                    if (prm.max_rotation > 0 && step * turned > prm.max_rotation)
+                      step = prm.max_rotation / turned;
+                  }
                 for (unsigned k = 0; k <= 10 && !assembled; ++k, step *= 0.5)
                   {
                     update(delta, step);

@@ -67,6 +67,10 @@ namespace suturesim::rod
     /// Residual below which round-off dominates (N); the solver uses at least
     /// 1e-13 EA. Time integrators raise it to the round-off of their inertia terms.
     double absolute_floor = 0;
+    /// Full steps only: the largest node displacement (m) and turn (rad) of one
+    /// iteration; a longer correction is scaled down (0 = no cap).
+    double max_displacement = 0;
+    double max_rotation     = 0;
   };
 
   struct NewtonResult
