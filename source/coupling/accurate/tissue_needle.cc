@@ -116,9 +116,19 @@ namespace suturesim::coupling
         const Eigen::Vector3d  xj = eigen(x[offset + j]);
         const ThreadTie        tie = thread_tie(xj, xs[e], xs[e + 1], 1 - xi, prm.transverse_stiffness);
         Tensor<2, 3>           df_dx;
-        const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], nullptr, nullptr, &df_dx);
+        FrictionResult         slip;
+        double                 N = 0;
+        const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], &slip, &N, &df_dx);
         const double           w[2] = {1 - xi, xi};
         const Eigen::Vector3d  t    = (xs[e] - xs[e + 1]).normalized();
+        // in slip f_t = −F t with F = ∓μN, N = N₀ + |f⊥|: ∂f_t/∂x = (F/N) k⊥ t n̂ᵀ, n̂ the
+        // tie force's direction. Left out of the tissue's symmetric tangent, but a stiff
+        // tie (μ k⊥ of the tie's own order) makes the suture's Newton diverge without it.
+        Tensor<1, 3> n_hat;
+        for (unsigned i = 0; i < 3; ++i)
+          n_hat[i] = f[i] + slip.force * t[i]; // f⊥ = f + F t
+        if (n_hat.norm() > 0)
+          n_hat /= n_hat.norm();
         for (unsigned a = 0; a < 2; ++a)
           for (unsigned i = 0; i < 3; ++i)
             {
@@ -129,7 +139,8 @@ namespace suturesim::coupling
                   {
                     // ∂(friction)/∂x = df_dx + k⊥ P
                     const double friction_rate =
-                      df_dx[i][k] + prm.transverse_stiffness * ((i == k ? 1.0 : 0.0) - t[i] * t[k]);
+                      df_dx[i][k] + prm.transverse_stiffness * ((i == k ? 1.0 : 0.0) - t[i] * t[k]) +
+                      (slip.slipping && N > 0 ? slip.force / N * prm.transverse_stiffness * t[i] * n_hat[k] : 0.0);
                     jacobian(6 * a + i, 6 * b + k) += tie.hessian(3 * a + i, 3 * b + k) - w[a] * w[b] * friction_rate;
                   }
             }
