@@ -2,6 +2,7 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
+#include <suturesim/scene/wound_closure.h>
 
 #include <deal.II/distributed/tria.h>
 
@@ -28,7 +29,18 @@ namespace suturesim::scene
       mesh_info = mesh::create_mesh(*in.mesh, recorder.directory(), tria);
     }
     in.boundary_conditions->resolve(mesh_info);
-    tissue::TissueModel model(comm, *in.tissue, *in.material, *in.boundary_conditions, tria, timer);
+    // the closure's gap probes join the tissue's own (after them)
+    tissue::TissueParameters tissue_parameters = *in.tissue;
+    const std::size_t        first_gap_probe   = tissue_parameters.probes.size();
+    std::optional<ClosureMonitor> closure;
+    if (in.closure)
+      {
+        closure.emplace(*in.closure);
+        for (const auto &pair : in.closure->pairs)
+          for (const auto &[side, X] : {std::pair{"a", pair.a}, std::pair{"b", pair.b}})
+            tissue_parameters.probes.emplace_back("gap_" + pair.name + "_" + side, Point<3>(X[0], X[1], X[2]));
+      }
+    tissue::TissueModel model(comm, tissue_parameters, *in.material, *in.boundary_conditions, tria, timer);
     model.setup();
 
     const NeedleParameters &np      = *in.needle;
@@ -70,7 +82,7 @@ namespace suturesim::scene
     // moves the suture's held nodes to time t: the swage, and the far end once grasped
     // (where it was then, displaced by its keyframes, as in the realtime path)
     const auto hold_suture = [&](const double t) {
-      const tools::Pose pose = path.pose(t);
+      const tools::Pose pose = path.pose(closure ? closure->motion_time(t) : t);
       suture->set_node(0, geometry.swage(pose), pose.orientation * pose0.orientation.inverse() * frame0);
       const auto       &end  = in.suture->last_end;
       const std::size_t last = suture->n_nodes() - 1;
@@ -83,7 +95,8 @@ namespace suturesim::scene
           const bool r = end.fixes_rotation();
           suture->constrain(last, {{true, true, true, r, r, r}});
         }
-      suture->set_node(last, grasped_at + end.motion(std::max(t, end.grasp_time)).first, suture->rotations()[last]);
+      const double motion = closure ? closure->motion_time(t) : t;
+      suture->set_node(last, grasped_at + end.motion(std::max(motion, end.grasp_time)).first, suture->rotations()[last]);
     };
     // The suture's Newton solve leaves the friction's turn with the element and, in
     // slip, the change of its normal force out of the pierce terms' Jacobian, so it may
@@ -96,6 +109,14 @@ namespace suturesim::scene
         suture_newton.absolute_floor = std::max(suture_newton.absolute_floor,
                                                 0.01 * np.transverse_stiffness * np.coupling_tolerance);
         suture_newton.max_iterations = std::max(suture_newton.max_iterations, 200u);
+        // a stiff pierce tie pulls the node it holds by millimetres on the first
+        // iteration of a round, and the free tail would swing with it: half an element
+        // and a quarter radian per iteration at most
+        double shortest = std::numeric_limits<double>::infinity();
+        for (const auto &r : suture->references())
+          shortest = std::min(shortest, r.length);
+        suture_newton.max_displacement = 0.5 * shortest;
+        suture_newton.max_rotation     = 0.25;
       }
     std::vector<rod::Vec3> saved_x;
     std::vector<rod::Quat> saved_q;
@@ -136,9 +157,12 @@ namespace suturesim::scene
     for (const auto &d : in.boundary_conditions->dirichlet)
       for (const char c : {'x', 'y', 'z'})
         columns.push_back(d.name + "_reaction_" + std::string(1, c) + " [N]");
-    for (const auto &[name, point] : model.probes())
+    for (std::size_t p = 0; p < first_gap_probe; ++p)
       for (const char c : {'x', 'y', 'z'})
-        columns.push_back(name + "_displacement_" + std::string(1, c) + " [m]");
+        columns.push_back(model.probes()[p].first + "_displacement_" + std::string(1, c) + " [m]");
+    if (closure)
+      for (const auto &pair : in.closure->pairs)
+        columns.push_back("gap_" + pair.name + " [m]");
     np.add_columns(columns);
     if (suture)
       for (const std::string end : {"swage", "free_end"})
@@ -151,7 +175,7 @@ namespace suturesim::scene
         x[k] = model.point_position(k);
       return x;
     };
-    double      peak_pull = 0, last_output = -1;
+    double      peak_pull = 0, last_output = -1, end_tension = 0;
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -167,12 +191,27 @@ namespace suturesim::scene
           metrics["reaction_force"][r.boundary] = {r.force[0], r.force[1], r.force[2]};
         }
       const auto probes = model.probe_displacements();
-      for (std::size_t p = 0; p < probes.size(); ++p)
+      for (std::size_t p = 0; p < first_gap_probe; ++p)
         for (unsigned d = 0; d < 3; ++d)
           {
             row.push_back(probes[p][d]);
             metrics[model.probes()[p].first + "_displacement_" + std::string(1, char('x' + d))] = probes[p][d];
           }
+      if (closure)
+        {
+          // the gaps, charged to the tension the grasper on the far end feels (else
+          // the needle's pull), as in the realtime path
+          std::vector<double> gaps;
+          for (std::size_t k = 0; k < in.closure->pairs.size(); ++k)
+            {
+              const auto  &pair = in.closure->pairs[k];
+              const auto  &ua = probes[first_gap_probe + 2 * k], &ub = probes[first_gap_probe + 2 * k + 1];
+              gaps.push_back(closure->gap(k, pair.a + Eigen::Vector3d(ua[0], ua[1], ua[2]),
+                                          pair.b + Eigen::Vector3d(ub[0], ub[1], ub[2])));
+              row.push_back(gaps.back());
+            }
+          closure->update(t, gaps, grasped ? end_tension : load.first.norm());
+        }
       const auto &[force, torque] = load;
       for (unsigned d = 0; d < 3; ++d)
         row.push_back(force[d]);
@@ -252,7 +291,7 @@ namespace suturesim::scene
             saved_q = suture->rotations();
             hold_suture(tn);
           }
-        if (needle.begin_step(tn, path.pose(tn), x_surface))
+        if (needle.begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
           model.set_point_loads(needle.points().empty() ? nullptr : &needle);
         tissue::NewtonReport report = model.solve_static(tn);
         unsigned             rounds = 0;
@@ -260,8 +299,14 @@ namespace suturesim::scene
           {
             // block Gauss–Seidel: the suture with the tissue points held, then the
             // multipliers' update, then the tissue with both held, until nothing moves
-            // and no tie gapes by more than the tolerance
-            double tissue_moved = std::numeric_limits<double>::infinity();
+            // and no tie gapes by more than the tolerance. The suture sees the tissue
+            // points relaxed by Aitken's Δ² rule (Irons & Tuck 1969; for partitioned
+            // coupling, Küttler & Wall 2008, Comput. Mech. 43:61–72): with a tie stiffer
+            // than either body at the point, plain rounds contract slowly.
+            double                tissue_moved = std::numeric_limits<double>::infinity();
+            std::vector<Point<3>> seen         = positions(); // by the suture
+            std::vector<double>   last_residual;
+            double                omega = 1;
             for (rounds = 1;; ++rounds)
               {
                 const auto x     = positions();
@@ -269,7 +314,7 @@ namespace suturesim::scene
                 if (suture)
                   {
                     const std::vector<rod::Vec3> before = suture->positions();
-                    const rod::NewtonResult r = with_pierce_terms(x, [&]() { return suture->solve(suture_newton); });
+                    const rod::NewtonResult r = with_pierce_terms(seen, [&]() { return suture->solve(suture_newton); });
                     if (!r.converged)
                       {
                         report.converged = false;
@@ -300,10 +345,31 @@ namespace suturesim::scene
                 report = model.solve_static(tn);
                 if (!report.converged)
                   break;
-                const auto x_new = positions();
-                tissue_moved     = 0;
-                for (std::size_t k = 0; k < x.size(); ++k)
-                  tissue_moved = std::max(tissue_moved, x_new[k].distance(x[k]));
+                const auto          x_new = positions();
+                std::vector<double> residual;
+                tissue_moved = 0;
+                for (std::size_t k = 0; k < x_new.size(); ++k)
+                  {
+                    tissue_moved = std::max(tissue_moved, x_new[k].distance(seen[k]));
+                    for (unsigned d = 0; d < 3; ++d)
+                      residual.push_back(x_new[k][d] - seen[k][d]);
+                  }
+                if (!last_residual.empty())
+                  {
+                    double along = 0, change = 0;
+                    for (std::size_t i = 0; i < residual.size(); ++i)
+                      {
+                        along += last_residual[i] * (residual[i] - last_residual[i]);
+                        change += (residual[i] - last_residual[i]) * (residual[i] - last_residual[i]);
+                      }
+                    // kept within (0, 2]: beyond, the secant has lost the mode
+                    if (change > 0)
+                      omega = std::clamp(-omega * along / change, 0.05, 2.0);
+                  }
+                for (std::size_t k = 0; k < seen.size(); ++k)
+                  for (unsigned d = 0; d < 3; ++d)
+                    seen[k][d] += omega * residual[3 * k + d];
+                last_residual = std::move(residual);
               }
           }
         // back to the state before the step, which is then halved
@@ -321,6 +387,7 @@ namespace suturesim::scene
           {
             if (cutbacks == in.time->max_cutbacks)
               fail(tn, report.failure);
+            pcout << "t = " << tn << " s: step of " << step_dt << " s halved: " << report.failure << "\n";
             halve();
             continue;
           }
@@ -334,7 +401,11 @@ namespace suturesim::scene
         // the suture pulls on the swage: minus the support's reaction at its node 0
         rod::Vec6 swage_pull = rod::Vec6::Zero();
         if (suture)
-          swage_pull = -with_pierce_terms(x, [&]() { return suture->residual(); }).head<6>();
+          {
+            const Eigen::VectorXd r = with_pierce_terms(x, [&]() { return suture->residual(); });
+            swage_pull              = -r.head<6>();
+            end_tension             = r.tail<6>().head<3>().norm(); // the grasper's reaction
+          }
         load = needle.needle_load(x, swage_pull);
         const bool changed = needle.accept_step(x);
         t                  = tn;
@@ -356,6 +427,8 @@ namespace suturesim::scene
       }
 
     np.write_summary(summary, needle.all_events(), peak_pull);
+    if (closure)
+      closure->write(summary["metrics"]);
     summary["solver"]["steps"]                   = steps;
     summary["solver"]["newton_iterations_total"] = total_iterations;
   }

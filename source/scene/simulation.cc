@@ -80,8 +80,8 @@ namespace suturesim::scene
         return;
       }
     ParameterScope(file, "Closure")
-      .require(!closure_parameters.present(), "Gap probes",
-               "wound closure needs the suture in the tissue, realtime only so far: use Model = realtime");
+      .require(!closure_parameters.present() || bodies == "tissue and suture", "Gap probes",
+               "wound closure needs the suture in the tissue: Bodies = tissue and suture");
     root.require(bodies != "tissue and suture" || (needle_parameters.present() && needle_parameters.attach_suture),
                  "Bodies",
                  "the accurate path couples tissue and suture through a needle's pierce points: "
@@ -265,7 +265,8 @@ namespace suturesim::scene
         AccurateNeedleInputs inputs{scene_name,          file.name(),      &mesh_parameters,
                                     &tissue_parameters,  &*material,       &boundary_conditions,
                                     &time_parameters,    &needle_parameters,
-                                    bodies == "tissue and suture" ? &rod_parameters : nullptr};
+                                    bodies == "tissue and suture" ? &rod_parameters : nullptr,
+                                    closure_parameters.present() ? &closure_parameters : nullptr};
         run_accurate_needle_pass(inputs, recorder, timer, pcout);
         auto &timings = recorder.summary()["timings"];
         for (const auto &[section, seconds] : timer.get_summary_data(TimerOutput::total_wall_time))

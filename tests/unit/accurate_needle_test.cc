@@ -78,10 +78,16 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
   // reaction at the swage) equals the tissue's reaction at its fixed bottom (the FE
   // residual there), both being the sum of the pierce forces. Tissue and suture are
   // iterated to 1e-7 m at k_perp = 500 N/m, so two points leave at most 1e-4 N.
+  // A gap probe pair across the incision (0.4 mm apart at rest, away from the pass)
+  // checks the accurate path's closure measurement: the gap of the undeformed pad, then
+  // one gap per row.
   const auto r = run_suturesim("needle_pass_accurate_suture",
                                coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
-                                             " --set 'Time/Output interval=0.5'");
+                                             " --set 'Time/Output interval=0.5'"
+                                             " --set 'Closure/Gap probes=mid: -0.0002, 0, 0.006, 0.0002, 0, 0.006'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NEAR(r.summary["metrics"]["initial_gap"].get<double>(), 4e-4, 1e-12);
+  EXPECT_TRUE(r.summary["metrics"]["closure_tension"].is_null()); // nothing draws it shut
   const double L  = r.summary["needle"]["arc_radius"].get<double>() * 3 * M_PI / 4; // ζ at the swage
   const double mu = 0.2, t_pull = r.summary["needle"]["pass"]["t_turn_end"];
   std::vector<double> onto;
@@ -98,7 +104,16 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
              n0 = column(header, "pierce_0_normal"), n1 = column(header, "pierce_1_normal"),
              f0 = column(header, "pierce_0_friction"), f1 = column(header, "pierce_1_friction"),
              tension = column(header, "suture_tension_swage"), needle = column(header, "needle_force_x"),
-             bottom = column(header, "bottom_reaction_x");
+             bottom = column(header, "bottom_reaction_x"), gap = column(header, "gap_mid");
+  double least_gap = 1, most_gap = 0;
+  for (const auto &row : rows)
+    {
+      least_gap = std::min(least_gap, row[gap]);
+      most_gap  = std::max(most_gap, row[gap]);
+    }
+  EXPECT_GT(most_gap - least_gap, 1e-9); // the pass moves the pad's top there a little
+  EXPECT_LT(most_gap - least_gap, 1e-4);
+  EXPECT_NEAR(r.summary["metrics"]["final_gap"].get<double>(), rows.back()[gap], 1e-15);
   unsigned checked = 0;
   for (const auto &row : rows)
     {

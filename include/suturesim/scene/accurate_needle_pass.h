@@ -11,7 +11,8 @@
  *    Grasp time on. Pierce points pass onto it at the swage and slide along it with the
  *    same friction law. Tissue and suture are solved in turn (block Gauss–Seidel) until
  *    neither the pierced tissue points nor the suture's nodes move by more than
- *    Pierce points/Coupling tolerance between two rounds; a step that does not converge
+ *    Pierce points/Coupling tolerance between two rounds (the suture sees the tissue
+ *    points under Aitken relaxation); a step that does not converge
  *    in Coupling iterations rounds is halved like a failed Newton solve. No contact
  *    between the suture and the tissue's surface outside the pierce points yet.
  *  - A step whose Newton solve fails is halved (Time/Max cutbacks in a row) and the
@@ -19,6 +20,9 @@
  *    state on disk.
  *  - A step that would carry the touch force past 1.04 × the puncture threshold is
  *    halved too, so that the puncture lands within 4 % above the threshold.
+ *  - Closure (scene/wound_closure.h): the gap probes join the tissue's probes; gaps,
+ *    closure tension (the grasper's reaction on the suture's far end, else the needle's
+ *    pull) and the tie-off that stops the needle's and the far end's motions.
  *  - Enforcement = lagrange adds the multipliers' Uzawa update to each round
  *    (coupling/accurate/tissue_needle.h); a step converges once, besides, no tie gapes
  *    by more than the coupling tolerance.
@@ -31,6 +35,7 @@
 #include <suturesim/mesh/mesh_loader.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
+#include <suturesim/scene/wound_closure.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
 #include <suturesim/tissue/time_integrator.h>
@@ -51,6 +56,7 @@ namespace suturesim::scene
     const tissue::TimeParameters     *time   = nullptr;
     const NeedleParameters           *needle = nullptr;
     const rod::RodParameters         *suture = nullptr; ///< attached at the swage when given
+    const ClosureParameters          *closure = nullptr; ///< wound gaps, closure and tie-off
   };
 
   /// Runs the scene into @p recorder; SolverError when a step fails after every
