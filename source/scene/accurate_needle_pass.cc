@@ -98,9 +98,8 @@ namespace suturesim::scene
       const double motion = closure ? closure->motion_time(t) : t;
       suture->set_node(last, grasped_at + end.motion(std::max(motion, end.grasp_time)).first, suture->rotations()[last]);
     };
-    // The suture's Newton solve leaves the friction's turn with the element and, in
-    // slip, the change of its normal force out of the pierce terms' Jacobian, so it may
-    // converge linearly once pierced: it stops at a residual that moves the nodes on the
+    // The suture's Newton solve leaves the friction's turn with the element out of the
+    // pierce terms' Jacobian, so it may converge linearly once pierced: it stops at a residual that moves the nodes on the
     // pierce ties by a hundredth of the coupling tolerance.
     rod::NewtonParameters suture_newton;
     if (in.suture)

@@ -11,6 +11,7 @@
 #include "block_model.h"
 
 #include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/mesh/simplex_mesh.h>
 
 #include <gtest/gtest.h>
 
@@ -125,4 +126,57 @@ TEST(PierceEnforcement, PenaltyConvergesToTheLagrangeSolutionAtFirstOrderInTheSt
       last = difference;
     }
   EXPECT_LT(last, 1e-2 * distance); // k = 1e6 N/m: within 1 % of the offset
+}
+
+TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesUnderATranslationOfTheElement)
+{
+  // A pierce point on a suture element, in stick and in slip, k⊥ = k_t = 5e4 N/m. Moving
+  // both nodes of the element by the same vector leaves its direction alone, so the
+  // friction's turn with the element (left out of thread_terms' Jacobian) plays no part
+  // and the Jacobian must match central differences of the residual: the tie's Hessian,
+  // the stick's −k_t t tᵀ and, in slip, the normal force's (F/N) k⊥ t n̂ᵀ.
+  const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
+  Eigen::Matrix3Xd          reference(3, 3);
+  reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
+  const std::vector<mesh::Triangle> triangles{{0, 1, 2}};
+  coupling::TissueNeedleParameters  p;
+  p.friction             = {0.2, 5e4, 0.05};
+  p.transverse_stiffness = 5e4;
+  coupling::TissueNeedle tie(needle, p, triangles, reference);
+  tie.begin_step(0, tools::Pose(), reference);
+  std::vector<rod::Vec3> nodes{{0, 0, 0}, {-0.001, 0.0002, 0}, {-0.002, 0.0003, 0.0001}};
+  tie.set_thread(&nodes, {0.00102, 0.00101});
+  const double L = needle.length();
+  tie.add_pierce_point(Point<3>(), L + 0.0004); // on element 0, ξ ≈ 0.4
+
+  const Eigen::Vector3d c = 0.6 * nodes[0] + 0.4 * nodes[1], t = (nodes[0] - nodes[1]).normalized();
+  const Eigen::Vector3d across = t.cross(Eigen::Vector3d::UnitZ()).normalized();
+  for (const double along : {1e-7, 2e-4}) // stick: k_t Δ = 5 mN < μN; slip: 10 N > μN
+    {
+      const Eigen::Vector3d             xt = c + 5e-5 * across + 2e-5 * Eigen::Vector3d::UnitZ() - along * t;
+      const std::vector<Point<3>>       x{Point<3>(xt[0], xt[1], xt[2])};
+      Eigen::Matrix<double, 12, 1>      r0 = Eigen::Matrix<double, 12, 1>::Zero();
+      Eigen::Matrix<double, 12, 12>     J  = Eigen::Matrix<double, 12, 12>::Zero();
+      tie.thread_terms(x, 0, r0, J);
+      const Eigen::Vector3d             direction(0.3, -0.8, 0.5);
+      Eigen::Matrix<double, 12, 1>      v = Eigen::Matrix<double, 12, 1>::Zero();
+      v.segment<3>(0)                       = direction;
+      v.segment<3>(6)                       = direction;
+      const double                      h = 1e-9;
+      const auto residual = [&](const double s) {
+        const auto saved = nodes;
+        nodes[0] += s * direction;
+        nodes[1] += s * direction;
+        Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
+        Eigen::Matrix<double, 12, 12> unused;
+        tie.thread_terms(x, 0, r, unused);
+        nodes = saved;
+        return r;
+      };
+      const Eigen::Matrix<double, 12, 1> fd = (residual(h) - residual(-h)) / (2 * h);
+      const Eigen::Matrix<double, 12, 1> Jv = J * v;
+      std::printf("%s: |J v| = %.4e, |J v - FD| = %.3e\n", along > 1e-6 ? "slip" : "stick", Jv.norm(), (Jv - fd).norm());
+      EXPECT_GT(Jv.norm(), 1e3); // the tie and the friction both load the nodes
+      EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm()) << (along > 1e-6 ? "slip" : "stick");
+    }
 }

@@ -93,7 +93,7 @@ namespace suturesim::coupling
     /// fixed): the transverse tie from its energy (coupling/thread_tie.h: exact, with
     /// the element's turn), and the reaction of the friction, −w_a f_t on node a,
     /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x (the friction's turn with the
-    /// element and its normal force's change in slip are left out).
+    /// element is left out; in slip the normal force's change, (F/N) k⊥ t n̂ᵀ, is in).
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
