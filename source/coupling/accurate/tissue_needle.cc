@@ -230,15 +230,24 @@ namespace suturesim::coupling
     return {c - (zeta - end) * t, t};
   }
 
+  TissueNeedle::Offset
+  TissueNeedle::across_curve(const AccuratePiercePoint &p, const Point<3> &x) const
+  {
+    Offset o;
+    o.zeta            = projection(p, x);
+    const auto [c, t] = projected_curve(p, o.zeta);
+    const Tensor<1, 3> d = Tensor<1, 3>(x) - c;
+    o.tangent            = t;
+    o.across             = d - (d * t) * t;
+    return o;
+  }
+
   Tensor<1, 3>
   TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
                              double *N_out, Tensor<2, 3> *df_dx) const
   {
     // the tie across the curve at the point's projection ζ, the friction along it by ζ − ζ_a
-    const double       zeta   = projection(p, x);
-    const auto [c, t]         = projected_curve(p, zeta);
-    const Tensor<1, 3> d      = Tensor<1, 3>(x) - c;
-    const Tensor<1, 3> d_perp = d - (d * t) * t;
+    const auto [zeta, t, d_perp] = across_curve(p, x);
     const Tensor<1, 3> lambda = p.multiplier - (p.multiplier * t) * t;
     const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * d_perp);
     const double       N      = prm.friction.grip + f_perp.norm();
@@ -265,12 +274,7 @@ namespace suturesim::coupling
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
     double            gap    = 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
-      {
-        const double zeta = projection(pierce[j], x[offset + j]);
-        const auto [c, t] = projected_curve(pierce[j], zeta);
-        const Tensor<1, 3> d = Tensor<1, 3>(x[offset + j]) - c;
-        gap                  = std::max(gap, (d - (d * t) * t).norm());
-      }
+      gap = std::max(gap, across_curve(pierce[j], x[offset + j]).across.norm());
     return gap;
   }
 
@@ -281,11 +285,9 @@ namespace suturesim::coupling
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
-        const double zeta = projection(pierce[j], x[offset + j]);
-        const auto [c, t] = projected_curve(pierce[j], zeta);
-        const Tensor<1, 3> d    = Tensor<1, 3>(x[offset + j]) - c;
-        const Tensor<1, 3> next = pierce[j].multiplier + prm.transverse_stiffness * d;
-        pierce[j].multiplier    = next - (next * t) * t;
+        const auto [zeta, t, across] = across_curve(pierce[j], x[offset + j]);
+        const Tensor<1, 3> next      = pierce[j].multiplier + prm.transverse_stiffness * across;
+        pierce[j].multiplier         = next - (next * t) * t;
       }
     return gap;
   }

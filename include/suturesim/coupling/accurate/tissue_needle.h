@@ -204,6 +204,15 @@ namespace suturesim::coupling
     /// Point and tangent of that curve (circle or line) at ζ.
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
     projected_curve(const AccuratePiercePoint &p, double zeta) const;
+    /// Pierce point @p p at @p x against the curve: its projection ζ (m), the tangent
+    /// there, and the part of x − c(ζ) across it (m).
+    struct Offset
+    {
+      double               zeta = 0;
+      dealii::Tensor<1, 3> tangent, across;
+    };
+    Offset
+    across_curve(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();
