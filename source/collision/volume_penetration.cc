@@ -27,13 +27,11 @@ namespace suturesim::collision
   VolumePenetration
   volume_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 4>> &cells,
                      const std::vector<std::array<std::uint32_t, 3>> &surface, const Eigen::Matrix3Xd &points,
-                     const std::vector<char> &skip, const double tolerance)
+                     const double tolerance)
   {
     VolumePenetration result;
     for (Eigen::Index k = 0; k < points.cols(); ++k)
       {
-        if (static_cast<std::size_t>(k) < skip.size() && skip[k])
-          continue;
         const Eigen::Vector3d p      = points.col(k);
         const bool            inside = std::any_of(cells.begin(), cells.end(), [&](const auto &cell) {
           Eigen::Vector3d lo = x.col(cell[0]), hi = lo;
@@ -57,7 +55,7 @@ namespace suturesim::collision
         if (depth > tolerance)
           {
             result.points.push_back(k);
-            result.depth = std::max(result.depth, depth);
+            result.depths.push_back(depth);
           }
       }
     return result;

@@ -17,6 +17,51 @@ namespace suturesim::scene
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// Aitken's Δ² relaxation of a fixed-point iteration x ← G(x) (Irons & Tuck 1969):
+    /// x ← x + ω r with r = G(x) − x and ω from the secant of the last two residuals.
+    class AitkenRelaxation
+    {
+    public:
+      /// Moves @p x towards @p target (= G(x)); returns the largest |target − x| of a
+      /// point before the move, m.
+      double
+      relax(std::vector<Point<3>> &x, const std::vector<Point<3>> &target)
+      {
+        std::vector<double> residual;
+        double              largest = 0;
+        for (std::size_t k = 0; k < x.size(); ++k)
+          {
+            largest = std::max(largest, target[k].distance(x[k]));
+            for (unsigned d = 0; d < 3; ++d)
+              residual.push_back(target[k][d] - x[k][d]);
+          }
+        if (!last.empty())
+          {
+            double along = 0, change = 0;
+            for (std::size_t i = 0; i < residual.size(); ++i)
+              {
+                along += last[i] * (residual[i] - last[i]);
+                change += (residual[i] - last[i]) * (residual[i] - last[i]);
+              }
+            // kept within [0.05, 2]: beyond, the secant has lost the mode
+            if (change > 0)
+              omega = std::clamp(-omega * along / change, 0.05, 2.0);
+          }
+        for (std::size_t k = 0; k < x.size(); ++k)
+          for (unsigned d = 0; d < 3; ++d)
+            x[k][d] += omega * residual[3 * k + d];
+        last = std::move(residual);
+        return largest;
+      }
+
+    private:
+      std::vector<double> last;
+      double              omega = 1;
+    };
+  } // namespace
+
   void
   run_accurate_needle_pass(const AccurateNeedleInputs &in, io::Recorder &recorder, TimerOutput &timer,
                            ConditionalOStream &pcout)
@@ -304,8 +349,7 @@ namespace suturesim::scene
             // than either body at the point, plain rounds contract slowly.
             double                tissue_moved = std::numeric_limits<double>::infinity();
             std::vector<Point<3>> seen         = positions(); // by the suture
-            std::vector<double>   last_residual;
-            double                omega = 1;
+            AitkenRelaxation      relaxation;
             for (rounds = 1;; ++rounds)
               {
                 const auto x     = positions();
@@ -344,31 +388,7 @@ namespace suturesim::scene
                 report = model.solve_static(tn);
                 if (!report.converged)
                   break;
-                const auto          x_new = positions();
-                std::vector<double> residual;
-                tissue_moved = 0;
-                for (std::size_t k = 0; k < x_new.size(); ++k)
-                  {
-                    tissue_moved = std::max(tissue_moved, x_new[k].distance(seen[k]));
-                    for (unsigned d = 0; d < 3; ++d)
-                      residual.push_back(x_new[k][d] - seen[k][d]);
-                  }
-                if (!last_residual.empty())
-                  {
-                    double along = 0, change = 0;
-                    for (std::size_t i = 0; i < residual.size(); ++i)
-                      {
-                        along += last_residual[i] * (residual[i] - last_residual[i]);
-                        change += (residual[i] - last_residual[i]) * (residual[i] - last_residual[i]);
-                      }
-                    // kept within (0, 2]: beyond, the secant has lost the mode
-                    if (change > 0)
-                      omega = std::clamp(-omega * along / change, 0.05, 2.0);
-                  }
-                for (std::size_t k = 0; k < seen.size(); ++k)
-                  for (unsigned d = 0; d < 3; ++d)
-                    seen[k][d] += omega * residual[3 * k + d];
-                last_residual = std::move(residual);
+                tissue_moved = relaxation.relax(seen, positions());
               }
           }
         // back to the state before the step, which is then halved

@@ -735,15 +735,22 @@ namespace suturesim::scene
         std::vector<char> pierced;
         if (world.needle())
           pierced = world.needle()->suture_inside();
-        const auto inside = [&](const std::vector<char> &skip) {
-          return collision::volume_penetration(sys.nodes.x.leftCols(sys.tissue.end), world.tissue()->volume_cells(),
-                                               world.tissue()->surface(), nodes, skip, in.rod->section.radius);
-        };
-        const auto outside_tracts = inside(pierced);
-        metrics["suture_nodes_inside_tissue"] = outside_tracts.points.size();
-        metrics["suture_penetration_depth"]   = outside_tracts.depth;
-        // and those in the stitch's tracts, which are meant to be inside
-        metrics["suture_nodes_in_tracts"] = inside({}).points.size() - outside_tracts.points.size();
+        const auto inside = collision::volume_penetration(sys.nodes.x.leftCols(sys.tissue.end),
+                                                          world.tissue()->volume_cells(), world.tissue()->surface(),
+                                                          nodes, in.rod->section.radius);
+        std::size_t outside_tracts = 0, in_tracts = 0;
+        double      depth          = 0;
+        for (std::size_t k = 0; k < inside.points.size(); ++k)
+          if (inside.points[k] < pierced.size() && pierced[inside.points[k]])
+            ++in_tracts; // the stitch's tracts, meant to be inside
+          else
+            {
+              ++outside_tracts;
+              depth = std::max(depth, inside.depths[k]);
+            }
+        metrics["suture_nodes_inside_tissue"] = outside_tracts;
+        metrics["suture_penetration_depth"]   = depth;
+        metrics["suture_nodes_in_tracts"]     = in_tracts;
       }
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[first_end_tool + k].force.norm();

@@ -206,11 +206,12 @@ TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepth)
   points.col(1) << 0.0031, 0.0047, 0.0098; // inside, 0.2 mm below the top: within tolerance
   points.col(2) << 0.010, 0.005, 0.0105; // above the top
   points.col(3) << 0.0195, 0.004, 0.005;  // inside, 0.5 mm from the end face x = 0.02
-  points.col(4) << 0.012, 0.005, 0.004;  // inside, 4 mm deep, but skipped (between pierce points)
-  const std::vector<char> skip{0, 0, 0, 0, 1};
-  const auto r = collision::volume_penetration(mesh.vertices, mesh.tetrahedra, surface.triangles, points, skip, 3e-4);
-  ASSERT_EQ(r.points, (std::vector<std::size_t>{0, 3}));
-  EXPECT_NEAR(r.depth, 3e-3, 1e-12);
+  points.col(4) << 0.012, 0.005, 0.004;  // inside, 4 mm deep
+  const auto r = collision::volume_penetration(mesh.vertices, mesh.tetrahedra, surface.triangles, points, 3e-4);
+  ASSERT_EQ(r.points, (std::vector<std::size_t>{0, 3, 4}));
+  EXPECT_NEAR(r.depths[0], 3e-3, 1e-12);
+  EXPECT_NEAR(r.depths[1], 5e-4, 1e-12);
+  EXPECT_NEAR(r.depths[2], 4e-3, 1e-12);
   // a point on a face shared by two cells, and one at a vertex, count as inside
   EXPECT_TRUE(collision::inside_tetrahedron(Vector3d(0.25, 0.25, 0), Vector3d(0, 0, 0), Vector3d(1, 0, 0),
                                             Vector3d(0, 1, 0), Vector3d(0, 0, 1)));
@@ -221,6 +222,6 @@ TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepth)
   for (Eigen::Index v = 0; v < x.cols(); ++v)
     if (x(2, v) > 0.009 && std::abs(x(0, v) - 0.01) < 1e-9)
       x(2, v) -= 0.004;
-  const auto dented = collision::volume_penetration(x, mesh.tetrahedra, surface.triangles, points, skip, 3e-4);
-  EXPECT_EQ(dented.points, (std::vector<std::size_t>{3}));
+  const auto dented = collision::volume_penetration(x, mesh.tetrahedra, surface.triangles, points, 3e-4);
+  EXPECT_EQ(dented.points, (std::vector<std::size_t>{3, 4}));
 }

@@ -20,7 +20,7 @@ namespace suturesim::collision
   struct VolumePenetration
   {
     std::vector<std::size_t> points; ///< columns of the points deeper than the tolerance
-    double                   depth = 0; ///< the largest depth among them, m
+    std::vector<double>      depths; ///< their depths, m
   };
 
   /// Whether @p p lies in tetrahedron (a, b, c, d), faces included.
@@ -28,11 +28,10 @@ namespace suturesim::collision
   inside_tetrahedron(const Eigen::Vector3d &p, const Eigen::Vector3d &a, const Eigen::Vector3d &b,
                      const Eigen::Vector3d &c, const Eigen::Vector3d &d);
 
-  /// The columns of @p points, except those with @p skip set (may be empty), that lie
-  /// inside the volume of @p cells (vertex columns of @p x) deeper than @p tolerance (m)
-  /// below its boundary @p surface.
+  /// The columns of @p points that lie inside the volume of @p cells (vertex columns of
+  /// @p x) deeper than @p tolerance (m) below its boundary @p surface, with their depths.
   VolumePenetration
   volume_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 4>> &cells,
                      const std::vector<std::array<std::uint32_t, 3>> &surface, const Eigen::Matrix3Xd &points,
-                     const std::vector<char> &skip, double tolerance);
+                     double tolerance);
 } // namespace suturesim::collision
