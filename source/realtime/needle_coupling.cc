@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace suturesim::realtime
 {
@@ -21,6 +22,14 @@ namespace suturesim::realtime
   {
     if (suture.size() >= 2)
       link = (s.nodes.reference.col(suture.begin + 1) - s.nodes.reference.col(suture.begin)).norm();
+    // throws std::invalid_argument naming the choices for an unknown name
+    model = PierceModel::Registry::instance().get(prm.pierce_model).create(ParameterValues());
+    // the thread's nodes: the suture's, continued along the needle from the swage at the
+    // same spacing (the needle's own length when there is no suture)
+    thread_nodes.swage = needle.length();
+    thread_nodes.link  = link > 0 ? link : needle.length();
+    thread_nodes.first = -static_cast<long>(std::floor(needle.length() / thread_nodes.link + 1e-9));
+    thread_nodes.last  = suture.size() >= 2 ? static_cast<long>(suture.size()) - 1 : 0;
     inside.assign(suture.size(), 0);
     // a pass makes two pierce points; room for a few stitches without allocating
     points.reserve(16);
@@ -102,7 +111,7 @@ namespace suturesim::realtime
     const double   N       = prm.friction.grip + f_perp.norm();
     // ζ of the tissue point, to first order along the tangent from the located point
     const double zeta = p.at.zeta - d.dot(p.at.t);
-    const auto   r    = coupling::coulomb_friction(prm.friction, zeta, p.anchor, N);
+    const auto   r    = model->tangential(prm.friction, zeta, p.anchor, N);
     if (friction)
       *friction = r;
     if (normal)
@@ -245,7 +254,9 @@ namespace suturesim::realtime
           {
             const Vector3d dd    = tissue_point(p, x) - p.at.c;
             const double   zeta  = p.at.zeta - dd.dot(p.at.t);
-            const double   limit = prm.friction.mu * (prm.friction.grip * dt * dt + std::abs(p.lambda_n));
+            const double   limit = model->capped_stick()
+                                       ? prm.friction.mu * (prm.friction.grip * dt * dt + std::abs(p.lambda_n))
+                                       : std::numeric_limits<double>::infinity();
             correct(p, -p.at.t, zeta - p.anchor, alpha_t, p.lambda_t, limit, x, w);
           }
       }
@@ -318,7 +329,7 @@ namespace suturesim::realtime
         p.nodes   = triangles[touch.point.triangle];
         p.weights = touch.point.weights;
         // the stick starts where the point projects on the needle now
-        p.anchor  = needle.closest(current_pose, tissue_point(p, x));
+        p.anchor  = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
         p.at      = thread_at(p.anchor, x);
         p.exit    = touch.exit;
         // the newest point is nearest the tip: first in thread order
@@ -328,6 +339,7 @@ namespace suturesim::realtime
     // friction: the anchors of the accepted state
     const double step = time - last_time;
     zeta_work.clear();
+    slip_work.clear();
     states.resize(points.size());
     for (auto &p : points)
       p.at = thread_at(p.anchor, x);
@@ -362,28 +374,37 @@ namespace suturesim::realtime
             zeta_work.push_back(p.anchor);
             continue;
           }
-        // the anchor of the accepted state: the return mapping at the end-of-step
-        // positions, in both modes (under XPBD the stick multiplier was clamped to the
-        // Coulomb limit, but a few iterations may leave a violation whose elastic force
-        // k_t (ζ − ζ_a) exceeds μN: that is slip, and the anchor must follow)
-        coupling::FrictionResult r;
-        double                   N = 0;
-        pierce_force(p, x, &r, &N);
-        const double anchor   = r.anchor;
-        const bool   slipping = r.slipping;
-        const double friction = r.force;
+        // the anchor of the accepted state is the model's (return mapping, or seed 001's
+        // node slip) at the end-of-step positions, in both modes (under XPBD the stick
+        // multiplier was clamped to the Coulomb limit, but a few iterations may leave a
+        // violation whose elastic force k_t (ζ − ζ_a) exceeds μN: that is slip, and the
+        // anchor must follow)
+        double N = 0;
+        pierce_force(p, x, nullptr, &N);
+        const Vector3d d = tissue_point(p, x) - p.at.c;
+        slip_work.push_back({p.anchor, p.at.zeta - d.dot(p.at.t), N, false, 0});
         if (p.at.on_suture && !p.passed_swage)
           {
             p.passed_swage = true;
             events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
           }
-        auto &s      = states[k];
-        s.slip_speed = step > 0 ? (anchor - p.anchor) / step : 0;
-        p.anchor     = anchor;
-        s.slipping   = slipping;
-        s.normal     = N;
-        s.friction   = friction;
         zeta_work.push_back(p.anchor);
+      }
+    if (!slip_work.empty())
+      {
+        model->settle(slip_work, prm.friction, thread_nodes);
+        std::size_t j = 0;
+        for (std::size_t k = 0; k < points.size(); ++k)
+          if (!is_soft(points[k]))
+            {
+              const auto &r = slip_work[j++];
+              auto       &s = states[k];
+              s.slip_speed  = step > 0 ? (r.anchor - points[k].anchor) / step : 0;
+              s.slipping    = r.slipping;
+              s.normal      = r.normal;
+              s.friction    = r.friction;
+              points[k].anchor = zeta_work[k] = r.anchor;
+            }
       }
     // a point that reached the end of the thread (the swage without a suture, or the
     // suture's far end) is free: the thread has left its hole
@@ -399,7 +420,7 @@ namespace suturesim::realtime
     // order along the thread, between the tip and the thread's far end
     if (!zeta_work.empty())
       {
-        coupling::keep_order(zeta_work, prm.spacing, 0, end);
+        coupling::keep_order(zeta_work, model->order_gap(prm.spacing), 0, end);
         for (std::size_t k = 0; k < points.size(); ++k)
           points[k].anchor = zeta_work[k];
       }

@@ -132,10 +132,19 @@ namespace suturesim::realtime
     NeedleCouplingParameters p = parameters;
     p.project                  = time_integrator->position_based();
     p.geometric_suture         = suture_model && suture_model->geometric();
+    const bool soft_possible   = suture_model && suture_model->takes_soft_constraints() && !p.project;
+    if (p.pierce_model == "automatic")
+      p.pierce_model = soft_possible ? "soft-constraint" : "node-path";
     auto coupling = std::make_unique<NeedleCoupling>(sys, tissue_model->surface(), geometry, p);
     coupling->set_pose(initial, 0);
-    if (suture_model && suture_model->takes_soft_constraints() && !p.project)
-      coupling->use_soft_constraints(suture_model.get());
+    if (coupling->pierce_model_takes_soft_constraints())
+      {
+        if (!soft_possible)
+          throw std::invalid_argument("pierce model '" + p.pierce_model +
+                                      "' needs a suture that takes soft constraints (Suture model = "
+                                      "ftl) and a force-based integrator");
+        coupling->use_soft_constraints(suture_model.get());
+      }
     needle_coupling = coupling.get();
     sys.contacts.push_back(std::move(coupling));
     if (contact != nullptr)

@@ -6,7 +6,8 @@ namespace suturesim::scene
 {
   namespace rt = realtime;
 
-  RealtimeNeedle::RealtimeNeedle(const NeedleParameters &parameters, rt::World &world)
+  RealtimeNeedle::RealtimeNeedle(const NeedleParameters &parameters, rt::World &world,
+                                 const std::string &pierce_model)
     : prm(parameters)
     , path(parameters.trajectory())
   {
@@ -17,6 +18,7 @@ namespace suturesim::scene
     c.transverse_stiffness = prm.transverse_stiffness;
     c.spacing              = prm.spacing;
     c.mass_ratio           = prm.mass_ratio;
+    c.pierce_model         = pierce_model;
     tool_index             = world.add_needle(prm.needle(), c, path.pose(0),
                                               prm.attach_suture && world.suture() != nullptr);
   }
@@ -90,5 +92,6 @@ namespace suturesim::scene
     std::stable_sort(events.begin(), events.end(),
                      [](const auto &a, const auto &b) { return a.time < b.time; });
     prm.write_summary(summary, events, peak_pull);
+    summary["pierce_model"] = world.needle()->pierce_model();
   }
 } // namespace suturesim::scene

@@ -160,6 +160,11 @@ namespace suturesim::scene
                                              "Realtime time integrator of tissue and suture.");
     declare_models<rt::SutureModel::Registry>(prm, "Suture model", "xpbd-rod",
                                               "Realtime suture model.");
+    declare_models<rt::PierceModel::Registry>(
+      prm, "Pierce model", "automatic",
+      "How pierce points hold on to the needle and suture and slip along them; 'automatic': "
+      "soft-constraint with the ftl suture under a force-based integrator, node-path otherwise.",
+      "automatic|");
     declare_models<rt::SelfCollision::Registry>(prm, "Self-collision", "off",
                                                 "Suture self-collision response; 'off': none.",
                                                 "off|");
@@ -195,6 +200,7 @@ namespace suturesim::scene
     integrator_name     = prm.get("Integrator");
     suture_name         = prm.get("Suture model");
     self_collision_name = prm.get("Self-collision");
+    pierce_model_name   = prm.get("Pierce model");
     contact             = prm.get_bool("Contact");
     contact_stiffness   = prm.get_double("Contact stiffness");
     contact_depth       = prm.get_double("Contact depth");
@@ -420,10 +426,12 @@ namespace suturesim::scene
           ParameterScope(file, "Needle").fail("Shape", "a needle needs tissue (Bodies = tissue or tissue and suture)");
         try
           {
-            needle.emplace(*in.needle, world);
+            needle.emplace(*in.needle, world, pierce_model_name);
           }
         catch (const std::invalid_argument &e)
           {
+            if (std::string(e.what()).find("pierce model") != std::string::npos)
+              scope.fail("Pierce model", e.what());
             ParameterScope(file, "Needle").fail("Shape", e.what());
           }
       }

@@ -1,6 +1,7 @@
 // The path-independent coupling rules: Coulomb stick-slip by return mapping and the
 // order of pierce points along the thread.
 #include <suturesim/coupling/coulomb_friction.h>
+#include <suturesim/coupling/node_slip.h>
 #include <suturesim/coupling/pierce_order.h>
 #include <suturesim/coupling/thread_tie.h>
 
@@ -74,6 +75,75 @@ TEST(PierceOrder, PointsThatWouldSwapMoveTogetherAndNeverCross)
     }
   std::vector<double> crowded{0, 0, 0};
   EXPECT_THROW(keep_order(crowded, 0.1, 0, 0.1), std::invalid_argument);
+}
+
+TEST(NodeSlip, AJointHoldsUntilItsPullExceedsFrictionThenMovesOneNodeThatWay)
+{
+  // seed 001 section 4: joined to node 3; limit 0.1 N
+  for (const double pull : {0.09, -0.09, 0.0})
+    {
+      std::vector<NodeSlipPoint> p{{3, pull, 0.1}};
+      EXPECT_EQ(node_slip(p, 0, 10), 0u) << pull;
+      EXPECT_EQ(p[0].node, 3);
+    }
+  for (const double pull : {0.11, 5.0, -0.11})
+    {
+      std::vector<NodeSlipPoint> p{{3, pull, 0.1}};
+      EXPECT_EQ(node_slip(p, 0, 10), 1u) << pull;
+      // one node per step, towards where the tissue pulls, however hard
+      EXPECT_EQ(p[0].node, pull > 0 ? 4 : 2) << pull;
+      EXPECT_EQ(p[0].moved, pull > 0 ? 1 : -1);
+    }
+  // the thread's ends are hard constraints: no node beyond them
+  std::vector<NodeSlipPoint> at_end{{0, -1.0, 0.1}, {10, 1.0, 0.1}};
+  EXPECT_EQ(node_slip(at_end, 0, 10), 0u);
+  EXPECT_EQ(at_end[0].node, 0);
+  EXPECT_EQ(at_end[1].node, 10);
+}
+
+TEST(NodeSlip, PointsOnOneNodeKeepTheirListOrderAndSlipAsAGroup)
+{
+  // seed 001 section 4.2 (Fig. 6): two tissue points on one suture node, in list order
+  // (rear, front); forward is towards the front's side.
+  // Fig. 6c/e: the front one is pulled forward past its friction: it slips alone,
+  // leaving the rear one behind
+  std::vector<NodeSlipPoint> c{{5, 0.05, 0.1}, {5, 0.3, 0.1}};
+  EXPECT_EQ(node_slip(c, 0, 10), 1u);
+  EXPECT_EQ(c[0].node, 5);
+  EXPECT_EQ(c[1].node, 6);
+  // Fig. 6d/f: the rear one is pulled forward past its friction but cannot pass the
+  // front one; together they slip only when the combined pull exceeds the combined
+  // friction: 0.25 + 0 < 0.1 + 0.2 holds them...
+  std::vector<NodeSlipPoint> held{{5, 0.25, 0.1}, {5, 0.0, 0.2}};
+  EXPECT_EQ(node_slip(held, 0, 10), 0u);
+  EXPECT_EQ(held[0].node, 5);
+  EXPECT_EQ(held[1].node, 5);
+  // ...0.35 + 0 > 0.1 + 0.2 moves both, still in order
+  std::vector<NodeSlipPoint> both{{5, 0.35, 0.1}, {5, 0.0, 0.2}};
+  EXPECT_EQ(node_slip(both, 0, 10), 2u);
+  EXPECT_EQ(both[0].node, 6);
+  EXPECT_EQ(both[1].node, 6);
+  // the same backwards, mirrored: the front one pulled back drags the rear one
+  std::vector<NodeSlipPoint> back{{5, 0.0, 0.2}, {5, -0.35, 0.1}};
+  EXPECT_EQ(node_slip(back, 0, 10), 2u);
+  EXPECT_EQ(back[0].node, 4);
+  EXPECT_EQ(back[1].node, 4);
+  // pulled apart: each group leaves its own way
+  std::vector<NodeSlipPoint> apart{{5, -0.3, 0.1}, {5, 0.3, 0.1}};
+  EXPECT_EQ(node_slip(apart, 0, 10), 2u);
+  EXPECT_EQ(apart[0].node, 4);
+  EXPECT_EQ(apart[1].node, 6);
+  // pushed into each other: the rear wants forward, the front back; neither passes
+  std::vector<NodeSlipPoint> into{{5, 0.3, 0.1}, {5, -0.3, 0.1}};
+  EXPECT_EQ(node_slip(into, 0, 10), 0u);
+  // neighbouring nodes whose points would swap press on each other and hold
+  std::vector<NodeSlipPoint> swap{{5, 0.3, 0.1}, {6, -0.3, 0.1}};
+  EXPECT_EQ(node_slip(swap, 0, 10), 0u);
+  EXPECT_EQ(swap[0].node, 5);
+  EXPECT_EQ(swap[1].node, 6);
+  // a list out of thread order is a caller's error
+  std::vector<NodeSlipPoint> bad{{6, 0, 0.1}, {5, 0, 0.1}};
+  EXPECT_THROW(node_slip(bad, 0, 10), std::invalid_argument);
 }
 
 #include <suturesim/coupling/needle_puncture.h>

@@ -23,11 +23,13 @@ namespace
     std::vector<coupling::PunctureEvent> thread_events;
     std::size_t                     max_points = 0;
     bool                            order_kept = true;
+    bool                            on_node_grid = true; ///< every anchor at swage + i·link
   };
 
   PassRun
   run_pass(const std::string &integrator, const double mu, const bool with_suture,
-           const std::string &shape = "3/8", const std::string &suture_model = "ftl")
+           const std::string &shape = "3/8", const std::string &suture_model = "ftl",
+           const std::string &pierce_model = "automatic")
   {
     const auto mesh = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);
     const tools::CurvedNeedle needle(0.008, tools::CurvedNeedle::arc_angle_of(shape), 4e-4);
@@ -66,6 +68,7 @@ namespace
     p.puncture           = {0.5, 2000, 1e-3};
     p.friction           = {mu, 500, 0.05};
     p.transverse_stiffness = 500;
+    p.pierce_model       = pierce_model;
     const auto tool      = world.add_needle(needle, p, start, with_suture);
     world.initialize();
 
@@ -80,8 +83,17 @@ namespace
         run.force.push_back(forces[tool].force.norm());
         const auto &points = world.needle()->pierce_points();
         run.max_points     = std::max(run.max_points, points.size());
+        // node-slip points may share a node (in list order); the others keep a gap
         for (std::size_t i = 0; i + 1 < points.size(); ++i)
-          run.order_kept = run.order_kept && points[i].anchor < points[i + 1].anchor;
+          run.order_kept = run.order_kept && (pierce_model == "node-slip"
+                                                ? points[i].anchor <= points[i + 1].anchor
+                                                : points[i].anchor < points[i + 1].anchor);
+        const double link = with_suture ? 0.1 / 100 : needle.length(); // 100 links
+        for (const auto &q : points)
+          {
+            const double i = (q.anchor - needle.length()) / link;
+            run.on_node_grid = run.on_node_grid && std::abs(i - std::round(i)) < 1e-9;
+          }
       }
     run.events        = world.needle()->puncture_state().events();
     run.thread_events = world.needle()->thread_events();
@@ -138,4 +150,28 @@ TEST(RealtimeNeedle, PiercePointsPassFromTheNeedleOntoTheSutureInOrder)
   EXPECT_TRUE(run.final_points[0].exit);
   EXPECT_FALSE(run.final_points[1].exit);
   EXPECT_TRUE(run.order_kept);
+}
+
+TEST(RealtimeNeedle, NodeSlipPointsJumpFromNodeToNodeOntoTheSuture)
+{
+  // seed 001's hole under both kinds of integrator: each point is joined to a node of
+  // the thread (the suture's, continued along the needle at the same spacing) and can
+  // reach the suture only by slipping node by node, about 19 nodes along the needle;
+  // with the slip rule broken (never moving) neither point would pass the swage
+  for (const std::string integrator : {"xpbd", "quasi-static"})
+    {
+      const PassRun run = run_pass(integrator, 0.2, true, "3/8", "ftl", "node-slip");
+      std::vector<std::string> kinds;
+      for (const auto &e : run.thread_events)
+        kinds.push_back(e.kind);
+      EXPECT_EQ(kinds, (std::vector<std::string>{"on_suture", "on_suture"})) << integrator;
+      ASSERT_EQ(run.final_points.size(), 2u) << integrator;
+      EXPECT_TRUE(run.final_points[0].exit) << integrator;
+      EXPECT_TRUE(run.order_kept) << integrator;
+      EXPECT_TRUE(run.on_node_grid) << integrator;
+    }
+  // the model's name is checked where the needle is added
+  EXPECT_THROW(run_pass("xpbd", 0.2, true, "3/8", "ftl", "no-such-model"), std::invalid_argument);
+  // seed 002's soft constraints need the FTL suture under a force-based integrator
+  EXPECT_THROW(run_pass("xpbd", 0.2, true, "3/8", "ftl", "soft-constraint"), std::invalid_argument);
 }

@@ -46,6 +46,7 @@
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/realtime/pierce_model.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/system.h>
 #include <suturesim/tools/curved_needle.h>
@@ -68,6 +69,9 @@ namespace suturesim::realtime
     /// the needle, it passes what the tissue exerts on it at its pierce points straight
     /// to the needle (otherwise its springs carry it to the nodes the needle holds).
     bool   geometric_suture     = false;
+    /// How the points hold on to the thread and slip (realtime/pierce_model.h), by its
+    /// registered name
+    std::string pierce_model = "node-path";
   };
 
   /// One pierce point as recorded per step.
@@ -174,6 +178,16 @@ namespace suturesim::realtime
     {
       return needle;
     }
+    const std::string &
+    pierce_model() const
+    {
+      return prm.pierce_model;
+    }
+    bool
+    pierce_model_takes_soft_constraints() const
+    {
+      return model->soft_on_suture();
+    }
     const tools::Pose &
     pose() const
     {
@@ -210,7 +224,7 @@ namespace suturesim::realtime
     {
       // the suture's first segment is held by the needle (position and tangent at the
       // swage): a point there is still tied to the needle, node-path
-      return soft_model != nullptr && p.at.on_suture && p.at.k >= 1;
+      return soft_model != nullptr && model->soft_on_suture() && p.at.on_suture && p.at.k >= 1;
     }
     /// The soft constraints at @p x and their loads into the work lists (soft_work,
     /// load_work); soft_index maps each pierce point to its entry there (−1: none).
@@ -237,6 +251,9 @@ namespace suturesim::realtime
             double limit, Matrix3Xd &x, const VectorXd &w) const;
 
     NeedleCouplingParameters           prm;
+    std::unique_ptr<PierceModel>       model;
+    ThreadNodes                        thread_nodes;
+    std::vector<PierceSlip>            slip_work;
     const std::vector<mesh::Triangle> &triangles;
     NodeRange                          suture;
     double                             link = 0; ///< rest length of a suture segment, m

@@ -103,6 +103,8 @@ namespace suturesim::realtime
     /// holds the suture's first two nodes (a hard constraint in position and tangent at
     /// the swage, seed 002); they must lie at the swage and on the line leaving it.
     std::size_t
+    /// parameters.pierce_model "automatic": seed 002's soft constraints when the suture
+    /// takes them under a force-based integrator, else seed 004's node-path.
     add_needle(const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters,
                const ToolPose &initial, bool hold_suture);
 

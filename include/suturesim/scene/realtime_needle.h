@@ -24,8 +24,10 @@ namespace suturesim::scene
   class RealtimeNeedle
   {
   public:
-    /// Adds the needle to @p world (as its next tool; before initialize()).
-    RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world);
+    /// Adds the needle to @p world (as its next tool; before initialize()), its pierce
+    /// points of the model named @p pierce_model (realtime/pierce_model.h, or "automatic").
+    RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world,
+                   const std::string &pierce_model);
 
     /// Replaces @p points by a straight suture of the same length and number of nodes
     /// leaving the needle's swage along the needle (the pose at t = 0).

@@ -84,7 +84,7 @@ namespace suturesim::scene
     RealtimeInputs in;
 
     std::string                            tissue_name, integrator_name, suture_name;
-    std::string                            self_collision_name;
+    std::string                            self_collision_name, pierce_model_name;
     realtime::ParameterValues              self_collision_values;
     std::unique_ptr<realtime::TissueModel> tissue_model;
     std::unique_ptr<realtime::Integrator>  integrator;
