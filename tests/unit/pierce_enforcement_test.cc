@@ -128,13 +128,14 @@ TEST(PierceEnforcement, PenaltyConvergesToTheLagrangeSolutionAtFirstOrderInTheSt
   EXPECT_LT(last, 1e-2 * distance); // k = 1e6 N/m: within 1 % of the offset
 }
 
-TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesUnderATranslationOfTheElement)
+TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTurns)
 {
-  // A pierce point on a suture element, in stick and in slip, k⊥ = k_t = 5e4 N/m. Moving
-  // both nodes of the element by the same vector leaves its direction alone, so the
-  // friction's turn with the element (left out of thread_terms' Jacobian) plays no part
-  // and the Jacobian must match central differences of the residual: the tie's Hessian,
-  // the stick's −k_t t tᵀ and, in slip, the normal force's (F/N) k⊥ t n̂ᵀ.
+  // A pierce point on a suture element, in stick and in slip, k⊥ = k_t = 5e4 N/m; the
+  // element's nodes moved (a) both by the same vector, which leaves its direction alone:
+  // the tie's Hessian, the stick's −k_t t tᵀ and, in slip, the normal force's
+  // (F/N) k⊥ t n̂ᵀ; (b) each its own way, which turns it: the friction's turn with the
+  // element too, σ_b/l (F' t d⊥ᵀ − F P). The Jacobian must match central differences of
+  // the residual in both.
   const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
   Eigen::Matrix3Xd          reference(3, 3);
   reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
@@ -151,32 +152,35 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesUnderATranslationOfTheE
 
   const Eigen::Vector3d c = 0.6 * nodes[0] + 0.4 * nodes[1], t = (nodes[0] - nodes[1]).normalized();
   const Eigen::Vector3d across = t.cross(Eigen::Vector3d::UnitZ()).normalized();
-  for (const double along : {1e-7, 2e-4}) // stick: k_t Δ = 5 mN < μN; slip: 10 N > μN
-    {
-      const Eigen::Vector3d             xt = c + 5e-5 * across + 2e-5 * Eigen::Vector3d::UnitZ() - along * t;
-      const std::vector<Point<3>>       x{Point<3>(xt[0], xt[1], xt[2])};
-      Eigen::Matrix<double, 12, 1>      r0 = Eigen::Matrix<double, 12, 1>::Zero();
-      Eigen::Matrix<double, 12, 12>     J  = Eigen::Matrix<double, 12, 12>::Zero();
-      tie.thread_terms(x, 0, r0, J);
-      const Eigen::Vector3d             direction(0.3, -0.8, 0.5);
-      Eigen::Matrix<double, 12, 1>      v = Eigen::Matrix<double, 12, 1>::Zero();
-      v.segment<3>(0)                       = direction;
-      v.segment<3>(6)                       = direction;
-      const double                      h = 1e-9;
-      const auto residual = [&](const double s) {
-        const auto saved = nodes;
-        nodes[0] += s * direction;
-        nodes[1] += s * direction;
-        Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
-        Eigen::Matrix<double, 12, 12> unused;
-        tie.thread_terms(x, 0, r, unused);
-        nodes = saved;
-        return r;
-      };
-      const Eigen::Matrix<double, 12, 1> fd = (residual(h) - residual(-h)) / (2 * h);
-      const Eigen::Matrix<double, 12, 1> Jv = J * v;
-      std::printf("%s: |J v| = %.4e, |J v - FD| = %.3e\n", along > 1e-6 ? "slip" : "stick", Jv.norm(), (Jv - fd).norm());
-      EXPECT_GT(Jv.norm(), 1e3); // the tie and the friction both load the nodes
-      EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm()) << (along > 1e-6 ? "slip" : "stick");
-    }
+  for (const bool turn : {false, true})
+    for (const double along : {1e-7, 2e-4}) // stick: k_t Δ = 5 mN < μN; slip: 10 N > μN
+      {
+        const std::string case_name = std::string(along > 1e-6 ? "slip" : "stick") + (turn ? ", turned" : ", translated");
+        const Eigen::Vector3d         xt = c + 5e-5 * across + 2e-5 * Eigen::Vector3d::UnitZ() - along * t;
+        const std::vector<Point<3>>   x{Point<3>(xt[0], xt[1], xt[2])};
+        Eigen::Matrix<double, 12, 1>  r0 = Eigen::Matrix<double, 12, 1>::Zero();
+        Eigen::Matrix<double, 12, 12> J  = Eigen::Matrix<double, 12, 12>::Zero();
+        tie.thread_terms(x, 0, r0, J);
+        const Eigen::Vector3d         move_a(0.3, -0.8, 0.5);
+        const Eigen::Vector3d         move_b = turn ? Eigen::Vector3d(-0.6, 0.2, 0.9) : move_a;
+        Eigen::Matrix<double, 12, 1>  v = Eigen::Matrix<double, 12, 1>::Zero();
+        v.segment<3>(0)                   = move_a;
+        v.segment<3>(6)                   = move_b;
+        const double                  h = 1e-9;
+        const auto residual = [&](const double s) {
+          const auto saved = nodes;
+          nodes[0] += s * move_a;
+          nodes[1] += s * move_b;
+          Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
+          Eigen::Matrix<double, 12, 12> unused;
+          tie.thread_terms(x, 0, r, unused);
+          nodes = saved;
+          return r;
+        };
+        const Eigen::Matrix<double, 12, 1> fd = (residual(h) - residual(-h)) / (2 * h);
+        const Eigen::Matrix<double, 12, 1> Jv = J * v;
+        std::printf("%s: |J v| = %.4e, |J v - FD| = %.3e\n", case_name.c_str(), Jv.norm(), (Jv - fd).norm());
+        EXPECT_GT(Jv.norm(), 1e3) << case_name; // the tie and the friction both load the nodes
+        EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm()) << case_name;
+      }
 }

@@ -129,6 +129,19 @@ namespace suturesim::coupling
           n_hat[i] = f[i] + slip.force * t[i]; // f⊥ = f + F t
         if (n_hat.norm() > 0)
           n_hat /= n_hat.norm();
+        // The friction's turn with the element: t = (x_a − x_b)/l turns by ∂t/∂x_a =
+        // P/l = −∂t/∂x_b (P = I − t tᵀ) about the element's point c, and with it the
+        // projection ζ = ζ_a − (x − c)·t (∂ζ/∂x_a = −d⊥ᵀ/l, d⊥ = P (x − c)) and, in slip,
+        // the tie's length |d⊥| (∂|d⊥|/∂x_a = −(t·(x − c)) d̂ᵀ/l, d̂ = −n̂: the lever of a
+        // point that lags along the thread). On −F t this gives, per node b of sign
+        // σ_b = ±1, σ_b/l (F' t d⊥ᵀ − F P + (F/N) k⊥ (t·(x − c)) t d̂ᵀ), F' = ∂F/∂ζ: of
+        // the order of F/l, the same as the thread's own geometric stiffness T/l across
+        // itself.
+        const double          l      = (xs[e] - xs[e + 1]).norm();
+        const Eigen::Vector3d c      = (1 - xi) * xs[e] + xi * xs[e + 1];
+        const double          lever  = (xj - c).dot(t);
+        const Eigen::Vector3d d_perp = (xj - c) - lever * t;
+        const double          N_rate = slip.slipping && N > 0 ? slip.force / N * prm.transverse_stiffness : 0.0;
         for (unsigned a = 0; a < 2; ++a)
           for (unsigned i = 0; i < 3; ++i)
             {
@@ -140,8 +153,13 @@ namespace suturesim::coupling
                     // ∂(friction)/∂x = df_dx + k⊥ P
                     const double friction_rate =
                       df_dx[i][k] + prm.transverse_stiffness * ((i == k ? 1.0 : 0.0) - t[i] * t[k]) +
-                      (slip.slipping && N > 0 ? slip.force / N * prm.transverse_stiffness * t[i] * n_hat[k] : 0.0);
-                    jacobian(6 * a + i, 6 * b + k) += tie.hessian(3 * a + i, 3 * b + k) - w[a] * w[b] * friction_rate;
+                      N_rate * t[i] * n_hat[k];
+                    const double turn = (b == 0 ? 1.0 : -1.0) / l *
+                                        (slip.derivative * t[i] * d_perp[k] -
+                                         slip.force * ((i == k ? 1.0 : 0.0) - t[i] * t[k]) +
+                                         N_rate * lever * t[i] * (-n_hat[k]));
+                    jacobian(6 * a + i, 6 * b + k) +=
+                      tie.hessian(3 * a + i, 3 * b + k) - w[a] * w[b] * friction_rate + w[a] * turn;
                   }
             }
       }

@@ -92,8 +92,9 @@ namespace suturesim::coupling
     /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
     /// fixed): the transverse tie from its energy (coupling/thread_tie.h: exact, with
     /// the element's turn), and the reaction of the friction, −w_a f_t on node a,
-    /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x (the friction's turn with the
-    /// element is left out; in slip the normal force's change, (F/N) k⊥ t n̂ᵀ, is in).
+    /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x plus the friction's turn with the
+    /// element (t and the projection ζ turn with x_a − x_b); in slip the normal force's
+    /// change, (F/N) k⊥ t n̂ᵀ, is in.
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
