@@ -26,4 +26,14 @@ namespace suturesim::coupling
     r.slipping        = true;
     return r;
   }
+
+  NormalForce
+  normal_force(const double grip, const double tie, const double smoothing)
+  {
+    if (smoothing <= 0)
+      return {grip + tie, 1.0};
+    const double root = std::sqrt(tie * tie + smoothing * smoothing);
+    // d/df f²/√(f² + ε²) = f (f² + 2ε²)/(f² + ε²)^{3/2}
+    return {grip + tie * tie / root, tie * (tie * tie + 2 * smoothing * smoothing) / (root * root * root)};
+  }
 } // namespace suturesim::coupling

@@ -96,6 +96,7 @@ namespace suturesim::scene
     parameters.transverse_stiffness = np.transverse_stiffness;
     parameters.spacing              = np.spacing;
     parameters.lagrange             = np.enforcement == "lagrange";
+    parameters.normal_smoothing     = np.transverse_stiffness * np.coupling_tolerance;
     const bool lagrange             = parameters.lagrange;
     const tools::CurvedNeedle geometry = np.needle();
     coupling::TissueNeedle    needle(geometry, parameters, surface.triangles, surface.reference);

@@ -41,6 +41,32 @@ TEST(CoulombFriction, SticksBelowMuNSlipsAboveAndFreeAtZeroMu)
   EXPECT_TRUE(free.slipping);
 }
 
+TEST(CoulombFriction, SmoothedNormalForceIsExactFarFromZeroAndSmoothAtIt)
+{
+  const double grip = 0.05, eps = 0.005;
+  // ε = 0: the plain N₀ + |f⊥|
+  EXPECT_DOUBLE_EQ(normal_force(grip, 2.0, 0).value, 2.05);
+  EXPECT_DOUBLE_EQ(normal_force(grip, 2.0, 0).rate, 1.0);
+  // no tie force: the grip, and no slope (the kink of |f⊥| is gone)
+  EXPECT_DOUBLE_EQ(normal_force(grip, 0, eps).value, grip);
+  EXPECT_DOUBLE_EQ(normal_force(grip, 0, eps).rate, 0);
+  double worst = 0;
+  for (double f = 1e-6; f < 10; f *= 1.1)
+    {
+      const auto n = normal_force(grip, f, eps);
+      worst        = std::max(worst, grip + f - n.value);
+      EXPECT_GE(grip + f - n.value, 0) << f;
+      // the rate is the derivative (central differences)
+      const double h  = 1e-6 * f; // without the grip, so that round-off stays below h
+      const double fd = (normal_force(0, f + h, eps).value - normal_force(0, f - h, eps).value) / (2 * h);
+      EXPECT_NEAR(n.rate, fd, 1e-6 * std::max(1.0, fd)) << f;
+    }
+  EXPECT_LT(worst, 0.3003 * eps);
+  EXPECT_GT(worst, 0.3 * eps); // the bound is reached (at f = 0.786 ε), not loose
+  // far from zero, f − s(f) → ε²/(2f)
+  EXPECT_NEAR(grip + 1.0 - normal_force(grip, 1.0, eps).value, eps * eps / 2, 1e-3 * eps * eps);
+}
+
 TEST(PierceOrder, PointsThatWouldSwapMoveTogetherAndNeverCross)
 {
   // two points pulled towards each other's places

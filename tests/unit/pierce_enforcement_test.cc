@@ -133,7 +133,7 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
   // A pierce point on a suture element, in stick and in slip, k⊥ = k_t = 5e4 N/m; the
   // element's nodes moved (a) both by the same vector, which leaves its direction alone:
   // the tie's Hessian, the stick's −k_t t tᵀ and, in slip, the normal force's
-  // (F/N) k⊥ t n̂ᵀ; (b) each its own way, which turns it: the friction's turn with the
+  // (F/N) N' k⊥ t n̂ᵀ (N' of the smoothed normal force); (b) each its own way, which turns it: the friction's turn with the
   // element too, σ_b/l (F' t d⊥ᵀ − F P). The Jacobian must match central differences of
   // the residual in both.
   const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
@@ -143,6 +143,7 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
   coupling::TissueNeedleParameters  p;
   p.friction             = {0.2, 5e4, 0.05};
   p.transverse_stiffness = 5e4;
+  p.normal_smoothing     = 1; // N: of the tie force's order here, so that N' ≠ 1 counts
   coupling::TissueNeedle tie(needle, p, triangles, reference);
   tie.begin_step(0, tools::Pose(), reference);
   std::vector<rod::Vec3> nodes{{0, 0, 0}, {-0.001, 0.0002, 0}, {-0.002, 0.0003, 0.0001}};

@@ -47,4 +47,18 @@ namespace suturesim::coupling
   /// and normal force @p normal (N ≥ 0).
   FrictionResult
   coulomb_friction(const FrictionParameters &p, double zeta, double anchor, double normal);
+
+  struct NormalForce
+  {
+    double value = 0; ///< N, N
+    double rate  = 0; ///< ∂N/∂|f⊥|, 1
+  };
+
+  /// N = N₀ + s(|f⊥|) for a transverse tie force of magnitude @p tie (N). With
+  /// @p smoothing ε = 0, s(f) = f. With ε > 0, s(f) = f²/√(f² + ε²). This is smooth at
+  /// f = 0, where |f⊥| has a kink. A Newton iteration on a thread that runs straight
+  /// through the hole (f⊥ → 0, its direction flipping between iterations) otherwise
+  /// cycles. s(f) = f − ε²/(2f) + … for f ≫ ε, and 0 ≤ f − s(f) ≤ 0.3003 ε (at f = 0.786 ε).
+  NormalForce
+  normal_force(double grip, double tie, double smoothing);
 } // namespace suturesim::coupling

@@ -121,14 +121,15 @@ namespace suturesim::coupling
         const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], &slip, &N, &df_dx);
         const double           w[2] = {1 - xi, xi};
         const Eigen::Vector3d  t    = (xs[e] - xs[e + 1]).normalized();
-        // in slip f_t = −F t with F = ∓μN, N = N₀ + |f⊥|: ∂f_t/∂x = (F/N) k⊥ t n̂ᵀ, n̂ the
-        // tie force's direction. Left out of the tissue's symmetric tangent, but a stiff
+        // in slip f_t = −F t with F = ∓μN, N = N₀ + s(|f⊥|): ∂f_t/∂x = (F/N) s' k⊥ t n̂ᵀ,
+        // n̂ the tie force's direction. Left out of the tissue's symmetric tangent, but a stiff
         // tie (μ k⊥ of the tie's own order) makes the suture's Newton diverge without it.
         Tensor<1, 3> n_hat;
         for (unsigned i = 0; i < 3; ++i)
           n_hat[i] = f[i] + slip.force * t[i]; // f⊥ = f + F t
-        if (n_hat.norm() > 0)
-          n_hat /= n_hat.norm();
+        const double tie_force = n_hat.norm();
+        if (tie_force > 0)
+          n_hat /= tie_force;
         // The friction's turn with the element: t = (x_a − x_b)/l turns by ∂t/∂x_a =
         // P/l = −∂t/∂x_b (P = I − t tᵀ) about the element's point c, and with it the
         // projection ζ = ζ_a − (x − c)·t (∂ζ/∂x_a = −d⊥ᵀ/l, d⊥ = P (x − c)) and, in slip,
@@ -141,7 +142,11 @@ namespace suturesim::coupling
         const Eigen::Vector3d c      = (1 - xi) * xs[e] + xi * xs[e + 1];
         const double          lever  = (xj - c).dot(t);
         const Eigen::Vector3d d_perp = (xj - c) - lever * t;
-        const double          N_rate = slip.slipping && N > 0 ? slip.force / N * prm.transverse_stiffness : 0.0;
+        const double          N_rate =
+          slip.slipping && N > 0
+            ? slip.force / N * prm.transverse_stiffness *
+                normal_force(prm.friction.grip, tie_force, prm.normal_smoothing).rate
+            : 0.0;
         for (unsigned a = 0; a < 2; ++a)
           for (unsigned i = 0; i < 3; ++i)
             {
@@ -268,7 +273,7 @@ namespace suturesim::coupling
     const auto [zeta, t, d_perp] = across_curve(p, x);
     const Tensor<1, 3> lambda = p.multiplier - (p.multiplier * t) * t;
     const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * d_perp);
-    const double       N      = prm.friction.grip + f_perp.norm();
+    const double       N      = normal_force(prm.friction.grip, f_perp.norm(), prm.normal_smoothing).value;
     // the generalised force f_ζ acts along dx/dζ = −t
     const FrictionResult r = coulomb_friction(prm.friction, zeta, p.anchor, N);
     if (r_out)

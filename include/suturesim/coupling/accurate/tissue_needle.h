@@ -57,6 +57,10 @@ namespace suturesim::coupling
     double             transverse_stiffness = 500; ///< k⊥, N/m
     bool               lagrange             = false; ///< Uzawa multipliers on the tie
     double             spacing              = 1e-4; ///< m
+    /// ε of the normal force's smoothing at a vanishing tie force (normal_force() in
+    /// coupling/coulomb_friction.h), N; the scene sets the force the tie carries at the
+    /// coupling tolerance, k⊥ × tolerance, which the coupled solve does not resolve anyway
+    double             normal_smoothing     = 0;
   };
 
   struct AccuratePiercePoint
@@ -94,7 +98,7 @@ namespace suturesim::coupling
     /// the element's turn), and the reaction of the friction, −w_a f_t on node a,
     /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x plus the friction's turn with the
     /// element (t and the projection ζ turn with x_a − x_b); in slip the normal force's
-    /// change, (F/N) k⊥ t n̂ᵀ, is in.
+    /// change, (F/N) N' k⊥ t n̂ᵀ with N' = ∂N/∂|f⊥|, is in.
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
