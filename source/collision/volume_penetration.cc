@@ -24,6 +24,23 @@ namespace suturesim::collision
     return l.minCoeff() >= -eps && l.sum() <= 1 + eps;
   }
 
+  namespace
+  {
+    /// Distance from @p p to the nearest triangle of @p surface, m.
+    double
+    depth_below(const Eigen::Vector3d &p, const Eigen::Matrix3Xd &x,
+                const std::vector<std::array<std::uint32_t, 3>> &surface)
+    {
+      double depth = std::numeric_limits<double>::infinity();
+      for (const auto &t : surface)
+        {
+          Eigen::Vector3d bary;
+          depth = std::min(depth, (p - closest_point_on_triangle(p, x.col(t[0]), x.col(t[1]), x.col(t[2]), bary)).norm());
+        }
+      return depth;
+    }
+  } // namespace
+
   VolumePenetration
   volume_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 4>> &cells,
                      const std::vector<std::array<std::uint32_t, 3>> &surface, const Eigen::Matrix3Xd &points,
@@ -46,12 +63,7 @@ namespace suturesim::collision
         });
         if (!inside)
           continue;
-        double depth = std::numeric_limits<double>::infinity();
-        for (const auto &t : surface)
-          {
-            Eigen::Vector3d bary;
-            depth = std::min(depth, (p - closest_point_on_triangle(p, x.col(t[0]), x.col(t[1]), x.col(t[2]), bary)).norm());
-          }
+        const double depth = depth_below(p, x, surface);
         if (depth > tolerance)
           {
             result.points.push_back(k);
@@ -59,5 +71,57 @@ namespace suturesim::collision
           }
       }
     return result;
+  }
+
+  double
+  winding_number(const Eigen::Vector3d &p, const Eigen::Matrix3Xd &x,
+                 const std::vector<std::array<std::uint32_t, 3>> &surface)
+  {
+    double sum = 0;
+    for (const auto &t : surface)
+      {
+        const Eigen::Vector3d a = x.col(t[0]) - p, b = x.col(t[1]) - p, c = x.col(t[2]) - p;
+        const double          la = a.norm(), lb = b.norm(), lc = c.norm();
+        // tan(Ω/2) = a·(b × c) / (|a||b||c| + (a·b)|c| + (a·c)|b| + (b·c)|a|)
+        const double numerator   = a.dot(b.cross(c));
+        const double denominator = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+        sum += 2 * std::atan2(numerator, denominator);
+      }
+    return sum / (4 * M_PI);
+  }
+
+  VolumePenetration
+  surface_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 3>> &surface,
+                      const Eigen::Matrix3Xd &points, const double tolerance)
+  {
+    VolumePenetration result;
+    for (Eigen::Index k = 0; k < points.cols(); ++k)
+      {
+        const Eigen::Vector3d p = points.col(k);
+        if (winding_number(p, x, surface) <= 0.5)
+          continue;
+        const double depth = depth_below(p, x, surface);
+        if (depth > tolerance)
+          {
+            result.points.push_back(k);
+            result.depths.push_back(depth);
+          }
+      }
+    return result;
+  }
+
+  TractSplit
+  split_by_tracts(const VolumePenetration &penetration, const std::vector<char> &in_tract)
+  {
+    TractSplit split;
+    for (std::size_t k = 0; k < penetration.points.size(); ++k)
+      if (penetration.points[k] < in_tract.size() && in_tract[penetration.points[k]])
+        ++split.in_tracts;
+      else
+        {
+          ++split.outside_tracts;
+          split.depth = std::max(split.depth, penetration.depths[k]);
+        }
+    return split;
   }
 } // namespace suturesim::collision

@@ -1,3 +1,4 @@
+#include <suturesim/collision/volume_penetration.h>
 #include <suturesim/core/error.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/rod/rod_integrator.h>
@@ -447,6 +448,22 @@ namespace suturesim::scene
       }
 
     np.write_summary(summary, needle.all_events(), peak_pull);
+    if (suture)
+      {
+        // as in the realtime path: no suture node may end inside the tissue, deeper than
+        // its radius below the surface, but those a stitch carries between two pierce
+        // points (the FE tissue known by its deformed boundary: a winding-number test)
+        Eigen::Matrix3Xd nodes(3, suture->positions().size());
+        for (std::size_t i = 0; i < suture->positions().size(); ++i)
+          nodes.col(i) = suture->positions()[i];
+        const auto split = collision::split_by_tracts(
+          collision::surface_penetration(x_surface, surface.triangles, nodes, in.suture->section.radius),
+          needle.thread_nodes_in_tracts());
+        auto &metrics                          = summary["metrics"];
+        metrics["suture_nodes_inside_tissue"] = split.outside_tracts;
+        metrics["suture_penetration_depth"]   = split.depth;
+        metrics["suture_nodes_in_tracts"]     = split.in_tracts;
+      }
     if (closure)
       closure->write(summary["metrics"]);
     summary["solver"]["steps"]                   = steps;

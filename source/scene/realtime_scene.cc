@@ -746,19 +746,10 @@ namespace suturesim::scene
         const auto inside = collision::volume_penetration(sys.nodes.x.leftCols(sys.tissue.end),
                                                           world.tissue()->volume_cells(), world.tissue()->surface(),
                                                           nodes, in.rod->section.radius);
-        std::size_t outside_tracts = 0, in_tracts = 0;
-        double      depth          = 0;
-        for (std::size_t k = 0; k < inside.points.size(); ++k)
-          if (inside.points[k] < pierced.size() && pierced[inside.points[k]])
-            ++in_tracts; // the stitch's tracts, meant to be inside
-          else
-            {
-              ++outside_tracts;
-              depth = std::max(depth, inside.depths[k]);
-            }
-        metrics["suture_nodes_inside_tissue"] = outside_tracts;
-        metrics["suture_penetration_depth"]   = depth;
-        metrics["suture_nodes_in_tracts"]     = in_tracts;
+        const auto split = collision::split_by_tracts(inside, pierced);
+        metrics["suture_nodes_inside_tissue"] = split.outside_tracts;
+        metrics["suture_penetration_depth"]   = split.depth;
+        metrics["suture_nodes_in_tracts"]     = split.in_tracts;
       }
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       metrics[tool_ends[k].name + "_force_magnitude"] = world.tool_forces()[first_end_tool + k].force.norm();

@@ -196,7 +196,7 @@ TEST(TriangleSphereTree, LazyUpdateBoundsEveryTriangleAndRefitsOnlyEscapedVertic
   expect_bounding(tree, x, surface.triangles);
 }
 
-TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepth)
+TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepthFromCellsOrSurface)
 {
   // a 2 × 1 × 1 cm box of 4 × 2 × 2 Kuhn cubes; its boundary from the cells
   const auto mesh    = test_support::box_mesh(0.02, 0.01, 0.01, 4, 2, 2);
@@ -224,4 +224,17 @@ TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepth)
       x(2, v) -= 0.004;
   const auto dented = collision::volume_penetration(x, mesh.tetrahedra, surface.triangles, points, 3e-4);
   EXPECT_EQ(dented.points, (std::vector<std::size_t>{3, 4}));
+
+  // the same from the boundary alone (the accurate path knows its tissue by its surface):
+  // winding number 1 inside, 0 outside (also a nanometre either side of the top face),
+  // and the same points and depths
+  EXPECT_NEAR(collision::winding_number(points.col(0), mesh.vertices, surface.triangles), 1, 1e-12);
+  EXPECT_NEAR(collision::winding_number(points.col(2), mesh.vertices, surface.triangles), 0, 1e-12);
+  EXPECT_NEAR(collision::winding_number(Vector3d(0.0101, 0.0043, 0.01 - 1e-9), mesh.vertices, surface.triangles), 1, 1e-6);
+  EXPECT_NEAR(collision::winding_number(Vector3d(0.0101, 0.0043, 0.01 + 1e-9), mesh.vertices, surface.triangles), 0, 1e-6);
+  const auto from_surface = collision::surface_penetration(mesh.vertices, surface.triangles, points, 3e-4);
+  EXPECT_EQ(from_surface.points, r.points);
+  for (std::size_t k = 0; k < r.depths.size(); ++k)
+    EXPECT_DOUBLE_EQ(from_surface.depths[k], r.depths[k]);
+  EXPECT_EQ(collision::surface_penetration(x, surface.triangles, points, 3e-4).points, dented.points);
 }

@@ -137,6 +137,11 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
     }
   EXPECT_GE(checked, 5u);
   EXPECT_GT(rows.back()[a0], L + 0.002); // drawn on by millimetres
+  // no suture node inside the tissue but those in the pass's tract, between the exit and
+  // the entry point along the thread (measured: 12 of the 1 mm elements' nodes, the
+  // 12 mm chord of the bite)
+  EXPECT_EQ(r.summary["metrics"]["suture_nodes_inside_tissue"].get<int>(), 0);
+  EXPECT_GE(r.summary["metrics"]["suture_nodes_in_tracts"].get<int>(), 8);
   // one record per accepted step (rows and steps alike): a step with a point on the
   // suture is iterated, at least a second round to see that nothing moves any more
   const auto &steps = r.summary["steps"];

@@ -452,4 +452,19 @@ namespace suturesim::coupling
       }
     return {force, torque};
   }
+
+  std::vector<char>
+  TissueNeedle::thread_nodes_in_tracts() const
+  {
+    std::vector<char> inside(thread ? thread_s.size() : 0, 0);
+    for (std::size_t k = 0; k + 1 < pierce.size(); ++k)
+      if (pierce[k].exit && !pierce[k + 1].exit)
+        for (std::size_t i = 0; i < inside.size(); ++i)
+          {
+            const double zeta   = needle.length() + thread_s[i];
+            const double margin = thread_s[std::min(i + 1, inside.size() - 1)] - thread_s[i > 0 ? i - 1 : 0];
+            inside[i] = inside[i] || (zeta > pierce[k].anchor - margin && zeta < pierce[k + 1].anchor + margin);
+          }
+    return inside;
+  }
 } // namespace suturesim::coupling

@@ -174,6 +174,11 @@ namespace suturesim::coupling
     {
       return pierce;
     }
+    /// Per suture node: whether it lies in a stitch's tract, between an exit pierce point
+    /// and the next entry point along the thread (within one element either side),
+    /// where the thread is meant to run inside the tissue.
+    std::vector<char>
+    thread_nodes_in_tracts() const;
     /// Touches, punctures and releases so far, in time order.
     std::vector<PunctureEvent>
     all_events() const;
