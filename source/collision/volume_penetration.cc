@@ -39,6 +39,28 @@ namespace suturesim::collision
         }
       return depth;
     }
+
+    /// The columns of @p points for which @p inside holds, deeper than @p tolerance.
+    template <typename Inside>
+    VolumePenetration
+    deep_points(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 3>> &surface,
+                const Eigen::Matrix3Xd &points, const double tolerance, const Inside &inside)
+    {
+      VolumePenetration result;
+      for (Eigen::Index k = 0; k < points.cols(); ++k)
+        {
+          const Eigen::Vector3d p = points.col(k);
+          if (!inside(p))
+            continue;
+          const double depth = depth_below(p, x, surface);
+          if (depth > tolerance)
+            {
+              result.points.push_back(k);
+              result.depths.push_back(depth);
+            }
+        }
+      return result;
+    }
   } // namespace
 
   VolumePenetration
@@ -46,31 +68,19 @@ namespace suturesim::collision
                      const std::vector<std::array<std::uint32_t, 3>> &surface, const Eigen::Matrix3Xd &points,
                      const double tolerance)
   {
-    VolumePenetration result;
-    for (Eigen::Index k = 0; k < points.cols(); ++k)
-      {
-        const Eigen::Vector3d p      = points.col(k);
-        const bool            inside = std::any_of(cells.begin(), cells.end(), [&](const auto &cell) {
-          Eigen::Vector3d lo = x.col(cell[0]), hi = lo;
-          for (unsigned v = 1; v < 4; ++v)
-            {
-              lo = lo.cwiseMin(x.col(cell[v]));
-              hi = hi.cwiseMax(x.col(cell[v]));
-            }
-          if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any())
-            return false;
-          return inside_tetrahedron(p, x.col(cell[0]), x.col(cell[1]), x.col(cell[2]), x.col(cell[3]));
-        });
-        if (!inside)
-          continue;
-        const double depth = depth_below(p, x, surface);
-        if (depth > tolerance)
+    return deep_points(x, surface, points, tolerance, [&](const Eigen::Vector3d &p) {
+      return std::any_of(cells.begin(), cells.end(), [&](const auto &cell) {
+        Eigen::Vector3d lo = x.col(cell[0]), hi = lo;
+        for (unsigned v = 1; v < 4; ++v)
           {
-            result.points.push_back(k);
-            result.depths.push_back(depth);
+            lo = lo.cwiseMin(x.col(cell[v]));
+            hi = hi.cwiseMax(x.col(cell[v]));
           }
-      }
-    return result;
+        if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any())
+          return false;
+        return inside_tetrahedron(p, x.col(cell[0]), x.col(cell[1]), x.col(cell[2]), x.col(cell[3]));
+      });
+    });
   }
 
   double
@@ -94,20 +104,8 @@ namespace suturesim::collision
   surface_penetration(const Eigen::Matrix3Xd &x, const std::vector<std::array<std::uint32_t, 3>> &surface,
                       const Eigen::Matrix3Xd &points, const double tolerance)
   {
-    VolumePenetration result;
-    for (Eigen::Index k = 0; k < points.cols(); ++k)
-      {
-        const Eigen::Vector3d p = points.col(k);
-        if (winding_number(p, x, surface) <= 0.5)
-          continue;
-        const double depth = depth_below(p, x, surface);
-        if (depth > tolerance)
-          {
-            result.points.push_back(k);
-            result.depths.push_back(depth);
-          }
-      }
-    return result;
+    return deep_points(x, surface, points, tolerance,
+                       [&](const Eigen::Vector3d &p) { return winding_number(p, x, surface) > 0.5; });
   }
 
   TractSplit

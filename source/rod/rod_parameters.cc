@@ -210,6 +210,14 @@ namespace suturesim::rod
     prm.declare_entry("Damping", "0", Patterns::Double(0),
                       "Mass-proportional damping c of the dynamics (force c m v, moment c J "
                       "omega). Unit: 1/s. Range: >= 0.");
+    prm.declare_entry("Stabilization", "0", Patterns::Double(0),
+                      "Quasi-static suture coupled to the tissue (accurate needle pass): a "
+                      "viscous drag c v per unit length on every node, v its displacement over "
+                      "the step divided by the step, which holds the free, weightless tail "
+                      "that the quasi-static rod leaves nearly undetermined (as ABAQUS "
+                      "*STATIC, STABILIZE); the drag's total is recorded "
+                      "(suture_stabilization_force in forces.csv) so that its share of the "
+                      "forces can be checked. Unit: N s/m^2. Range: >= 0.");
   }
 
   void
@@ -320,7 +328,8 @@ namespace suturesim::rod
     newton.line_search_steps = prm.get_integer("Line search steps");
     prm.leave_subsection();
     scope.subsection("Newton").require(newton.tolerance > 0, "Tolerance", "must be > 0");
-    damping = prm.get_double("Damping");
+    damping       = prm.get_double("Damping");
+    stabilization = prm.get_double("Stabilization");
   }
 
   void

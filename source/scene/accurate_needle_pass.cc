@@ -211,8 +211,11 @@ namespace suturesim::scene
         columns.push_back("gap_" + pair.name + " [m]");
     np.add_columns(columns);
     if (suture)
-      for (const std::string end : {"swage", "free_end"})
-        columns.push_back("suture_tension_" + end + " [N]");
+      {
+        for (const std::string end : {"swage", "free_end"})
+          columns.push_back("suture_tension_" + end + " [N]");
+        columns.push_back("suture_stabilization_force [N]");
+      }
     recorder.set_columns(columns);
 
     const auto positions = [&]() {
@@ -222,6 +225,26 @@ namespace suturesim::scene
       return x;
     };
     double      peak_pull = 0, last_output = -1, end_tension = 0;
+    // Suture/Stabilization: a drag c v per unit length, c ℓ_i (x_i − x_i,n)/Δt on node i
+    // (ℓ_i half of each element beside it), with its Jacobian c ℓ_i/Δt I. Its total on
+    // the converged state of the last step is recorded.
+    std::vector<double> node_length;
+    double              step_length = 0, stabilization_force = 0;
+    if (suture)
+      {
+        node_length.assign(suture->positions().size(), 0.0);
+        for (std::size_t e = 0; e < suture->references().size(); ++e)
+          {
+            node_length[e] += 0.5 * suture->references()[e].length;
+            node_length[e + 1] += 0.5 * suture->references()[e].length;
+          }
+      }
+    const rod::NodalTerms stabilization = [&](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &,
+                                              rod::Vec6 &r, rod::Mat6 &J) {
+      const double c = in.suture->stabilization * node_length[i] / step_length;
+      r.head<3>() += c * (xi - saved_x[i]);
+      J.topLeftCorner<3, 3>() += c * rod::Mat3::Identity();
+    };
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -281,6 +304,7 @@ namespace suturesim::scene
           const auto states = suture->element_states();
           row.push_back(states.front().N[0]);
           row.push_back(states.back().N[0]);
+          row.push_back(stabilization_force);
         }
       recorder.add_row(row);
       const auto &time = *in.time;
@@ -359,7 +383,10 @@ namespace suturesim::scene
                 if (suture)
                   {
                     const std::vector<rod::Vec3> before = suture->positions();
-                    const rod::NewtonResult r = with_pierce_terms(seen, [&]() { return suture->solve(suture_newton); });
+                    step_length                = step_dt;
+                    const rod::NewtonResult r = with_pierce_terms(seen, [&]() {
+                      return suture->solve(suture_newton, in.suture->stabilization > 0 ? &stabilization : nullptr);
+                    });
                     if (!r.converged)
                       {
                         report.converged = false;
@@ -423,9 +450,18 @@ namespace suturesim::scene
         rod::Vec6 swage_pull = rod::Vec6::Zero();
         if (suture)
           {
-            const Eigen::VectorXd r = with_pierce_terms(x, [&]() { return suture->residual(); });
-            swage_pull              = -r.head<6>();
-            end_tension             = r.tail<6>().head<3>().norm(); // the grasper's reaction
+            const bool            stabilized = in.suture->stabilization > 0;
+            const Eigen::VectorXd r          = with_pierce_terms(
+              x, [&]() { return suture->residual(stabilized ? &stabilization : nullptr); });
+            swage_pull  = -r.head<6>();
+            end_tension = r.tail<6>().head<3>().norm(); // the grasper's reaction
+            // the drag's total magnitude over the free nodes: an upper bound of what it
+            // adds to any force recorded
+            stabilization_force = 0;
+            if (stabilized)
+              for (std::size_t i = 1; i + 1 < node_length.size(); ++i)
+                stabilization_force += in.suture->stabilization * node_length[i] / step_dt *
+                                       (suture->positions()[i] - saved_x[i]).norm();
           }
         load = needle.needle_load(x, swage_pull);
         const bool changed = needle.accept_step(x);

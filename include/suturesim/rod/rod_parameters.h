@@ -70,6 +70,7 @@ namespace suturesim::rod
     ContactParameters contact;
     NewtonParameters  newton;
     double            damping = 0; ///< mass-proportional, 1/s
+    double            stabilization = 0; ///< viscous drag per unit length, quasi-static pass, N s/m²
 
     /// Declares into the current subsection ("Suture").
     static void
