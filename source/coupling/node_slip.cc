@@ -7,6 +7,7 @@ namespace suturesim::coupling
   std::size_t
   node_slip(std::vector<NodeSlipPoint> &points, const long first, const long last)
   {
+    // called in the haptic step: no allocation; the tentative moves live in `moved`
     const std::size_t n = points.size();
     for (std::size_t k = 0; k < n; ++k)
       {
@@ -14,74 +15,62 @@ namespace suturesim::coupling
         if (k > 0 && points[k].node < points[k - 1].node)
           throw std::invalid_argument("node slip: points out of thread order");
       }
-    // runs of points on one node: [begin, end)
-    struct Run
-    {
-      std::size_t begin, end;
-      long        node;
-      std::size_t forward_from; ///< first point of the suffix that slips forward (end: none)
-      std::size_t backward_to;  ///< one past the last point of the prefix that slips back (begin: none)
-    };
-    std::vector<Run> runs;
-    for (std::size_t k = 0; k < n;)
+    // per run of points on one node, [begin, end): the largest suffix that slips
+    // forward (led by a point whose own pull exceeds its friction, the suffix's combined
+    // pull exceeding its combined friction), and the largest prefix that slips back
+    for (std::size_t begin = 0, end = 0; begin < n; begin = end)
       {
-        Run r{k, k, points[k].node, 0, 0};
-        while (r.end < n && points[r.end].node == r.node)
-          ++r.end;
-        r.forward_from = r.end;
-        r.backward_to  = r.begin;
-        // forward: the largest suffix led by a point whose own pull exceeds its
-        // friction and whose combined pull exceeds the combined friction
-        double excess = 0;
-        for (std::size_t j = r.end; j-- > r.begin;)
+        const long node = points[begin].node;
+        for (end = begin; end < n && points[end].node == node;)
+          ++end;
+        std::size_t forward_from = end, backward_to = begin;
+        double      excess       = 0;
+        for (std::size_t j = end; j-- > begin;)
           {
             excess += points[j].pull - points[j].limit;
             if (points[j].pull > points[j].limit && excess > 0)
-              r.forward_from = j;
+              forward_from = j;
           }
         excess = 0;
-        for (std::size_t j = r.begin; j < r.end; ++j)
+        for (std::size_t j = begin; j < end; ++j)
           {
             excess += -points[j].pull - points[j].limit;
             if (-points[j].pull > points[j].limit && excess > 0)
-              r.backward_to = j + 1;
+              backward_to = j + 1;
           }
         // both ways at once would pull the list apart across itself: the points that
         // want to go forward stand behind those that want to go back; they hold
-        if (r.backward_to > r.forward_from)
+        if (backward_to > forward_from)
           {
-            r.forward_from = r.end;
-            r.backward_to  = r.begin;
+            forward_from = end;
+            backward_to  = begin;
           }
-        if (r.node >= last)
-          r.forward_from = r.end;
-        if (r.node <= first)
-          r.backward_to = r.begin;
-        runs.push_back(r);
-        k = r.end;
+        if (node >= last)
+          forward_from = end;
+        if (node <= first)
+          backward_to = begin;
+        for (std::size_t j = begin; j < backward_to; ++j)
+          points[j].moved = -1;
+        for (std::size_t j = forward_from; j < end; ++j)
+          points[j].moved = +1;
       }
-    // neighbouring nodes whose groups would swap press on each other
-    for (std::size_t i = 0; i + 1 < runs.size(); ++i)
-      if (runs[i + 1].node == runs[i].node + 1 && runs[i].forward_from < runs[i].end &&
-          runs[i + 1].backward_to > runs[i + 1].begin)
+    // neighbouring nodes whose groups would swap press on each other: the last point of
+    // a run going forward meets the first of the next node's run going back
+    for (std::size_t k = 0; k + 1 < n; ++k)
+      if (points[k].moved == +1 && points[k + 1].moved == -1 && points[k + 1].node == points[k].node + 1)
         {
-          runs[i].forward_from    = runs[i].end;
-          runs[i + 1].backward_to = runs[i + 1].begin;
+          for (std::size_t j = k + 1; j-- > 0 && points[j].node == points[k].node && points[j].moved == +1;)
+            points[j].moved = 0;
+          for (std::size_t j = k + 1; j < n && points[j].node == points[k + 1].node && points[j].moved == -1; ++j)
+            points[j].moved = 0;
         }
     std::size_t moved = 0;
-    for (const auto &r : runs)
-      {
-        for (std::size_t j = r.begin; j < r.backward_to; ++j, ++moved)
-          {
-            points[j].moved = -1;
-            --points[j].node;
-          }
-        for (std::size_t j = r.forward_from; j < r.end; ++j, ++moved)
-          {
-            points[j].moved = +1;
-            ++points[j].node;
-          }
-      }
+    for (auto &p : points)
+      if (p.moved != 0)
+        {
+          p.node += p.moved;
+          ++moved;
+        }
     return moved;
   }
 } // namespace suturesim::coupling

@@ -35,6 +35,7 @@ namespace suturesim::realtime
     points.reserve(16);
     states.reserve(16);
     zeta_work.reserve(16);
+    slip_work.reserve(16);
     soft_work.reserve(16);
     load_work.reserve(16);
     soft_index.reserve(16);

@@ -47,6 +47,11 @@ namespace suturesim::realtime
     class NodeSlip : public PierceModel
     {
     public:
+      NodeSlip()
+      {
+        joints.reserve(16); // a pass makes two pierce points; room for a few stitches
+      }
+
       double
       order_gap(double) const override
       {
@@ -78,7 +83,7 @@ namespace suturesim::realtime
       settle(std::vector<PierceSlip> &points, const coupling::FrictionParameters &friction,
              const ThreadNodes &n) const override
       {
-        std::vector<coupling::NodeSlipPoint> joints(points.size());
+        joints.resize(points.size()); // within the reserved capacity: no allocation in the step
         for (std::size_t k = 0; k < points.size(); ++k)
           {
             joints[k].node  = std::lround((points[k].anchor - n.swage) / n.link);
@@ -94,6 +99,9 @@ namespace suturesim::realtime
             points[k].anchor   = n.swage + joints[k].node * n.link;
           }
       }
+
+    private:
+      mutable std::vector<coupling::NodeSlipPoint> joints;
     };
 
     const bool registered_node_path = PierceModel::Registry::instance().add(
