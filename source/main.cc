@@ -127,4 +127,14 @@ main(int argc, char **argv)
         std::cerr << "error: " << e.what() << '\n';
       return 3;
     }
+  catch (const std::exception &e)
+    {
+      // anything else is suturesim's own fault: one line, and a summary that says so
+      const std::string what = std::string("internal error: ") + e.what();
+      if (recorder)
+        recorder->finish("failed", what);
+      if (root)
+        std::cerr << "error: " << what << '\n';
+      return 4;
+    }
 }

@@ -1,6 +1,9 @@
 #include <suturesim/collision/proximity.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
 
 namespace suturesim::collision
 {
@@ -69,5 +72,48 @@ namespace suturesim::collision
     const double v = vb * denom, w = vc * denom;
     bary = {1 - v - w, v, w};
     return a + ab * v + ac * w;
+  }
+
+  void
+  NearestTriangle::offer(const Eigen::Vector3d &p, const std::uint32_t t, const Eigen::Vector3d &a,
+                         const Eigen::Vector3d &b, const Eigen::Vector3d &c, const double scale)
+  {
+    Eigen::Vector3d       bary;
+    const Eigen::Vector3d q = closest_point_on_triangle(p, a, b, c, bary);
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    const double          d = (p - q).dot(n), to = (p - q).norm();
+    if (found())
+      {
+        const double tie = 1e-9 * (to + scale);
+        if (to > distance + tie || (to > distance - tie && d <= signed_distance))
+          return;
+      }
+    triangle        = t;
+    distance        = to;
+    signed_distance = d;
+    weights         = bary;
+    normal          = n;
+  }
+
+  bool
+  segment_crosses_triangle(const Eigen::Vector3d &p0, const Eigen::Vector3d &p1, const Eigen::Vector3d &a,
+                           const Eigen::Vector3d &b, const Eigen::Vector3d &c, double &s, Eigen::Vector3d &bary)
+  {
+    // p0 + s d = a + u (b − a) + v (c − a), solved by Cramer's rule with triple products
+    const Eigen::Vector3d d = p1 - p0, e1 = b - a, e2 = c - a;
+    const Eigen::Vector3d q   = d.cross(e2);
+    const double          det = e1.dot(q);
+    // parallel (or degenerate): no transversal crossing
+    if (std::abs(det) <= 1e-14 * d.norm() * e1.norm() * e2.norm())
+      return false;
+    const Eigen::Vector3d w = p0 - a;
+    const double          u = w.dot(q) / det;
+    const Eigen::Vector3d r = w.cross(e1);
+    const double          v = d.dot(r) / det;
+    s                       = e2.dot(r) / det;
+    if (u < 0 || v < 0 || u + v > 1 || s < 0 || s > 1)
+      return false;
+    bary = {1 - u - v, u, v};
+    return true;
   }
 } // namespace suturesim::collision

@@ -58,17 +58,56 @@ namespace suturesim::coupling
     return best <= prm.reach;
   }
 
+  bool
+  NeedlePuncture::first_crossing(const Vector3d &from, const Vector3d &to, const Matrix3Xd &x,
+                                 SurfacePoint &point, Vector3d &normal)
+  {
+    const Vector3d path = to - from;
+    if (path.squaredNorm() == 0)
+      return false;
+    tree.update(x, 0.1 * prm.reach);
+    tree.leaves_near(0.5 * (from + to), 0.5 * path.norm(), candidates);
+    const bool inwards = state == Phase::outside;
+    double     first   = std::numeric_limits<double>::infinity();
+    Vector3d   bary;
+    for (const auto leaf : candidates)
+      {
+        const auto     t = tree.triangle(leaf);
+        const auto    &v = triangles[t];
+        const Vector3d a = x.col(v[0]), b = x.col(v[1]), c = x.col(v[2]);
+        double         s = 0;
+        if (!collision::segment_crosses_triangle(from, to, a, b, c, s, bary) || s >= first)
+          continue;
+        const Vector3d n = (b - a).cross(c - a).normalized();
+        if ((path.dot(n) < 0) != inwards)
+          continue;
+        first  = s;
+        normal = n;
+        point  = {t, bary};
+      }
+    return first <= 1;
+  }
+
   void
   NeedlePuncture::update(const double time, const Vector3d &tip, const Matrix3Xd &x)
   {
     SurfacePoint p;
     double       d = 0;
     Vector3d     n;
+    const bool   moved_from = looked;
+    const Vector3d from     = last_tip;
+    last_tip                = tip;
+    looked                  = true;
     switch (state)
       {
         case Phase::outside:
         case Phase::inside:
-          if (nearest(tip, x, p, d, n) && ((state == Phase::outside) == (d < 0)))
+          // where the path crossed the surface, if it did; else the nearest point (the
+          // first look, or a tip on the surface at the last look). In a gap narrower
+          // than the tip's step the nearest surface may be the next body's, seen from
+          // the front: only the path tells which surface the tip left.
+          if ((moved_from && first_crossing(from, tip, x, p, n)) ||
+              (nearest(tip, x, p, d, n) && ((state == Phase::outside) == (d < 0))))
             {
               // crossed the surface: from outside inwards (entry) or from inside out
               contact.point     = p;

@@ -18,8 +18,6 @@ namespace suturesim::realtime
     // when a vertex left a slack of one suture radius (TriangleSphereTree::update)
     surface_tree.update(s.nodes.x, prm.radius);
     suture_tree.build(s.nodes.x.middleCols(suture.begin, suture.size()), prm.radius);
-    best.assign(suture.size(), 0);
-    signed_distance.assign(suture.size(), 0);
     nearest.resize(suture.size());
     slot.assign(suture.size(), -1);
     contacts.reserve(suture.size());
@@ -37,37 +35,21 @@ namespace suturesim::realtime
     suture_tree.overlaps(surface_tree, 0, candidates);
     contacts.clear();
     std::fill(slot.begin(), slot.end(), -1);
+    std::fill(nearest.begin(), nearest.end(), collision::NearestTriangle{});
     // First the nearest triangle of every candidate node, then the contact test on it
     // alone: a node above a face near an edge is closer to the face than to the side
     // face beyond the edge, whose plane it may well be "behind".
-    Vector3d bary;
     for (const auto &[segment, leaf] : candidates)
       {
-        const auto    &t = triangles[surface_tree.triangle(leaf)];
-        const Vector3d a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
-        const Vector3d n = (b - a).cross(c - a).normalized();
+        const std::uint32_t triangle = surface_tree.triangle(leaf);
+        const auto         &t        = triangles[triangle];
         // node k is tested from segment k only (the last node from the last segment):
         // segment k's sphere holds node k, so it meets every triangle near the node
         const std::uint32_t last = segment + 2 == suture.size() ? segment + 1 : segment;
         for (std::uint32_t k = segment; k <= last; ++k)
           {
-            const Vector3d p        = x.col(suture.begin + k);
-            const Vector3d q        = collision::closest_point_on_triangle(p, a, b, c, bary);
-            const double   distance = (p - q).norm();
-            const double   d        = (p - q).dot(n);
-            if (slot[k] >= 0)
-              {
-                // equally near triangles (closest point on a shared edge or vertex): the
-                // one whose normal points most nearly at the node decides the side
-                const double tie = 1e-9 * (distance + prm.radius);
-                if (distance > best[k] + tie ||
-                    (distance > best[k] - tie && d <= signed_distance[k]))
-                  continue;
-              }
-            slot[k]            = 0;
-            best[k]            = distance;
-            signed_distance[k] = d;
-            nearest[k]         = Contact{suture.begin + k, t, bary, n, 0};
+            nearest[k].offer(x.col(suture.begin + k), triangle, x.col(t[0]), x.col(t[1]), x.col(t[2]), prm.radius);
+            slot[k] = 0;
           }
       }
     for (std::uint32_t k = 0; k < suture.size(); ++k)
@@ -80,10 +62,11 @@ namespace suturesim::realtime
             }
           // listed within a skin of r/4 beyond touching, so that a resting contact stays
           // listed from step to step; its gap constraint acts only while g < 0
-          if (signed_distance[k] < 1.25 * prm.radius && signed_distance[k] > -prm.depth)
+          const auto &near = nearest[k];
+          if (near.signed_distance < 1.25 * prm.radius && near.signed_distance > -prm.depth)
             {
               slot[k] = static_cast<std::int32_t>(contacts.size());
-              contacts.push_back(nearest[k]);
+              contacts.push_back({suture.begin + k, triangles[near.triangle], near.weights, near.normal, 0});
             }
           else
             slot[k] = -1;

@@ -198,6 +198,20 @@ namespace suturesim::rod
                       "penalty); 0 = plain quadratic. Unit: m. Range: >= 0.");
     prm.leave_subsection();
 
+    prm.enter_subsection("Tissue contact");
+    prm.declare_entry("Enabled", d.tissue_contact.enabled ? "true" : "false", Patterns::Bool(),
+                      "Accurate path with the tissue: the suture's nodes outside the pierce "
+                      "points' tracts are pushed out of the tissue's surface by a frictionless "
+                      "penalty, and the surface back (the realtime path's contact is "
+                      "Realtime/Contact). Unit: none.");
+    prm.declare_entry("Penalty stiffness", Utilities::to_string(d.tissue_contact.stiffness), Patterns::Double(0),
+                      "k per node: a node a gap g < 0 closer to the surface than the suture's "
+                      "radius feels -k g along the surface's normal. Unit: N/m. Range: > 0.");
+    prm.declare_entry("Depth", Utilities::to_string(d.tissue_contact.depth), Patterns::Double(0),
+                      "A node at most this far behind the surface is still pushed out (deeper "
+                      "ones are taken to be inside on purpose). Unit: m. Range: > 0.");
+    prm.leave_subsection();
+
     prm.enter_subsection("Newton");
     prm.declare_entry("Max iterations", std::to_string(d.newton.max_iterations), Patterns::Integer(1, 1000),
                       "Newton iterations per step before the step is cut back. Unit: 1. Range: 1-1000.");
@@ -321,6 +335,15 @@ namespace suturesim::rod
     contact.radius    = section.radius;
     prm.leave_subsection();
     sc.require(!contact.enabled || contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
+
+    prm.enter_subsection("Tissue contact");
+    const auto tc            = scope.subsection("Tissue contact");
+    tissue_contact.enabled   = prm.get_bool("Enabled");
+    tissue_contact.stiffness = prm.get_double("Penalty stiffness");
+    tissue_contact.depth     = prm.get_double("Depth");
+    prm.leave_subsection();
+    tc.require(!tissue_contact.enabled || tissue_contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
+    tc.require(!tissue_contact.enabled || tissue_contact.depth > 0, "Depth", "must be > 0 m");
 
     prm.enter_subsection("Newton");
     newton.max_iterations    = prm.get_integer("Max iterations");

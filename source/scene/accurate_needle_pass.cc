@@ -1,9 +1,12 @@
 #include <suturesim/collision/volume_penetration.h>
 #include <suturesim/core/error.h>
+#include <suturesim/coupling/accurate/suture_contact.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/coupling/interface_quasi_newton.h>
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
 #include <suturesim/scene/wound_closure.h>
+#include <suturesim/tissue/point_load_list.h>
 
 #include <deal.II/distributed/tria.h>
 
@@ -18,50 +21,6 @@ namespace suturesim::scene
 {
   using namespace dealii;
 
-  namespace
-  {
-    /// Aitken's Δ² relaxation of a fixed-point iteration x ← G(x) (Irons & Tuck 1969):
-    /// x ← x + ω r with r = G(x) − x and ω from the secant of the last two residuals.
-    class AitkenRelaxation
-    {
-    public:
-      /// Moves @p x towards @p target (= G(x)); returns the largest |target − x| of a
-      /// point before the move, m.
-      double
-      relax(std::vector<Point<3>> &x, const std::vector<Point<3>> &target)
-      {
-        std::vector<double> residual;
-        double              largest = 0;
-        for (std::size_t k = 0; k < x.size(); ++k)
-          {
-            largest = std::max(largest, target[k].distance(x[k]));
-            for (unsigned d = 0; d < 3; ++d)
-              residual.push_back(target[k][d] - x[k][d]);
-          }
-        if (!last.empty())
-          {
-            double along = 0, change = 0;
-            for (std::size_t i = 0; i < residual.size(); ++i)
-              {
-                along += last[i] * (residual[i] - last[i]);
-                change += (residual[i] - last[i]) * (residual[i] - last[i]);
-              }
-            // kept within [0.05, 2]: beyond, the secant has lost the mode
-            if (change > 0)
-              omega = std::clamp(-omega * along / change, 0.05, 2.0);
-          }
-        for (std::size_t k = 0; k < x.size(); ++k)
-          for (unsigned d = 0; d < 3; ++d)
-            x[k][d] += omega * residual[3 * k + d];
-        last = std::move(residual);
-        return largest;
-      }
-
-    private:
-      std::vector<double> last;
-      double              omega = 1;
-    };
-  } // namespace
 
   void
   run_accurate_needle_pass(const AccurateNeedleInputs &in, io::Recorder &recorder, TimerOutput &timer,
@@ -126,6 +85,25 @@ namespace suturesim::scene
           lengths.push_back(r.length);
         needle.set_thread(&suture->positions(), lengths);
       }
+    // the suture's nodes against the tissue's surface, outside the pierce points
+    std::optional<coupling::SutureContact> contact;
+    if (suture && in.suture->tissue_contact.enabled)
+      {
+        contact.emplace(coupling::SutureContactParameters{in.suture->tissue_contact.stiffness,
+                                                          in.suture->section.radius, in.suture->tissue_contact.depth},
+                        surface.triangles, surface.reference);
+        contact->set_suture(&suture->positions());
+      }
+    // the tissue's point loads: the needle's touch and pierce points first (the needle
+    // numbers them from 0), then the contacts
+    tissue::PointLoadList loads;
+    const auto            locate_loads = [&]() {
+      std::vector<const tissue::PointLoads *> parts{&needle};
+      if (contact)
+        parts.push_back(&*contact);
+      loads.set(parts);
+      model.set_point_loads(loads.points().empty() ? nullptr : &loads);
+    };
     // moves the suture's held nodes to time t: the swage, and the far end once grasped
     // (where it was then, displaced by its keyframes, as in the realtime path)
     const auto hold_suture = [&](const double t) {
@@ -145,15 +123,17 @@ namespace suturesim::scene
       const double motion = closure ? closure->motion_time(t) : t;
       suture->set_node(last, grasped_at + end.motion(std::max(motion, end.grasp_time)).first, suture->rotations()[last]);
     };
-    // The suture's Newton solve leaves the friction's turn with the element out of the
-    // pierce terms' Jacobian, so it may converge linearly once pierced: it stops at a residual that moves the nodes on the
-    // pierce ties by a hundredth of the coupling tolerance.
+    // Both bodies are solved to a hundredth of the force a pierce tie carries at the
+    // coupling tolerance: finer residuals move no point measurably, and a solve that
+    // starts near equilibrium in a late coupling round would otherwise chase its
+    // relative tolerance for half a dozen iterations (the tissue's tangent leaves the
+    // slip friction's change out, so its Newton converges linearly once pierced).
+    const double          force_floor = 0.01 * np.transverse_stiffness * np.coupling_tolerance;
     rod::NewtonParameters suture_newton;
     if (in.suture)
       {
         suture_newton                = in.suture->newton;
-        suture_newton.absolute_floor = std::max(suture_newton.absolute_floor,
-                                                0.01 * np.transverse_stiffness * np.coupling_tolerance);
+        suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, force_floor);
         suture_newton.max_iterations = std::max(suture_newton.max_iterations, 200u);
         // a stiff pierce tie pulls the node it holds by millimetres on the first
         // iteration of a round, and the free tail would swing with it: half an element
@@ -191,7 +171,7 @@ namespace suturesim::scene
       summary["suture"] = {{"elements", suture->n_elements()},
                            {"length", needle.curve_length() - geometry.length()},
                            {"coupling_tolerance", np.coupling_tolerance},
-                           {"coupling", "block Gauss-Seidel rounds of tissue and suture solves"}};
+                           {"coupling", "block Gauss-Seidel rounds of tissue and suture solves, IQN-ILS on the tissue points"}};
     summary["metrics"]    = nlohmann::json::object();
     summary["steps"]      = nlohmann::json::array();
     pcout << "suturesim: scene '" << in.scene_name << "', " << mesh_info.description << ", "
@@ -215,6 +195,8 @@ namespace suturesim::scene
         for (const std::string end : {"swage", "free_end"})
           columns.push_back("suture_tension_" + end + " [N]");
         columns.push_back("suture_stabilization_force [N]");
+        columns.push_back("suture_tissue_contact_force [N]");
+        columns.push_back("suture_tissue_contacts [1]");
       }
     recorder.set_columns(columns);
 
@@ -223,6 +205,48 @@ namespace suturesim::scene
       for (std::size_t k = 0; k < x.size(); ++k)
         x[k] = model.point_position(k);
       return x;
+    };
+    // the tissue's points under the contacts, m
+    const auto contact_positions = [&]() {
+      std::vector<Point<3>> x(contact->points().size());
+      for (std::size_t k = 0; k < x.size(); ++k)
+        x[k] = model.point_position(loads.offset(1) + k);
+      return x;
+    };
+    // new contacts for the suture as it is against the tissue as it is; true when the
+    // set changed (the tissue then has new loads). Left out: the nodes a stitch's pierce
+    // points draw into the tissue and the nodes a support holds.
+    Eigen::Matrix3Xd contact_surface;
+    const auto       detect_contacts = [&]() {
+      model.surface_positions(surface, contact_surface);
+      std::vector<char> skip = needle.thread_nodes_in_tracts();
+      skip.front()           = 1;
+      skip.back()            = skip.back() || grasped;
+      const bool changed     = contact->detect(contact_surface, suture->positions(), skip);
+      if (changed)
+        locate_loads();
+      return changed;
+    };
+    // one IQN-ILS update of the tissue points the suture sees, the pierce points' and
+    // the contacts', towards where the tissue's last solve put them; returns the
+    // largest move the tissue asked for, m
+    const auto accelerate = [&](coupling::InterfaceQuasiNewton &iqn, std::vector<Point<3>> &at_points,
+                                std::vector<Point<3>> &at_contacts) {
+      const auto      to_points = positions();
+      const auto      to_contacts = contact ? contact_positions() : std::vector<Point<3>>();
+      const std::size_t n = at_points.size(), m = at_contacts.size();
+      Eigen::VectorXd x(3 * (n + m)), target(3 * (n + m));
+      for (std::size_t k = 0; k < n + m; ++k)
+        for (unsigned d = 0; d < 3; ++d)
+          {
+            x[3 * k + d]      = k < n ? at_points[k][d] : at_contacts[k - n][d];
+            target[3 * k + d] = k < n ? to_points[k][d] : to_contacts[k - n][d];
+          }
+      const double largest = iqn.update(x, target);
+      for (std::size_t k = 0; k < n + m; ++k)
+        for (unsigned d = 0; d < 3; ++d)
+          (k < n ? at_points[k][d] : at_contacts[k - n][d]) = x[3 * k + d];
+      return largest;
     };
     double      peak_pull = 0, last_output = -1, end_tension = 0;
     // Suture/Stabilization: a drag c v per unit length, c ℓ_i (x_i − x_i,n)/Δt on node i
@@ -239,12 +263,20 @@ namespace suturesim::scene
             node_length[e + 1] += 0.5 * suture->references()[e].length;
           }
       }
-    const rod::NodalTerms stabilization = [&](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &,
-                                              rod::Vec6 &r, rod::Mat6 &J) {
-      const double c = in.suture->stabilization * node_length[i] / step_length;
-      r.head<3>() += c * (xi - saved_x[i]);
-      J.topLeftCorner<3, 3>() += c * rod::Mat3::Identity();
+    // the terms the pass adds at the suture's nodes: the stabilization and the contact
+    const bool            stabilized = suture && in.suture->stabilization > 0;
+    const rod::NodalTerms node_terms = [&](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &,
+                                           rod::Vec6 &r, rod::Mat6 &J) {
+      if (stabilized)
+        {
+          const double c = in.suture->stabilization * node_length[i] / step_length;
+          r.head<3>() += c * (xi - saved_x[i]);
+          J.topLeftCorner<3, 3>() += c * rod::Mat3::Identity();
+        }
+      if (contact)
+        contact->add_node_terms(i, xi, r, J);
     };
+    const rod::NodalTerms *suture_terms = stabilized || contact ? &node_terms : nullptr;
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -305,6 +337,8 @@ namespace suturesim::scene
           row.push_back(states.front().N[0]);
           row.push_back(states.back().N[0]);
           row.push_back(stabilization_force);
+          row.push_back(contact ? contact->total_force(suture->positions()) : 0.0);
+          row.push_back(contact ? contact->contacts().size() : 0);
         }
       recorder.add_row(row);
       const auto &time = *in.time;
@@ -339,7 +373,7 @@ namespace suturesim::scene
     // equilibrium at t = 0, the needle away
     needle.begin_step(0, path.pose(0), surface.reference);
     {
-      const auto report = model.solve_static(0);
+      const auto report = model.solve_static(0, force_floor);
       if (!report.converged)
         fail(0, report.failure);
       record(0, {{"newton_iterations", report.iterations}});
@@ -362,30 +396,46 @@ namespace suturesim::scene
             hold_suture(tn);
           }
         if (needle.begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
-          model.set_point_loads(needle.points().empty() ? nullptr : &needle);
-        tissue::NewtonReport report = model.solve_static(tn);
+          locate_loads();
+        tissue::NewtonReport report = model.solve_static(tn, force_floor);
         unsigned             rounds = 0;
         if ((suture || lagrange) && report.converged)
           {
             // block Gauss–Seidel: the suture with the tissue points held, then the
             // multipliers' update, then the tissue with both held, until nothing moves
-            // and no tie gapes by more than the tolerance. The suture sees the tissue
-            // points relaxed by Aitken's Δ² rule (Irons & Tuck 1969; for partitioned
-            // coupling, Küttler & Wall 2008, Comput. Mech. 43:61–72): with a tie stiffer
-            // than either body at the point, plain rounds contract slowly.
-            double                tissue_moved = std::numeric_limits<double>::infinity();
-            std::vector<Point<3>> seen         = positions(); // by the suture
-            AitkenRelaxation      relaxation;
+            // and no tie gapes by more than the tolerance. The suture sees the tissue's
+            // points (the pierce points and the contacts) accelerated by interface
+            // quasi-Newton (IQN-ILS, coupling/interface_quasi_newton.h): with a tie
+            // stiffer than either body at the point, plain rounds contract slowly.
+            // The active sets follow at the start of every round (the elements that
+            // carry the thread's pierce points, the contacts); a round that changes them
+            // has not converged.
+            double                         tissue_moved = std::numeric_limits<double>::infinity();
+            std::vector<Point<3>>          seen         = positions(); // by the suture
+            std::vector<Point<3>>          seen_contact = contact ? contact_positions() : std::vector<Point<3>>();
+            coupling::InterfaceQuasiNewton acceleration;
             for (rounds = 1;; ++rounds)
               {
-                const auto x     = positions();
-                double     moved = 0;
+                const auto x       = positions();
+                double     moved   = 0;
+                bool       changed = suture && needle.follow_thread(x);
+                // new contacts change the interface (its size): the quasi-Newton model
+                // starts again; a pierce point's new carrier element does not, and its
+                // history is what damps a thread that slides to and fro between rounds
+                if (contact && detect_contacts())
+                  {
+                    changed      = true;
+                    seen_contact = contact_positions();
+                    acceleration.reset();
+                  }
+                if (contact)
+                  contact->set_tissue_positions(seen_contact);
                 if (suture)
                   {
                     const std::vector<rod::Vec3> before = suture->positions();
                     step_length                = step_dt;
-                    const rod::NewtonResult r = with_pierce_terms(seen, [&]() {
-                      return suture->solve(suture_newton, in.suture->stabilization > 0 ? &stabilization : nullptr);
+                    const rod::NewtonResult r  = with_pierce_terms(seen, [&]() {
+                      return suture->solve(suture_newton, suture_terms);
                     });
                     if (!r.converged)
                       {
@@ -396,10 +446,11 @@ namespace suturesim::scene
                     for (std::size_t i = 0; i < before.size(); ++i)
                       moved = std::max(moved, (suture->positions()[i] - before[i]).norm());
                   }
-                // the tissue feels the suture only through pierce points on it
-                const bool   coupled = suture && needle.n_on_thread() > 0;
-                const double gap     = lagrange ? needle.constraint_gap(x) : 0;
-                if ((!coupled || (moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance)) &&
+                // the tissue feels the suture through pierce points on it and contacts
+                const bool coupled =
+                  suture && (needle.n_on_thread() > 0 || (contact && !contact->contacts().empty()));
+                const double gap = lagrange ? needle.constraint_gap(x) : 0;
+                if ((!coupled || (!changed && moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance)) &&
                     gap <= np.coupling_tolerance)
                   break;
                 if (rounds == np.coupling_iterations)
@@ -414,10 +465,10 @@ namespace suturesim::scene
                   }
                 if (lagrange)
                   needle.update_multipliers(x);
-                report = model.solve_static(tn);
+                report = model.solve_static(tn, force_floor);
                 if (!report.converged)
                   break;
-                tissue_moved = relaxation.relax(seen, positions());
+                tissue_moved = accelerate(acceleration, seen, seen_contact);
               }
           }
         // back to the state before the step, which is then halved
@@ -427,7 +478,7 @@ namespace suturesim::scene
           if (suture)
             for (std::size_t i = 0; i < saved_x.size(); ++i)
               suture->set_node(i, saved_x[i], saved_q[i]);
-          model.set_point_loads(needle.points().empty() ? nullptr : &needle);
+          locate_loads();
           ++cutbacks;
           dt = 0.5 * step_dt;
         };
@@ -450,9 +501,8 @@ namespace suturesim::scene
         rod::Vec6 swage_pull = rod::Vec6::Zero();
         if (suture)
           {
-            const bool            stabilized = in.suture->stabilization > 0;
-            const Eigen::VectorXd r          = with_pierce_terms(
-              x, [&]() { return suture->residual(stabilized ? &stabilization : nullptr); });
+            const Eigen::VectorXd r =
+              with_pierce_terms(x, [&]() { return suture->residual(suture_terms); });
             swage_pull  = -r.head<6>();
             end_tension = r.tail<6>().head<3>().norm(); // the grasper's reaction
             // the drag's total magnitude over the free nodes: an upper bound of what it
@@ -474,7 +524,7 @@ namespace suturesim::scene
                    {"coupling_rounds", rounds},
                    {"residual_norms", report.residual_norms}});
         if (changed)
-          model.set_point_loads(needle.points().empty() ? nullptr : &needle);
+          locate_loads();
         model.surface_positions(surface, x_surface);
         if (steps % 20 == 0)
           pcout << "step " << steps << "  t = " << std::setprecision(4) << t << " s  Newton "

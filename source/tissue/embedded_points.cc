@@ -32,19 +32,30 @@ namespace suturesim::tissue
     mine.assign(X.size(), false);
     for (std::size_t k = 0; k < X.size(); ++k)
       {
+        // A point of the boundary's triangles (the puncture's surface: two triangles per
+        // quadrilateral face) lies off a warped face's bilinear surface, outside its cell
+        // by up to a fraction of the warp: looked for again with a tolerance of 5 % of the
+        // cell in unit coordinates, and its unit point then taken onto the cell.
         unsigned owner = numbers::invalid_unsigned_int;
-        try
+        for (const double tolerance : {1e-10, 0.05})
           {
-            const auto found = GridTools::find_active_cell_around_point(mapping, dof_handler, X[k]);
-            if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
+            try
               {
-                where[k] = found;
-                owner    = rank;
+                auto found =
+                  GridTools::find_active_cell_around_point(mapping, dof_handler, X[k], std::vector<bool>(), tolerance);
+                if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
+                  {
+                    found.second = GeometryInfo<3>::project_to_unit_cell(found.second);
+                    where[k]     = found;
+                    owner        = rank;
+                  }
               }
-          }
-        catch (...)
-          {
-            // not in this rank's part of the mesh
+            catch (...)
+              {
+                // not in this rank's part of the mesh
+              }
+            if (Utilities::MPI::min(owner, comm) != numbers::invalid_unsigned_int)
+              break;
           }
         const unsigned lowest = Utilities::MPI::min(owner, comm);
         if (lowest == numbers::invalid_unsigned_int)

@@ -548,7 +548,7 @@ namespace suturesim::tissue
   }
 
   NewtonReport
-  TissueModel::solve_static(const double t)
+  TissueModel::solve_static(const double t, const double force_floor)
   {
     const NewtonParameters &np = parameters.newton;
     NewtonReport            report;
@@ -578,7 +578,7 @@ namespace suturesim::tissue
         // residual of a very stiff (nearly incompressible) body cannot go below
         // ε·κ·area, which may exceed the absolute tolerance.
         const bool round_off = it > 0 && du_max <= 1e-13 * length_scale;
-        if (bc_ok && (r_norm <= np.absolute_residual_tolerance || round_off ||
+        if (bc_ok && (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
                       (r_norm <= np.residual_tolerance * r_ref &&
                        du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
           {
@@ -611,7 +611,7 @@ namespace suturesim::tissue
             {
               // The update need not be more accurate than the residual this step aims at.
               const double target =
-                std::max(np.absolute_residual_tolerance, np.residual_tolerance * r_ref);
+                std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
               solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
             }
           catch (const SolverError &e)

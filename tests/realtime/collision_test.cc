@@ -238,3 +238,29 @@ TEST(VolumePenetration, FindsThePointsDeeperThanTheToleranceWithTheirDepthFromCe
     EXPECT_DOUBLE_EQ(from_surface.depths[k], r.depths[k]);
   EXPECT_EQ(collision::surface_penetration(x, surface.triangles, points, 3e-4).points, dented.points);
 }
+
+#include <suturesim/collision/proximity.h>
+
+TEST(Proximity, SegmentCrossesATriangleWhereTheLineMeetsItsPlaneInside)
+{
+  using suturesim::collision::segment_crosses_triangle;
+  const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+  double                s = -1;
+  Eigen::Vector3d       bary;
+  // through (0.5, 0.25, 0) a quarter of the way along, from either side
+  ASSERT_TRUE(segment_crosses_triangle({0.5, 0.25, -1}, {0.5, 0.25, 3}, a, b, c, s, bary));
+  EXPECT_NEAR(s, 0.25, 1e-15);
+  EXPECT_NEAR((bary[0] * a + bary[1] * b + bary[2] * c - Eigen::Vector3d(0.5, 0.25, 0)).norm(), 0, 1e-15);
+  EXPECT_NEAR(bary.sum(), 1, 1e-15);
+  ASSERT_TRUE(segment_crosses_triangle({0.5, 0.25, 3}, {0.5, 0.25, -1}, a, b, c, s, bary));
+  EXPECT_NEAR(s, 0.75, 1e-15);
+  // a slanted one: from (1.5, 1.5, 1) to (-0.5, -0.5, -1) meets the plane at (0.5, 0.5)
+  ASSERT_TRUE(segment_crosses_triangle({1.5, 1.5, 1}, {-0.5, -0.5, -1}, a, b, c, s, bary));
+  EXPECT_NEAR(s, 0.5, 1e-15);
+  EXPECT_NEAR(bary[1], 0.25, 1e-15);
+  EXPECT_NEAR(bary[2], 0.25, 1e-15);
+  // misses: outside the triangle, short of the plane, and in the plane
+  EXPECT_FALSE(segment_crosses_triangle({1.5, 1.5, -1}, {1.5, 1.5, 1}, a, b, c, s, bary));
+  EXPECT_FALSE(segment_crosses_triangle({0.5, 0.25, 1}, {0.5, 0.25, 0.1}, a, b, c, s, bary));
+  EXPECT_FALSE(segment_crosses_triangle({0.1, 0.1, 0}, {0.5, 0.5, 0}, a, b, c, s, bary));
+}

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/LU>
+#include <Eigen/QR>
+
 using namespace suturesim::coupling;
 
 TEST(CoulombFriction, SticksBelowMuNSlipsAboveAndFreeAtZeroMu)
@@ -218,6 +221,65 @@ TEST(NeedlePuncture, TouchPressPunctureInsideAndOutThroughTheFarSide)
   EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
 }
 
+TEST(NeedlePuncture, ATipThatJumpsAThinGapInOneStepLeavesTheFirstBodyBeforeEnteringTheNext)
+{
+  // Two rigid boxes 0.1 mm apart along x, A on [0, 10] mm and B on [10.1, 20.1] mm, and
+  // a tip moving +x by 0.3 mm per step: in one step it goes from 0.05 mm inside A's far
+  // face to 0.15 mm inside B. Nearest-point tests alone see it behind B's face, inside,
+  // and miss both the exit from A and the entry into B (the accurate path's implicit
+  // steps through a gaping wound did: two punctures instead of four). The path's
+  // crossing starts the exit at A's face, and the entry into B follows.
+  auto       mesh = suturesim::test_support::box_mesh(0.01, 0.01, 0.01, 2, 2, 2);
+  const auto a    = mesh;
+  const auto n    = std::uint32_t(a.vertices.cols());
+  mesh.vertices.conservativeResize(3, 2 * n);
+  mesh.vertices.rightCols(n) = a.vertices.colwise() + Eigen::Vector3d(0.0101, 0, 0);
+  for (auto t : a.tetrahedra)
+    {
+      for (auto &v : t)
+        v += n;
+      mesh.tetrahedra.push_back(t);
+      mesh.tetrahedron_tags.push_back(1);
+    }
+  const auto surface = suturesim::mesh::extract_boundary(mesh);
+  NeedlePuncture puncture({0.5, 1000, 1e-3}, surface.triangles, mesh.vertices); // 0.5 mm deep
+  std::vector<double> touched_at; // x of each touched point
+  for (int step = 0; step <= 80; ++step)
+    {
+      const Eigen::Vector3d tip(-0.00055 + 3e-4 * step, 0.0042, 0.0057);
+      puncture.update(step, tip, mesh.vertices);
+      double force = 0;
+      if (const auto *touch = puncture.touch())
+        {
+          const Eigen::Vector3d x = puncture.position(touch->point, mesh.vertices);
+          if (touched_at.empty() || touched_at.back() != x[0])
+            touched_at.push_back(x[0]);
+          force = puncture.normal_force(tip, x);
+        }
+      puncture.accept(step, force, tip);
+    }
+  std::vector<std::string> kinds;
+  for (const auto &e : puncture.events())
+    kinds.push_back(e.kind);
+  const std::vector<std::string> pass{"touch_entry", "puncture_entry", "touch_exit", "puncture_exit"};
+  std::vector<std::string>       twice = pass;
+  twice.insert(twice.end(), pass.begin(), pass.end());
+  ASSERT_EQ(kinds, twice);
+  // the faces touched, in turn: A's near and far faces, B's near and far faces
+  ASSERT_EQ(touched_at.size(), 4u);
+  EXPECT_NEAR(touched_at[0], 0, 1e-12);
+  EXPECT_NEAR(touched_at[1], 0.01, 1e-12);
+  EXPECT_NEAR(touched_at[2], 0.0101, 1e-12);
+  EXPECT_NEAR(touched_at[3], 0.0201, 1e-12);
+  // every puncture within one step (0.3 N) of the threshold
+  for (const auto &e : puncture.events())
+    if (e.kind.rfind("puncture", 0) == 0)
+      {
+        EXPECT_GE(e.force, 0.5);
+        EXPECT_LT(e.force, 0.8);
+      }
+}
+
 TEST(NeedlePuncture, ATipThatBacksOffReleasesTheTouch)
 {
   const auto mesh    = suturesim::test_support::box_mesh(0.04, 0.04, 0.01, 4, 4, 1);
@@ -288,4 +350,59 @@ TEST(ThreadTie, GradientAndHessianMatchFiniteDifferencesOfTheEnergy)
                   .norm(),
                 1e-3 * k);
     }
+}
+
+#include <suturesim/coupling/interface_quasi_newton.h>
+
+// IQN-ILS on a linear fixed point x = A x + b in R^9 (three points): the least-squares
+// model is exact after as many independent differences as unknowns, so the fixed point
+// is reached in at most n + 1 = 10 rounds (Degroote et al. 2009), where plain rounds
+// contracting by 0.9 per round would need about 200 for the same accuracy. A mapping
+// whose rounds diverge (spectral radius 1.5) converges too.
+TEST(InterfaceQuasiNewton, FindsTheFixedPointOfALinearMapInAtMostNPlusOneRounds)
+{
+  std::mt19937                           rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (const double radius : {0.9, 1.5})
+    {
+      const int       n = 9;
+      Eigen::MatrixXd Q = Eigen::MatrixXd::NullaryExpr(n, n, [&]() { return u(rng); });
+      Q                 = Eigen::HouseholderQR<Eigen::MatrixXd>(Q).householderQ();
+      Eigen::VectorXd lambda(n);
+      for (int i = 0; i < n; ++i)
+        lambda[i] = radius * (0.1 + 0.9 * i / (n - 1.0)) * (i % 2 ? -1 : 1);
+      const Eigen::MatrixXd A = Q * lambda.asDiagonal() * Q.transpose();
+      const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(n, [&]() { return u(rng); });
+      const Eigen::VectorXd fixed =
+        (Eigen::MatrixXd::Identity(n, n) - A).partialPivLu().solve(b);
+      suturesim::coupling::InterfaceQuasiNewton iqn(0.5);
+      Eigen::VectorXd                           x = Eigen::VectorXd::Zero(n);
+      int                                       rounds = 0;
+      while ((A * x + b - x).norm() > 1e-12 * fixed.norm() && rounds < 50)
+        {
+          const Eigen::VectorXd target = A * x + b;
+          iqn.update(x, target);
+          ++rounds;
+        }
+      EXPECT_LE(rounds, n + 1) << "spectral radius " << radius;
+      EXPECT_LT((x - fixed).norm(), 1e-10 * fixed.norm());
+      std::printf("[ IQN-ILS ] spectral radius %.1f: %d rounds to 1e-12\n", radius, rounds);
+    }
+}
+
+TEST(InterfaceQuasiNewton, ReturnsTheLargestPointResidualAndForgetsWhenTheInterfaceChanges)
+{
+  suturesim::coupling::InterfaceQuasiNewton iqn(1.0);
+  Eigen::VectorXd                           x = Eigen::VectorXd::Zero(6), target(6);
+  target << 3, 4, 0, 0, 0, 1; // points moved by 5 and 1
+  EXPECT_DOUBLE_EQ(iqn.update(x, target), 5);
+  EXPECT_EQ(x, target); // the first round takes omega = 1
+  target << 3, 4, 0, 0, 0, 2;
+  iqn.update(x, target);
+  EXPECT_EQ(iqn.columns(), 1u);
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(3), t3(3);
+  t3 << 0, 2, 0;
+  EXPECT_DOUBLE_EQ(iqn.update(y, t3), 2); // another interface: a fresh start
+  EXPECT_EQ(iqn.columns(), 0u);
+  EXPECT_THROW(iqn.update(y, target), std::invalid_argument);
 }

@@ -44,7 +44,7 @@ TEST(AccurateNeedle, CoarseNeedlePassPuncturesAtTheThresholdAsStored)
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto  &m         = r.summary["metrics"];
   const double threshold = r.summary["needle"]["puncture_threshold"];
-  for (const auto &[key, stored] : {std::pair{"puncture_force_entry", 0.7159}, std::pair{"puncture_force_exit", 0.7143}})
+  for (const auto &[key, stored] : {std::pair{"puncture_force_entry", 0.7022}, std::pair{"puncture_force_exit", 0.7265}})
     {
       ASSERT_TRUE(m.contains(key)) << key;
       const double value = m[key];
@@ -158,16 +158,23 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
 
 TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
 {
-  // The coarse pass to 0.4 s (the entry point sliding on the needle). With Lagrange
-  // multipliers the tie holds the tissue point on the needle's curve to the coupling
-  // tolerance (1e-7 m), so the normal force, which is the tie's force, does not depend
-  // on Transverse stiffness: 5e4 and 5e5 N/m give the same N to 1e-3 (the tolerance
-  // times the point's stiffness, about 2e4 N/m here, is 2e-3 N of 2.5 N). A penalty tie
-  // of 5e4 N/m leaves a gap: its N is lower, by K/(K + k) of it (springs in series).
+  // The coarse pass to 0.4 s (the entry point sliding on the needle) with the pad's sides
+  // drawn sideways (+y, 2 mm/s, the bottom fixed): the tissue is sheared across the
+  // needle's plane, so the tie carries a transverse load (a pass about the arc centre
+  // alone leaves it nearly unloaded: the point is born where the tip crossed the
+  // surface, on the needle's path). With Lagrange multipliers the tie holds the tissue
+  // point on the needle's curve to the coupling tolerance (1e-7 m), so the normal force,
+  // which is the tie's force, does not depend on Transverse stiffness: 5e4 and 5e5 N/m
+  // give the same N to 1e-3 (the tolerance times the point's stiffness, about 2e4 N/m
+  // here, is 2e-3 N of 6.7 N; measured 1e-4). A penalty tie of 5e4 N/m leaves a gap:
+  // its N is lower, by K/(K + k) of it (springs in series; measured 0.73 of it).
   const auto run = [](const std::string &name, const std::string &enforcement, const double k) {
     const auto r = run_suturesim(name, coarse_pass + " --set Bodies=tissue --set 'Time/Step size=0.02'"
                                                      " --set 'Time/End time=0.4' --set 'Time/Output interval=0.4'"
                                                      " --set 'Pierce points/Stick stiffness=5e4'"
+                                                     " --set 'Tissue/Boundary conditions/Prescribed displacement=sides'"
+                                                     " --set 'Tissue/Boundary conditions/Prescribed displacement "
+                                                     "function/Function expression=0; 0.002*t; 0'"
                                                      " --set 'Pierce points/Enforcement=" + enforcement + "'"
                                                      " --set 'Pierce points/Transverse stiffness=" + std::to_string(k) + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;

@@ -16,6 +16,17 @@
  * surface from within; the exit works the same way with the tip pushing the surface
  * outward (tenting), F = k_c max(0, (x_tip − x_m)·n). A tip that backs off a touch ends
  * it. Every touch and puncture is an event (kind, time, position, force).
+ *
+ * A tip that moves farther in one step than the tissue's gaps are wide (an implicit
+ * step of the accurate path: 0.6 mm against a wound gaping 0.17 mm at the stitch's
+ * depth) can pass out of one surface and into the next between two looks, and the
+ * nearest-point test then sees it inside the second body, as if nothing happened; in
+ * the gap it sees the next body's face from the front and takes that for an exit. So
+ * the tip's path since the last look, a segment, is tested against the surface first:
+ * the first triangle it crosses the right way (inwards from outside, outwards from
+ * inside) starts the touch at the crossing point. The nearest-point test remains for
+ * the first look and for a path that crossed nothing (a tip that started the step on
+ * the surface).
  */
 
 #include <suturesim/collision/triangle_sphere_tree.h>
@@ -143,6 +154,11 @@ namespace suturesim::coupling
     bool
     nearest(const Vector3d &tip, const Matrix3Xd &x, SurfacePoint &point, double &signed_distance,
             Vector3d &normal);
+    /// The first crossing of the path [@p from, @p to] through the surface at @p x in the
+    /// direction the phase looks for (inwards when outside); false if none.
+    bool
+    first_crossing(const Vector3d &from, const Vector3d &to, const Matrix3Xd &x, SurfacePoint &point,
+                   Vector3d &normal);
 
     PunctureParameters                 prm;
     const std::vector<mesh::Triangle> &triangles;
@@ -153,5 +169,7 @@ namespace suturesim::coupling
     Touch                              contact;
     std::vector<PunctureEvent>         log;
     double                             last_force = 0;
+    Vector3d                           last_tip   = Vector3d::Zero(); ///< at the last update()
+    bool                               looked     = false;             ///< whether last_tip is set
   };
 } // namespace suturesim::coupling

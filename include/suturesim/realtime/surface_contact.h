@@ -22,6 +22,7 @@
  *    held there for the next step (a collision constraint of seed 002).
  */
 
+#include <suturesim/collision/proximity.h>
 #include <suturesim/collision/sphere_tree.h>
 #include <suturesim/collision/triangle_sphere_tree.h>
 #include <suturesim/mesh/simplex_mesh.h>
@@ -107,9 +108,7 @@ namespace suturesim::realtime
     collision::SphereTree           suture_tree;
     collision::LeafPairs            candidates;
     std::vector<Contact>            contacts;
-    std::vector<double>             best; ///< per suture node: distance to its nearest triangle
-    std::vector<double>             signed_distance; ///< per suture node: (p − q)·n there
-    std::vector<Contact>            nearest;         ///< per suture node
+    std::vector<collision::NearestTriangle> nearest; ///< per suture node
     std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
     const std::vector<char>        *exempted = nullptr;
   };

@@ -71,6 +71,14 @@ namespace suturesim::rod
     NewtonParameters  newton;
     double            damping = 0; ///< mass-proportional, 1/s
     double            stabilization = 0; ///< viscous drag per unit length, quasi-static pass, N s/m²
+    /// Contact of the suture's nodes with the tissue's surface (accurate path with the
+    /// tissue; coupling/accurate/suture_contact.h).
+    struct TissueContact
+    {
+      bool   enabled   = true;
+      double stiffness = 5e4;  ///< per node, N/m
+      double depth     = 1e-3; ///< how far inside a node is still pushed out, m
+    } tissue_contact;
 
     /// Declares into the current subsection ("Suture").
     static void

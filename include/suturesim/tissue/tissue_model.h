@@ -128,9 +128,13 @@ namespace suturesim::tissue
 
     /// Solves the quasi-static equilibrium at load level (time) @p t starting from the
     /// current state. On failure the state is whatever the last iterate was; callers
-    /// restore it with restore_state().
+    /// restore it with restore_state(). @p force_floor (N) raises the absolute residual
+    /// tolerance for this solve: a coupled solve needs the residual no smaller than the
+    /// force its coupling resolves (e.g. a pierce tie's stiffness times the coupling
+    /// tolerance), and chasing the relative tolerance of a solve that starts near
+    /// equilibrium costs iterations for nothing.
     NewtonReport
-    solve_static(double t);
+    solve_static(double t, double force_floor = 0);
 
     void
     save_state();

@@ -92,7 +92,7 @@ namespace suturesim::coupling
     std::vector<std::size_t> elements;
     for (const auto &p : pierce)
       if (on_thread(p))
-        elements.push_back(thread_element(p.anchor - needle.length()).first);
+        elements.push_back(thread_element(p.carrier - needle.length()).first);
     std::sort(elements.begin(), elements.end());
     elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
     return elements;
@@ -107,7 +107,7 @@ namespace suturesim::coupling
       {
         if (!on_thread(pierce[j]))
           continue;
-        const auto [e, xi] = thread_element(pierce[j].anchor - needle.length());
+        const auto [e, xi] = thread_element(pierce[j].carrier - needle.length());
         if (e != element)
           continue;
         // the tie across the thread from its energy (exact, the element's turn
@@ -221,10 +221,12 @@ namespace suturesim::coupling
   double
   TissueNeedle::projection(const AccuratePiercePoint &p, const Point<3> &x) const
   {
-    const auto [c, t] = curve(p.anchor);
-    // on the thread, the anchor's straight element (extended)
+    // on the thread, the carrier's straight element (extended)
     if (on_thread(p))
-      return p.anchor - (Tensor<1, 3>(x) - c) * t;
+      {
+        const auto [c, t] = curve(p.carrier);
+        return p.carrier - (Tensor<1, 3>(x) - c) * t;
+      }
     // on the needle, the circle through the arc, taken within half a turn of the anchor
     // and continued straight along the end tangents beyond the tip and the swage
     const double    R   = needle.radius(), L = needle.length();
@@ -245,8 +247,8 @@ namespace suturesim::coupling
   {
     if (on_thread(p))
       {
-        const auto [c, t] = curve(p.anchor);
-        return {c - (zeta - p.anchor) * t, t};
+        const auto [c, t] = curve(p.carrier);
+        return {c - (zeta - p.carrier) * t, t};
       }
     const double end   = std::clamp(zeta, 0.0, needle.length());
     const auto [c, t]  = curve(end);
@@ -292,6 +294,66 @@ namespace suturesim::coupling
   }
 
   double
+  TissueNeedle::carried_to(const AccuratePiercePoint &p, const Point<3> &x) const
+  {
+    const double      L = needle.length();
+    const std::size_t n = thread_s.size() - 1;
+    auto [e, xi]        = thread_element(p.carrier - L);
+    const auto &nodes   = *thread;
+    const Eigen::Vector3d X = eigen(x);
+    // ξ of x's projection on element e's line
+    const auto along = [&](const std::size_t k) {
+      const Eigen::Vector3d u = nodes[k + 1] - nodes[k];
+      return (X - nodes[k]).dot(u) / u.squaredNorm();
+    };
+    // Walk while the projection lies beyond the element's ends by more than a tenth of
+    // it. The slack is a dead zone: a point at the outside of a bend projects beyond the
+    // end of either element that meets there, and without it the carrier swapped
+    // between the two on every round (a cycle of two that never converged, seen at the
+    // stitch's tightening); within it the point stays on its element and is measured
+    // across that element's line, continued by at most a tenth of an element. A point
+    // at the inside of a bend (beyond both ends towards each other) would swing back and
+    // forth too: the walk never turns round.
+    constexpr double slack     = 0.1;
+    int              last_step = 0;
+    for (std::size_t walked = 0; walked <= n; ++walked)
+      {
+        xi = along(e);
+        if (xi > 1 + slack && e + 1 < n && last_step >= 0)
+          {
+            ++e;
+            last_step = 1;
+          }
+        else if (xi < -slack && e > 0 && last_step <= 0)
+          {
+            --e;
+            last_step = -1;
+          }
+        else
+          break;
+      }
+    // kept inside the element, so that the carrier names it (thread_element() of an
+    // element's end names the next one): a point beyond an end loads that end's node
+    return L + thread_s[e] + std::clamp(xi, 1e-9, 1 - 1e-9) * (thread_s[e + 1] - thread_s[e]);
+  }
+
+  bool
+  TissueNeedle::follow_thread(const std::vector<Point<3>> &x)
+  {
+    const std::size_t offset  = touch_index() == 0 ? 1 : 0;
+    bool              changed = false;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      if (on_thread(pierce[j]))
+        {
+          const double next   = carried_to(pierce[j], x[offset + j]);
+          const double L      = needle.length();
+          changed             = changed || thread_element(next - L).first != thread_element(pierce[j].carrier - L).first;
+          pierce[j].carrier   = next;
+        }
+    return changed;
+  }
+
+  double
   TissueNeedle::constraint_gap(const std::vector<Point<3>> &x) const
   {
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
@@ -320,9 +382,10 @@ namespace suturesim::coupling
   {
     AccuratePiercePoint p;
     p.X      = X;
-    p.anchor = anchor;
-    p.zeta   = anchor;
-    auto at  = std::upper_bound(pierce.begin(), pierce.end(), anchor,
+    p.anchor  = anchor;
+    p.carrier = anchor;
+    p.zeta    = anchor;
+    auto at   = std::upper_bound(pierce.begin(), pierce.end(), anchor,
                                [](const double a, const AccuratePiercePoint &q) { return a < q.anchor; });
     pierce.insert(at, p);
     rebuild_points();
@@ -370,6 +433,8 @@ namespace suturesim::coupling
         double         N = 0;
         pierce_force(p, x[offset + j], &r, &N, nullptr);
         p.zeta       = projection(p, x[offset + j]);
+        if (on_thread(p))
+          p.carrier = carried_to(p, x[offset + j]);
         p.slip_speed = step > 0 ? (r.anchor - p.anchor) / step : 0;
         p.anchor     = r.anchor;
         p.normal     = N;
@@ -403,7 +468,10 @@ namespace suturesim::coupling
         for (std::size_t j = 0; j < pierce.size(); ++j)
           {
             if (thread && on_needle[j] && anchors[j] > needle.length())
-              log.push_back({"onto_suture", time, eigen(pierce[j].X), pierce[j].normal});
+              {
+                log.push_back({"onto_suture", time, eigen(pierce[j].X), pierce[j].normal});
+                pierce[j].carrier = anchors[j];
+              }
             pierce[j].anchor = anchors[j];
           }
       }

@@ -36,6 +36,13 @@
  * x_e − x_{e+1} (the way the needle advances). Pierce points pass onto it at the swage
  * and are released at its far end. A point on the thread loads the suture's two nodes
  * with −(1 − ξ) f and −ξ f (thread_terms(); the tissue side takes f at x).
+ * The element is the one that carries the point's projection (AccuratePiercePoint::
+ * carrier), not the anchor's: a thread that slides by more than an element within a
+ * step would otherwise hold the point on its anchor element's line extended, and a solve
+ * can then meet the tie with that line turned through the point millimetres away from
+ * the thread (seen at the stitch's tightening: the thread left its hole by 3 mm). The
+ * carrier is fixed within a solve and moves between the coupling rounds
+ * (follow_thread()), as contact active sets do; a round that moves it has not converged.
  */
 
 #include <suturesim/coupling/coulomb_friction.h>
@@ -67,6 +74,11 @@ namespace suturesim::coupling
   {
     dealii::Point<3>     X;
     double               anchor = 0;
+    /// On the thread: the thread coordinate whose element carries the point (its last
+    /// projection), m. The tie and the friction are measured on that element's line,
+    /// which is fixed within a solve and follows the point between solves
+    /// (TissueNeedle::follow_thread()).
+    double               carrier = 0;
     bool                 exit   = false;
     dealii::Tensor<1, 3> multiplier; ///< λ, N (zero with penalty enforcement)
     // of the last accepted state, for the record
@@ -102,6 +114,13 @@ namespace suturesim::coupling
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
+
+    /// Moves each thread point's carrier element to the one its projection at tissue
+    /// positions @p x (one per points()) falls on, walking along the thread from the
+    /// current one (a point at a bend's inside, between two elements, stays). Returns
+    /// true when a carrier changed element.
+    bool
+    follow_thread(const std::vector<dealii::Point<3>> &x);
 
     /// Largest gap |P⊥ d| of the pierce points at tissue positions @p x (one per
     /// points()), m.
@@ -206,6 +225,9 @@ namespace suturesim::coupling
     /// Element of the thread holding arc length s and the weight ξ of its second node.
     std::pair<std::size_t, double>
     thread_element(double s) const;
+    /// The carrier of @p p after following the thread to @p x (see follow_thread()).
+    double
+    carried_to(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
     /// Where pierce point @p p at @p x projects on the curve, ζ (m): on the needle, the
     /// nearest point of its circle (straight on past the tip and the swage); on the
     /// thread, of the anchor's element's line.

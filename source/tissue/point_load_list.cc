@@ -1,0 +1,30 @@
+#include <suturesim/tissue/point_load_list.h>
+
+#include <algorithm>
+#include <iterator>
+
+namespace suturesim::tissue
+{
+  void
+  PointLoadList::set(std::vector<const PointLoads *> parts)
+  {
+    list = std::move(parts);
+    first.clear();
+    all.clear();
+    for (const auto *part : list)
+      {
+        first.push_back(all.size());
+        all.insert(all.end(), part->points().begin(), part->points().end());
+      }
+    first.push_back(all.size());
+  }
+
+  void
+  PointLoadList::force(const std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
+                       dealii::Tensor<2, 3> &df_dx) const
+  {
+    // the part holding k: the last whose first point is at or before it
+    const std::size_t part = std::distance(first.begin(), std::upper_bound(first.begin(), first.end() - 1, k)) - 1;
+    list[part]->force(k - first[part], x, f, df_dx);
+  }
+} // namespace suturesim::tissue
