@@ -526,9 +526,11 @@ namespace suturesim::scene
         if (changed)
           locate_loads();
         model.surface_positions(surface, x_surface);
-        if (steps % 20 == 0)
-          pcout << "step " << steps << "  t = " << std::setprecision(4) << t << " s  Newton "
-                << report.iterations << " it  pierce points " << needle.pierce_points().size() << "\n";
+        // one line a step (as ASPECT): a run that slows down shows where and why
+        pcout << "step " << steps << "  t = " << std::setprecision(5) << t << " s  dt = " << step_dt
+              << " s  Newton " << report.iterations << " it  rounds " << rounds << "  pierce points "
+              << needle.pierce_points().size() << "  contacts " << (contact ? contact->contacts().size() : 0)
+              << std::endl;
         cutbacks = 0;
         dt       = std::min(2 * dt, h);
       }
