@@ -26,6 +26,12 @@ namespace suturesim::coupling
     return p.weights[0] * x.col(t[0]) + p.weights[1] * x.col(t[1]) + p.weights[2] * x.col(t[2]);
   }
 
+  void
+  NeedlePuncture::surface_changed(const Matrix3Xd &x)
+  {
+    tree.build(x, triangles, prm.reach);
+  }
+
   bool
   NeedlePuncture::nearest(const Vector3d &tip, const Matrix3Xd &x, SurfacePoint &point,
                           double &signed_distance, Vector3d &normal)

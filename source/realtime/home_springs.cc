@@ -1,5 +1,6 @@
 #include <suturesim/realtime/home_springs.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace suturesim::realtime
@@ -16,6 +17,22 @@ namespace suturesim::realtime
     home.col(n) = h;
     lambda.conservativeResize(3, n + 1);
     lambda.col(n).setZero();
+  }
+
+  std::size_t
+  HomeSprings::find(const std::uint32_t i) const
+  {
+    return static_cast<std::size_t>(std::find(nodes.begin(), nodes.end(), i) - nodes.begin());
+  }
+
+  void
+  HomeSprings::set(const std::size_t s, const Vector3d &h, const double k)
+  {
+    if (s >= nodes.size() || !(k > 0))
+      throw std::invalid_argument("home spring that does not exist, or with stiffness <= 0");
+    home.col(s)   = h;
+    stiffness[s]  = k;
+    lambda.col(s).setZero();
   }
 
   double

@@ -311,6 +311,21 @@ namespace suturesim::realtime
     return {force, torque};
   }
 
+  bool
+  NeedleCoupling::make_vertex(coupling::SurfacePoint &point, const Matrix3Xd &x)
+  {
+    if (!subdivision || (point.weights.array() == 1).any())
+      return false;
+    const Vector3d position = puncture.position(point, x);
+    if (subdivision(point.triangle, point.weights) < 0)
+      return false;
+    // the triangle keeps its index and has the new vertex first
+    point.weights = Vector3d(1, 0, 0);
+    puncture.surface_changed(x);
+    events_on_thread.push_back({"subdivision", time, position, 0});
+    return true;
+  }
+
   void
   NeedleCoupling::after_step(Nodes &nodes)
   {
@@ -325,16 +340,27 @@ namespace suturesim::realtime
     last_touch_force = F;
     if (puncture.accept(time, F, tip))
       {
+        // a touch that punctured in the step it began in is subdivided now
+        coupling::SurfacePoint at = puncture.last_touch().point;
+        make_vertex(at, x);
         const auto &touch = puncture.last_touch();
         PiercePoint p;
-        p.nodes   = triangles[touch.point.triangle];
-        p.weights = touch.point.weights;
+        p.nodes   = triangles[at.triangle];
+        p.weights = at.weights;
         // the stick starts where the point projects on the needle now
         p.anchor  = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
         p.at      = thread_at(p.anchor, x);
         p.exit    = touch.exit;
         // the newest point is nearest the tip: first in thread order
         points.insert(points.begin(), p);
+      }
+
+    // seed 002: a new touch makes its point a vertex, pressed from the next step on
+    if (const auto *touch = puncture.touch())
+      {
+        coupling::SurfacePoint at = touch->point;
+        if (make_vertex(at, x))
+          puncture.rename_touch(at);
       }
 
     // friction: the anchors of the accepted state

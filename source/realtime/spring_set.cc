@@ -30,6 +30,33 @@ namespace suturesim::realtime
   }
 
   void
+  SpringSet::set(const std::size_t s, const std::uint32_t i, const std::uint32_t j, const double rest_length,
+                 const double k)
+  {
+    if (s >= first.size())
+      throw std::out_of_range(label + ": no spring " + std::to_string(s));
+    if (i == j || !(rest_length >= 0) || !(k > 0))
+      throw std::invalid_argument(label + ": spring from a node to itself, or with negative rest length or "
+                                          "stiffness <= 0");
+    first[s]     = std::min(i, j);
+    second[s]    = std::max(i, j);
+    rest[s]      = rest_length;
+    stiffness[s] = k;
+    lambda[s]    = 0;
+    prepared_dt  = 0; // α̃ of the new stiffness at the next prepare_projection()
+  }
+
+  std::size_t
+  SpringSet::find(const std::uint32_t i, const std::uint32_t j) const
+  {
+    const std::uint32_t a = std::min(i, j), b = std::max(i, j);
+    for (std::size_t s = 0; s < first.size(); ++s)
+      if (first[s] == a && second[s] == b)
+        return s;
+    return first.size();
+  }
+
+  void
   SpringSet::sort()
   {
     std::vector<std::array<std::uint32_t, 2>> ends(first.size());

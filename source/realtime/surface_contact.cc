@@ -28,6 +28,13 @@ namespace suturesim::realtime
   }
 
   void
+  SurfaceContact::surface_changed(const Matrix3Xd &x)
+  {
+    surface_tree.build(x, triangles, prm.depth);
+    surface_tree.update(x, prm.radius);
+  }
+
+  void
   SurfaceContact::detect(const Matrix3Xd &x)
   {
     surface_tree.update(x, prm.radius);

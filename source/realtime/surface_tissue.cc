@@ -6,9 +6,12 @@
  * inside the body, so the body's resistance to indentation must come from the home
  * springs; for a layer of depth H_f on a rigid base under a uniform load that
  * resistance is exactly E_oed/H_f per unit area.
+ * Where the needle touches it, the surface is subdivided (seed 002 §4.A,
+ * surface_subdivision.h) from a pool of spare nodes set aside here.
  */
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/spring_set.h>
+#include <suturesim/realtime/surface_subdivision.h>
 #include <suturesim/realtime/tissue_model.h>
 
 #include <Eigen/Geometry>
@@ -26,6 +29,9 @@ namespace suturesim::realtime
         , depth(p.real("Foundation depth"))
         , home_stiffness(p.real("Home spring stiffness"))
       {
+        subdivision.rest_length_factor = p.real("Subdivision rest length factor");
+        subdivision.capacity = p.boolean("Subdivision") ? static_cast<unsigned>(p.integer("Subdivision capacity")) : 0;
+        p.require(subdivision.rest_length_factor > 0, "Subdivision rest length factor", "must be > 0");
         bending_factor = p.real("Bending stiffness factor");
         bending_points = p.text("Bending points");
         p.require(rule != "constant" || home_stiffness > 0, "Home spring stiffness",
@@ -66,7 +72,6 @@ namespace suturesim::realtime
         add_membrane_springs(*springs, X, surface.triangles, node, m.youngs_modulus,
                              m.poisson_ratio, thickness > 0 ? thickness : mean_edge);
         springs->sort();
-        s.interactions.push_back(std::move(springs));
 
         auto         home = std::make_unique<HomeSprings>();
         const double nu   = m.poisson_ratio;
@@ -76,13 +81,49 @@ namespace suturesim::realtime
                                    : (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).minCoeff();
         for (const auto v : surface.vertices)
           home->add(node[v], X.col(v), rule == "winkler" ? area[v] * oedometric / H : home_stiffness);
+
+        // Spare nodes for seed 002's subdivision, four per subdivision, after the surface's
+        // (inside the tissue's node range, so that no index moves when they are taken):
+        // held as dormant, with a negligible mass and home spring until then (both
+        // are set from the surface's rules when a subdivision takes the node).
+        const std::uint32_t spares = 4 * subdivision.capacity;
+        if (spares > 0)
+          {
+            const double   mass_per_area = m.density * volume / total_area;
+            const double   tiny_mass     = 1e-9 * mass_per_area * total_area / surface.vertices.size();
+            const Vector3d parked        = X.col(surface.vertices.front());
+            const auto     first         = s.nodes.size();
+            for (std::uint32_t k = 0; k < spares; ++k)
+              {
+                const auto i = s.nodes.add(parked, tiny_mass, 0);
+                s.nodes.set_held(i, Nodes::dormant, true);
+                home->add(i, parked, 1e-9);
+              }
+            double longest = 0;
+            for (const auto &t : surface.triangles)
+              for (unsigned k = 0; k < 3; ++k)
+                longest = std::max(longest, (X.col(t[k]) - X.col(t[(k + 1) % 3])).norm());
+            const SurfaceLumping lumping{mass_per_area, rule == "winkler" ? oedometric / H : 0.0,
+                                         rule == "winkler" ? 0.0 : home_stiffness};
+            refiner = std::make_unique<SurfaceSubdivision>(subdivision, *springs, *home, first, lumping, longest);
+          }
+        s.interactions.push_back(std::move(springs));
         s.interactions.push_back(std::move(home));
       }
 
+    public:
+      std::int64_t
+      subdivide(System &s, const std::uint32_t triangle, const Vector3d &weights) override
+      {
+        return refiner ? refiner->subdivide(s, mutable_surface(), mutable_surface_tags(), triangle, weights) : -1;
+      }
+
     private:
-      double      thickness;
-      std::string rule;
-      double      depth, home_stiffness;
+      double                              thickness;
+      std::string                         rule;
+      double                              depth, home_stiffness;
+      SubdivisionParameters               subdivision;
+      std::unique_ptr<SurfaceSubdivision> refiner;
     };
 
     const bool registered = TissueModel::Registry::instance().add(
@@ -102,6 +143,18 @@ namespace suturesim::realtime
                     "box. Unit: m. Range: >= 0.");
          d.add_real("Home spring stiffness", 0, 0, 1e12,
                     "K_h of every node with Home spring rule = constant. Unit: N/m. Range: > 0.");
+         d.add_bool("Subdivision", true,
+                    "Seed 002 sec. 4.A: where the needle touches the surface, the touched "
+                    "triangle is subdivided (a new vertex at the point, Loop's edge mask on "
+                    "its edges) and the pierce point is that vertex. Unit: none.");
+         d.add_real("Subdivision rest length factor", 0.9, 0, 1,
+                    "Rest length of the subdivided patch's springs over their length at "
+                    "creation (seed 002: 0.9, to put the patch under tension; 1: stress-free). "
+                    "Unit: 1. Range: (0, 1].");
+         d.add_integer("Subdivision capacity", 16, 0, 1024,
+                       "Subdivisions a run may make (spare nodes are set aside for them, four "
+                       "each); past it a touch stays a point of its triangle. Unit: 1. "
+                       "Range: 0-1024.");
          declare_bending_parameters(d);
        },
        [](const ParameterValues &p) { return std::unique_ptr<TissueModel>(new SurfaceTissue(p)); }});

@@ -145,6 +145,20 @@ namespace suturesim::realtime
                                       "ftl) and a force-based integrator");
         coupling->use_soft_constraints(suture_model.get());
       }
+    // seed 002: a surface model subdivides where the needle touches it; the contact's
+    // tree follows the new triangles (the needle's own puncture tree is rebuilt by it)
+    coupling->subdivide_at_touch([this](const std::uint32_t triangle, const Vector3d &weights) {
+      const std::int64_t node = tissue_model->subdivide(sys, triangle, weights);
+      if (node >= 0)
+        {
+          if (contact != nullptr)
+            contact->surface_changed(sys.nodes.x);
+          // the patch's springs (up to 4 k_mesh on a node with a smaller share of the
+          // mass) lower an explicit step's limit: estimated again, and warned of
+          assess_stability(false);
+        }
+      return node;
+    });
     needle_coupling = coupling.get();
     sys.contacts.push_back(std::move(coupling));
     if (contact != nullptr)
@@ -173,6 +187,25 @@ namespace suturesim::realtime
     time_integrator->setup(sys);
     sys.finalize();
 
+    assess_stability(true);
+
+    good_x = sys.nodes.x;
+    good_v = sys.nodes.v;
+    forces.assign(tools.size(), ToolForce());
+    start_poses.clear();
+    for (const auto &tool : tools)
+      start_poses.push_back(tool.pose);
+    transient_nodes.reserve(sys.nodes.size());
+    tools_on_suture = true;
+    for (const auto &tool : tools)
+      for (const auto i : tool.nodes)
+        tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
+    initialized = true;
+  }
+
+  void
+  World::assess_stability(const bool at_setup)
+  {
     // The limit of a force-based integrator, with the penalty contact stiffness on every
     // suture node as if it touched (contacts appear only later, and a stiff penalty is
     // as able to make an explicit step unstable as a stiff spring).
@@ -205,7 +238,7 @@ namespace suturesim::realtime
         w << "dt = " << dt() << " s is above the stability limit dt_crit = " << dt_limit
           << " s (" << limit_text << ")";
         warning_text = w.str();
-        if (refuse_above_limit)
+        if (refuse_above_limit && at_setup)
           throw ParameterError("Substeps", warning_text + "; use more substeps");
         cause << warning_text;
       }
@@ -218,18 +251,6 @@ namespace suturesim::realtime
             << dt() << " s, dt_crit = " << dt_limit << " s";
     guard.setup(sys, h, cause.str());
 
-    good_x = sys.nodes.x;
-    good_v = sys.nodes.v;
-    forces.assign(tools.size(), ToolForce());
-    start_poses.clear();
-    for (const auto &tool : tools)
-      start_poses.push_back(tool.pose);
-    transient_nodes.reserve(sys.nodes.size());
-    tools_on_suture = true;
-    for (const auto &tool : tools)
-      for (const auto i : tool.nodes)
-        tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
-    initialized = true;
   }
 
   const std::vector<ToolForce> &

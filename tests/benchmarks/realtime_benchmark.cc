@@ -5,6 +5,7 @@
 #include <suturesim/collision/triangle_sphere_tree.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/spring_set.h>
+#include <suturesim/realtime/tissue_model.h>
 #include <suturesim/realtime/world.h>
 
 #include <benchmark/benchmark.h>
@@ -235,6 +236,46 @@ namespace
     state.counters["triangles"] = s.triangles.size();
   }
   BENCHMARK(TriangleTreeRebuild)->Arg(8)->Arg(32)->Unit(benchmark::kMicrosecond);
+
+  /// Seed 002's subdivision event on the surface model of an n × n × 3 box (the topology
+  /// change alone: the World then rebuilds the surface's two sphere trees, see
+  /// TriangleTreeRebuild, and estimates the step's limit again). Each iteration
+  /// subdivides another triangle of the top, about a node's two neighbours' worth of
+  /// linear searches over the triangles and springs.
+  void
+  SurfaceSubdivisionEvent(benchmark::State &state)
+  {
+    const auto n        = static_cast<unsigned>(state.range(0));
+    const auto mesh     = test_support::box_mesh(0.04, 0.04, 0.01, n, n, 3);
+    const auto boundary = mesh::extract_boundary(mesh);
+    const auto capacity = std::to_string(4096);
+    std::unique_ptr<TissueModel> model;
+    System                       s;
+    const auto                   rebuild = [&]() {
+      s     = System();
+      model = test_support::make_model<TissueModel::Registry>("surface", {{"Subdivision capacity", capacity}});
+      model->build(s, mesh, boundary, TissueMaterial{1e5, 0.3, 1100, {}}, false);
+    };
+    rebuild();
+    std::vector<std::uint32_t> top;
+    for (std::uint32_t t = 0; t < boundary.triangles.size(); ++t)
+      if (boundary.tags[t] == 2)
+        top.push_back(t);
+    std::size_t next = 0;
+    for (auto _ : state)
+      {
+        if (next == top.size())
+          {
+            state.PauseTiming();
+            rebuild();
+            next = 0;
+            state.ResumeTiming();
+          }
+        benchmark::DoNotOptimize(model->subdivide(s, top[next++], Eigen::Vector3d(0.2, 0.3, 0.5)));
+      }
+    state.counters["triangles"] = boundary.triangles.size();
+  }
+  BENCHMARK(SurfaceSubdivisionEvent)->Arg(8)->Arg(32)->Unit(benchmark::kMicrosecond);
 } // namespace
 
 BENCHMARK_MAIN();

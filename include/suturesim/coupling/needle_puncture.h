@@ -149,6 +149,18 @@ namespace suturesim::coupling
     Vector3d
     position(const SurfacePoint &p, const Matrix3Xd &x) const;
 
+    /// The surface's triangles changed (seed 002's subdivision), the surface being at
+    /// @p x now: the bounding tree is built again.
+    void
+    surface_changed(const Matrix3Xd &x);
+    /// The touched material point is now named @p point (the same place on another
+    /// triangle: it became a vertex of its own).
+    void
+    rename_touch(const SurfacePoint &point)
+    {
+      contact.point = point;
+    }
+
   private:
     /// Nearest surface point to @p tip among the triangles within reach; false if none.
     bool

@@ -37,6 +37,19 @@ namespace suturesim::realtime
     void
     add(std::uint32_t i, const Vector3d &home, double k);
 
+    /// Index of node @p i's home spring, or size() if it has none.
+    std::size_t
+    find(std::uint32_t i) const;
+    /// Home spring @p s gets home @p home (m) and stiffness @p k (N/m): a node whose share of
+    /// the surface changed (seed 002's subdivision), or a spare node taken into use.
+    void
+    set(std::size_t s, const Vector3d &home, double k);
+    double
+    stiffness_of(std::size_t s) const
+    {
+      return stiffness[s];
+    }
+
     double
     energy(const Matrix3Xd &x) const override;
     void

@@ -51,6 +51,7 @@
 #include <suturesim/realtime/system.h>
 #include <suturesim/tools/curved_needle.h>
 
+#include <functional>
 #include <vector>
 
 namespace suturesim::realtime
@@ -108,6 +109,19 @@ namespace suturesim::realtime
     use_soft_constraints(SutureModel *model)
     {
       soft_model = model;
+    }
+
+    /// Makes a surface point a vertex of its own (triangle, barycentric weights) and
+    /// returns its node, or −1 (TissueModel::subdivide(), with whatever else must follow
+    /// the surface's new triangles).
+    using Subdivide = std::function<std::int64_t(std::uint32_t triangle, const Vector3d &weights)>;
+    /// Seed 002 §4.A: a touch makes its point a vertex of its own through @p subdivide
+    /// after the step it began in, so that the needle presses, and the pierce point
+    /// holds, that vertex (event "subdivision").
+    void
+    subdivide_at_touch(Subdivide subdivide)
+    {
+      subdivision = std::move(subdivide);
     }
 
     /// The needle's pose and the time at the end of the coming (sub)step.
@@ -239,6 +253,11 @@ namespace suturesim::realtime
     Vector3d
     pierce_force(const PiercePoint &p, const Matrix3Xd &x, coupling::FrictionResult *friction,
                  double *normal) const;
+    /// Seed 002's subdivision at surface point @p point, which then names the new vertex
+    /// (weights (1, 0, 0)); false when there is none to make (no subdivision, a vertex
+    /// already, no spare node left).
+    bool
+    make_vertex(coupling::SurfacePoint &point, const Matrix3Xd &x);
     /// Adds @p force on the tissue point of @p p to @p f, and its reaction on the suture
     /// nodes when on the suture.
     void
@@ -269,6 +288,7 @@ namespace suturesim::realtime
     std::vector<double>                zeta_work;
     std::vector<coupling::PunctureEvent> events_on_thread;
     SutureModel                         *soft_model = nullptr;
+    Subdivide                            subdivision;
     const System                        &sys;
     mutable std::vector<SoftConstraint>     soft_work;
     mutable std::vector<SoftConstraintLoad> load_work;

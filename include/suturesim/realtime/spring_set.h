@@ -58,6 +58,15 @@ namespace suturesim::realtime
     void
     add(std::uint32_t i, std::uint32_t j, double rest, double k);
 
+    /// Spring @p s becomes one between nodes @p i and @p j with rest length @p rest (m) and
+    /// stiffness @p k (N/m): a topology change (seed 002's edge split) reuses its slot.
+    void
+    set(std::size_t s, std::uint32_t i, std::uint32_t j, double rest, double k);
+
+    /// Index of the spring between nodes @p i and @p j, or size() if there is none.
+    std::size_t
+    find(std::uint32_t i, std::uint32_t j) const;
+
     /// Orders the springs so that consecutive ones share no node (independent_order.h);
     /// call once after adding.
     void

@@ -73,6 +73,10 @@ namespace suturesim::realtime
     {
       return contacts.size();
     }
+    /// The surface's triangles changed (seed 002's subdivision): the tree on them is built
+    /// again at @p x.
+    void
+    surface_changed(const Matrix3Xd &x);
 
     struct Contact
     {

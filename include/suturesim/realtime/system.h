@@ -76,7 +76,8 @@ namespace suturesim::realtime
     {
       boundary  = 1, ///< fixed or prescribed boundary, grasped by a tool
       geometric = 2, ///< moved by a geometric model (follow-the-leader suture)
-      transient = 4  ///< a collision constraint of seed 002, for one step
+      transient = 4, ///< a collision constraint of seed 002, for one step
+      dormant   = 8  ///< a spare node of a model whose topology grows (seed 002's subdivision)
     };
 
     /// Sets or clears one reason @p why for holding node @p i at target(i); the node's

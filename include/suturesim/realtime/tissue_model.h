@@ -92,7 +92,31 @@ namespace suturesim::realtime
     std::size_t
     add_bending(System &system, std::uint32_t node);
 
+    /// Seed 002 §4.A: makes the surface point of triangle @p triangle with barycentric
+    /// weights @p weights a vertex of its own by subdividing the surface there
+    /// (realtime/surface_subdivision.h). Returns its node, whose triangle is then
+    /// @p triangle with the node first; −1 when the model does not subdivide (the volume
+    /// model, or subdivision off) or has no spare node left. The surface's triangles
+    /// change: bounding trees built on them must be rebuilt.
+    virtual std::int64_t
+    subdivide(System &, std::uint32_t /*triangle*/, const Vector3d & /*weights*/)
+    {
+      return -1;
+    }
+
   protected:
+    /// The surface as the model may change it (subdivision).
+    std::vector<mesh::Triangle> &
+    mutable_surface()
+    {
+      return surface_nodes;
+    }
+    std::vector<int> &
+    mutable_surface_tags()
+    {
+      return tags;
+    }
+
     /// Adds the model's nodes (setting node_of_vertex) and interactions.
     virtual void
     add_body(System &system, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &surface,

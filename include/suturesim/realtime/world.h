@@ -69,6 +69,10 @@ namespace suturesim::realtime
   {
   public:
     explicit World(WorldSetup setup);
+    // the needle's subdivision hook holds this world's address
+    World(const World &) = delete;
+    World &
+    operator=(const World &) = delete;
 
     // --- what is held, set before initialize() -----------------------------------------
 
@@ -180,7 +184,8 @@ namespace suturesim::realtime
     {
       return h / n_substeps;
     }
-    /// The stability limit of the integrator at set-up (s), ∞ when none.
+    /// The stability limit of the integrator (s), ∞ when none: at set-up, and again after
+    /// every change of the tissue's topology.
     double
     stability_limit() const
     {
@@ -191,7 +196,7 @@ namespace suturesim::realtime
     {
       return limit_text;
     }
-    /// Non-empty when dt exceeds the stability limit.
+    /// Non-empty when dt exceeded the stability limit at set-up or at a later assessment.
     const std::string &
     warning() const
     {
@@ -265,6 +270,12 @@ namespace suturesim::realtime
     std::vector<Prescribed> prescribed;
     Loads                   loads;
     std::vector<Probe>      probes;
+
+    /// The stability limit of the step, the warning above it and the guard's diagnosis
+    /// (at set-up, or again after a change of topology: seed 002's subdivision). Throws
+    /// when above the limit at set-up and asked to refuse.
+    void
+    assess_stability(bool at_setup);
 
     double      h = 1e-3, t = 0, dt_limit = 0;
     unsigned    n_substeps = 1;
