@@ -1,5 +1,5 @@
 # Writes the default scene file into a C++ source as a raw string literal, so that
-# `suturesim` with no argument runs exactly parameters/skin_pad_pull.prm.
+# `suturesim` with no argument runs exactly parameters/stitch_interrupted.prm.
 file(READ ${INPUT} CONTENT)
 get_filename_component(NAME ${INPUT} NAME)
 file(WRITE ${OUTPUT}.tmp

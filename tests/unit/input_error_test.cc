@@ -118,6 +118,14 @@ TEST(Validate, AcceptsEveryShippedScene)
   EXPECT_GE(n, 2u);
 }
 
+TEST(Validate, TheEmbeddedDefaultSceneIsTheInterruptedStitch)
+{
+  // issue 6: `suturesim` with no scene file runs parameters/stitch_interrupted.prm
+  const auto r = run_suturesim("validate_default", "--validate");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("<default scene stitch_interrupted.prm>: valid"), std::string::npos) << r.output;
+}
+
 TEST(Validate, RejectsUnknownKey)
 {
   const auto r = run_suturesim("validate_bad", "--validate " +

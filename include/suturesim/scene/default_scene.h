@@ -1,6 +1,6 @@
 #pragma once
 /// @file The scene run when `suturesim` is given no scene file: the text of
-/// parameters/skin_pad_pull.prm, embedded at build time by cmake/embed_scene.cmake.
+/// parameters/stitch_interrupted.prm, embedded at build time by cmake/embed_scene.cmake.
 
 namespace suturesim::scene
 {
