@@ -33,16 +33,7 @@ namespace
   {
     const auto mesh = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);
     const tools::CurvedNeedle needle(0.008, tools::CurvedNeedle::arc_angle_of(shape), 4e-4);
-    tools::PassParameters     pass_parameters;
-    pass_parameters.entry          = Vector3d(0.013, 0.0201, 0.01);
-    pass_parameters.normal         = Vector3d::UnitZ();
-    pass_parameters.bite_direction = Vector3d::UnitX();
-    pass_parameters.bite_depth     = 0.004;
-    pass_parameters.angular_speed  = 4;
-    pass_parameters.approach       = 5e-4;
-    pass_parameters.pull           = Vector3d(0.01, 0, 0.02);
-    pass_parameters.pull_duration  = 0.5;
-    const auto pass = tools::plan_pass(needle, pass_parameters);
+    const auto                pass = test_support::block_pass(needle, 0.004);
 
     WorldSetup w;
     w.mesh     = &mesh;

@@ -217,16 +217,7 @@ TEST(SurfaceSubdivision, ANeedlePassSubdividesAtEachTouchAndItsPiercePointsAreTh
   const auto                mesh = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);
   const auto                boundary = mesh::extract_boundary(mesh);
   const tools::CurvedNeedle needle(0.008, tools::CurvedNeedle::arc_angle_of("3/8"), 4e-4);
-  tools::PassParameters     pp;
-  pp.entry          = Vector3d(0.013, 0.0201, 0.01);
-  pp.normal         = Vector3d::UnitZ();
-  pp.bite_direction = Vector3d::UnitX();
-  pp.bite_depth     = 0.003;
-  pp.angular_speed  = 4;
-  pp.approach       = 5e-4;
-  pp.pull           = Vector3d(0.01, 0, 0.02);
-  pp.pull_duration  = 0.5;
-  const auto pass   = tools::plan_pass(needle, pp);
+  const auto                pass = test_support::block_pass(needle, 0.003);
 
   WorldSetup w;
   w.mesh     = &mesh;

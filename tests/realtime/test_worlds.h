@@ -2,6 +2,7 @@
 // Builds registered realtime models and small worlds for the tests.
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/world.h>
+#include <suturesim/tools/surgical_pass.h>
 
 #include <map>
 #include <memory>
@@ -53,6 +54,24 @@ namespace suturesim::test_support
     g.EI      = EI;
     g.density = density;
     return g;
+  }
+
+  /// The needle tests' pass through the top of the 40 × 40 × 10 mm block: in at
+  /// (13, 20.1, 10) mm along +x, @p bite_depth deep, turning at 4 rad/s after a 0.5 mm
+  /// approach, then pulled by (10, 0, 20) mm over 0.5 s.
+  inline tools::SurgicalPass
+  block_pass(const tools::CurvedNeedle &needle, const double bite_depth)
+  {
+    tools::PassParameters p;
+    p.entry          = Eigen::Vector3d(0.013, 0.0201, 0.01);
+    p.normal         = Eigen::Vector3d::UnitZ();
+    p.bite_direction = Eigen::Vector3d::UnitX();
+    p.bite_depth     = bite_depth;
+    p.angular_speed  = 4;
+    p.approach       = 5e-4;
+    p.pull           = Eigen::Vector3d(0.01, 0, 0.02);
+    p.pull_duration  = 0.5;
+    return tools::plan_pass(needle, p);
   }
 
   /// A 20 mm FTL suture of 20 links along x, held by the tools "left" (at the origin)
