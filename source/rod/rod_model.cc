@@ -20,6 +20,10 @@ namespace suturesim::rod
     std::vector<Eigen::PartialPivLU<Mat6>> lu;
     std::vector<Mat6>                      C;
     std::vector<Vec6>                      y;
+    // the factorisation when contact couples distant nodes (sparse_factorized)
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse;
+    Eigen::SparseMatrix<double>                  A;
+    bool                                         sparse_factorized = false;
 
     void
     reset(const std::size_t n, const bool jacobian)
@@ -245,11 +249,11 @@ namespace suturesim::rod
         }
   }
 
-  Eigen::VectorXd
-  RodModel::solve_linear(System &s) const
+  void
+  RodModel::factorize(System &s) const
   {
     const std::size_t n = n_nodes();
-    // constrained components: zero row and column, unit diagonal, zero right-hand side
+    // constrained components: zero row and column, unit diagonal
     for (std::size_t i = 0; i < n; ++i)
       for (unsigned c = 0; c < 6; ++c)
         if (fixed[i][c])
@@ -257,7 +261,6 @@ namespace suturesim::rod
             s.diag[i].row(c).setZero();
             s.diag[i].col(c).setZero();
             s.diag[i](c, c) = 1;
-            s.r[6 * i + c]  = 0;
             if (i + 1 < n)
               {
                 s.upper[i].row(c).setZero();
@@ -269,34 +272,23 @@ namespace suturesim::rod
                 s.upper[i - 1].col(c).setZero();
               }
           }
-    Eigen::VectorXd delta(6 * n);
-    if (s.extra.empty())
+    s.sparse_factorized = !s.extra.empty();
+    if (!s.sparse_factorized)
       {
         // block LU (Thomas): O(N) for the block-tridiagonal Jacobian of an open rod
-        auto &lu = s.lu;
-        auto &C  = s.C;
-        auto &y  = s.y;
-        lu.resize(n);
-        C.resize(n);
-        y.resize(n);
+        s.lu.resize(n);
+        s.C.resize(n);
+        s.y.resize(n);
         for (std::size_t i = 0; i < n; ++i)
           {
             Mat6 D = s.diag[i];
-            Vec6 b = -s.r.segment<6>(6 * i);
             if (i > 0)
-              {
-                D -= s.lower[i - 1] * C[i - 1];
-                b -= s.lower[i - 1] * y[i - 1];
-              }
-            lu[i].compute(D);
+              D -= s.lower[i - 1] * s.C[i - 1];
+            s.lu[i].compute(D);
             if (i + 1 < n)
-              C[i] = lu[i].solve(s.upper[i]);
-            y[i] = lu[i].solve(b);
+              s.C[i] = s.lu[i].solve(s.upper[i]);
           }
-        delta.segment<6>(6 * (n - 1)) = y[n - 1];
-        for (std::size_t i = n - 1; i-- > 0;)
-          delta.segment<6>(6 * i) = y[i] - C[i] * delta.segment<6>(6 * (i + 1));
-        return delta;
+        return;
       }
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(36 * 3 * n + s.extra.size());
@@ -318,14 +310,56 @@ namespace suturesim::rod
     for (const auto &e : s.extra)
       if (!fixed[e.row() / 6][e.row() % 6] && !fixed[e.col() / 6][e.col() % 6])
         t.push_back(e);
-    Eigen::SparseMatrix<double> A(6 * n, 6 * n);
-    A.setFromTriplets(t.begin(), t.end());
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-    solver.compute(A);
-    if (solver.info() != Eigen::Success)
+    s.A.resize(6 * n, 6 * n);
+    s.A.setFromTriplets(t.begin(), t.end());
+    s.sparse.compute(s.A);
+    if (s.sparse.info() != Eigen::Success)
       throw std::domain_error("sparse LU of the rod Jacobian failed (singular)");
-    delta = solver.solve(-s.r);
+  }
+
+  Eigen::VectorXd
+  RodModel::substitute(System &s, Eigen::VectorXd b) const
+  {
+    const std::size_t n = n_nodes();
+    for (std::size_t i = 0; i < n; ++i)
+      for (unsigned c = 0; c < 6; ++c)
+        if (fixed[i][c])
+          b[6 * i + c] = 0;
+    if (s.sparse_factorized)
+      return s.sparse.solve(b);
+    Eigen::VectorXd delta(6 * n);
+    for (std::size_t i = 0; i < n; ++i)
+      {
+        Vec6 rhs = b.segment<6>(6 * i);
+        if (i > 0)
+          rhs -= s.lower[i - 1] * s.y[i - 1];
+        s.y[i] = s.lu[i].solve(rhs);
+      }
+    delta.segment<6>(6 * (n - 1)) = s.y[n - 1];
+    for (std::size_t i = n - 1; i-- > 0;)
+      delta.segment<6>(6 * i) = s.y[i] - s.C[i] * delta.segment<6>(6 * (i + 1));
     return delta;
+  }
+
+  Eigen::VectorXd
+  RodModel::solve_linear(System &s) const
+  {
+    factorize(s);
+    return substitute(s, -s.r);
+  }
+
+  const Eigen::VectorXd &
+  RodModel::linearize(const NodalTerms *extra)
+  {
+    assemble(*work.system, extra, true);
+    factorize(*work.system);
+    return work.system->r;
+  }
+
+  Eigen::VectorXd
+  RodModel::solve_linearized(const Eigen::VectorXd &b) const
+  {
+    return substitute(*work.system, b);
   }
 
   Eigen::VectorXd

@@ -1,8 +1,8 @@
 #include <suturesim/collision/volume_penetration.h>
 #include <suturesim/core/error.h>
+#include <suturesim/coupling/accurate/condensed_suture.h>
 #include <suturesim/coupling/accurate/suture_contact.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
-#include <suturesim/coupling/interface_quasi_newton.h>
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
 #include <suturesim/scene/wound_closure.h>
@@ -125,16 +125,18 @@ namespace suturesim::scene
     };
     // Both bodies are solved to a hundredth of the force a pierce tie carries at the
     // coupling tolerance: finer residuals move no point measurably, and a solve that
-    // starts near equilibrium in a late coupling round would otherwise chase its
-    // relative tolerance for half a dozen iterations (the tissue's tangent leaves the
-    // slip friction's change out, so its Newton converges linearly once pierced).
+    // starts near equilibrium would otherwise chase its relative tolerance for half a
+    // dozen iterations.
     const double          force_floor = 0.01 * np.transverse_stiffness * np.coupling_tolerance;
     rod::NewtonParameters suture_newton;
     if (in.suture)
       {
         suture_newton                = in.suture->newton;
         suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, force_floor);
-        suture_newton.max_iterations = std::max(suture_newton.max_iterations, 200u);
+        // the suture's equilibrium under each tissue iterate: slack thread crawls at
+        // the step cap below (measured: up to a hundred iterations at the tightening),
+        // and an iteration costs a fraction of a millisecond
+        suture_newton.max_iterations = std::max(suture_newton.max_iterations, 500u);
         // a stiff pierce tie pulls the node it holds by millimetres on the first
         // iteration of a round, and the free tail would swing with it: half an element
         // and a quarter radian per iteration at most
@@ -171,7 +173,7 @@ namespace suturesim::scene
       summary["suture"] = {{"elements", suture->n_elements()},
                            {"length", needle.curve_length() - geometry.length()},
                            {"coupling_tolerance", np.coupling_tolerance},
-                           {"coupling", "block Gauss-Seidel rounds of tissue and suture solves, IQN-ILS on the tissue points"}};
+                           {"coupling", "one Newton iteration of tissue and suture, the suture condensed onto the tissue's points; rounds for carriers, contacts and multipliers"}};
     summary["metrics"]    = nlohmann::json::object();
     summary["steps"]      = nlohmann::json::array();
     pcout << "suturesim: scene '" << in.scene_name << "', " << mesh_info.description << ", "
@@ -206,13 +208,6 @@ namespace suturesim::scene
         x[k] = model.point_position(k);
       return x;
     };
-    // the tissue's points under the contacts, m
-    const auto contact_positions = [&]() {
-      std::vector<Point<3>> x(contact->points().size());
-      for (std::size_t k = 0; k < x.size(); ++k)
-        x[k] = model.point_position(loads.offset(1) + k);
-      return x;
-    };
     // new contacts for the suture as it is against the tissue as it is; true when the
     // set changed (the tissue then has new loads). Left out: the nodes a stitch's pierce
     // points draw into the tissue and the nodes a support holds.
@@ -226,27 +221,6 @@ namespace suturesim::scene
       if (changed)
         locate_loads();
       return changed;
-    };
-    // one IQN-ILS update of the tissue points the suture sees, the pierce points' and
-    // the contacts', towards where the tissue's last solve put them; returns the
-    // largest move the tissue asked for, m
-    const auto accelerate = [&](coupling::InterfaceQuasiNewton &iqn, std::vector<Point<3>> &at_points,
-                                std::vector<Point<3>> &at_contacts) {
-      const auto      to_points = positions();
-      const auto      to_contacts = contact ? contact_positions() : std::vector<Point<3>>();
-      const std::size_t n = at_points.size(), m = at_contacts.size();
-      Eigen::VectorXd x(3 * (n + m)), target(3 * (n + m));
-      for (std::size_t k = 0; k < n + m; ++k)
-        for (unsigned d = 0; d < 3; ++d)
-          {
-            x[3 * k + d]      = k < n ? at_points[k][d] : at_contacts[k - n][d];
-            target[3 * k + d] = k < n ? to_points[k][d] : to_contacts[k - n][d];
-          }
-      const double largest = iqn.update(x, target);
-      for (std::size_t k = 0; k < n + m; ++k)
-        for (unsigned d = 0; d < 3; ++d)
-          (k < n ? at_points[k][d] : at_contacts[k - n][d]) = x[3 * k + d];
-      return largest;
     };
     double      peak_pull = 0, last_output = -1, end_tension = 0;
     // Suture/Stabilization: a drag c v per unit length, c ℓ_i (x_i − x_i,n)/Δt on node i
@@ -277,6 +251,10 @@ namespace suturesim::scene
         contact->add_node_terms(i, xi, r, J);
     };
     const rod::NodalTerms *suture_terms = stabilized || contact ? &node_terms : nullptr;
+    // the suture, solved with the tissue in one Newton iteration
+    std::optional<coupling::CondensedSuture> body;
+    if (suture)
+      body.emplace(*suture, suture_newton, needle, contact ? &*contact : nullptr, loads, suture_terms);
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -397,79 +375,36 @@ namespace suturesim::scene
           }
         if (needle.begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
           locate_loads();
-        tissue::NewtonReport report = model.solve_static(tn, force_floor);
+        // Tissue and suture by one Newton iteration, the suture condensed onto the
+        // tissue's points (coupling/accurate/condensed_suture.h; the elements carrying
+        // the thread's pierce points follow within it). Rounds only follow what a solve
+        // cannot change within itself: the contacts and the Lagrange multipliers; a
+        // round that changes neither (and leaves no tie gaping) ends the step.
+        step_length = step_dt;
+        tissue::NewtonReport report;
         unsigned             rounds = 0;
-        if ((suture || lagrange) && report.converged)
+        for (rounds = 1;; ++rounds)
           {
-            // block Gauss–Seidel: the suture with the tissue points held, then the
-            // multipliers' update, then the tissue with both held, until nothing moves
-            // and no tie gapes by more than the tolerance. The suture sees the tissue's
-            // points (the pierce points and the contacts) accelerated by interface
-            // quasi-Newton (IQN-ILS, coupling/interface_quasi_newton.h): with a tie
-            // stiffer than either body at the point, plain rounds contract slowly.
-            // The active sets follow at the start of every round (the elements that
-            // carry the thread's pierce points, the contacts); a round that changes them
-            // has not converged.
-            double                         tissue_moved = std::numeric_limits<double>::infinity();
-            std::vector<Point<3>>          seen         = positions(); // by the suture
-            std::vector<Point<3>>          seen_contact = contact ? contact_positions() : std::vector<Point<3>>();
-            coupling::InterfaceQuasiNewton acceleration;
-            for (rounds = 1;; ++rounds)
+            report = body ? model.solve_coupled(tn, force_floor, *body) : model.solve_static(tn, force_floor);
+            if (!report.converged || !(suture || lagrange))
+              break;
+            const auto   x       = positions();
+            const bool   changed = contact && detect_contacts();
+            const double gap     = lagrange ? needle.constraint_gap(x) : 0;
+            if (!changed && gap <= np.coupling_tolerance)
+              break;
+            if (rounds == np.coupling_iterations)
               {
-                const auto x       = positions();
-                double     moved   = 0;
-                bool       changed = suture && needle.follow_thread(x);
-                // new contacts change the interface (its size): the quasi-Newton model
-                // starts again; a pierce point's new carrier element does not, and its
-                // history is what damps a thread that slides to and fro between rounds
-                if (contact && detect_contacts())
-                  {
-                    changed      = true;
-                    seen_contact = contact_positions();
-                    acceleration.reset();
-                  }
-                if (contact)
-                  contact->set_tissue_positions(seen_contact);
-                if (suture)
-                  {
-                    const std::vector<rod::Vec3> before = suture->positions();
-                    step_length                = step_dt;
-                    const rod::NewtonResult r  = with_pierce_terms(seen, [&]() {
-                      return suture->solve(suture_newton, suture_terms);
-                    });
-                    if (!r.converged)
-                      {
-                        report.converged = false;
-                        report.failure   = "suture: " + r.reason;
-                        break;
-                      }
-                    for (std::size_t i = 0; i < before.size(); ++i)
-                      moved = std::max(moved, (suture->positions()[i] - before[i]).norm());
-                  }
-                // the tissue feels the suture through pierce points on it and contacts
-                const bool coupled =
-                  suture && (needle.n_on_thread() > 0 || (contact && !contact->contacts().empty()));
-                const double gap = lagrange ? needle.constraint_gap(x) : 0;
-                if ((!coupled || (!changed && moved <= np.coupling_tolerance && tissue_moved <= np.coupling_tolerance)) &&
-                    gap <= np.coupling_tolerance)
-                  break;
-                if (rounds == np.coupling_iterations)
-                  {
-                    std::ostringstream why;
-                    why << "after " << rounds << " rounds tissue and suture still moved by "
-                        << std::max(moved, tissue_moved) << " m, the pierce ties gape by " << gap
-                        << " m (Pierce points/Coupling tolerance " << np.coupling_tolerance << " m)";
-                    report.converged = false;
-                    report.failure   = why.str();
-                    break;
-                  }
-                if (lagrange)
-                  needle.update_multipliers(x);
-                report = model.solve_static(tn, force_floor);
-                if (!report.converged)
-                  break;
-                tissue_moved = accelerate(acceleration, seen, seen_contact);
+                std::ostringstream why;
+                why << "after " << rounds << " rounds the contacts still changed, the pierce ties "
+                    << "gape by " << gap << " m (Pierce points/Coupling tolerance " << np.coupling_tolerance
+                    << " m)";
+                report.converged = false;
+                report.failure   = why.str();
+                break;
               }
+            if (lagrange)
+              needle.update_multipliers(x);
           }
         // back to the state before the step, which is then halved
         const auto halve = [&]() {

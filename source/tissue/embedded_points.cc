@@ -117,6 +117,27 @@ namespace suturesim::tissue
     return x;
   }
 
+  template <typename VectorType>
+  void
+  EmbeddedPoints::add_point_force(const std::size_t k, const Tensor<1, 3> &f, const AffineConstraints<double> &c,
+                                  VectorType &rhs) const
+  {
+    if (!mine[k])
+      return;
+    const auto &[cell, unit] = where[k];
+    FEValues<3> values(mapping, fe, Quadrature<3>(unit), update_values);
+    values.reinit(cell);
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    cell->get_dof_indices(dofs);
+    dealii::Vector<double> local(dofs.size());
+    for (unsigned i = 0; i < dofs.size(); ++i)
+      local[i] = values.shape_value(i, 0) * f[fe.system_to_component_index(i).first];
+    c.distribute_local_to_global(local, dofs, rhs);
+  }
+
   template Point<3>
   EmbeddedPoints::position(std::size_t, const PETScWrappers::MPI::Vector &) const;
+  template void
+  EmbeddedPoints::add_point_force(std::size_t, const Tensor<1, 3> &, const AffineConstraints<double> &,
+                                  PETScWrappers::MPI::Vector &) const;
 } // namespace suturesim::tissue

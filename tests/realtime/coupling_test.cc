@@ -10,9 +10,6 @@
 #include <cmath>
 #include <random>
 
-#include <Eigen/LU>
-#include <Eigen/QR>
-
 using namespace suturesim::coupling;
 
 TEST(CoulombFriction, SticksBelowMuNSlipsAboveAndFreeAtZeroMu)
@@ -350,59 +347,4 @@ TEST(ThreadTie, GradientAndHessianMatchFiniteDifferencesOfTheEnergy)
                   .norm(),
                 1e-3 * k);
     }
-}
-
-#include <suturesim/coupling/interface_quasi_newton.h>
-
-// IQN-ILS on a linear fixed point x = A x + b in R^9 (three points): the least-squares
-// model is exact after as many independent differences as unknowns, so the fixed point
-// is reached in at most n + 1 = 10 rounds (Degroote et al. 2009), where plain rounds
-// contracting by 0.9 per round would need about 200 for the same accuracy. A mapping
-// whose rounds diverge (spectral radius 1.5) converges too.
-TEST(InterfaceQuasiNewton, FindsTheFixedPointOfALinearMapInAtMostNPlusOneRounds)
-{
-  std::mt19937                           rng(3);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (const double radius : {0.9, 1.5})
-    {
-      const int       n = 9;
-      Eigen::MatrixXd Q = Eigen::MatrixXd::NullaryExpr(n, n, [&]() { return u(rng); });
-      Q                 = Eigen::HouseholderQR<Eigen::MatrixXd>(Q).householderQ();
-      Eigen::VectorXd lambda(n);
-      for (int i = 0; i < n; ++i)
-        lambda[i] = radius * (0.1 + 0.9 * i / (n - 1.0)) * (i % 2 ? -1 : 1);
-      const Eigen::MatrixXd A = Q * lambda.asDiagonal() * Q.transpose();
-      const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(n, [&]() { return u(rng); });
-      const Eigen::VectorXd fixed =
-        (Eigen::MatrixXd::Identity(n, n) - A).partialPivLu().solve(b);
-      suturesim::coupling::InterfaceQuasiNewton iqn(0.5);
-      Eigen::VectorXd                           x = Eigen::VectorXd::Zero(n);
-      int                                       rounds = 0;
-      while ((A * x + b - x).norm() > 1e-12 * fixed.norm() && rounds < 50)
-        {
-          const Eigen::VectorXd target = A * x + b;
-          iqn.update(x, target);
-          ++rounds;
-        }
-      EXPECT_LE(rounds, n + 1) << "spectral radius " << radius;
-      EXPECT_LT((x - fixed).norm(), 1e-10 * fixed.norm());
-      std::printf("[ IQN-ILS ] spectral radius %.1f: %d rounds to 1e-12\n", radius, rounds);
-    }
-}
-
-TEST(InterfaceQuasiNewton, ReturnsTheLargestPointResidualAndForgetsWhenTheInterfaceChanges)
-{
-  suturesim::coupling::InterfaceQuasiNewton iqn(1.0);
-  Eigen::VectorXd                           x = Eigen::VectorXd::Zero(6), target(6);
-  target << 3, 4, 0, 0, 0, 1; // points moved by 5 and 1
-  EXPECT_DOUBLE_EQ(iqn.update(x, target), 5);
-  EXPECT_EQ(x, target); // the first round takes omega = 1
-  target << 3, 4, 0, 0, 0, 2;
-  iqn.update(x, target);
-  EXPECT_EQ(iqn.columns(), 1u);
-  Eigen::VectorXd y = Eigen::VectorXd::Zero(3), t3(3);
-  t3 << 0, 2, 0;
-  EXPECT_DOUBLE_EQ(iqn.update(y, t3), 2); // another interface: a fresh start
-  EXPECT_EQ(iqn.columns(), 0u);
-  EXPECT_THROW(iqn.update(y, target), std::invalid_argument);
 }

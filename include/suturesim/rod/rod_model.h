@@ -196,6 +196,17 @@ namespace suturesim::rod
     Eigen::VectorXd
     newton_direction(const NodalTerms *extra = nullptr);
 
+    /// Assembles the residual and Jacobian in the current state (with @p extra terms)
+    /// and factorises the Jacobian; returns the residual (constrained components
+    /// included). With solve_linearized() it condenses the rod onto what it is coupled
+    /// to (a Schur complement needs several solves with one factorisation).
+    const Eigen::VectorXd &
+    linearize(const NodalTerms *extra = nullptr);
+    /// J⁻¹ b with the Jacobian of the last linearize(); constrained components of the
+    /// result are zero.
+    Eigen::VectorXd
+    solve_linearized(const Eigen::VectorXd &b) const;
+
     /// Applies the correction @p delta scaled by @p step.
     void
     update(const Eigen::VectorXd &delta, double step = 1);
@@ -227,6 +238,13 @@ namespace suturesim::rod
     assemble(System &system, const NodalTerms *extra, bool with_jacobian);
     Eigen::VectorXd
     solve_linear(System &system) const;
+    /// Factorises the assembled Jacobian of @p system (constrained rows and columns set
+    /// to the identity): block LU, or sparse LU when contact couples distant nodes.
+    void
+    factorize(System &system) const;
+    /// J⁻¹ @p b with the factorisation of @p system (constrained entries of b ignored).
+    Eigen::VectorXd
+    substitute(System &system, Eigen::VectorXd b) const;
 
     std::vector<Vec3>                  pos;
     std::vector<Quat>                  rot;

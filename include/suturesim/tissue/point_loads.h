@@ -17,6 +17,7 @@
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -59,6 +60,14 @@ namespace suturesim::tissue
     void
     add(const dealii::DoFHandler<3>::active_cell_iterator &cell, const dealii::Vector<double> &u_local,
         dealii::Vector<double> &r, dealii::FullMatrix<double> *K) const;
+
+    /// Adds the nodal forces of a force @p f at point @p k, Σ_i N_i(ξ) f, into @p rhs
+    /// through @p constraints (constrained entries left alone), on the rank that owns
+    /// the point.
+    template <typename VectorType>
+    void
+    add_point_force(std::size_t k, const dealii::Tensor<1, 3> &f, const dealii::AffineConstraints<double> &constraints,
+                    VectorType &rhs) const;
 
     /// Current position of point @p k from the ghosted displacement @p u (on the rank
     /// that owns it; the others return NaN): x = X + u(X).

@@ -14,6 +14,7 @@
 #include <suturesim/tissue/cell_assembler.h>
 #include <suturesim/tissue/linear_solver.h>
 #include <suturesim/tissue/material.h>
+#include <suturesim/tissue/condensed_body.h>
 #include <suturesim/tissue/point_loads.h>
 
 #include <deal.II/base/timer.h>
@@ -135,6 +136,14 @@ namespace suturesim::tissue
     /// equilibrium costs iterations for nothing.
     NewtonReport
     solve_static(double t, double force_floor = 0);
+
+    /// solve_static() with @p body solved along (tissue/condensed_body.h): at every
+    /// iterate the body is brought to equilibrium with the tissue's points held, and
+    /// the Newton update solves (K + Nᵀ G N) Δu = −R by the Sherman–Morrison–Woodbury
+    /// formula, with 3m more solves of the factorised K (m coupled points). Full steps,
+    /// halved only when an element inverts. Implemented in tissue_model_coupled.cc.
+    NewtonReport
+    solve_coupled(double t, double force_floor, CondensedBody &body);
 
     void
     save_state();
@@ -262,6 +271,11 @@ namespace suturesim::tissue
 
     double
     free_residual_norm() const;
+
+    /// Positions X + N v of every point load for the ghosted vector @p v (collective);
+    /// with @p displacement false, N v alone (the points' share of an update).
+    std::vector<dealii::Point<3>>
+    point_values(const Vector &v, bool displacement) const;
 
     /// g, ġ, g̈ at the locally owned Dirichlet DoFs (order of owned_dirichlet).
     void

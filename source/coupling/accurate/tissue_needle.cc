@@ -98,6 +98,17 @@ namespace suturesim::coupling
     return elements;
   }
 
+  std::vector<std::size_t>
+  TissueNeedle::thread_points() const
+  {
+    const std::size_t        offset = touch_index() == 0 ? 1 : 0;
+    std::vector<std::size_t> indices;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      if (on_thread(pierce[j]))
+        indices.push_back(offset + j);
+    return indices;
+  }
+
   void
   TissueNeedle::thread_terms(const std::vector<Point<3>> &x, const std::size_t element,
                              Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const

@@ -41,8 +41,9 @@
  * step would otherwise hold the point on its anchor element's line extended, and a solve
  * can then meet the tie with that line turned through the point millimetres away from
  * the thread (seen at the stitch's tightening: the thread left its hole by 3 mm). The
- * carrier is fixed within a solve and moves between the coupling rounds
- * (follow_thread()), as contact active sets do; a round that moves it has not converged.
+ * carrier is fixed within a suture solve and follows the thread between them
+ * (follow_thread(); coupling/accurate/condensed_suture.h repeats the suture's solve
+ * until the carriers stay), as contact active sets do.
  */
 
 #include <suturesim/coupling/coulomb_friction.h>
@@ -76,7 +77,7 @@ namespace suturesim::coupling
     double               anchor = 0;
     /// On the thread: the thread coordinate whose element carries the point (its last
     /// projection), m. The tie and the friction are measured on that element's line,
-    /// which is fixed within a solve and follows the point between solves
+    /// which is fixed within a suture solve and follows the point between them
     /// (TissueNeedle::follow_thread()).
     double               carrier = 0;
     bool                 exit   = false;
@@ -193,6 +194,10 @@ namespace suturesim::coupling
     {
       return pierce;
     }
+    /// Indices among points() of the pierce points on the thread (what couples the
+    /// tissue to the suture), in thread order.
+    std::vector<std::size_t>
+    thread_points() const;
     /// Per suture node: whether it lies in a stitch's tract, between an exit pierce point
     /// and the next entry point along the thread (within one element either side),
     /// where the thread is meant to run inside the tissue.

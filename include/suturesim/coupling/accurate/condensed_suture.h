@@ -1,0 +1,71 @@
+#pragma once
+/**
+ * @file
+ * The Cosserat suture as a body condensed onto the tissue's point loads
+ * (tissue/condensed_body.h), so that tissue and suture are solved together by one Newton
+ * iteration instead of rounds of separate solves: the pierce points on the thread (the
+ * tie and the friction of coupling/accurate/tissue_needle.h) and the suture's contacts
+ * with the tissue's surface (coupling/accurate/suture_contact.h).
+ *
+ * equilibrate(): the suture's own Newton solve with the tissue's points held where the
+ * tissue's iterate puts them, then G = F_q D⁻¹ H with D the suture's factorised Jacobian
+ * there, H = ∂R_suture/∂y (the points' pull on the suture's residual) and F_q = ∂f/∂q
+ * (the loads on the tissue against the suture's node positions; its rotations do not
+ * enter them). H and F_q are central differences of the residual and of the loads
+ * (step 1e-8 m: the ties are linear in the positions but for the friction's slip
+ * direction and the carrier element's turn, which the exact blocks would have to carry
+ * through three functions); tests/unit compare the coupled Newton's convergence.
+ */
+
+#include <suturesim/coupling/accurate/suture_contact.h>
+#include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/rod/rod_model.h>
+#include <suturesim/tissue/condensed_body.h>
+#include <suturesim/tissue/point_load_list.h>
+
+#include <vector>
+
+namespace suturesim::coupling
+{
+  class CondensedSuture : public tissue::CondensedBody
+  {
+  public:
+    /// @p loads: the tissue's point loads, @p needle's points first, then @p contact's
+    /// (may be nullptr); @p terms: the suture's nodal terms (stabilization, contact), may
+    /// be nullptr. All kept by the caller.
+    CondensedSuture(rod::RodModel &suture, const rod::NewtonParameters &newton, TissueNeedle &needle,
+                    SutureContact *contact, const tissue::PointLoadList &loads, const rod::NodalTerms *terms);
+
+    std::vector<std::size_t>
+    coupled_points() const override;
+
+    bool
+    equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) override;
+
+    /// Suture Newton iterations of the last equilibrate().
+    unsigned
+    last_iterations() const
+    {
+      return iterations;
+    }
+
+  private:
+    /// The suture's residual with the tissue's points at @p x.
+    Eigen::VectorXd
+    residual_at(const std::vector<dealii::Point<3>> &x);
+    /// Makes the suture's terms see the tissue's points at @p x.
+    void
+    hold(const std::vector<dealii::Point<3>> &x);
+
+    rod::RodModel               &suture;
+    rod::NewtonParameters        newton;
+    TissueNeedle                &needle;
+    SutureContact               *contact;
+    const tissue::PointLoadList &loads;
+    const rod::NodalTerms       *terms;
+    std::vector<dealii::Point<3>> seen; ///< the needle's part of the points, read by the element terms
+    rod::ElementTerms             element_terms;
+    rod::ElementList              elements;
+    unsigned                      iterations = 0;
+  };
+} // namespace suturesim::coupling

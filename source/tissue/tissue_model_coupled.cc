@@ -1,0 +1,189 @@
+/**
+ * The tissue solved together with a body condensed onto its point loads
+ * (tissue/condensed_body.h): TissueModel::solve_coupled(). Kept apart from
+ * tissue_model.cc, which holds the tissue's own solves.
+ */
+#include <suturesim/core/error.h>
+#include <suturesim/tissue/tissue_model.h>
+
+#include <deal.II/base/mpi.h>
+
+#include <Eigen/LU>
+
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace suturesim::tissue
+{
+  using namespace dealii;
+
+  std::vector<Point<3>>
+  TissueModel::point_values(const Vector &v, const bool displacement) const
+  {
+    const std::size_t     n = point_loads ? point_loads->points().size() : 0;
+    std::vector<Point<3>> values(n);
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        // the owner's value; NaN elsewhere
+        const Point<3> mine = embedded->position(k, v);
+        const bool     here = !std::isnan(mine[0]);
+        for (unsigned d = 0; d < 3; ++d)
+          values[k][d] = Utilities::MPI::sum(here ? mine[d] : 0.0, comm);
+        if (!displacement)
+          values[k] -= Tensor<1, 3>(point_loads->points()[k]);
+      }
+    return values;
+  }
+
+  NewtonReport
+  TissueModel::solve_coupled(const double t, const double force_floor, CondensedBody &body)
+  {
+    const NewtonParameters &np = parameters.newton;
+    NewtonReport            report;
+    Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm),
+      rhs(locally_owned_dofs, comm);
+    Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    const std::vector<std::size_t> coupled = body.coupled_points();
+    const std::size_t              m       = coupled.size();
+    std::vector<Vector>            Z(3 * m, Vector(locally_owned_dofs, comm));
+    Eigen::MatrixXd                G, NZ(3 * m, 3 * m);
+    Eigen::VectorXd                Nz0(3 * m);
+    double                         r_ref = 0, du_norm = std::numeric_limits<double>::infinity(), du_max = du_norm;
+    Timer                          clock;
+
+    // the state of an iterate: the body in equilibrium with the points where it puts
+    // them (its response condensed onto them), then the tissue's residual and tangent;
+    // false (with report.failure) when the body's solve fails or an element inverts
+    double     r_norm = 0, gap = 0;
+    const auto state  = [&](const Vector &u) {
+      solution_ghost = u;
+      std::string failure;
+      if (!body.equilibrate(point_values(solution_ghost, true), G, failure))
+        {
+          report.failure = failure;
+          return false;
+        }
+      gap = make_constraints(t, solution_ghost, constraints);
+      clock.restart();
+      const bool ok = assemble(t, solution_ghost, true, constraints);
+      report.assembly_seconds += clock.wall_time();
+      if (!ok)
+        {
+          report.failure = "an element is inverted";
+          return false;
+        }
+      r_norm = free_residual_norm();
+      return true;
+    };
+    if (!state(solution))
+      return report;
+    for (unsigned it = 0;; ++it)
+      {
+        r_ref = std::max(r_ref, r_norm);
+        report.residual_norms.push_back(r_norm);
+        const double u_norm    = solution.l2_norm();
+        const bool   bc_ok     = gap <= 1e-12 * std::max(u_norm, 1e-3);
+        const bool   round_off = it > 0 && du_max <= 1e-13 * length_scale;
+        if (bc_ok && (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
+                      (r_norm <= np.residual_tolerance * r_ref &&
+                       du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
+          {
+            report.converged  = true;
+            report.iterations = it;
+            return report;
+          }
+        if (!std::isfinite(r_norm) || it == np.max_iterations)
+          {
+            std::ostringstream s;
+            s << "coupled Newton: no convergence in " << it << " iterations (residual " << std::scientific
+              << std::setprecision(2) << r_norm << " N, relative " << r_norm / r_ref << ")";
+            report.failure    = s.str();
+            report.iterations = it;
+            return report;
+          }
+
+        clock.restart();
+        {
+          TimerOutput::Scope scope(timer, "linear solve");
+          try
+            {
+              const double target =
+                std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
+              // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ column by column with the same factorisation
+              update = 0;
+              solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
+              report.linear_iterations += solver->statistics().iterations;
+              if (m > 0)
+                {
+                  ghost                 = update;
+                  const auto z0_at      = point_values(ghost, false);
+                  for (std::size_t j = 0; j < m; ++j)
+                    for (unsigned d = 0; d < 3; ++d)
+                      Nz0[3 * j + d] = z0_at[coupled[j]][d];
+                  for (std::size_t j = 0; j < m; ++j)
+                    for (unsigned d = 0; d < 3; ++d)
+                      {
+                        Tensor<1, 3> unit;
+                        unit[d] = 1;
+                        rhs     = 0;
+                        embedded->add_point_force(coupled[j], unit, constraints, rhs);
+                        rhs.compress(VectorOperation::add);
+                        Vector &z = Z[3 * j + d];
+                        z         = 0;
+                        solver->solve(system_matrix, z, rhs, 0, 1e-14);
+                        ghost          = z;
+                        const auto zat = point_values(ghost, false);
+                        for (std::size_t i = 0; i < m; ++i)
+                          for (unsigned e = 0; e < 3; ++e)
+                            NZ(3 * i + e, 3 * j + d) = zat[coupled[i]][e];
+                      }
+                  // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0
+                  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
+                  const Eigen::VectorXd c = (I + G * NZ).partialPivLu().solve(G * Nz0);
+                  for (std::size_t k = 0; k < 3 * m; ++k)
+                    update.add(-c[k], Z[k]);
+                }
+            }
+          catch (const SolverError &e)
+            {
+              report.failure    = e.what();
+              report.iterations = it;
+              return report;
+            }
+        }
+        report.solve_seconds += clock.wall_time();
+        constraints.distribute(update);
+        du_norm = update.l2_norm();
+        du_max  = update.linfty_norm();
+        report.increment_norms.push_back(du_norm);
+
+        // Backtracking on the residual's norm: the tangent is exact where the friction
+        // law is smooth, but a point at its stick–slip kink sends full steps round a
+        // cycle of two (seen at the stitch's tightening: 0.182, 0.211, 0.182 N, ...).
+        // Each trial brings the body to equilibrium again.
+        // (full steps while the boundary values still move: the old residual says
+        // nothing about the new boundary state)
+        const double r_start   = r_norm;
+        const bool   bc_moving = !bc_ok;
+        double       alpha     = 1;
+        for (unsigned k = 0;; ++k)
+          {
+            trial = solution;
+            trial.add(alpha, update);
+            const bool ok = state(trial);
+            if (ok && (bc_moving || r_norm <= (1 - 1e-4 * alpha) * r_start || k >= np.max_backtracks))
+              break;
+            if (!ok && k >= np.max_backtracks)
+              {
+                report.iterations = it + 1;
+                return report;
+              }
+            alpha *= 0.5;
+            ++report.backtracks;
+          }
+        solution = trial;
+      }
+  }
+} // namespace suturesim::tissue
