@@ -547,6 +547,47 @@ namespace suturesim::tissue
     return r.l2_norm();
   }
 
+  bool
+  TissueModel::boundary_reached(const double gap) const
+  {
+    return gap <= 1e-12 * std::max(solution.l2_norm(), 1e-3);
+  }
+
+  bool
+  TissueModel::newton_stop(const unsigned it, const double r_norm, const double r_ref, const double du_norm,
+                           const double du_max, const double gap, const double force_floor,
+                           NewtonReport &report) const
+  {
+    const NewtonParameters &np     = parameters.newton;
+    const double            u_norm = solution.l2_norm();
+    // An update at round-off level of the body's size ends the iteration too: the
+    // residual of a very stiff (nearly incompressible) body cannot go below ε·κ·area,
+    // which may exceed the absolute tolerance.
+    const bool round_off = it > 0 && du_max <= 1e-13 * length_scale;
+    report.iterations    = it;
+    if (boundary_reached(gap) &&
+        (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
+         (r_norm <= np.residual_tolerance * r_ref && du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
+      {
+        report.converged = true;
+        return true;
+      }
+    if (!std::isfinite(r_norm) || r_norm > 1e10 * std::max(r_ref, 1e-300))
+      {
+        report.failure = "residual diverged (" + std::to_string(r_norm) + " N)";
+        return true;
+      }
+    if (it == np.max_iterations)
+      {
+        std::ostringstream s;
+        s << "no convergence in " << it << " iterations (residual " << std::scientific << std::setprecision(2)
+          << r_norm << " N, relative " << r_norm / r_ref << ")";
+        report.failure = s.str();
+        return true;
+      }
+    return false;
+  }
+
   NewtonReport
   TissueModel::solve_static(const double t, const double force_floor)
   {
@@ -572,36 +613,9 @@ namespace suturesim::tissue
 
     for (unsigned it = 0;; ++it)
       {
-        const double u_norm = solution.l2_norm();
-        const bool   bc_ok  = gap <= 1e-12 * std::max(u_norm, 1e-3);
-        // An update at round-off level of the body's size ends the iteration too: the
-        // residual of a very stiff (nearly incompressible) body cannot go below
-        // ε·κ·area, which may exceed the absolute tolerance.
-        const bool round_off = it > 0 && du_max <= 1e-13 * length_scale;
-        if (bc_ok && (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
-                      (r_norm <= np.residual_tolerance * r_ref &&
-                       du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
-          {
-            report.converged  = true;
-            report.iterations = it;
-            return report;
-          }
-        if (!std::isfinite(r_norm) || r_norm > 1e10 * std::max(r_ref, 1e-300))
-          {
-            report.failure = "residual diverged (" + std::to_string(r_norm) + " N)";
-            report.iterations = it;
-            return report;
-          }
-        if (it == np.max_iterations)
-          {
-            std::ostringstream s;
-            s << "no convergence in " << it << " iterations (residual " << std::scientific
-              << std::setprecision(2) << r_norm << " N, relative " << r_norm / r_ref << ")";
-            report.failure    = s.str();
-            report.iterations = it;
-            return report;
-          }
-
+        if (newton_stop(it, r_norm, r_ref, du_norm, du_max, gap, force_floor, report))
+          return report;
+        const bool bc_ok = boundary_reached(gap);
         const bool bc_moving = !bc_ok;
         clock.restart();
         {

@@ -83,26 +83,13 @@ namespace suturesim::tissue
       {
         r_ref = std::max(r_ref, r_norm);
         report.residual_norms.push_back(r_norm);
-        const double u_norm    = solution.l2_norm();
-        const bool   bc_ok     = gap <= 1e-12 * std::max(u_norm, 1e-3);
-        const bool   round_off = it > 0 && du_max <= 1e-13 * length_scale;
-        if (bc_ok && (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
-                      (r_norm <= np.residual_tolerance * r_ref &&
-                       du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
+        if (newton_stop(it, r_norm, r_ref, du_norm, du_max, gap, force_floor, report))
           {
-            report.converged  = true;
-            report.iterations = it;
+            if (!report.converged)
+              report.failure = "coupled Newton: " + report.failure;
             return report;
           }
-        if (!std::isfinite(r_norm) || it == np.max_iterations)
-          {
-            std::ostringstream s;
-            s << "coupled Newton: no convergence in " << it << " iterations (residual " << std::scientific
-              << std::setprecision(2) << r_norm << " N, relative " << r_norm / r_ref << ")";
-            report.failure    = s.str();
-            report.iterations = it;
-            return report;
-          }
+        const bool bc_ok = boundary_reached(gap);
 
         clock.restart();
         {

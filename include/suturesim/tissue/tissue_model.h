@@ -272,6 +272,17 @@ namespace suturesim::tissue
     double
     free_residual_norm() const;
 
+    /// Whether the state is on its boundary values, to round-off, given the largest
+    /// |g − u| over the Dirichlet DoFs @p gap.
+    bool
+    boundary_reached(double gap) const;
+    /// The end test of a Newton iterate @p it (the residual criteria of
+    /// NewtonParameters, an update at round-off, divergence, the iteration limit): true
+    /// when the iteration must stop, with @p report converged or saying why not.
+    bool
+    newton_stop(unsigned it, double r_norm, double r_ref, double du_norm, double du_max, double gap,
+                double force_floor, NewtonReport &report) const;
+
     /// Positions X + N v of every point load for the ghosted vector @p v (collective);
     /// with @p displacement false, N v alone (the points' share of an update).
     std::vector<dealii::Point<3>>
