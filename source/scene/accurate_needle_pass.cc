@@ -148,16 +148,6 @@ namespace suturesim::scene
       }
     std::vector<rod::Vec3> saved_x;
     std::vector<rod::Quat> saved_q;
-    // runs @p work on the suture with the pierce forces of the tissue points at x on it
-    const auto with_pierce_terms = [&](const std::vector<Point<3>> &x, const auto &work) {
-      const rod::ElementTerms terms = [&needle, &x](const std::size_t e, Eigen::Matrix<double, 12, 1> &r,
-                                                    Eigen::Matrix<double, 12, 12> &J) { needle.thread_terms(x, e, r, J); };
-      const rod::ElementList  elements = needle.thread_elements();
-      suture->set_element_terms(&terms, &elements);
-      const auto result = work();
-      suture->set_element_terms(nullptr, nullptr);
-      return result;
-    };
 
     auto &summary      = recorder.summary();
     summary["scene"]      = in.scene_name;
@@ -436,8 +426,9 @@ namespace suturesim::scene
         rod::Vec6 swage_pull = rod::Vec6::Zero();
         if (suture)
           {
-            const Eigen::VectorXd r =
-              with_pierce_terms(x, [&]() { return suture->residual(suture_terms); });
+            // at the points of the converged iterate, the last the suture was brought
+            // to equilibrium with
+            const Eigen::VectorXd r = body->residual();
             swage_pull  = -r.head<6>();
             end_tension = r.tail<6>().head<3>().norm(); // the grasper's reaction
             // the drag's total magnitude over the free nodes: an upper bound of what it

@@ -615,8 +615,7 @@ namespace suturesim::tissue
       {
         if (newton_stop(it, r_norm, r_ref, du_norm, du_max, gap, force_floor, report))
           return report;
-        const bool bc_ok = boundary_reached(gap);
-        const bool bc_moving = !bc_ok;
+        const bool bc_moving = !boundary_reached(gap);
         clock.restart();
         {
           TimerOutput::Scope scope(timer, "linear solve");

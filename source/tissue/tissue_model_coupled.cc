@@ -89,7 +89,9 @@ namespace suturesim::tissue
               report.failure = "coupled Newton: " + report.failure;
             return report;
           }
-        const bool bc_ok = boundary_reached(gap);
+        // full steps while the boundary values still move: the old residual says
+        // nothing about the new boundary state
+        const bool bc_moving = !boundary_reached(gap);
 
         clock.restart();
         {
@@ -150,10 +152,7 @@ namespace suturesim::tissue
         // law is smooth, but a point at its stick–slip kink sends full steps round a
         // cycle of two (seen at the stitch's tightening: 0.182, 0.211, 0.182 N, ...).
         // Each trial brings the body to equilibrium again.
-        // (full steps while the boundary values still move: the old residual says
-        // nothing about the new boundary state)
         const double r_start   = r_norm;
-        const bool   bc_moving = !bc_ok;
         double       alpha     = 1;
         for (unsigned k = 0;; ++k)
           {

@@ -181,6 +181,13 @@ TEST(RodModel, LinearizedSolvesMatchTheJacobian)
         model.set_contact(ContactParameters{true, 50.0, 0.01, 0.05});
       model.constrain(0, {{true, true, true, true, true, true}});
       const Eigen::MatrixXd J = model.dense_jacobian();
+      // with contact, the premise: some node pair beyond neighbours is coupled, so the
+      // sparse LU is the one at work
+      bool distant = false;
+      for (Eigen::Index i = 0; i < J.rows(); ++i)
+        for (Eigen::Index j = 0; j < J.cols(); ++j)
+          distant = distant || (std::abs(i / 6 - j / 6) > 1 && J(i, j) != 0);
+      EXPECT_EQ(distant, with_contact);
       const Eigen::VectorXd r = model.linearize();
       EXPECT_EQ(r, model.residual());
       for (int trial = 0; trial < 3; ++trial)

@@ -27,6 +27,25 @@ namespace suturesim::coupling
     };
   }
 
+  CondensedSuture::Attached::Attached(CondensedSuture &b)
+    : body(b)
+  {
+    body.elements = body.needle.thread_elements();
+    body.suture.set_element_terms(&body.element_terms, &body.elements);
+  }
+
+  CondensedSuture::Attached::~Attached()
+  {
+    body.suture.set_element_terms(nullptr, nullptr);
+  }
+
+  Eigen::VectorXd
+  CondensedSuture::residual()
+  {
+    const Attached attached(*this);
+    return suture.residual(terms);
+  }
+
   std::vector<std::size_t>
   CondensedSuture::coupled_points() const
   {
@@ -57,16 +76,6 @@ namespace suturesim::coupling
   bool
   CondensedSuture::equilibrate(const std::vector<Point<3>> &x, Eigen::MatrixXd &G, std::string &failure)
   {
-    // the element terms stay set only while this body is at work
-    struct Clear
-    {
-      rod::RodModel &r;
-      ~Clear()
-      {
-        r.set_element_terms(nullptr, nullptr);
-      }
-    } clear{suture};
-
     // The suture's equilibrium, with the points' carrier elements following the thread
     // as it slides (TissueNeedle::follow_thread(); a few rounds at most: at a bend a point
     // may sit where either element could carry it, and the last is kept).
@@ -75,15 +84,13 @@ namespace suturesim::coupling
     iterations = 0;
     for (unsigned round = 0; round < 5; ++round)
       {
-        elements = needle.thread_elements();
-        suture.set_element_terms(&element_terms, &elements);
+        const Attached attached(*this);
         result = suture.solve(newton, terms);
         iterations += result.iterations;
         if (!result.converged || !needle.follow_thread(seen))
           break;
       }
-    elements = needle.thread_elements();
-    suture.set_element_terms(&element_terms, &elements);
+    const Attached attached(*this);
     if (!result.converged)
       {
         failure = "suture: " + result.reason;

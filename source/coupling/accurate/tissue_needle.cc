@@ -56,15 +56,6 @@ namespace suturesim::coupling
     return needle.length() + (thread ? thread_s.back() : 0.0);
   }
 
-  unsigned
-  TissueNeedle::n_on_thread() const
-  {
-    unsigned n = 0;
-    for (const auto &p : pierce)
-      n += on_thread(p);
-    return n;
-  }
-
   std::pair<std::size_t, double>
   TissueNeedle::thread_element(const double s) const
   {

@@ -42,6 +42,12 @@ namespace suturesim::coupling
     bool
     equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) override;
 
+    /// The suture's residual (6 per node; at supported nodes, their reactions) with the
+    /// tissue's points where the last equilibrate() held them: the suture's pull on its
+    /// supports in the converged state.
+    Eigen::VectorXd
+    residual();
+
     /// Suture Newton iterations of the last equilibrate().
     unsigned
     last_iterations() const
@@ -50,6 +56,15 @@ namespace suturesim::coupling
     }
 
   private:
+    /// Sets the pierce points' element terms on the suture for its lifetime: they read
+    /// this body's state, so they are attached only while it is at work.
+    struct Attached
+    {
+      explicit Attached(CondensedSuture &body);
+      ~Attached();
+      CondensedSuture &body;
+    };
+
     /// The suture's residual with the tissue's points at @p x.
     Eigen::VectorXd
     residual_at(const std::vector<dealii::Point<3>> &x);

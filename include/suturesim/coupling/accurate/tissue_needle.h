@@ -142,10 +142,6 @@ namespace suturesim::coupling
     std::vector<std::size_t>
     thread_elements() const;
 
-    /// Number of pierce points on the thread (anchor beyond the swage).
-    unsigned
-    n_on_thread() const;
-
     /// Total length of needle and thread, m.
     double
     curve_length() const;
