@@ -83,7 +83,7 @@ namespace suturesim::scene
         std::vector<double> lengths;
         for (const auto &r : suture->references())
           lengths.push_back(r.length);
-        needle.set_thread(&suture->positions(), lengths);
+        needle.set_thread(&suture->positions(), lengths, &suture->rotations());
       }
     // the suture's nodes against the tissue's surface, outside the pierce points
     std::optional<coupling::SutureContact> contact;
@@ -123,16 +123,20 @@ namespace suturesim::scene
       const double motion = closure ? closure->motion_time(t) : t;
       suture->set_node(last, grasped_at + end.motion(std::max(motion, end.grasp_time)).first, suture->rotations()[last]);
     };
-    // Both bodies are solved to a hundredth of the force a pierce tie carries at the
+    // The tissue is solved to a hundredth of the force a pierce tie carries at the
     // coupling tolerance: finer residuals move no point measurably, and a solve that
     // starts near equilibrium would otherwise chase its relative tolerance for half a
-    // dozen iterations.
+    // dozen iterations. The suture, whose equilibrium under each tissue iterate is part
+    // of the tissue's residual (coupling/accurate/condensed_suture.h), to a tenth of
+    // that: on the tissue's floor itself it left the coupled iteration stalled just
+    // above it (the stitch's tightening: 2.5e-4 N after 25 iterations at k⊥ = 5e4 N/m,
+    // floor 5e-5 N), and its iterations cost little.
     const double          force_floor = 0.01 * np.transverse_stiffness * np.coupling_tolerance;
     rod::NewtonParameters suture_newton;
     if (in.suture)
       {
         suture_newton                = in.suture->newton;
-        suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, force_floor);
+        suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, 0.1 * force_floor);
         // the suture's equilibrium under each tissue iterate: slack thread crawls at
         // the step cap below (measured: up to a hundred iterations at the tightening),
         // and an iteration costs a fraction of a millisecond

@@ -3,7 +3,6 @@
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/node_slip.h>
 #include <suturesim/coupling/pierce_order.h>
-#include <suturesim/coupling/thread_tie.h>
 
 #include <gtest/gtest.h>
 
@@ -295,56 +294,4 @@ TEST(NeedlePuncture, ATipThatBacksOffReleasesTheTouch)
   EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
   ASSERT_EQ(puncture.events().size(), 2u);
   EXPECT_EQ(puncture.events()[1].kind, "release");
-}
-
-// The thread tie's gradient and Hessian on the element's nodes against central
-// differences of its energy, for random elements and tissue points off the thread (the
-// Hessian includes how the tie turns with the element: left out, Newton on a thin thread
-// under a stiff tie diverged; README, the interrupted stitch); and the tissue force is
-// −∂E/∂x.
-TEST(ThreadTie, GradientAndHessianMatchFiniteDifferencesOfTheEnergy)
-{
-  std::mt19937                           rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
-  const auto random = [&](const double s) { return Eigen::Vector3d(s * u(rng), s * u(rng), s * u(rng)); };
-  const double k = 5e4, h = 1e-7;
-  for (int trial = 0; trial < 10; ++trial)
-    {
-      const Eigen::Vector3d a = random(1e-3), b = a + Eigen::Vector3d(1e-3, 0, 0) + random(4e-4);
-      const double          w = 0.5 + 0.4 * u(rng);
-      const Eigen::Vector3d x = w * a + (1 - w) * b + random(2e-4);
-      const ThreadTie       tie = thread_tie(x, a, b, w, k);
-      Eigen::Matrix<double, 6, 1> q;
-      q << a, b;
-      const auto energy = [&](const Eigen::Matrix<double, 6, 1> &p) {
-        return thread_tie(x, p.head<3>(), p.tail<3>(), w, k).energy;
-      };
-      const auto gradient = [&](const Eigen::Matrix<double, 6, 1> &p) {
-        return thread_tie(x, p.head<3>(), p.tail<3>(), w, k).gradient;
-      };
-      Eigen::Matrix<double, 6, 1> g_fd;
-      Eigen::Matrix<double, 6, 6> H_fd;
-      for (int i = 0; i < 6; ++i)
-        {
-          const Eigen::Matrix<double, 6, 1> e = Eigen::Matrix<double, 6, 1>::Unit(i) * h;
-          g_fd[i]                             = (energy(q + e) - energy(q - e)) / (2 * h);
-          H_fd.col(i)                         = (gradient(q + e) - gradient(q - e)) / (2 * h);
-        }
-      EXPECT_LT((tie.gradient - g_fd).norm(), 1e-6 * tie.gradient.norm()) << "trial " << trial;
-      EXPECT_LT((tie.hessian - H_fd).norm(), 1e-6 * tie.hessian.norm()) << "trial " << trial;
-      EXPECT_LT((tie.hessian - tie.hessian.transpose()).norm(), 1e-9 * tie.hessian.norm());
-      Eigen::Vector3d f_fd;
-      for (int i = 0; i < 3; ++i)
-        {
-          const Eigen::Vector3d e = Eigen::Vector3d::Unit(i) * h;
-          f_fd[i] = -(thread_tie(x + e, a, b, w, k).energy - thread_tie(x - e, a, b, w, k).energy) / (2 * h);
-        }
-      EXPECT_LT((tie.tissue_force - f_fd).norm(), 1e-6 * tie.tissue_force.norm());
-      // the turn of the element matters: the Hessian differs from w_a w_b k P by far more
-      // than round-off
-      EXPECT_GT((tie.hessian.topLeftCorner<3, 3>() -
-                 w * w * k * (Eigen::Matrix3d::Identity() - (a - b).normalized() * (a - b).normalized().transpose()))
-                  .norm(),
-                1e-3 * k);
-    }
 }

@@ -145,23 +145,33 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
   // one record per accepted step (rows and steps alike). A step with a point on the
   // suture is one Newton iteration of tissue and suture together, the suture condensed
   // onto the tissue's points (coupling/accurate/condensed_suture.h): it iterates (the
-  // pull moves the thread) and converges quadratically, its last residual at most 1e-2
-  // of the one before (measured 3.3e-3, 2.0e-5, 5.4e-9 N: the ratio r₂/r₁² = 13.6 stays
-  // put). The partitioned rounds this replaced contracted linearly, 14–19 rounds a step.
-  const auto &steps = r.summary["steps"];
+  // pull moves the thread) and converges as Newton does, each residual at most 1e-2 of
+  // the one before (measured 4.1e-4, 1.3e-6, 2.0e-8 N) or below the floor both bodies
+  // are solved to, 0.01 k⊥ × coupling tolerance = 5e-7 N (the suture's equilibrium
+  // under each tissue iterate is solved to that floor, and its error is what is left of
+  // the residual there, measured 1e-8 to 1e-7 N). The partitioned rounds this replaced
+  // contracted linearly, 14–19 rounds a step.
+  const double floor = 0.01 * 500 * 1e-7;
+  const auto  &steps = r.summary["steps"];
   ASSERT_EQ(steps.size(), rows.size());
-  unsigned coupled = 0;
+  unsigned coupled = 0, contractions = 0;
   for (std::size_t k = 1; k < rows.size(); ++k)
     if (rows[k - 1][s1] != 0 && std::max(rows[k - 1][a0], rows[k - 1][a1]) > L)
       {
         const auto &norms = steps[k]["residual_norms"];
         ASSERT_GE(norms.size(), 3u) << "t = " << rows[k][0];
-        const double last = norms[norms.size() - 1], before = norms[norms.size() - 2];
-        EXPECT_LE(last, 1e-2 * before) << "t = " << rows[k][0];
+        for (std::size_t i = 1; i < norms.size(); ++i)
+          {
+            const double before = norms[i - 1], now = norms[i];
+            EXPECT_LE(now, std::max(1e-2 * before, floor)) << "t = " << rows[k][0] << ", iteration " << i;
+            contractions += now <= 1e-2 * before;
+          }
+        EXPECT_LE(norms.back().get<double>(), floor) << "t = " << rows[k][0];
         EXPECT_LE(steps[k]["newton_iterations"].get<int>(), 6) << "t = " << rows[k][0];
         ++coupled;
       }
   EXPECT_GT(coupled, 10u);
+  EXPECT_GE(contractions, coupled); // at least one contraction by 100 a step
 }
 
 TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)

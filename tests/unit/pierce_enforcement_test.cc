@@ -130,12 +130,16 @@ TEST(PierceEnforcement, PenaltyConvergesToTheLagrangeSolutionAtFirstOrderInTheSt
 
 TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTurns)
 {
-  // A pierce point on a suture element, in stick and in slip, k⊥ = k_t = 5e4 N/m; the
-  // element's nodes moved (a) both by the same vector, which leaves its direction alone:
-  // the tie's Hessian, the stick's −k_t t tᵀ and, in slip, the normal force's
-  // (F/N) N' k⊥ t n̂ᵀ (N' of the smoothed normal force); (b) each its own way, which turns it: the friction's turn with the
-  // element too, σ_b/l (F' t d⊥ᵀ − F P). The Jacobian must match central differences of
-  // the residual in both.
+  // A pierce point on a suture element (a thread without rotations: its polyline), in
+  // stick and in slip, k⊥ = k_t = 5e4 N/m; the element's nodes moved (a) both by the
+  // same vector, which leaves its direction alone: the tie, the stick's −k_t t tᵀ and,
+  // in slip, the normal force's (F/N) N' k⊥ t n̂ᵀ (N' of the smoothed normal force);
+  // (b) each its own way, which turns it: the friction's turn with the element too,
+  // σ_b/l (F' t d⊥ᵀ − F P), of the order of F/l. The Jacobian (itself a central
+  // difference, tissue_needle.h) must match central differences of the residual taken
+  // along these directions with another step (1e-9 m against 1e-8 m per coordinate):
+  // what this checks is that the residual is smooth there and that every column lands
+  // on its node's slot.
   const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
   Eigen::Matrix3Xd          reference(3, 3);
   reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
@@ -184,4 +188,93 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
         EXPECT_GT(Jv.norm(), 1e3) << case_name; // the tie and the friction both load the nodes
         EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm()) << case_name;
       }
+}
+
+TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNodes)
+{
+  // A thread bent by 40° at its middle node, the rod's tangent director there halfway
+  // between its elements' chords, and a tissue point 50 µm inside the bend next to that
+  // node: carried by either element (u just below 1 on the first, just above 0 on the
+  // second) it must feel the same force, since both elements' Hermite curves meet at the
+  // node with one tangent (tissue_needle.h). On the polyline (no rotations given) the two
+  // carriers measure across different lines and disagree: the carrier's flip was a jump
+  // in the force, and the reason for the curve. The thread's Jacobian, with the nodes'
+  // rotations among its unknowns now, must match central differences of the residual
+  // when nodes move and turn.
+  const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
+  Eigen::Matrix3Xd          reference(3, 3);
+  reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
+  const std::vector<mesh::Triangle> triangles{{0, 1, 2}};
+  coupling::TissueNeedleParameters  p;
+  p.friction             = {0.2, 1.0, 0.05}; // a soft stick: the carriers' anchors differ by 2 µm
+  p.transverse_stiffness = 5e4;
+  const double             l = 0.001, bend = 40 * M_PI / 180;
+  const Eigen::Vector3d    t0(-1, 0, 0), t1(-std::cos(bend), std::sin(bend), 0); // along +s
+  std::vector<rod::Vec3>   nodes{{0, 0, 0}, l * t0, l * t0 + l * t1};
+  const auto frame = [](const Eigen::Vector3d &d1) { // R e₁ = d1
+    return rod::Quat::FromTwoVectors(Eigen::Vector3d::UnitX(), d1.normalized());
+  };
+  std::vector<rod::Quat> rotations{frame(t0), frame(t0 + t1), frame(t1)};
+  const double           L = needle.length();
+  const Eigen::Vector3d  inside = (t1 - t0).normalized(); // towards the bend's inside
+  const Eigen::Vector3d  xt     = nodes[1] + 5e-5 * inside + 1e-6 * (t0 + t1).normalized();
+  const std::vector<Point<3>> x{Point<3>(xt[0], xt[1], xt[2])};
+  const auto force_on = [&](const double anchor, const bool curve) {
+    coupling::TissueNeedle tie(needle, p, triangles, reference);
+    tie.begin_step(0, tools::Pose(), reference);
+    tie.set_thread(&nodes, {l, l}, curve ? &rotations : nullptr);
+    tie.add_pierce_point(Point<3>(), anchor);
+    Tensor<1, 3> f;
+    Tensor<2, 3> df_dx;
+    tie.force(0, x[0], f, df_dx);
+    return f;
+  };
+  for (const bool curve : {true, false})
+    {
+      const Tensor<1, 3> first = force_on(L + l - 1e-6, curve), second = force_on(L + l + 1e-6, curve);
+      const double       jump  = (first - second).norm() / first.norm();
+      std::printf("%s: |f| = %.4f N, jump between the carriers %.3e\n", curve ? "curve" : "polyline", first.norm(), jump);
+      if (curve)
+        EXPECT_LT(jump, 1e-3);
+      else
+        EXPECT_GT(jump, 0.1);
+    }
+
+  coupling::TissueNeedle tie(needle, p, triangles, reference);
+  tie.begin_step(0, tools::Pose(), reference);
+  tie.set_thread(&nodes, {l, l}, &rotations);
+  tie.add_pierce_point(Point<3>(), L + 0.6 * l); // on element 0, inside the bend's reach
+  const Eigen::Vector3d         xp = 0.4 * nodes[0] + 0.6 * nodes[1] + 3e-5 * inside;
+  const std::vector<Point<3>>   y{Point<3>(xp[0], xp[1], xp[2])};
+  Eigen::Matrix<double, 12, 1>  r0 = Eigen::Matrix<double, 12, 1>::Zero();
+  Eigen::Matrix<double, 12, 12> J  = Eigen::Matrix<double, 12, 12>::Zero();
+  tie.thread_terms(y, 0, r0, J);
+  Eigen::Matrix<double, 12, 1> v;
+  v << 0.3, -0.8, 0.5, 200, -100, 300, -0.6, 0.2, 0.9, -150, 250, 100; // m, rad per unit
+  const double h        = 1e-9;
+  const auto   residual = [&](const double s) {
+    const auto saved_x = nodes;
+    const auto saved_q = rotations;
+    for (unsigned a = 0; a < 2; ++a)
+      {
+        nodes[a] += s * v.segment<3>(6 * a);
+        rotations[a] = rod::quaternion_exp(s * v.segment<3>(6 * a + 3)) * rotations[a];
+      }
+    Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
+    Eigen::Matrix<double, 12, 12> unused;
+    tie.thread_terms(y, 0, r, unused);
+    nodes     = saved_x;
+    rotations = saved_q;
+    return r;
+  };
+  const Eigen::Matrix<double, 12, 1> fd = (residual(h) - residual(-h)) / (2 * h);
+  const Eigen::Matrix<double, 12, 1> Jv = J * v;
+  // the rotations' own part: the same direction with the nodes held
+  Eigen::Matrix<double, 12, 1> turn_only = v;
+  turn_only.segment<3>(0).setZero();
+  turn_only.segment<3>(6).setZero();
+  std::printf("moved and turned: |J v| = %.4e, |J v - FD| = %.3e; |J v| of the turns alone %.4e\n", Jv.norm(),
+              (Jv - fd).norm(), (J * turn_only).norm());
+  EXPECT_GT((J * turn_only).norm(), 1e-2 * Jv.norm()); // the tangents shape the curve
+  EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm());
 }

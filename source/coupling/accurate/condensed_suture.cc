@@ -1,5 +1,7 @@
 #include <suturesim/coupling/accurate/condensed_suture.h>
 
+#include <suturesim/rod/rotation.h>
+
 #include <algorithm>
 
 namespace suturesim::coupling
@@ -8,8 +10,8 @@ namespace suturesim::coupling
 
   namespace
   {
-    /// Central-difference step of the condensation's blocks, m.
-    constexpr double step = 1e-8;
+    /// Central-difference steps of the condensation's blocks, m and rad.
+    constexpr double step = 1e-8, turn = 1e-7;
   } // namespace
 
   CondensedSuture::CondensedSuture(rod::RodModel &rod, const rod::NewtonParameters &parameters,
@@ -155,6 +157,12 @@ namespace suturesim::coupling
             suture.set_node(i, xi - step * rod::Vec3::Unit(d), qi);
             loads_now(minus);
             F.col(6 * i + d) = (plus - minus) / (2 * step);
+            // the rotations, through the tangents of the pierce points' curve
+            suture.set_node(i, xi, rod::quaternion_exp(turn * rod::Vec3::Unit(d)) * qi);
+            loads_now(plus);
+            suture.set_node(i, xi, rod::quaternion_exp(-turn * rod::Vec3::Unit(d)) * qi);
+            loads_now(minus);
+            F.col(6 * i + 3 + d) = (plus - minus) / (2 * turn);
           }
         suture.set_node(i, xi, qi);
       }

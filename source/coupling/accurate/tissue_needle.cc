@@ -1,6 +1,6 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/coupling/pierce_order.h>
-#include <suturesim/coupling/thread_tie.h>
+#include <suturesim/rod/rotation.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,6 +29,46 @@ namespace suturesim::coupling
     {
       return {p[0], p[1], p[2]};
     }
+
+    /// A thread element's cubic Hermite curve c(u), u ∈ [0, 1] from node a to node b,
+    /// with end tangents m_a, m_b (see the header), and its first two derivatives.
+    struct Hermite
+    {
+      Eigen::Vector3d xa, ma, xb, mb;
+
+      Eigen::Vector3d
+      at(const double u) const
+      {
+        const double u2 = u * u, u3 = u2 * u;
+        return (2 * u3 - 3 * u2 + 1) * xa + (u3 - 2 * u2 + u) * ma + (3 * u2 - 2 * u3) * xb + (u3 - u2) * mb;
+      }
+      Eigen::Vector3d
+      rate(const double u) const
+      {
+        const double u2 = u * u;
+        return (6 * u2 - 6 * u) * (xa - xb) + (3 * u2 - 4 * u + 1) * ma + (3 * u2 - 2 * u) * mb;
+      }
+      Eigen::Vector3d
+      bend(const double u) const
+      {
+        return (12 * u - 6) * (xa - xb) + (6 * u - 4) * ma + (6 * u - 2) * mb;
+      }
+    };
+
+    /// The curve of the element from (@p xa, @p qa) to (@p xb, @p qb): the rod's tangent
+    /// director d₁ = R e₁ at each node scaled by the chord, or the chord itself.
+    Hermite
+    element_curve(const rod::Vec3 &xa, const rod::Quat &qa, const rod::Vec3 &xb, const rod::Quat &qb,
+                  const bool directors)
+    {
+      if (!directors)
+        return {xa, xb - xa, xb, xb - xa};
+      const double chord = (xb - xa).norm();
+      return {xa, chord * (qa * Eigen::Vector3d::UnitX()), xb, chord * (qb * Eigen::Vector3d::UnitX())};
+    }
+
+    /// Central-difference steps of the thread's tangents: positions (m), rotations (rad).
+    constexpr double position_step = 1e-8, rotation_step = 1e-7;
   } // namespace
 
   TissueNeedle::TissueNeedle(const tools::CurvedNeedle &geometry, const TissueNeedleParameters &parameters,
@@ -42,9 +82,11 @@ namespace suturesim::coupling
   }
 
   void
-  TissueNeedle::set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths)
+  TissueNeedle::set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths,
+                           const std::vector<rod::Quat> *rotations)
   {
-    thread = nodes;
+    thread           = nodes;
+    thread_rotations = rotations;
     thread_s.assign(1, 0.0);
     for (const double l : element_lengths)
       thread_s.push_back(thread_s.back() + l);
@@ -72,9 +114,46 @@ namespace suturesim::coupling
     if (!thread || zeta <= needle.length())
       return {tensor(needle.point(current, zeta)), tensor(needle.tangent(current, zeta))};
     const auto [e, xi]       = thread_element(zeta - needle.length());
-    const auto           &x  = *thread;
-    const Eigen::Vector3d c  = (1 - xi) * x[e] + xi * x[e + 1];
-    return {tensor(c), tensor((x[e] - x[e + 1]).normalized())};
+    const auto [xa, qa]      = thread_node(e);
+    const auto [xb, qb]      = thread_node(e + 1);
+    const Hermite  h         = element_curve(xa, qa, xb, qb, thread_rotations);
+    return {tensor(h.at(xi)), tensor(-h.rate(xi).normalized())};
+  }
+
+  std::pair<rod::Vec3, rod::Quat>
+  TissueNeedle::thread_node(const std::size_t i) const
+  {
+    return {(*thread)[i], thread_rotations ? (*thread_rotations)[i] : rod::Quat::Identity()};
+  }
+
+  TissueNeedle::Offset
+  TissueNeedle::across_element(const std::size_t e, const Eigen::Vector3d &x, const rod::Vec3 &xa,
+                               const rod::Quat &qa, const rod::Vec3 &xb, const rod::Quat &qb, const double u0) const
+  {
+    const Hermite h = element_curve(xa, qa, xb, qb, thread_rotations);
+    // the closest point: g(u) = (x − c)·c′ = 0 by Newton, g′ = −|c′|² + (x − c)·c″; where
+    // the point lies beyond the curve's centre of curvature g′ may not be negative, and
+    // the step falls back to the Gauss–Newton one (−|c′|²)
+    double u = u0;
+    for (unsigned iteration = 0; iteration < 50; ++iteration)
+      {
+        const Eigen::Vector3d d = x - h.at(u), c1 = h.rate(u);
+        const double          a = c1.squaredNorm();
+        double                slope = -a + d.dot(h.bend(u));
+        if (slope > -0.1 * a)
+          slope = -a;
+        const double step = -d.dot(c1) / slope;
+        u                 = std::clamp(u + step, -1.0, 2.0);
+        if (std::abs(step) < 1e-14)
+          break;
+      }
+    Offset o;
+    o.u                  = u;
+    o.zeta               = needle.length() + thread_s[e] + u * (thread_s[e + 1] - thread_s[e]);
+    o.tangent            = tensor(-h.rate(u).normalized());
+    const Tensor<1, 3> d = tensor(x - h.at(u));
+    o.across             = d - (d * o.tangent) * o.tangent;
+    return o;
   }
 
   std::vector<std::size_t>
@@ -104,6 +183,7 @@ namespace suturesim::coupling
   TissueNeedle::thread_terms(const std::vector<Point<3>> &x, const std::size_t element,
                              Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const
   {
+    using Vec12              = Eigen::Matrix<double, 12, 1>;
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
@@ -112,63 +192,42 @@ namespace suturesim::coupling
         const auto [e, xi] = thread_element(pierce[j].carrier - needle.length());
         if (e != element)
           continue;
-        // the tie across the thread from its energy (exact, the element's turn
-        // included); the friction along it as the force it is
-        const auto            &xs = *thread;
-        const Eigen::Vector3d  xj = eigen(x[offset + j]);
-        const ThreadTie        tie = thread_tie(xj, xs[e], xs[e + 1], 1 - xi, prm.transverse_stiffness);
-        Tensor<2, 3>           df_dx;
-        FrictionResult         slip;
-        double                 N = 0;
-        const Tensor<1, 3>     f = pierce_force(pierce[j], x[offset + j], &slip, &N, &df_dx);
-        const double           w[2] = {1 - xi, xi};
-        const Eigen::Vector3d  t    = (xs[e] - xs[e + 1]).normalized();
-        // in slip f_t = −F t with F = ∓μN, N = N₀ + s(|f⊥|): ∂f_t/∂x = (F/N) s' k⊥ t n̂ᵀ,
-        // n̂ the tie force's direction. Left out of the tissue's symmetric tangent, but a stiff
-        // tie (μ k⊥ of the tie's own order) makes the suture's Newton diverge without it.
-        Tensor<1, 3> n_hat;
-        for (unsigned i = 0; i < 3; ++i)
-          n_hat[i] = f[i] + slip.force * t[i]; // f⊥ = f + F t
-        const double tie_force = n_hat.norm();
-        if (tie_force > 0)
-          n_hat /= tie_force;
-        // The friction's turn with the element: t = (x_a − x_b)/l turns by ∂t/∂x_a =
-        // P/l = −∂t/∂x_b (P = I − t tᵀ) about the element's point c, and with it the
-        // projection ζ = ζ_a − (x − c)·t (∂ζ/∂x_a = −d⊥ᵀ/l, d⊥ = P (x − c)) and, in slip,
-        // the tie's length |d⊥| (∂|d⊥|/∂x_a = −(t·(x − c)) d̂ᵀ/l, d̂ = −n̂: the lever of a
-        // point that lags along the thread). On −F t this gives, per node b of sign
-        // σ_b = ±1, σ_b/l (F' t d⊥ᵀ − F P + (F/N) k⊥ (t·(x − c)) t d̂ᵀ), F' = ∂F/∂ζ: of
-        // the order of F/l, the same as the thread's own geometric stiffness T/l across
-        // itself.
-        const double          l      = (xs[e] - xs[e + 1]).norm();
-        const Eigen::Vector3d c      = (1 - xi) * xs[e] + xi * xs[e + 1];
-        const double          lever  = (xj - c).dot(t);
-        const Eigen::Vector3d d_perp = (xj - c) - lever * t;
-        const double          N_rate =
-          slip.slipping && N > 0
-            ? slip.force / N * prm.transverse_stiffness *
-                normal_force(prm.friction.grip, tie_force, prm.normal_smoothing).rate
-            : 0.0;
-        for (unsigned a = 0; a < 2; ++a)
+        const Eigen::Vector3d xj = eigen(x[offset + j]);
+        // the point's force f on the tissue and its reaction on the nodes, with the
+        // element's nodes at (ya, ra), (yb, rb)
+        const auto load = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
+          const Offset       o = across_element(e, xj, ya, ra, yb, rb, xi);
+          const Tensor<1, 3> f = pierce_force(pierce[j], o, nullptr, nullptr);
+          const double       u = std::clamp(o.u, 0.0, 1.0);
+          Vec12              r = Vec12::Zero();
           for (unsigned i = 0; i < 3; ++i)
             {
-              // friction f − f⊥ on the tissue, its reaction on the node by weight
-              residual[6 * a + i] += tie.gradient[3 * a + i] + w[a] * (f[i] - tie.tissue_force[i]);
-              for (unsigned b = 0; b < 2; ++b)
-                for (unsigned k = 0; k < 3; ++k)
-                  {
-                    // ∂(friction)/∂x = df_dx + k⊥ P
-                    const double friction_rate =
-                      df_dx[i][k] + prm.transverse_stiffness * ((i == k ? 1.0 : 0.0) - t[i] * t[k]) +
-                      N_rate * t[i] * n_hat[k];
-                    const double turn = (b == 0 ? 1.0 : -1.0) / l *
-                                        (slip.derivative * t[i] * d_perp[k] -
-                                         slip.force * ((i == k ? 1.0 : 0.0) - t[i] * t[k]) +
-                                         N_rate * lever * t[i] * (-n_hat[k]));
-                    jacobian(6 * a + i, 6 * b + k) +=
-                      tie.hessian(3 * a + i, 3 * b + k) - w[a] * w[b] * friction_rate + w[a] * turn;
-                  }
+              r[i]     = (1 - u) * f[i];
+              r[6 + i] = u * f[i];
             }
+          return r;
+        };
+        const auto [xa, qa] = thread_node(e);
+        const auto [xb, qb] = thread_node(e + 1);
+        residual += load(xa, qa, xb, qb);
+        for (unsigned c = 0; c < 12; ++c)
+          {
+            const bool   turn = c % 6 >= 3;
+            const double h    = turn ? rotation_step : position_step;
+            const auto   moved = [&](const double by) {
+              rod::Vec3       ya = xa, yb = xb;
+              rod::Quat       ra = qa, rb = qb;
+              const rod::Vec3 v  = by * rod::Vec3::Unit(c % 3);
+              rod::Vec3      &y  = c < 6 ? ya : yb;
+              rod::Quat      &q  = c < 6 ? ra : rb;
+              if (turn)
+                q = rod::quaternion_exp(v) * q;
+              else
+                y += v;
+              return load(ya, ra, yb, rb);
+            };
+            jacobian.col(c) += (moved(h) - moved(-h)) / (2 * h);
+          }
       }
   }
 
@@ -223,12 +282,9 @@ namespace suturesim::coupling
   double
   TissueNeedle::projection(const AccuratePiercePoint &p, const Point<3> &x) const
   {
-    // on the thread, the carrier's straight element (extended)
+    // on the thread, the carrier element's curve (extended)
     if (on_thread(p))
-      {
-        const auto [c, t] = curve(p.carrier);
-        return p.carrier - (Tensor<1, 3>(x) - c) * t;
-      }
+      return across_curve(p, x).zeta;
     // on the needle, the circle through the arc, taken within half a turn of the anchor
     // and continued straight along the end tangents beyond the tip and the swage
     const double    R   = needle.radius(), L = needle.length();
@@ -245,13 +301,8 @@ namespace suturesim::coupling
   }
 
   std::pair<Tensor<1, 3>, Tensor<1, 3>>
-  TissueNeedle::projected_curve(const AccuratePiercePoint &p, const double zeta) const
+  TissueNeedle::projected_curve(const double zeta) const
   {
-    if (on_thread(p))
-      {
-        const auto [c, t] = curve(p.carrier);
-        return {c - (zeta - p.carrier) * t, t};
-      }
     const double end   = std::clamp(zeta, 0.0, needle.length());
     const auto [c, t]  = curve(end);
     return {c - (zeta - end) * t, t};
@@ -260,9 +311,16 @@ namespace suturesim::coupling
   TissueNeedle::Offset
   TissueNeedle::across_curve(const AccuratePiercePoint &p, const Point<3> &x) const
   {
+    if (on_thread(p))
+      {
+        const auto [e, xi]  = thread_element(p.carrier - needle.length());
+        const auto [xa, qa] = thread_node(e);
+        const auto [xb, qb] = thread_node(e + 1);
+        return across_element(e, eigen(x), xa, qa, xb, qb, xi);
+      }
     Offset o;
     o.zeta            = projection(p, x);
-    const auto [c, t] = projected_curve(p, o.zeta);
+    const auto [c, t] = projected_curve(o.zeta);
     const Tensor<1, 3> d = Tensor<1, 3>(x) - c;
     o.tangent            = t;
     o.across             = d - (d * t) * t;
@@ -270,29 +328,54 @@ namespace suturesim::coupling
   }
 
   Tensor<1, 3>
-  TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
-                             double *N_out, Tensor<2, 3> *df_dx) const
+  TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Offset &o, FrictionResult *r_out,
+                             double *N_out) const
   {
     // the tie across the curve at the point's projection ζ, the friction along it by ζ − ζ_a
-    const auto [zeta, t, d_perp] = across_curve(p, x);
-    const Tensor<1, 3> lambda = p.multiplier - (p.multiplier * t) * t;
-    const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * d_perp);
+    const Tensor<1, 3> lambda = p.multiplier - (p.multiplier * o.tangent) * o.tangent;
+    const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * o.across);
     const double       N      = normal_force(prm.friction.grip, f_perp.norm(), prm.normal_smoothing).value;
     // the generalised force f_ζ acts along dx/dζ = −t
-    const FrictionResult r = coulomb_friction(prm.friction, zeta, p.anchor, N);
+    const FrictionResult r = coulomb_friction(prm.friction, o.zeta, p.anchor, N);
     if (r_out)
       *r_out = r;
     if (N_out)
       *N_out = N;
-    if (df_dx)
+    return f_perp - r.force * o.tangent;
+  }
+
+  Tensor<1, 3>
+  TissueNeedle::pierce_force(const AccuratePiercePoint &p, const Point<3> &x, FrictionResult *r_out,
+                             double *N_out, Tensor<2, 3> *df_dx) const
+  {
+    const Offset       o = across_curve(p, x);
+    FrictionResult     r;
+    const Tensor<1, 3> f = pierce_force(p, o, &r, N_out);
+    if (r_out)
+      *r_out = r;
+    if (!df_dx)
+      return f;
+    if (on_thread(p))
       {
-        // the curvature's part (|d_perp| / R against 1) is left out
-        const Tensor<2, 3> ttT = outer_product(t, t);
-        *df_dx                 = -prm.transverse_stiffness * (unit_symmetric_tensor<3>() - ttT);
-        if (!r.slipping)
-          *df_dx -= prm.friction.stiffness * ttT;
+        for (unsigned k = 0; k < 3; ++k)
+          {
+            Point<3> plus = x, minus = x;
+            plus[k] += position_step;
+            minus[k] -= position_step;
+            const Tensor<1, 3> rate = (pierce_force(p, across_curve(p, plus), nullptr, nullptr) -
+                                       pierce_force(p, across_curve(p, minus), nullptr, nullptr)) /
+                                      (2 * position_step);
+            for (unsigned i = 0; i < 3; ++i)
+              (*df_dx)[i][k] = rate[i];
+          }
+        return f;
       }
-    return f_perp - r.force * t;
+    // the curvature's part (|d_perp| / R against 1) is left out
+    const Tensor<2, 3> ttT = outer_product(o.tangent, o.tangent);
+    *df_dx                 = -prm.transverse_stiffness * (unit_symmetric_tensor<3>() - ttT);
+    if (!r.slipping)
+      *df_dx -= prm.friction.stiffness * ttT;
+    return f;
   }
 
   double
@@ -301,21 +384,20 @@ namespace suturesim::coupling
     const double      L = needle.length();
     const std::size_t n = thread_s.size() - 1;
     auto [e, xi]        = thread_element(p.carrier - L);
-    const auto &nodes   = *thread;
     const Eigen::Vector3d X = eigen(x);
-    // ξ of x's projection on element e's line
+    // u of x's projection on element k's curve (extended)
     const auto along = [&](const std::size_t k) {
-      const Eigen::Vector3d u = nodes[k + 1] - nodes[k];
-      return (X - nodes[k]).dot(u) / u.squaredNorm();
+      const auto [xa, qa] = thread_node(k);
+      const auto [xb, qb] = thread_node(k + 1);
+      return across_element(k, X, xa, qa, xb, qb, 0.5).u;
     };
     // Walk while the projection lies beyond the element's ends by more than a tenth of
-    // it. The slack is a dead zone: a point at the outside of a bend projects beyond the
-    // end of either element that meets there, and without it the carrier swapped
-    // between the two on every round (a cycle of two that never converged, seen at the
-    // stitch's tightening); within it the point stays on its element and is measured
-    // across that element's line, continued by at most a tenth of an element. A point
-    // at the inside of a bend (beyond both ends towards each other) would swing back and
-    // forth too: the walk never turns round.
+    // it. The slack is a dead zone, kept from the polyline (where a point at the outside
+    // of a bend projects beyond the end of either element that meets there, and the
+    // carrier swapped between the two on every round): within it the point stays on its
+    // element, measured across that element's curve continued by at most a tenth of an
+    // element, which the next element's curve meets with the same tangent at the node.
+    // The walk never turns round, so a point cannot swing back and forth.
     constexpr double slack     = 0.1;
     int              last_step = 0;
     for (std::size_t walked = 0; walked <= n; ++walked)
@@ -372,9 +454,9 @@ namespace suturesim::coupling
     const std::size_t offset = touch_index() == 0 ? 1 : 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
-        const auto [zeta, t, across] = across_curve(pierce[j], x[offset + j]);
-        const Tensor<1, 3> next      = pierce[j].multiplier + prm.transverse_stiffness * across;
-        pierce[j].multiplier         = next - (next * t) * t;
+        const Offset       o    = across_curve(pierce[j], x[offset + j]);
+        const Tensor<1, 3> next = pierce[j].multiplier + prm.transverse_stiffness * o.across;
+        pierce[j].multiplier    = next - (next * o.tangent) * o.tangent;
       }
     return gap;
   }

@@ -10,11 +10,12 @@
  * equilibrate(): the suture's own Newton solve with the tissue's points held where the
  * tissue's iterate puts them, then G = F_q D⁻¹ H with D the suture's factorised Jacobian
  * there, H = ∂R_suture/∂y (the points' pull on the suture's residual) and F_q = ∂f/∂q
- * (the loads on the tissue against the suture's node positions; its rotations do not
- * enter them). H and F_q are central differences of the residual and of the loads
- * (step 1e-8 m: the ties are linear in the positions but for the friction's slip
- * direction and the carrier element's turn, which the exact blocks would have to carry
- * through three functions); tests/unit compare the coupled Newton's convergence.
+ * (the loads on the tissue against the suture's node positions and rotations: the
+ * rotations' tangent directors shape the thread's curve the pierce points are measured
+ * on). H and F_q are central differences of the residual and of the loads (steps 1e-8 m
+ * and 1e-7 rad: the loads go through the projection on that curve, the return mapping
+ * and the smoothed normal force, whose exact chain would be long); tests/unit compare
+ * the coupled Newton's convergence.
  */
 
 #include <suturesim/coupling/accurate/suture_contact.h>

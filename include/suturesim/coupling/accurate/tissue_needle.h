@@ -30,16 +30,28 @@
  * Touch: f = −F n_push with F = k_c max(0, penetration) (tangent −k_c n nᵀ while pressed).
  * The needle carries the opposite of all of these.
  *
- * The thread (set_thread(): the Cosserat suture's nodes, node 0 at the swage) continues
- * the needle's curve: ζ = L + s at the suture's reference arc length s, the point
- * c = (1 − ξ) x_e + ξ x_{e+1} on the element e holding s, the tangent along
- * x_e − x_{e+1} (the way the needle advances). Pierce points pass onto it at the swage
- * and are released at its far end. A point on the thread loads the suture's two nodes
- * with −(1 − ξ) f and −ξ f (thread_terms(); the tissue side takes f at x).
+ * The thread (set_thread(): the Cosserat suture's nodes and rotations, node 0 at the
+ * swage) continues the needle's curve: ζ = L + s at the suture's reference arc length s.
+ * The pierce point is measured against a C¹ centreline, not the elements' polyline: on
+ * element e (nodes a, b, reference length l₀) the cubic Hermite curve
+ *   c(u) = h₀₀(u) x_a + h₁₀(u) ℓ d₁(a) + h₀₁(u) x_b + h₁₁(u) ℓ d₁(b),   ℓ = |x_b − x_a|,
+ * through both nodes with the rods' tangent directors d₁ = R e₁ there (shared by the
+ * elements that meet at a node, so the curve's tangent is continuous along the thread;
+ * the beam-contact smoothing of Litewka & Wriggers 2002, Comput. Mech. 28:26–39, with
+ * the Cosserat rod's own nodal tangents; a thread without rotations, as in unit tests,
+ * gets the chord, c = (1 − u) x_a + u x_b). The point's projection u solves
+ * (x − c(u))·c′(u) = 0 (Newton); ζ = L + s_e + u l₀, the tangent t = −c′/|c′| (the way
+ * the needle advances). Why: on the polyline a taut thread bent round its hole puts the
+ * point at the bend's inside, where the distance to the polyline has a kink and the
+ * carrier element flips between the two that meet there; each flip jumped the tie's
+ * force and the stitch's tightening stalled at any step size (docs/interrupted_stitch.md).
+ * Pierce points pass onto the thread at the swage and are released at its far end. A
+ * point on the thread loads the element's two nodes with −(1 − u) f and −u f (u within
+ * [0, 1]; thread_terms(); the tissue side takes f at x).
  * The element is the one that carries the point's projection (AccuratePiercePoint::
  * carrier), not the anchor's: a thread that slides by more than an element within a
- * step would otherwise hold the point on its anchor element's line extended, and a solve
- * can then meet the tie with that line turned through the point millimetres away from
+ * step would otherwise hold the point on its anchor element's curve extended, and a solve
+ * can then meet the tie with that curve turned through the point millimetres away from
  * the thread (seen at the stitch's tightening: the thread left its hole by 3 mm). The
  * carrier is fixed within a suture solve and follows the thread between them
  * (follow_thread(); coupling/accurate/condensed_suture.h repeats the suture's solve
@@ -76,7 +88,7 @@ namespace suturesim::coupling
     dealii::Point<3>     X;
     double               anchor = 0;
     /// On the thread: the thread coordinate whose element carries the point (its last
-    /// projection), m. The tie and the friction are measured on that element's line,
+    /// projection), m. The tie and the friction are measured on that element's curve,
     /// which is fixed within a suture solve and follows the point between them
     /// (TissueNeedle::follow_thread()).
     double               carrier = 0;
@@ -99,19 +111,21 @@ namespace suturesim::coupling
     bool
     begin_step(double t, const tools::Pose &pose, const Eigen::Matrix3Xd &surface);
 
-    /// The suture beyond the swage: its current node positions (kept by the caller and
-    /// read at every evaluation; node 0 at the swage) and the reference length of each
+    /// The suture beyond the swage: its current node positions and rotations (kept by
+    /// the caller and read at every evaluation; node 0 at the swage; @p rotations may be
+    /// nullptr, the thread is then its polyline) and the reference length of each
     /// element (m). Without it points are released at the swage.
     void
-    set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths);
+    set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths,
+               const std::vector<rod::Quat> *rotations = nullptr);
 
     /// Residual and Jacobian the pierce points on the thread add to suture element
     /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
-    /// fixed): the transverse tie from its energy (coupling/thread_tie.h: exact, with
-    /// the element's turn), and the reaction of the friction, −w_a f_t on node a,
-    /// w = (1 − ξ, ξ), with ∂/∂x_b = w_a w_b ∂f_t/∂x plus the friction's turn with the
-    /// element (t and the projection ζ turn with x_a − x_b); in slip the normal force's
-    /// change, (F/N) N' k⊥ t n̂ᵀ with N' = ∂N/∂|f⊥|, is in.
+    /// fixed): the reaction of the point's force f (tie and friction), (1 − u) f on node
+    /// a and u f on node b. The Jacobian (positions and rotations of both nodes) is the
+    /// central difference of that residual (steps 1e-8 m, 1e-7 rad): f goes through the
+    /// projection on the Hermite curve, the return mapping and the smoothed normal
+    /// force, whose exact chain would be long, and the tests check its convergence.
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
                  Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
@@ -231,25 +245,40 @@ namespace suturesim::coupling
     carried_to(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
     /// Where pierce point @p p at @p x projects on the curve, ζ (m): on the needle, the
     /// nearest point of its circle (straight on past the tip and the swage); on the
-    /// thread, of the anchor's element's line.
+    /// thread, of its carrier element's curve (extended).
     double
     projection(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
-    /// Point and tangent of that curve (circle or line) at ζ.
+    /// Point and tangent of the needle's circle at ζ, continued straight past its ends.
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
-    projected_curve(const AccuratePiercePoint &p, double zeta) const;
+    projected_curve(double zeta) const;
     /// Pierce point @p p at @p x against the curve: its projection ζ (m), the tangent
-    /// there, and the part of x − c(ζ) across it (m).
+    /// there, the part of x − c(ζ) across it (m) and, on the thread, the projection's
+    /// Hermite parameter u on the carrier element.
     struct Offset
     {
       double               zeta = 0;
       dealii::Tensor<1, 3> tangent, across;
+      double               u = 0;
     };
     Offset
     across_curve(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
+    /// The same on the thread's element @p e with its nodes at (@p xa, @p qa) and
+    /// (@p xb, @p qb), the projection's Newton iteration started at @p u0.
+    Offset
+    across_element(std::size_t e, const Eigen::Vector3d &x, const rod::Vec3 &xa, const rod::Quat &qa,
+                   const rod::Vec3 &xb, const rod::Quat &qb, double u0) const;
+    /// Node i's position and rotation (identity without rotations).
+    std::pair<rod::Vec3, rod::Quat>
+    thread_node(std::size_t i) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();
-    /// Pierce point j's force at x, with its friction result and normal force.
+    /// Pierce point @p p's force at offset @p o, with its friction result and normal force.
+    dealii::Tensor<1, 3>
+    pierce_force(const AccuratePiercePoint &p, const Offset &o, FrictionResult *r, double *N) const;
+    /// Its force at x, with the tangent ∂f/∂x when @p df_dx is given: on the needle
+    /// without the curvature's part (|d⊥|/R against 1); on the thread the central
+    /// difference (the Hermite curve bends at every node).
     dealii::Tensor<1, 3>
     pierce_force(const AccuratePiercePoint &p, const dealii::Point<3> &x, FrictionResult *r,
                  double *N, dealii::Tensor<2, 3> *df_dx) const;
@@ -264,6 +293,7 @@ namespace suturesim::coupling
     std::size_t                        saved_log = 0;
     std::vector<dealii::Point<3>>      X;
     const std::vector<rod::Vec3>      *thread = nullptr;
+    const std::vector<rod::Quat>      *thread_rotations = nullptr;
     std::vector<double>                thread_s; ///< reference arc length at each node
     tools::Pose                        current, saved_pose;
     double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
