@@ -47,7 +47,11 @@
  * force and the stitch's tightening stalled at any step size (docs/interrupted_stitch.md).
  * Pierce points pass onto the thread at the swage and are released at its far end. A
  * point on the thread loads the element's two nodes with −(1 − u) f and −u f (u within
- * [0, 1]; thread_terms(); the tissue side takes f at x).
+ * [0, 1]; thread_terms(); the tissue side takes f at x). These are the chord's weights,
+ * not the curve's: the couple left out, f × (c(u) − the chord's point), is of the
+ * order of f l θ/8 for an element of length l turned by θ against its neighbour, and
+ * putting the curve's weights on the nodes' rotations instead would load the rod in
+ * shear by f/l.
  * The element is the one that carries the point's projection (AccuratePiercePoint::
  * carrier), not the anchor's: a thread that slides by more than an element within a
  * step would otherwise hold the point on its anchor element's curve extended, and a solve
