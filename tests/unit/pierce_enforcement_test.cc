@@ -30,6 +30,15 @@ namespace
     double   gap    = 0;       ///< |P⊥ d|, m
     unsigned rounds = 0;       ///< solves
   };
+
+  /// A needle and a tissue surface far from the thread (one triangle 1 m away), for the
+  /// pierce points' thread terms alone.
+  struct ThreadBench
+  {
+    tools::CurvedNeedle               needle{0.008, 0.75 * M_PI, 0.0005};
+    Eigen::Matrix3Xd                  reference = (Eigen::Matrix3Xd(3, 3) << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0).finished();
+    std::vector<mesh::Triangle>       triangles{{0, 1, 2}};
+  };
 } // namespace
 
 TEST(PierceEnforcement, PenaltyConvergesToTheLagrangeSolutionAtFirstOrderInTheStiffness)
@@ -140,11 +149,11 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
   // along these directions with another step (1e-9 m against 1e-8 m per coordinate):
   // what this checks is that the residual is smooth there and that every column lands
   // on its node's slot.
-  const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
-  Eigen::Matrix3Xd          reference(3, 3);
-  reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
-  const std::vector<mesh::Triangle> triangles{{0, 1, 2}};
-  coupling::TissueNeedleParameters  p;
+  const ThreadBench                bench;
+  const tools::CurvedNeedle       &needle    = bench.needle;
+  const Eigen::Matrix3Xd          &reference = bench.reference;
+  const auto                      &triangles = bench.triangles;
+  coupling::TissueNeedleParameters p;
   p.friction             = {0.2, 5e4, 0.05};
   p.transverse_stiffness = 5e4;
   p.normal_smoothing     = 1; // N: of the tie force's order here, so that N' ≠ 1 counts
@@ -201,11 +210,11 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
   // in the force, and the reason for the curve. The thread's Jacobian, with the nodes'
   // rotations among its unknowns now, must match central differences of the residual
   // when nodes move and turn.
-  const tools::CurvedNeedle needle(0.008, 0.75 * M_PI, 0.0005);
-  Eigen::Matrix3Xd          reference(3, 3);
-  reference << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0; // one triangle, 1 m away
-  const std::vector<mesh::Triangle> triangles{{0, 1, 2}};
-  coupling::TissueNeedleParameters  p;
+  const ThreadBench                bench;
+  const tools::CurvedNeedle       &needle    = bench.needle;
+  const Eigen::Matrix3Xd          &reference = bench.reference;
+  const auto                      &triangles = bench.triangles;
+  coupling::TissueNeedleParameters p;
   p.friction             = {0.2, 1.0, 0.05}; // a soft stick: the carriers' anchors differ by 2 µm
   p.transverse_stiffness = 5e4;
   const double             l = 0.001, bend = 40 * M_PI / 180;
