@@ -227,7 +227,7 @@ namespace suturesim::rod
         {
           Vec12 r = Vec12::Zero();
           Mat12 J = Mat12::Zero();
-          (*element_terms)(k, r, J);
+          (*element_terms)(k, r, with_jacobian ? &J : nullptr);
           s.r.segment<12>(6 * k) += r;
           if (with_jacobian)
             {

@@ -174,7 +174,7 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
         const std::vector<Point<3>>   x{Point<3>(xt[0], xt[1], xt[2])};
         Eigen::Matrix<double, 12, 1>  r0 = Eigen::Matrix<double, 12, 1>::Zero();
         Eigen::Matrix<double, 12, 12> J  = Eigen::Matrix<double, 12, 12>::Zero();
-        tie.thread_terms(x, 0, r0, J);
+        tie.thread_terms(x, 0, r0, &J);
         const Eigen::Vector3d         move_a(0.3, -0.8, 0.5);
         const Eigen::Vector3d         move_b = turn ? Eigen::Vector3d(-0.6, 0.2, 0.9) : move_a;
         Eigen::Matrix<double, 12, 1>  v = Eigen::Matrix<double, 12, 1>::Zero();
@@ -186,8 +186,7 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
           nodes[0] += s * move_a;
           nodes[1] += s * move_b;
           Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
-          Eigen::Matrix<double, 12, 12> unused;
-          tie.thread_terms(x, 0, r, unused);
+          tie.thread_terms(x, 0, r, nullptr);
           nodes = saved;
           return r;
         };
@@ -257,7 +256,7 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
   const std::vector<Point<3>>   y{Point<3>(xp[0], xp[1], xp[2])};
   Eigen::Matrix<double, 12, 1>  r0 = Eigen::Matrix<double, 12, 1>::Zero();
   Eigen::Matrix<double, 12, 12> J  = Eigen::Matrix<double, 12, 12>::Zero();
-  tie.thread_terms(y, 0, r0, J);
+  tie.thread_terms(y, 0, r0, &J);
   Eigen::Matrix<double, 12, 1> v;
   v << 0.3, -0.8, 0.5, 200, -100, 300, -0.6, 0.2, 0.9, -150, 250, 100; // m, rad per unit
   const double h        = 1e-9;
@@ -270,8 +269,7 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
         rotations[a] = rod::quaternion_exp(s * v.segment<3>(6 * a + 3)) * rotations[a];
       }
     Eigen::Matrix<double, 12, 1>  r = Eigen::Matrix<double, 12, 1>::Zero();
-    Eigen::Matrix<double, 12, 12> unused;
-    tie.thread_terms(y, 0, r, unused);
+    tie.thread_terms(y, 0, r, nullptr);
     nodes     = saved_x;
     rotations = saved_q;
     return r;

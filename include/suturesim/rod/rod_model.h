@@ -50,9 +50,10 @@ namespace suturesim::rod
 
   /// Terms coupling the two nodes of element e (a load at a point inside it, such as a
   /// pierce point the suture slides through): residual (12, nodes e and e + 1) and its
-  /// Jacobian (12 × 12), added to the element's blocks.
+  /// Jacobian (12 × 12), added to the element's blocks; the Jacobian is nullptr when
+  /// only the residual is wanted (a term whose Jacobian is costly skips it then).
   using ElementTerms = std::function<void(std::size_t element, Eigen::Matrix<double, 12, 1> &residual,
-                                          Eigen::Matrix<double, 12, 12> &jacobian)>;
+                                          Eigen::Matrix<double, 12, 12> *jacobian)>;
   /// Elements that @ref ElementTerms acts on (the others are skipped).
   using ElementList = std::vector<std::size_t>;
 

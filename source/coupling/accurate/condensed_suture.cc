@@ -24,7 +24,7 @@ namespace suturesim::coupling
     , loads(all)
     , terms(nodal)
   {
-    element_terms = [this](const std::size_t e, Eigen::Matrix<double, 12, 1> &r, Eigen::Matrix<double, 12, 12> &J) {
+    element_terms = [this](const std::size_t e, Eigen::Matrix<double, 12, 1> &r, Eigen::Matrix<double, 12, 12> *J) {
       needle.thread_terms(seen, e, r, J);
     };
   }

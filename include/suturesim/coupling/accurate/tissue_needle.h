@@ -130,9 +130,10 @@ namespace suturesim::coupling
     /// central difference of that residual (steps 1e-8 m, 1e-7 rad): f goes through the
     /// projection on the Hermite curve, the return mapping and the smoothed normal
     /// force, whose exact chain would be long, and the tests check its convergence.
+    /// @p jacobian may be nullptr (the residual alone: 1 evaluation a point, not 25).
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
-                 Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> &jacobian) const;
+                 Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> *jacobian) const;
 
     /// Moves each thread point's carrier element to the one its projection at tissue
     /// positions @p x (one per points()) falls on, walking along the thread from the
