@@ -2,6 +2,7 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace suturesim::rod
@@ -60,6 +61,21 @@ namespace suturesim::rod
     return {(1 - w) * x0 + w * x1, (1 - w) * r0 + w * r1};
   }
 
+  Vec3
+  EndCondition::position(const double t, const Vec3 &held_at) const
+  {
+    if (frame == "grasp" || keyframes.empty())
+      return held_at + motion(t).first;
+    // world: on a straight line from the hold to the first keyframe, then the keyframes
+    const auto   first = keyframes.upper_bound(grasp_time);
+    const auto   to    = first == keyframes.end() ? std::prev(first) : first;
+    const Vec3   k0(to->second[0], to->second[1], to->second[2]);
+    if (t >= to->first)
+      return motion(t).first;
+    const double w = to->first > grasp_time ? std::clamp((t - grasp_time) / (to->first - grasp_time), 0.0, 1.0) : 1.0;
+    return (1 - w) * held_at + w * k0;
+  }
+
   void
   EndCondition::declare(ParameterHandler &prm)
   {
@@ -80,6 +96,11 @@ namespace suturesim::rod
                       "before, held by Type after, the keyframes then displacing it from "
                       "where it was at that time. 0: held from the start. Unit: s. Range: "
                       ">= 0.");
+    prm.declare_entry("Keyframes frame", "grasp", Patterns::Selection("grasp|world"),
+                      "grasp: the keyframes' first three numbers displace the end from where "
+                      "it was held; world: they are its positions, the first after the grasp "
+                      "reached in a straight line from where it was held (both model paths "
+                      "then pull from the same place). Unit: none.");
   }
 
   void
@@ -88,6 +109,7 @@ namespace suturesim::rod
     type       = prm.get("Type");
     keyframes  = scene::get_keyframes(prm, "Keyframes", scope);
     grasp_time = prm.get_double("Grasp time");
+    frame      = prm.get("Keyframes frame");
     scope.require(grasp_time == 0 || type != "free", "Grasp time", "needs a Type other than free");
     std::size_t count = 0;
     for (const auto &[t, v] : keyframes)
@@ -461,10 +483,10 @@ namespace suturesim::rod
     const auto move = [&](const EndCondition &end, const std::size_t node) {
       if (end.type != "prescribed")
         return;
-      const auto [u, r] = end.motion(t);
+      const Vec3 r      = end.motion(t).second;
       const Quat q      = end.fixes_rotation() ? quaternion_exp(r) * initial.rotations()[node]
                                                : model.rotations()[node];
-      model.set_node(node, initial.positions()[node] + u, q);
+      model.set_node(node, end.position(t, initial.positions()[node]), q);
     };
     move(start_end, 0);
     move(last_end, model.n_nodes() - 1);

@@ -5,6 +5,7 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
+#include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/scene/wound_closure.h>
 #include <suturesim/tissue/point_load_list.h>
 
@@ -94,6 +95,15 @@ namespace suturesim::scene
                         surface.triangles, surface.reference);
         contact->set_suture(&suture->positions());
       }
+    // the incision's faces against each other (Closure/Face contact)
+    std::optional<coupling::WoundContact> faces;
+    if (in.closure && !in.closure->face_contact.empty())
+      {
+        const auto [a, b] = in.closure->face_contact_ids(mesh_info);
+        faces.emplace(coupling::WoundContactParameters{in.closure->face_contact_stiffness,
+                                                       in.closure->face_contact_margin},
+                      surface.reference, surface.triangles, surface.ids, a, b);
+      }
     // the tissue's point loads: the needle's touch and pierce points first (the needle
     // numbers them from 0), then the contacts
     tissue::PointLoadList loads;
@@ -101,11 +111,15 @@ namespace suturesim::scene
       std::vector<const tissue::PointLoads *> parts{&needle};
       if (contact)
         parts.push_back(&*contact);
+      if (faces)
+        parts.push_back(&*faces);
       loads.set(parts);
+      if (faces)
+        faces->set_offset(loads.offset(parts.size() - 1));
       model.set_point_loads(loads.points().empty() ? nullptr : &loads);
     };
     // moves the suture's held nodes to time t: the swage, and the far end once grasped
-    // (where it was then, displaced by its keyframes, as in the realtime path)
+    // (from where it was then, by its keyframes, as in the realtime path)
     const auto hold_suture = [&](const double t) {
       const tools::Pose pose = path.pose(closure ? closure->motion_time(t) : t);
       suture->set_node(0, geometry.swage(pose), pose.orientation * pose0.orientation.inverse() * frame0);
@@ -121,7 +135,7 @@ namespace suturesim::scene
           suture->constrain(last, {{true, true, true, r, r, r}});
         }
       const double motion = closure ? closure->motion_time(t) : t;
-      suture->set_node(last, grasped_at + end.motion(std::max(motion, end.grasp_time)).first, suture->rotations()[last]);
+      suture->set_node(last, end.position(std::max(motion, end.grasp_time), grasped_at), suture->rotations()[last]);
     };
     // The tissue is solved to a hundredth of the force a pierce tie carries at the
     // coupling tolerance: finer residuals move no point measurably, and a solve that
@@ -194,6 +208,11 @@ namespace suturesim::scene
         columns.push_back("suture_tissue_contact_force [N]");
         columns.push_back("suture_tissue_contacts [1]");
       }
+    if (faces)
+      {
+        columns.push_back("wound_face_contact_force [N]");
+        columns.push_back("wound_face_contacts [1]");
+      }
     recorder.set_columns(columns);
 
     const auto positions = [&]() {
@@ -249,6 +268,25 @@ namespace suturesim::scene
     std::optional<coupling::CondensedSuture> body;
     if (suture)
       body.emplace(*suture, suture_newton, needle, contact ? &*contact : nullptr, loads, suture_terms);
+    // what is solved with the tissue: the suture, the wound's faces, or both
+    std::vector<tissue::CondensedBody *> parts;
+    if (body)
+      parts.push_back(&*body);
+    if (faces)
+      parts.push_back(&*faces);
+    coupling::CondensedBodies both(parts);
+    tissue::CondensedBody    *coupled = parts.empty() ? nullptr : parts.size() == 1 ? parts.front() : &both;
+    // the faces' loaded pairs for the tissue as it is; true when they changed
+    Eigen::Matrix3Xd faces_surface;
+    const auto       detect_faces = [&]() {
+      if (!faces)
+        return false;
+      model.surface_positions(surface, faces_surface);
+      const bool changed = faces->detect(faces_surface);
+      if (changed)
+        locate_loads();
+      return changed;
+    };
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -312,6 +350,11 @@ namespace suturesim::scene
           row.push_back(contact ? contact->total_force(suture->positions()) : 0.0);
           row.push_back(contact ? contact->contacts().size() : 0);
         }
+      if (faces)
+        {
+          row.push_back(faces->total_force());
+          row.push_back(faces->n_touching());
+        }
       recorder.add_row(row);
       const auto &time = *in.time;
       if (time.output_interval <= 0 || last_output < 0 ||
@@ -369,6 +412,7 @@ namespace suturesim::scene
           }
         if (needle.begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
           locate_loads();
+        detect_faces();
         // Tissue and suture by one Newton iteration, the suture condensed onto the
         // tissue's points (coupling/accurate/condensed_suture.h; the elements carrying
         // the thread's pierce points follow within it). Rounds only follow what a solve
@@ -379,11 +423,12 @@ namespace suturesim::scene
         unsigned             rounds = 0;
         for (rounds = 1;; ++rounds)
           {
-            report = body ? model.solve_coupled(tn, force_floor, *body) : model.solve_static(tn, force_floor);
-            if (!report.converged || !(suture || lagrange))
+            report = coupled ? model.solve_coupled(tn, force_floor, *coupled) : model.solve_static(tn, force_floor);
+            if (!report.converged || !(suture || lagrange || faces))
               break;
             const auto   x       = positions();
-            const bool   changed = contact && detect_contacts();
+            const bool   touched = detect_faces();
+            const bool   changed = (contact && detect_contacts()) || touched;
             const double gap     = lagrange ? needle.constraint_gap(x) : 0;
             if (!changed && gap <= np.coupling_tolerance)
               break;

@@ -139,8 +139,8 @@ namespace suturesim::scene
       pose.position = initial;
       if (end.type == "prescribed")
         {
-          const auto [u, theta] = end.motion(t);
-          pose.position += u;
+          const Eigen::Vector3d theta = end.motion(t).second;
+          pose.position               = end.position(t, initial);
           const double angle = theta.norm();
           if (angle > 0)
             pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, theta / angle));

@@ -1,5 +1,7 @@
 #include <suturesim/scene/wound_closure.h>
 
+#include <deal.II/base/utilities.h>
+
 #include <algorithm>
 
 namespace suturesim::scene
@@ -27,6 +29,16 @@ namespace suturesim::scene
     prm.declare_entry("Tie off", "true", Patterns::Bool(),
                       "At closure every prescribed motion (needle, graspers) stops: the "
                       "suture's ends are held where they are. Unit: none.");
+    prm.declare_entry("Face contact", "", Patterns::List(Patterns::Anything(), 0, 2, ","),
+                      "Accurate path: the incision's two faces as 'A, B' (boundary names or "
+                      "ids of the mesh), kept from passing through each other by a penalty "
+                      "between A's vertices and B's surface. Empty: no contact between them. "
+                      "Unit: none.");
+    prm.declare_entry("Face contact stiffness", "5e4", Patterns::Double(0),
+                      "Penalty of the face contact per vertex pair. Unit: N/m. Range: > 0.");
+    prm.declare_entry("Face contact margin", "5e-5", Patterns::Double(0),
+                      "A vertex pair is loaded (costs the coupled Newton iteration three "
+                      "linear solves) while its gap is below this. Unit: m. Range: >= 0.");
     prm.leave_subsection();
   }
 
@@ -51,7 +63,20 @@ namespace suturesim::scene
     start_time  = prm.get_double("Start time");
     tie_off     = prm.get_bool("Tie off");
     scope.require(closure_gap > 0, "Closure gap", "must be > 0 m");
+    face_contact = Utilities::split_string_list(prm.get("Face contact"), ',');
+    scope.require(face_contact.empty() || face_contact.size() == 2, "Face contact", "needs two faces, 'A, B'");
+    face_contact_stiffness = prm.get_double("Face contact stiffness");
+    face_contact_margin    = prm.get_double("Face contact margin");
+    scope.require(face_contact_stiffness > 0, "Face contact stiffness", "must be > 0 N/m");
+    this->scope = std::make_shared<ParameterScope>(scope);
     prm.leave_subsection();
+  }
+
+  std::pair<types::boundary_id, types::boundary_id>
+  ClosureParameters::face_contact_ids(const mesh::MeshInfo &mesh) const
+  {
+    return {mesh.boundary_id(face_contact[0], *scope, "Face contact"),
+            mesh.boundary_id(face_contact[1], *scope, "Face contact")};
   }
 
   ClosureMonitor::ClosureMonitor(const ClosureParameters &parameters)

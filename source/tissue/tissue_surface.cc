@@ -23,7 +23,7 @@ namespace suturesim::tissue
     std::vector<unsigned>                vertex;
     std::vector<double>                  corner;
     std::vector<types::global_dof_index> dof;
-    std::vector<int>                     flip;
+    std::vector<int>                     flip, id;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const auto f : cell->face_indices())
@@ -42,6 +42,7 @@ namespace suturesim::tissue
               const Tensor<1, 3> n = cross_product_3d(face->vertex(1) - face->vertex(0),
                                                       face->vertex(3) - face->vertex(0));
               flip.push_back(n * (face->center() - cell->center()) < 0);
+              id.push_back(face->boundary_id());
             }
     struct Face
     {
@@ -49,12 +50,14 @@ namespace suturesim::tissue
       std::array<Point<3>, 4>                                X;
       std::array<std::array<types::global_dof_index, 3>, 4> dofs;
       bool                                                   flip;
+      types::boundary_id                                     id;
     };
     std::vector<Face> all;
     const auto        vertices = Utilities::MPI::all_gather(comm, vertex);
     const auto        corners  = Utilities::MPI::all_gather(comm, corner);
     const auto        dofs     = Utilities::MPI::all_gather(comm, dof);
     const auto        flips    = Utilities::MPI::all_gather(comm, flip);
+    const auto        ids      = Utilities::MPI::all_gather(comm, id);
     for (std::size_t r = 0; r < vertices.size(); ++r)
       for (std::size_t f = 0; f < flips[r].size(); ++f)
         {
@@ -69,6 +72,7 @@ namespace suturesim::tissue
                 }
             }
           g.flip = flips[r][f];
+          g.id   = static_cast<types::boundary_id>(ids[r][f]);
           all.push_back(g);
         }
 
@@ -97,6 +101,7 @@ namespace suturesim::tissue
             s.triangles.push_back({a, c, b});
             s.triangles.push_back({a, d, c});
           }
+        s.ids.insert(s.ids.end(), 2, g.id);
       }
     s.reference.resize(3, X.size());
     for (std::size_t i = 0; i < X.size(); ++i)

@@ -183,3 +183,22 @@ TEST(RodSelfContact, PressedStrandsDoNotPassThrough)
   EXPECT_LT(without, 0.0) << "the load must push the strands through each other";
   EXPECT_GE(with, 1.9);
 }
+
+TEST(EndCondition, WorldKeyframesAreReachedInAStraightLineFromTheGrasp)
+{
+  // grasp frame: the keyframes displace the end from where it was held; world frame:
+  // they are positions, the first after the grasp reached on a straight line from the
+  // hold, so that two model paths whose ends hang in different places pull from one
+  rod::EndCondition end;
+  end.type       = "prescribed";
+  end.grasp_time = 2.5;
+  end.keyframes  = {{3.0, {0.004, 0.005, 0.006}}, {8.5, {0.010, 0.005, 0.006}}};
+  const rod::Vec3 held(0.001, 0.002, 0.003);
+  EXPECT_LT((end.position(5.75, held) - (held + rod::Vec3(0.007, 0.005, 0.006))).norm(), 1e-15);
+  end.frame = "world";
+  EXPECT_LT((end.position(2.5, held) - held).norm(), 1e-15);
+  EXPECT_LT((end.position(2.75, held) - rod::Vec3(0.0025, 0.0035, 0.0045)).norm(), 1e-15);
+  EXPECT_LT((end.position(3.0, held) - rod::Vec3(0.004, 0.005, 0.006)).norm(), 1e-15);
+  EXPECT_LT((end.position(5.75, held) - rod::Vec3(0.007, 0.005, 0.006)).norm(), 1e-15);
+  EXPECT_LT((end.position(9.0, held) - rod::Vec3(0.010, 0.005, 0.006)).norm(), 1e-15);
+}

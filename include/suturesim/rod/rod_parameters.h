@@ -31,12 +31,22 @@ namespace suturesim::rod
     /// From this time on the end is held (a grasper closing on it, realtime path); the
     /// keyframes then move it from where it was at that time, s. 0: from the start.
     double grasp_time = 0;
+    /// "grasp": the keyframes displace the end from where it was held (its initial
+    /// position, or where the grasper took it); "world": they are positions, reached
+    /// in a straight line from where it was held by the first keyframe after the grasp
+    /// (so that both model paths, whose ends hang differently, pull from the same
+    /// place).
+    std::string frame = "grasp";
 
     bool
     fixes_rotation() const;
     /// Displacement and rotation vector at time t.
     std::pair<Vec3, Vec3>
     motion(double t) const;
+    /// Position of the end at time t (from the grasp time on, or from the start) when
+    /// held at @p held_at, m.
+    Vec3
+    position(double t, const Vec3 &held_at) const;
 
     static void
     declare(dealii::ParameterHandler &prm);

@@ -13,6 +13,7 @@
  * Both model paths read the same struct.
  */
 
+#include <suturesim/mesh/mesh_loader.h>
 #include <suturesim/scene/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -22,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,18 @@ namespace suturesim::scene
     double            closure_gap = 1e-4; ///< m
     double            start_time  = 0;    ///< s
     bool              tie_off     = true;
+    /// Accurate path: the incision's two faces (boundary names or ids; empty: no
+    /// contact between them), the penalty per vertex pair (N/m) and the gap below which
+    /// a pair is loaded (m); coupling/accurate/wound_contact.h.
+    std::vector<std::string> face_contact;
+    double                   face_contact_stiffness = 5e4;
+    double                   face_contact_margin    = 5e-5;
+    std::shared_ptr<ParameterScope> scope; ///< the subsection, for errors found later
+
+    /// The face contact's two boundary ids in @p mesh; an InputError naming the
+    /// parameter when a face is not in it.
+    std::pair<dealii::types::boundary_id, dealii::types::boundary_id>
+    face_contact_ids(const mesh::MeshInfo &mesh) const;
 
     bool
     present() const

@@ -96,6 +96,7 @@ namespace suturesim::tissue
   {
     Eigen::Matrix3Xd                                             reference; ///< X, m
     std::vector<std::array<std::uint32_t, 3>>                    triangles;
+    std::vector<dealii::types::boundary_id>                      ids; ///< per triangle: its face's
     std::vector<std::array<dealii::types::global_dof_index, 3>> dofs;
   };
 
