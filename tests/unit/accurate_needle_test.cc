@@ -211,43 +211,41 @@ TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
   EXPECT_LT(penalty, 0.9 * lagrange);
 }
 
-TEST(AccurateNeedle, CoarseStitchIsDrawnTightPastWhereThePolylineTieStalled)
+TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
 {
-  // The default scene, accurate, on the coarse mesh (the command of
-  // docs/interrupted_stitch.md) to t = 4.5 s: the four punctures, the pull-through, the
-  // tail grasped at 2.5 s and both ends drawn apart. With the pierce points tied across
-  // the elements' polyline this stalled at t = 2.64 s (the carrier's flip at the bend
-  // round a hole jumped the tie's force, and steps were halved to 1e-9 s without
-  // headway); on the thread's C¹ curve it runs on at 40 ms steps without a halving
-  // (81 s on this machine). A return of the stall is a run killed by the time limit
-  // here. The thread is then drawn tight: 13.25 N at the grasped tail at 4.5 s
-  // (measured). It does not close the wound yet (mid gap 0.70 mm;
-  // docs/interrupted_stitch.md).
+  // The default scene, accurate, at the resolution scripts/run_default_scene.sh runs it
+  // (Q1-P0 hexahedra of 2 mm, 20 ms steps, tie and stick 5e4 N/m): the four punctures,
+  // the pull-through, the tail grasped at 2.5 s and both ends laid across the wound and
+  // drawn apart until its top edges meet; tied off there. It needs the pierce points on
+  // the thread's C¹ curve (on the polyline it stalled at t = 2.64 s) and the contact of
+  // the incision's faces (without it they overlapped at the stitch's depth while the
+  // top stayed open, and the run stalled at 4.8 s). Stored from this build's run (3 min
+  // on this machine): closure at t = 6.609 s at a tail tension of 8.745 N, final gap
+  // 0.096 mm; 2 % tolerance on the tension (a penalty-and-friction path, deterministic
+  // here, but not to the last digit across BLAS builds). No suture node ends inside the
+  // tissue; the faces press on each other at closure.
   const auto r = run_suturesim(
     "stitch_accurate_coarse",
     "'" + source_path("parameters/stitch_interrupted.prm") +
       "' --set Model=accurate --set 'Mesh/Geo parameters=h: 0.002, hexahedra: 1, Wg: 0.0004'"
-      " --set 'Tissue/Element degree=1' --set 'Time/Step size=0.04' --set 'Time/End time=4.5'"
-      " --set 'Time/Output interval=0.5' --set 'Pierce points/Transverse stiffness=50000'"
-      " --set 'Pierce points/Stick stiffness=50000' --set 'Suture/Stabilization=4'",
-    "timeout 900");
+      " --set 'Tissue/Element degree=1' --set 'Time/Step size=0.02'"
+      " --set 'Pierce points/Transverse stiffness=50000' --set 'Pierce points/Stick stiffness=50000'"
+      " --set 'Suture/Stabilization=4'",
+    "OPENBLAS_NUM_THREADS=1 timeout 1200");
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
   ASSERT_TRUE(r.has_summary);
   unsigned punctures = 0;
   for (const auto &e : r.summary["events"])
     punctures += e["kind"].get<std::string>().rfind("puncture", 0) == 0;
   EXPECT_EQ(punctures, 4u);
-  // halvings once the tail is grasped (the pass's own, at the punctures and before the
-  // grasp, are 21): measured none; the polyline tie needed hundreds and got nowhere
-  int after_grasp = 0;
-  for (const auto &step : r.summary["steps"])
-    if (step["time"].get<double>() > 2.5)
-      after_grasp += step.value("cutbacks", 0);
-  EXPECT_LE(after_grasp, 3);
+  const auto &m = r.summary["metrics"];
+  ASSERT_FALSE(m["closure_tension"].is_null()) << "least gap " << m["gaps"]["mid"]["least"];
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.745, 0.02 * 8.745);
+  EXPECT_GT(m["closure_time"].get<double>(), 2.5);
+  EXPECT_LT(m["final_gap"].get<double>(), 1e-4);
+  EXPECT_EQ(m["suture_nodes_inside_tissue"].get<int>(), 0);
   std::string header;
   const auto  rows = read_forces(r, &header);
   ASSERT_FALSE(rows.empty());
-  EXPECT_NEAR(rows.back()[0], 4.5, 1e-9);
-  EXPECT_GT(rows.back()[column(header, "suture_tension_free_end")], 10.0);
-  EXPECT_EQ(r.summary["metrics"]["suture_nodes_inside_tissue"].get<int>(), 0);
+  EXPECT_GT(rows.back()[column(header, "wound_face_contacts")], 0.0);
 }

