@@ -3,10 +3,11 @@
 #include <suturesim/coupling/accurate/condensed_suture.h>
 #include <suturesim/coupling/accurate/suture_contact.h>
 #include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/scene/accurate_needle_pass.h>
-#include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/scene/wound_closure.h>
+#include <suturesim/tissue/condensed_bodies.h>
 #include <suturesim/tissue/point_load_list.h>
 
 #include <deal.II/distributed/tria.h>
@@ -221,16 +222,15 @@ namespace suturesim::scene
         x[k] = model.point_position(k);
       return x;
     };
-    // new contacts for the suture as it is against the tissue as it is; true when the
-    // set changed (the tissue then has new loads). Left out: the nodes a stitch's pierce
-    // points draw into the tissue and the nodes a support holds.
-    Eigen::Matrix3Xd contact_surface;
-    const auto       detect_contacts = [&]() {
-      model.surface_positions(surface, contact_surface);
+    // new contacts for the suture as it is against the tissue's surface at @p at (its
+    // vertices' current positions); true when the set changed (the tissue then has new
+    // loads). Left out: the nodes a stitch's pierce points draw into the tissue and the
+    // nodes a support holds.
+    const auto detect_contacts = [&](const Eigen::Matrix3Xd &at) {
       std::vector<char> skip = needle.thread_nodes_in_tracts();
       skip.front()           = 1;
       skip.back()            = skip.back() || grasped;
-      const bool changed     = contact->detect(contact_surface, suture->positions(), skip);
+      const bool changed     = contact->detect(at, suture->positions(), skip);
       if (changed)
         locate_loads();
       return changed;
@@ -274,19 +274,16 @@ namespace suturesim::scene
       parts.push_back(&*body);
     if (faces)
       parts.push_back(&*faces);
-    coupling::CondensedBodies both(parts);
+    tissue::CondensedBodies  both(parts);
     tissue::CondensedBody    *coupled = parts.empty() ? nullptr : parts.size() == 1 ? parts.front() : &both;
-    // the faces' loaded pairs for the tissue as it is; true when they changed
-    Eigen::Matrix3Xd faces_surface;
-    const auto       detect_faces = [&]() {
-      if (!faces)
-        return false;
-      model.surface_positions(surface, faces_surface);
-      const bool changed = faces->detect(faces_surface);
+    // the faces' loaded pairs for the surface at @p at; true when they changed
+    const auto detect_faces = [&](const Eigen::Matrix3Xd &at) {
+      const bool changed = faces && faces->detect(at);
       if (changed)
         locate_loads();
       return changed;
     };
+    Eigen::Matrix3Xd round_surface; // the surface after a round's solve
     unsigned    output_index = 0;
     std::string last_file;
     // the needle's load of the converged state is taken before the step is accepted (a
@@ -412,7 +409,7 @@ namespace suturesim::scene
           }
         if (needle.begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
           locate_loads();
-        detect_faces();
+        detect_faces(x_surface); // the last accepted state
         // Tissue and suture by one Newton iteration, the suture condensed onto the
         // tissue's points (coupling/accurate/condensed_suture.h; the elements carrying
         // the thread's pierce points follow within it). Rounds only follow what a solve
@@ -426,9 +423,11 @@ namespace suturesim::scene
             report = coupled ? model.solve_coupled(tn, force_floor, *coupled) : model.solve_static(tn, force_floor);
             if (!report.converged || !(suture || lagrange || faces))
               break;
-            const auto   x       = positions();
-            const bool   touched = detect_faces();
-            const bool   changed = (contact && detect_contacts()) || touched;
+            const auto x = positions();
+            if (contact || faces)
+              model.surface_positions(surface, round_surface);
+            const bool   touched = detect_faces(round_surface);
+            const bool   changed = (contact && detect_contacts(round_surface)) || touched;
             const double gap     = lagrange ? needle.constraint_gap(x) : 0;
             if (!changed && gap <= np.coupling_tolerance)
               break;

@@ -38,6 +38,20 @@ namespace
     tools::CurvedNeedle               needle{0.008, 0.75 * M_PI, 0.0005};
     Eigen::Matrix3Xd                  reference = (Eigen::Matrix3Xd(3, 3) << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0).finished();
     std::vector<mesh::Triangle>       triangles{{0, 1, 2}};
+
+    /// A needle with the thread @p nodes (element lengths @p lengths; its rotations
+    /// @p rotations, or nullptr for the polyline) and one pierce point anchored at
+    /// thread coordinate @p anchor beyond the swage (m).
+    coupling::TissueNeedle
+    pierced(const coupling::TissueNeedleParameters &p, const std::vector<rod::Vec3> &nodes,
+            std::vector<double> lengths, const std::vector<rod::Quat> *rotations, const double anchor) const
+    {
+      coupling::TissueNeedle tie(needle, p, triangles, reference);
+      tie.begin_step(0, tools::Pose(), reference);
+      tie.set_thread(&nodes, std::move(lengths), rotations);
+      tie.add_pierce_point(Point<3>(), needle.length() + anchor);
+      return tie;
+    }
   };
 } // namespace
 
@@ -150,19 +164,12 @@ TEST(PierceEnforcement, ThreadTermsMatchFiniteDifferencesAsTheElementMovesAndTur
   // what this checks is that the residual is smooth there and that every column lands
   // on its node's slot.
   const ThreadBench                bench;
-  const tools::CurvedNeedle       &needle    = bench.needle;
-  const Eigen::Matrix3Xd          &reference = bench.reference;
-  const auto                      &triangles = bench.triangles;
   coupling::TissueNeedleParameters p;
   p.friction             = {0.2, 5e4, 0.05};
   p.transverse_stiffness = 5e4;
   p.normal_smoothing     = 1; // N: of the tie force's order here, so that N' ≠ 1 counts
-  coupling::TissueNeedle tie(needle, p, triangles, reference);
-  tie.begin_step(0, tools::Pose(), reference);
   std::vector<rod::Vec3> nodes{{0, 0, 0}, {-0.001, 0.0002, 0}, {-0.002, 0.0003, 0.0001}};
-  tie.set_thread(&nodes, {0.00102, 0.00101});
-  const double L = needle.length();
-  tie.add_pierce_point(Point<3>(), L + 0.0004); // on element 0, ξ ≈ 0.4
+  coupling::TissueNeedle tie = bench.pierced(p, nodes, {0.00102, 0.00101}, nullptr, 0.0004); // element 0, ξ ≈ 0.4
 
   const Eigen::Vector3d c = 0.6 * nodes[0] + 0.4 * nodes[1], t = (nodes[0] - nodes[1]).normalized();
   const Eigen::Vector3d across = t.cross(Eigen::Vector3d::UnitZ()).normalized();
@@ -210,9 +217,6 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
   // rotations among its unknowns now, must match central differences of the residual
   // when nodes move and turn.
   const ThreadBench                bench;
-  const tools::CurvedNeedle       &needle    = bench.needle;
-  const Eigen::Matrix3Xd          &reference = bench.reference;
-  const auto                      &triangles = bench.triangles;
   coupling::TissueNeedleParameters p;
   p.friction             = {0.2, 1.0, 0.05}; // a soft stick: the carriers' anchors differ by 2 µm
   p.transverse_stiffness = 5e4;
@@ -223,15 +227,11 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
     return rod::Quat::FromTwoVectors(Eigen::Vector3d::UnitX(), d1.normalized());
   };
   std::vector<rod::Quat> rotations{frame(t0), frame(t0 + t1), frame(t1)};
-  const double           L = needle.length();
   const Eigen::Vector3d  inside = (t1 - t0).normalized(); // towards the bend's inside
   const Eigen::Vector3d  xt     = nodes[1] + 5e-5 * inside + 1e-6 * (t0 + t1).normalized();
   const std::vector<Point<3>> x{Point<3>(xt[0], xt[1], xt[2])};
   const auto force_on = [&](const double anchor, const bool curve) {
-    coupling::TissueNeedle tie(needle, p, triangles, reference);
-    tie.begin_step(0, tools::Pose(), reference);
-    tie.set_thread(&nodes, {l, l}, curve ? &rotations : nullptr);
-    tie.add_pierce_point(Point<3>(), anchor);
+    coupling::TissueNeedle tie = bench.pierced(p, nodes, {l, l}, curve ? &rotations : nullptr, anchor);
     Tensor<1, 3> f;
     Tensor<2, 3> df_dx;
     tie.force(0, x[0], f, df_dx);
@@ -239,7 +239,7 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
   };
   for (const bool curve : {true, false})
     {
-      const Tensor<1, 3> first = force_on(L + l - 1e-6, curve), second = force_on(L + l + 1e-6, curve);
+      const Tensor<1, 3> first = force_on(l - 1e-6, curve), second = force_on(l + 1e-6, curve);
       const double       jump  = (first - second).norm() / first.norm();
       std::printf("%s: |f| = %.4f N, jump between the carriers %.3e\n", curve ? "curve" : "polyline", first.norm(), jump);
       if (curve)
@@ -248,10 +248,7 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
         EXPECT_GT(jump, 0.1);
     }
 
-  coupling::TissueNeedle tie(needle, p, triangles, reference);
-  tie.begin_step(0, tools::Pose(), reference);
-  tie.set_thread(&nodes, {l, l}, &rotations);
-  tie.add_pierce_point(Point<3>(), L + 0.6 * l); // on element 0, inside the bend's reach
+  coupling::TissueNeedle tie = bench.pierced(p, nodes, {l, l}, &rotations, 0.6 * l); // element 0, inside the bend's reach
   const Eigen::Vector3d         xp = 0.4 * nodes[0] + 0.6 * nodes[1] + 3e-5 * inside;
   const std::vector<Point<3>>   y{Point<3>(xp[0], xp[1], xp[2])};
   Eigen::Matrix<double, 12, 1>  r0 = Eigen::Matrix<double, 12, 1>::Zero();

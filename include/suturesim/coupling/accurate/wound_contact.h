@@ -133,21 +133,4 @@ namespace suturesim::coupling
     unsigned                      touching = 0;
     double                        pressing = 0;
   };
-
-  /// Several condensed bodies coupled to the tissue as one: their points concatenated,
-  /// G block-diagonal (they share no point).
-  class CondensedBodies : public tissue::CondensedBody
-  {
-  public:
-    explicit CondensedBodies(std::vector<tissue::CondensedBody *> parts)
-      : bodies(std::move(parts))
-    {}
-    std::vector<std::size_t>
-    coupled_points() const override;
-    bool
-    equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) override;
-
-  private:
-    std::vector<tissue::CondensedBody *> bodies;
-  };
 } // namespace suturesim::coupling
