@@ -14,8 +14,7 @@ scene=$(dirname "$0")/../parameters/needle_pass.prm
 mkdir -p "$out"
 "$bin" "$scene" --output "$out/realtime" > "$out/realtime.log" 2>&1
 "$bin" "$scene" --output "$out/accurate" --set Model=accurate \
-  --set "Mesh/Geo parameters=h: 0.002, hexahedra: 1" --set "Tissue/Element degree=1" \
-  --set "Time/Step size=0.02" --set "Time/End time=3.2" --set "Time/Output interval=0.1" \
+  --set "Time/End time=3.2" --set "Time/Output interval=0.1" \
   > "$out/accurate.log" 2>&1
 /usr/bin/python3 "$(dirname "$0")/plot_forces.py" "$out/realtime" "$out/accurate"
 for run in realtime accurate; do

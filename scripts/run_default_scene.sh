@@ -3,24 +3,17 @@
 # model paths, and its figures:
 #   scripts/run_default_scene.sh [path/to/suturesim] [output folder]
 # realtime: the scene as shipped (output folder); accurate: the same file with
-# Model = accurate at the accurate path's resolution for this scene, Q1-P0 hexahedra of
-# 2 mm, 20 ms steps, a pierce tie and stick of 5e4 N/m and the suture's stabilization
-# (output folder + "_accurate"; about 3 minutes on 2 cores). Then the curves of both,
-# overlaid (stitch_curves.{png,pdf}), and the realtime run's picture (scene.{png,pdf}),
-# in the realtime run's folder. docs/interrupted_stitch.md explains the settings.
+# Model = accurate, at the resolution of its "subsection Model accurate" (Q1-P0
+# hexahedra of 2 mm, 20 ms steps; output folder + "_accurate"; about 3 minutes on
+# 2 cores). Then the curves of both, overlaid (stitch_curves.{png,pdf}), and the
+# realtime run's picture (scene.{png,pdf}), in the realtime run's folder.
+# docs/interrupted_stitch.md explains the settings.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 bin=${1:-build/suturesim}
 out=${2:-output/default}
 scene="$here/../parameters/stitch_interrupted.prm"
-accurate=(--set Model=accurate
-          --set "Mesh/Geo parameters=h: 0.002, hexahedra: 1, Wg: 0.0004"
-          --set "Tissue/Element degree=1"
-          --set "Time/Step size=0.02"
-          --set "Pierce points/Transverse stiffness=50000"
-          --set "Pierce points/Stick stiffness=50000"
-          --set "Suture/Stabilization=4")
 "$bin" "$scene" --output "$out"
-OPENBLAS_NUM_THREADS=1 "$bin" "$scene" "${accurate[@]}" --output "${out}_accurate"
+OPENBLAS_NUM_THREADS=1 "$bin" "$scene" --set Model=accurate --output "${out}_accurate"
 /usr/bin/python3 "$here/../postprocess/plot_stitch.py" "$out" "${out}_accurate"
 /usr/bin/python3 "$here/../postprocess/plot_scene.py" "$out"

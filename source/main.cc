@@ -22,7 +22,8 @@ namespace
     "  scene.prm     deal.II parameter file; without it the embedded default scene runs\n"
     "  --validate    parse and check the scene, then exit (0 when valid)\n"
     "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
-    "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"\n"
+    "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
+    "                the file and its 'subsection Model <path>' settings\n"
     "  --help        this text and every parameter with its unit and range\n";
 }
 
@@ -83,11 +84,10 @@ main(int argc, char **argv)
         file = std::make_unique<scene::ParameterFile>(
           prm, scene::default_scene_text,
           std::string("<default scene ") + scene::default_scene_name + ">",
-          std::string(SUTURESIM_SOURCE_DIR) + "/parameters");
+          std::string(SUTURESIM_SOURCE_DIR) + "/parameters", overrides);
       else
-        file = std::make_unique<scene::ParameterFile>(scene::ParameterFile::from_file(prm, scene_file));
-      for (const auto &o : overrides)
-        file->apply_override(prm, o);
+        file = std::make_unique<scene::ParameterFile>(
+          scene::ParameterFile::from_file(prm, scene_file, overrides));
 
       scene::Simulation simulation(prm, *file);
       if (validate)

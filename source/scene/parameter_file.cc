@@ -4,6 +4,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -59,6 +60,84 @@ namespace suturesim::scene
       return lines;
     }
 
+    /// One top-level "subsection Model <name> ... end" of a scene file: settings read
+    /// only when Model = <name>. Its text keeps the file's line count (everything
+    /// outside its body blank) so that deal.II's messages give the file's line numbers.
+    struct ModelSection
+    {
+      std::string name;
+      int         line = 0;
+      std::string text;
+    };
+
+    /// Cuts the model sections out of @p text: the rest (sections blanked line for
+    /// line) is returned, the sections are appended to @p sections.
+    std::string
+    cut_model_sections(const std::string &text, const std::string &file_name,
+                       std::vector<ModelSection> &sections)
+    {
+      std::vector<std::string> file_lines;
+      {
+        std::istringstream in(text);
+        for (std::string line; std::getline(in, line);)
+          file_lines.push_back(line);
+      }
+      std::vector<bool> in_section(file_lines.size(), false);
+      int               depth = 0;
+      ModelSection     *open  = nullptr;
+      int               open_depth = 0;
+      for (std::size_t i = 0; i < file_lines.size(); ++i)
+        {
+          const std::string line = trim(file_lines[i].substr(0, file_lines[i].find('#')));
+          const bool        opens = line.rfind("subsection ", 0) == 0;
+          if (opens && depth == 0 && trim(line.substr(11)).rfind("Model", 0) == 0 &&
+              (trim(line.substr(11)).size() == 5 || std::isspace(trim(line.substr(11))[5])))
+            {
+              const std::string name = trim(trim(line.substr(11)).substr(5));
+              const std::string here = file_name + ":" + std::to_string(i + 1) + ": ";
+              if (name.empty())
+                throw InputError(here + "'subsection Model' needs a model path, e.g. "
+                                        "'subsection Model accurate'");
+              for (const auto &s : sections)
+                if (s.name == name)
+                  throw InputError(here + "a second 'subsection Model " + name +
+                                   "' (the first is on line " + std::to_string(s.line) + ")");
+              sections.push_back({name, static_cast<int>(i + 1), ""});
+              open       = &sections.back();
+              open_depth = 1;
+              in_section[i] = true;
+              ++depth;
+              continue;
+            }
+          if (opens)
+            ++depth;
+          else if (line == "end" && depth > 0)
+            --depth;
+          if (open)
+            {
+              in_section[i] = true;
+              if (opens)
+                ++open_depth;
+              else if (line == "end" && --open_depth == 0)
+                {
+                  // the closing "end" of the section itself stays out of its text
+                  std::string body;
+                  for (std::size_t j = 0; j < file_lines.size(); ++j)
+                    body += (j > static_cast<std::size_t>(open->line - 1) && j < i ? file_lines[j] : "") + "\n";
+                  open->text = body;
+                  open       = nullptr;
+                }
+            }
+        }
+      if (open)
+        throw InputError(file_name + ":" + std::to_string(open->line) + ": 'subsection Model " +
+                         open->name + "' has no 'end'");
+      std::string rest;
+      for (std::size_t i = 0; i < file_lines.size(); ++i)
+        rest += (in_section[i] ? std::string() : file_lines[i]) + "\n";
+      return rest;
+    }
+
     /// deal.II's parse messages span several lines and say "Line <n> of file <f>"; the
     /// user gets "f:n: what is wrong".
     std::string
@@ -85,26 +164,100 @@ namespace suturesim::scene
     }
   } // namespace
 
-  ParameterFile::ParameterFile(dealii::ParameterHandler &prm,
-                               const std::string        &text,
-                               const std::string        &name,
-                               const std::string        &directory)
+  ParameterFile::ParameterFile(dealii::ParameterHandler       &prm,
+                               const std::string              &text,
+                               const std::string              &name,
+                               const std::string              &directory,
+                               const std::vector<std::string> &command_line)
     : file_name(name)
     , directory(directory)
-    , lines(locate_keys(text))
+  {
+    std::vector<ModelSection> sections;
+    const std::string         common = cut_model_sections(text, name, sections);
+    lines                            = locate_keys(common);
+    parse(prm, common);
+    for (const auto &o : command_line)
+      apply_override(prm, o);
+    if (sections.empty())
+      return;
+
+    // The path's own settings go over the common ones, and the command line over both:
+    // the overrides are set again after the section.
+    std::string chosen;
+    try
+      {
+        chosen = prm.get("Model");
+      }
+    catch (const dealii::ExceptionBase &)
+      {
+        throw InputError(name + ":" + std::to_string(sections.front().line) +
+                         ": 'subsection Model' sections need a scene with a 'Model' entry");
+      }
+    for (const auto &section : sections)
+      {
+        try
+          {
+            prm.set("Model", section.name);
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            prm.set("Model", chosen);
+            std::ostringstream info;
+            e.print_info(info);
+            throw InputError(name + ":" + std::to_string(section.line) + ": 'subsection Model " +
+                             section.name + "': no such model path (" + one_line(info.str()) + ")");
+          }
+      }
+    prm.set("Model", chosen);
+    for (const auto &section : sections)
+      if (const auto keys = locate_keys(section.text); keys.count("Model") > 0)
+        throw InputError(name + ":" + std::to_string(keys.at("Model")) +
+                         ": Model cannot be set inside 'subsection Model " + section.name + "'");
+
+    // Every section is checked in every run (a misspelt key of the accurate section is
+    // reported by a realtime run too): the others are parsed on top, then the state
+    // before them is read back from its print.
+    std::ostringstream before;
+    prm.print_parameters(before, dealii::ParameterHandler::ShortPRM);
+    bool others = false;
+    for (const auto &section : sections)
+      if (section.name != chosen)
+        {
+          parse(prm, section.text);
+          others = true;
+        }
+    if (others)
+      prm.parse_input_from_string(before.str(), name);
+
+    for (const auto &section : sections)
+      if (section.name == chosen)
+        {
+          const auto own = locate_keys(section.text);
+          parse(prm, section.text);
+          for (const auto &[path, line] : own)
+            lines[path] = line;
+          for (const auto &o : command_line)
+            set_path(prm, o);
+        }
+  }
+
+  void
+  ParameterFile::parse(dealii::ParameterHandler &prm, const std::string &text) const
   {
     try
       {
-        prm.parse_input_from_string(text, name);
+        prm.parse_input_from_string(text, file_name);
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw InputError(reformat(e, name));
+        throw InputError(reformat(e, file_name));
       }
   }
 
   ParameterFile
-  ParameterFile::from_file(dealii::ParameterHandler &prm, const std::string &file_name)
+  ParameterFile::from_file(dealii::ParameterHandler       &prm,
+                           const std::string              &file_name,
+                           const std::vector<std::string> &command_line)
   {
     std::ifstream in(file_name);
     if (!in)
@@ -112,11 +265,17 @@ namespace suturesim::scene
     std::stringstream buffer;
     buffer << in.rdbuf();
     const auto parent = std::filesystem::path(file_name).parent_path().string();
-    return ParameterFile(prm, buffer.str(), file_name, parent.empty() ? "." : parent);
+    return ParameterFile(prm, buffer.str(), file_name, parent.empty() ? "." : parent, command_line);
   }
 
   void
   ParameterFile::apply_override(dealii::ParameterHandler &prm, const std::string &assignment)
+  {
+    overrides.push_back(set_path(prm, assignment));
+  }
+
+  std::string
+  ParameterFile::set_path(dealii::ParameterHandler &prm, const std::string &assignment)
   {
     const auto eq = assignment.find('=');
     if (eq == std::string::npos)
@@ -161,7 +320,7 @@ namespace suturesim::scene
       }
     for (; entered > 0; --entered)
       prm.leave_subsection();
-    overrides.push_back(path);
+    return path;
   }
 
   int

@@ -15,9 +15,9 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  const std::string coarse_pass = "'" + source_path("parameters/needle_pass.prm") +
-                                  "' --set Model=accurate --set 'Mesh/Geo parameters=h: 0.002, hexahedra: 1'"
-                                  " --set 'Tissue/Element degree=1'";
+  // the scene's own accurate resolution (its "subsection Model accurate": Q1 hexahedra
+  // of 2 mm, 20 ms steps)
+  const std::string coarse_pass = "'" + source_path("parameters/needle_pass.prm") + "' --set Model=accurate";
 
   std::size_t
   column(const std::string &header, const std::string &name)
@@ -39,7 +39,7 @@ TEST(AccurateNeedle, CoarseNeedlePassPuncturesAtTheThresholdAsStored)
   // is halved, so each puncture lands in [threshold, 1.04 threshold]; the values are
   // stored from this build's run (0.5 % relative tolerance)
   const auto r = run_suturesim("needle_pass_accurate",
-                               coarse_pass + " --set Bodies=tissue --set 'Time/Step size=0.02'"
+                               coarse_pass + " --set Bodies=tissue"
                                              " --set 'Time/End time=1.1' --set 'Time/Output interval=0.5'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto  &m         = r.summary["metrics"];
@@ -187,7 +187,7 @@ TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
   // here, is 2e-3 N of 6.7 N; measured 1e-4). A penalty tie of 5e4 N/m leaves a gap:
   // its N is lower, by K/(K + k) of it (springs in series; measured 0.73 of it).
   const auto run = [](const std::string &name, const std::string &enforcement, const double k) {
-    const auto r = run_suturesim(name, coarse_pass + " --set Bodies=tissue --set 'Time/Step size=0.02'"
+    const auto r = run_suturesim(name, coarse_pass + " --set Bodies=tissue"
                                                      " --set 'Time/End time=0.4' --set 'Time/Output interval=0.4'"
                                                      " --set 'Pierce points/Stick stiffness=5e4'"
                                                      " --set 'Tissue/Boundary conditions/Prescribed displacement=sides'"
@@ -226,11 +226,7 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // tissue; the faces press on each other at closure.
   const auto r = run_suturesim(
     "stitch_accurate_coarse",
-    "'" + source_path("parameters/stitch_interrupted.prm") +
-      "' --set Model=accurate --set 'Mesh/Geo parameters=h: 0.002, hexahedra: 1, Wg: 0.0004'"
-      " --set 'Tissue/Element degree=1' --set 'Time/Step size=0.02'"
-      " --set 'Pierce points/Transverse stiffness=50000' --set 'Pierce points/Stick stiffness=50000'"
-      " --set 'Suture/Stabilization=4'",
+    "'" + source_path("parameters/stitch_interrupted.prm") + "' --set Model=accurate",
     "OPENBLAS_NUM_THREADS=1 timeout 1200");
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
   ASSERT_TRUE(r.has_summary);

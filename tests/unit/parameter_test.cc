@@ -129,3 +129,100 @@ TEST(Parameters, EveryHelpTextNamesAUnitOrChoice)
   walk(tree, "");
   EXPECT_TRUE(missing.empty()) << ::testing::PrintToString(missing);
 }
+
+namespace
+{
+  /// "Model" (a|b) and Time/{End time, Step size}, as a scene declares them.
+  void
+  declare_two_paths(dealii::ParameterHandler &prm)
+  {
+    prm.declare_entry("Model", "a", dealii::Patterns::Selection("a|b"));
+    prm.enter_subsection("Time");
+    prm.declare_entry("End time", "1", dealii::Patterns::Double(0));
+    prm.declare_entry("Step size", "0.1", dealii::Patterns::Double(0));
+    prm.leave_subsection();
+  }
+
+  const std::string two_paths = "set Model = a\n"             // 1
+                                "subsection Time\n"           // 2
+                                "  set End time = 2\n"        // 3
+                                "  set Step size = 0.5\n"     // 4
+                                "end\n"                       // 5
+                                "subsection Model b\n"        // 6
+                                "  subsection Time\n"         // 7
+                                "    set Step size = 0.02\n"  // 8
+                                "  end\n"                     // 9
+                                "end\n"                       // 10
+                                "subsection Model a\n"        // 11
+                                "  subsection Time\n"         // 12
+                                "    set End time = 3\n"      // 13
+                                "  end\n"                     // 14
+                                "end\n";                      // 15
+
+  std::pair<double, double>
+  times(dealii::ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    const std::pair<double, double> t{prm.get_double("End time"), prm.get_double("Step size")};
+    prm.leave_subsection();
+    return t;
+  }
+} // namespace
+
+TEST(Parameters, ModelSectionIsReadInItsPathOnlyAndTheCommandLineGoesOverIt)
+{
+  // the file's Model = a: section a over the common text, section b not read
+  {
+    dealii::ParameterHandler prm;
+    declare_two_paths(prm);
+    const scene::ParameterFile file(prm, two_paths, "two.prm", ".");
+    EXPECT_EQ(times(prm), std::make_pair(3.0, 0.5));
+    EXPECT_EQ(file.line_of("Time/End time"), 13);  // messages name the section's line
+    EXPECT_EQ(file.line_of("Time/Step size"), 4);
+  }
+  // Model = b from the command line selects section b; an override of a key that
+  // section b sets goes over the section
+  {
+    dealii::ParameterHandler prm;
+    declare_two_paths(prm);
+    const scene::ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b"});
+    EXPECT_EQ(prm.get("Model"), "b");
+    EXPECT_EQ(times(prm), std::make_pair(2.0, 0.02));
+    EXPECT_EQ(file.line_of("Time/Step size"), 8);
+  }
+  {
+    dealii::ParameterHandler prm;
+    declare_two_paths(prm);
+    const scene::ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b", "Time/Step size=0.01"});
+    EXPECT_EQ(times(prm), std::make_pair(2.0, 0.01));
+  }
+}
+
+TEST(Parameters, TheStitchRunsEachPathAtItsOwnResolution)
+{
+  // parameters/stitch_interrupted.prm: one file, tetrahedra of 1.5 mm and a soft tie in
+  // the realtime path, Q1 hexahedra of 2 mm, 20 ms steps and a stiff tie in the accurate
+  for (const std::string model : {"realtime", "accurate"})
+    {
+      dealii::ParameterHandler prm;
+      scene::Simulation::declare_parameters(prm);
+      scene::ParameterFile::from_file(prm, test_support::source_path("parameters/stitch_interrupted.prm"),
+                                      {"Model=" + model});
+      prm.enter_subsection("Mesh");
+      const std::string geo = prm.get("Geo parameters");
+      prm.leave_subsection();
+      prm.enter_subsection("Pierce points");
+      const double tie = prm.get_double("Transverse stiffness");
+      prm.leave_subsection();
+      if (model == "realtime")
+        {
+          EXPECT_EQ(geo, "h: 0.0015, hexahedra: 0, Wg: 0.0004");
+          EXPECT_EQ(tie, 500.0);
+        }
+      else
+        {
+          EXPECT_EQ(geo, "h: 0.002, hexahedra: 1, Wg: 0.0004");
+          EXPECT_EQ(tie, 5e4);
+        }
+    }
+}

@@ -19,17 +19,30 @@ namespace suturesim::scene
   {
   public:
     /// Reads @p text (the scene file's content, called @p name in messages) into @p prm,
-    /// which must hold every declaration already. Parse errors of deal.II (syntax,
-    /// unknown key or subsection, wrong type, out-of-range value) become one-line
-    /// InputErrors "name:line: ...". @p directory resolves relative paths.
-    ParameterFile(dealii::ParameterHandler &prm,
-                  const std::string        &text,
-                  const std::string        &name,
-                  const std::string        &directory);
+    /// which must hold every declaration already, then the command-line overrides
+    /// @p command_line ("Sub/Key=value" each, see apply_override()). Parse errors of
+    /// deal.II (syntax, unknown key or subsection, wrong type, out-of-range value) become
+    /// one-line InputErrors "name:line: ...". @p directory resolves relative paths.
+    ///
+    /// **Model sections.** A top-level block "subsection Model <path> ... end" holds
+    /// settings of one model path only (e.g. the accurate path's mesh, time step and
+    /// penalties, which differ from the realtime path's for the same scene): it is read
+    /// when Model = <path> (from the file or the command line), over the rest of the
+    /// file, and the command line goes over both. Its body is written like the file
+    /// itself (subsections and "set" lines); it cannot set Model. The text outside any
+    /// model section is common to all paths, so one scene file runs in every path at
+    /// each path's own resolution.
+    ParameterFile(dealii::ParameterHandler       &prm,
+                  const std::string              &text,
+                  const std::string              &name,
+                  const std::string              &directory,
+                  const std::vector<std::string> &command_line = {});
 
     /// Reads the file @p file_name; a missing or unreadable file is an InputError.
     static ParameterFile
-    from_file(dealii::ParameterHandler &prm, const std::string &file_name);
+    from_file(dealii::ParameterHandler       &prm,
+              const std::string              &file_name,
+              const std::vector<std::string> &command_line = {});
 
     /// Applies a command-line override "Sub/Sub/Key=value"; a bad one is an InputError
     /// naming the override.
@@ -57,6 +70,14 @@ namespace suturesim::scene
     }
 
   private:
+    /// Parses @p text (the file's line count) into @p prm; errors name this file.
+    void
+    parse(dealii::ParameterHandler &prm, const std::string &text) const;
+
+    /// Sets "Sub/Key=value" in @p prm and returns the path "Sub/Key".
+    static std::string
+    set_path(dealii::ParameterHandler &prm, const std::string &assignment);
+
     std::string                file_name;
     std::string                directory;
     std::map<std::string, int> lines;
