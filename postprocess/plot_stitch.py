@@ -4,9 +4,9 @@
   /usr/bin/python3 postprocess/plot_stitch.py output/stitch_interrupted [more runs...]
 
 writes stitch_curves.png and .pdf into the first run's folder with three panels:
-needle force vs time with the puncture events, suture tension (at the grasped tail)
-vs the length the needle end has been drawn since its turn ended, and the wound gap
-(first closure pair) vs that tension.
+needle force vs time with the puncture events (closure dashed, tie-off dash-dotted),
+suture tension (at the grasped tail) vs the length the needle end has been drawn since
+its turn ended, and the wound gap (first closure pair) vs that tension.
 """
 import json
 import math
@@ -49,7 +49,13 @@ def main():
         closure = summary["metrics"].get("closure_time")
         if closure is not None:
             ax_t.axvline(closure, color=line.get_color(), ls="--", lw=1)
-            ax_t.annotate("closed", (closure, 0), fontsize="x-small", color=line.get_color())
+            ax_t.annotate("closed", (closure, 0.02), xycoords=ax_t.get_xaxis_transform(),
+                          fontsize="x-small", color=line.get_color(), ha="right")
+        tied = summary["metrics"].get("tie_off_time")
+        if tied is not None and tied != closure:
+            ax_t.axvline(tied, color=line.get_color(), ls="-.", lw=1)
+            ax_t.annotate("tied", (tied, 0.08), xycoords=ax_t.get_xaxis_transform(),
+                          fontsize="x-small", color=line.get_color(), ha="left")
         tension = magnitude(header, data, "suture_end_force") or needle
         t_pull = summary.get("needle", {}).get("pass", {}).get("t_turn_end", 0)
         centre = [column(header, data, f"needle_centre_{c}") for c in "xyz"]

@@ -90,10 +90,11 @@ namespace suturesim::scene
         {
           const std::string line = trim(file_lines[i].substr(0, file_lines[i].find('#')));
           const bool        opens = line.rfind("subsection ", 0) == 0;
-          if (opens && depth == 0 && trim(line.substr(11)).rfind("Model", 0) == 0 &&
-              (trim(line.substr(11)).size() == 5 || std::isspace(trim(line.substr(11))[5])))
+          const std::string head  = opens ? trim(line.substr(11)) : std::string();
+          if (opens && depth == 0 && head.rfind("Model", 0) == 0 &&
+              (head.size() == 5 || std::isspace(static_cast<unsigned char>(head[5]))))
             {
-              const std::string name = trim(trim(line.substr(11)).substr(5));
+              const std::string name = trim(head.substr(5));
               const std::string here = file_name + ":" + std::to_string(i + 1) + ": ";
               if (name.empty())
                 throw InputError(here + "'subsection Model' needs a model path, e.g. "

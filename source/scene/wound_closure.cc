@@ -27,8 +27,13 @@ namespace suturesim::scene
                       "tight), not while the needle crossing the wound moves its edges. "
                       "Unit: s. Range: >= 0.");
     prm.declare_entry("Tie off", "true", Patterns::Bool(),
-                      "At closure every prescribed motion (needle, graspers) stops: the "
-                      "suture's ends are held where they are. Unit: none.");
+                      "Once the first pair's gap falls below 'Tie-off gap', every prescribed "
+                      "motion (needle, graspers) stops: the suture's ends are held where they "
+                      "are. Unit: none.");
+    prm.declare_entry("Tie-off gap", "0", Patterns::Double(0),
+                      "The first pair's gap below which the ends are tied off (a surgeon "
+                      "draws the throw a little past the edges' meeting); 0: at closure, "
+                      "'Closure gap'. Unit: m. Range: 0 to 'Closure gap'.");
     prm.declare_entry("Face contact", "", Patterns::List(Patterns::Anything(), 0, 2, ","),
                       "Accurate path: the incision's two faces as 'A, B' (boundary names or "
                       "ids of the mesh), kept from passing through each other by a penalty "
@@ -63,6 +68,11 @@ namespace suturesim::scene
     start_time  = prm.get_double("Start time");
     tie_off     = prm.get_bool("Tie off");
     scope.require(closure_gap > 0, "Closure gap", "must be > 0 m");
+    tie_off_gap = prm.get_double("Tie-off gap");
+    scope.require(tie_off_gap <= closure_gap, "Tie-off gap",
+                  "must not exceed 'Closure gap' (" + Utilities::to_string(closure_gap) + " m)");
+    if (tie_off_gap == 0)
+      tie_off_gap = closure_gap;
     face_contact = Utilities::split_string_list(prm.get("Face contact"), ',');
     scope.require(face_contact.empty() || face_contact.size() == 2, "Face contact", "needs two faces, 'A, B'");
     face_contact_stiffness = prm.get_double("Face contact stiffness");
@@ -101,12 +111,17 @@ namespace suturesim::scene
     last = gaps;
     for (std::size_t k = 0; k < gaps.size(); ++k)
       least[k] = std::min(least[k], gaps[k]);
-    if (!closed() && t >= prm.start_time && !gaps.empty() && gaps.front() < prm.closure_gap)
+    if (t < prm.start_time || gaps.empty())
+      return;
+    if (!closed() && gaps.front() < prm.closure_gap)
       {
         closure_time    = t;
         closure_tension = tension;
-        if (prm.tie_off)
-          tie_time = t;
+      }
+    if (prm.tie_off && closed() && !tied() && gaps.front() < prm.tie_off_gap)
+      {
+        tie_time    = t;
+        tie_tension = tension;
       }
   }
 
@@ -120,6 +135,8 @@ namespace suturesim::scene
     metrics["closure_gap"]     = prm.closure_gap;
     metrics["closure_tension"] = closed() ? nlohmann::json(closure_tension) : nlohmann::json(nullptr);
     metrics["closure_time"]    = closed() ? nlohmann::json(closure_time) : nlohmann::json(nullptr);
+    metrics["tie_off_time"]    = tied() ? nlohmann::json(tie_time) : nlohmann::json(nullptr);
+    metrics["tie_off_tension"] = tied() ? nlohmann::json(tie_tension) : nlohmann::json(nullptr);
     for (std::size_t k = 0; k < prm.pairs.size(); ++k)
       metrics["gaps"][prm.pairs[k].name] = {{"initial", initial[k]}, {"final", last[k]}, {"least", least[k]}};
   }

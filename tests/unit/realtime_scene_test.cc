@@ -232,7 +232,8 @@ TEST(RealtimeScene, StitchPassesBothWoundSidesInOrderAcrossTheGap)
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
 {
   // The whole stitch scene (7.5 s): drawn tight, the wound's top edges meet (final gap
-  // below 0.1 mm, tied off at closure) with the pierce points in thread order throughout.
+  // below 0.1 mm; drawn on past closure to the scene's tie-off gap, 0.05 mm, and held
+  // there) with the pierce points in thread order throughout.
   // Bite distance: the needle turns about its own centre, so a bite d goes as deep as
   // delta = R - sqrt(R^2 - d^2). The thread across the wound then runs at depth delta,
   // closer to the incision's floor (Di = 3 mm), about which each side turns to close the
@@ -248,6 +249,9 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   EXPECT_LT(std::abs(m5["final_gap"].get<double>()), 1e-4);
   ASSERT_FALSE(m5["closure_tension"].is_null());
   EXPECT_GT(m5["closure_time"].get<double>(), 2.5); // after the tail's grasp
+  ASSERT_FALSE(m5["tie_off_time"].is_null());
+  EXPECT_GT(m5["tie_off_time"].get<double>(), m5["closure_time"].get<double>());
+  EXPECT_GT(m5["tie_off_tension"].get<double>(), m5["closure_tension"].get<double>());
   expect_pierce_order(r5, 4);
   // no suture node ends inside the tissue (deeper than the suture's radius) but those
   // the bites carry between their pierce points, and the check sees those
@@ -292,6 +296,43 @@ TEST(WoundClosure, GapIsTheOpeningAlongThePairAndClosureFreezesTheMotion)
   EXPECT_EQ(m["closure_tension"].get<double>(), 3.5);
   EXPECT_EQ(m["closure_time"].get<double>(), 2.0);
   EXPECT_EQ(m["gaps"]["deep"]["least"].get<double>(), 5e-5);
+  EXPECT_EQ(m["tie_off_time"].get<double>(), 2.0);
+}
+
+TEST(WoundClosure, ATieOffGapBelowTheClosureGapDrawsTheStitchOnPastClosure)
+{
+  // closure is still measured at the closure gap; the ends are held only once the gap
+  // is below the tie-off gap, and the tension there is reported apart
+  suturesim::scene::ClosureParameters prm;
+  prm.pairs       = {{"mid", {-5e-4, 0, 0.006}, {5e-4, 0, 0.006}}};
+  prm.closure_gap = 1e-4;
+  prm.tie_off_gap = 5e-5;
+  suturesim::scene::ClosureMonitor monitor(prm);
+  monitor.update(0, {1e-3}, 0);
+  monitor.update(1, {9e-5}, 3.5);
+  EXPECT_TRUE(monitor.closed());
+  EXPECT_FALSE(monitor.tied());
+  EXPECT_EQ(monitor.motion_time(1.5), 1.5); // still drawn
+  monitor.update(2, {6e-5}, 4.5);
+  monitor.update(3, {4e-5}, 5);
+  monitor.update(4, {3e-5}, 5.2);
+  EXPECT_TRUE(monitor.tied());
+  EXPECT_EQ(monitor.motion_time(3.5), 3.0);
+  nlohmann::json m;
+  monitor.write(m);
+  EXPECT_EQ(m["closure_tension"].get<double>(), 3.5);
+  EXPECT_EQ(m["closure_time"].get<double>(), 1.0);
+  EXPECT_EQ(m["tie_off_tension"].get<double>(), 5.0);
+  EXPECT_EQ(m["tie_off_time"].get<double>(), 3.0);
+
+  // without a tie-off nothing is held
+  prm.tie_off = false;
+  suturesim::scene::ClosureMonitor free(prm);
+  free.update(0, {1e-3}, 0);
+  free.update(1, {1e-5}, 3);
+  EXPECT_TRUE(free.closed());
+  EXPECT_FALSE(free.tied());
+  EXPECT_EQ(free.motion_time(9.0), 9.0);
 }
 
 TEST(RealtimeScene, RegionModuliNameAPhysicalVolumeOfTheMesh)

@@ -5,9 +5,12 @@
  * wound, each giving the gap g = (x_b − x_a)·e with e = (X_b − X_a)/|X_b − X_a| (the
  * opening along the line between the two reference points; negative when the edges
  * overlap). The first pair decides closure: the first time its gap falls below
- * "Closure gap" the wound counts as closed, the suture tension then is the closure
- * tension, and with "Tie off" every prescribed motion stops there — both suture ends
- * are fixed where they are, the tie-off of an interrupted stitch until knots exist.
+ * "Closure gap" the wound counts as closed and the suture tension then is the closure
+ * tension; with "Tie off" every prescribed motion stops once the gap falls below
+ * "Tie-off gap" (by default the closure gap) — both suture ends are fixed where they
+ * are, the tie-off of an interrupted stitch until knots exist. A tie-off gap below the
+ * closure gap draws the stitch a little further, as a surgeon lays the first throw
+ * past the edges' meeting, so that the held wound stays closed with a margin.
  * Closure counts from "Start time" on: the needle crossing the wound pushes its edges
  * about, and a gap that dips then is not a closure by the suture.
  * Both model paths read the same struct.
@@ -40,6 +43,7 @@ namespace suturesim::scene
     double            closure_gap = 1e-4; ///< m
     double            start_time  = 0;    ///< s
     bool              tie_off     = true;
+    double            tie_off_gap = 1e-4; ///< m; parsed 0 means the closure gap
     /// Accurate path: the incision's two faces (boundary names or ids; empty: no
     /// contact between them), the penalty per vertex pair (N/m) and the gap below which
     /// a pair is loaded (m); coupling/accurate/wound_contact.h.
@@ -91,9 +95,15 @@ namespace suturesim::scene
     {
       return closure_time < std::numeric_limits<double>::infinity();
     }
+    bool
+    tied() const
+    {
+      return tie_time < std::numeric_limits<double>::infinity();
+    }
 
     /// metrics.initial_gap, final_gap (first pair), closure_tension, closure_time (null
-    /// when never closed), gaps.<name>.{initial, final, min}.
+    /// when never closed), tie_off_time, tie_off_tension (null when never tied off),
+    /// gaps.<name>.{initial, final, least}.
     void
     write(nlohmann::json &metrics) const;
 
@@ -103,5 +113,6 @@ namespace suturesim::scene
     double                   closure_time = std::numeric_limits<double>::infinity();
     double                   tie_time     = std::numeric_limits<double>::infinity();
     double                   closure_tension = 0;
+    double                   tie_tension     = 0;
   };
 } // namespace suturesim::scene
