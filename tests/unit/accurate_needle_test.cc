@@ -220,7 +220,7 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // there. It needs the pierce points on
   // the thread's C¹ curve (on the polyline it stalled at t = 2.64 s) and the contact of
   // the incision's faces (without it they overlapped at the stitch's depth while the
-  // top stayed open, and the run stalled at 4.8 s). Stored from this build's run (3 min
+  // top stayed open, and the run stalled at 4.8 s). Stored from this build's run (4 min
   // on this machine): closure at t = 6.609 s at a tail tension of 8.745 N, tie-off at
   // 6.849 s at 10.94 N, final gap 0.045 mm; 2 % tolerance on the tension (a penalty-and-friction path, deterministic
   // here, but not to the last digit across BLAS builds). No suture node ends inside the
