@@ -375,6 +375,7 @@ namespace suturesim::scene
     };
 
     const auto fail = [&](const double t, const std::string &reason) {
+      summary["metrics"]["simulated_time"] = last_output; // the last converged state's
       std::ostringstream s;
       s << "Newton failed at t = " << t << " s after " << in.time->max_cutbacks
         << " step halvings: " << reason << "; last converged state t = " << last_output << " s"
@@ -510,6 +511,7 @@ namespace suturesim::scene
       }
 
     np.write_summary(summary, needle.all_events(), peak_pull);
+    summary["metrics"]["simulated_time"] = t;
     if (suture)
       {
         // as in the realtime path: no suture node may end inside the tissue, deeper than

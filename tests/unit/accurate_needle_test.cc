@@ -236,6 +236,8 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
     punctures += e["kind"].get<std::string>().rfind("puncture", 0) == 0;
   EXPECT_EQ(punctures, 4u);
   const auto &m = r.summary["metrics"];
+  EXPECT_NEAR(m["simulated_time"].get<double>(), 7.5, 1e-9);
+  EXPECT_GT(r.summary["wall_time_seconds"].get<double>(), 0.0);
   ASSERT_FALSE(m["closure_tension"].is_null()) << "least gap " << m["gaps"]["mid"]["least"];
   EXPECT_NEAR(m["closure_tension"].get<double>(), 8.745, 0.02 * 8.745);
   EXPECT_GT(m["closure_time"].get<double>(), 2.5);
