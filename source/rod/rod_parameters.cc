@@ -1,5 +1,8 @@
 #include <suturesim/rod/rod_parameters.h>
 
+#include <iomanip>
+#include <sstream>
+
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
@@ -316,12 +319,38 @@ namespace suturesim::rod
     prm.leave_subsection();
     if (preset != "custom")
       {
-        for (const std::string key : {"Radius", "Young's modulus", "Poisson's ratio", "Density"})
-          c.require(scope.parameter_file().line_of("Suture/Cross section/" + key) == 0, key,
-                    "is set by 'Preset = " + preset + "'; set either the preset or the value");
         for (const auto &entry : preset_table())
           if (entry.name == preset)
             {
+              // A value given next to the preset is a contradiction unless it is the
+              // preset's own: the parameters.prm a run records holds the values used,
+              // and must read back. The values used are set in the handler, so that
+              // parameters.prm records them.
+              const std::vector<std::pair<std::string, double>> values{
+                {"Radius", entry.diameter / 2}, {"Young's modulus", entry.E},
+                {"Poisson's ratio", entry.nu}, {"Density", entry.density}};
+              prm.enter_subsection("Cross section");
+              for (const auto &[key, value] : values)
+                {
+                  const double given = prm.get_double(key);
+                  c.require(scope.parameter_file().line_of("Suture/Cross section/" + key) == 0 ||
+                              std::abs(given - value) <= 1e-12 * std::abs(value),
+                            key,
+                            "is set by 'Preset = " + preset + "' to " + Utilities::to_string(value) +
+                              "; set either the preset or the value");
+                  // the shortest text that reads back as the same double
+                  std::string text;
+                  for (int digits = 15; digits <= 17; ++digits)
+                    {
+                      std::ostringstream out;
+                      out << std::setprecision(digits) << value;
+                      text = out.str();
+                      if (std::stod(text) == value)
+                        break;
+                    }
+                  prm.set(key, text);
+                }
+              prm.leave_subsection();
               section.radius  = entry.diameter / 2;
               section.E       = entry.E;
               section.nu      = entry.nu;
