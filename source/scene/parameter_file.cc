@@ -62,13 +62,26 @@ namespace suturesim::scene
 
     /// One top-level "subsection Model <name> ... end" of a scene file: settings read
     /// only when Model = <name>. Its text keeps the file's line count (everything
-    /// outside its body blank) so that deal.II's messages give the file's line numbers.
+    /// outside its body blank) so that deal.II's messages give the file's line numbers;
+    /// keys maps its "Sub/Key" entries to their lines.
     struct ModelSection
     {
-      std::string name;
-      int         line = 0;
-      std::string text;
+      std::string                name;
+      int                        line = 0;
+      std::string                text;
+      std::map<std::string, int> keys;
     };
+
+    /// The lines of @p file_lines for which @p keep holds, the others blank.
+    template <typename Keep>
+    std::string
+    blank_except(const std::vector<std::string> &file_lines, const Keep &keep)
+    {
+      std::string text;
+      for (std::size_t i = 0; i < file_lines.size(); ++i)
+        text += (keep(i) ? file_lines[i] : std::string()) + "\n";
+      return text;
+    }
 
     /// Cuts the model sections out of @p text: the rest (sections blanked line for
     /// line) is returned, the sections are appended to @p sections.
@@ -83,13 +96,13 @@ namespace suturesim::scene
           file_lines.push_back(line);
       }
       std::vector<bool> in_section(file_lines.size(), false);
-      int               depth = 0;
-      ModelSection     *open  = nullptr;
-      int               open_depth = 0;
+      int               depth = 0, open_depth = 0;
+      std::size_t       header = 0; // the open section's first line (0-based)
       for (std::size_t i = 0; i < file_lines.size(); ++i)
         {
-          const std::string line = trim(file_lines[i].substr(0, file_lines[i].find('#')));
+          const std::string line  = trim(file_lines[i].substr(0, file_lines[i].find('#')));
           const bool        opens = line.rfind("subsection ", 0) == 0;
+          const bool        ends  = line == "end";
           const std::string head  = opens ? trim(line.substr(11)) : std::string();
           if (opens && depth == 0 && head.rfind("Model", 0) == 0 &&
               (head.size() == 5 || std::isspace(static_cast<unsigned char>(head[5]))))
@@ -103,40 +116,31 @@ namespace suturesim::scene
                 if (s.name == name)
                   throw InputError(here + "a second 'subsection Model " + name +
                                    "' (the first is on line " + std::to_string(s.line) + ")");
-              sections.push_back({name, static_cast<int>(i + 1), ""});
-              open       = &sections.back();
+              sections.push_back({name, static_cast<int>(i + 1), "", {}});
+              header     = i;
               open_depth = 1;
-              in_section[i] = true;
-              ++depth;
-              continue;
             }
+          else if (open_depth > 0 && opens)
+            ++open_depth;
+          else if (open_depth > 0 && ends && --open_depth == 0)
+            {
+              // the body, without the section's own "subsection" and "end" lines
+              auto &section = sections.back();
+              section.text  = blank_except(file_lines, [&](std::size_t j) { return j > header && j < i; });
+              section.keys  = locate_keys(section.text);
+              in_section[i] = true;
+            }
+          if (open_depth > 0)
+            in_section[i] = true;
           if (opens)
             ++depth;
-          else if (line == "end" && depth > 0)
+          else if (ends && depth > 0)
             --depth;
-          if (open)
-            {
-              in_section[i] = true;
-              if (opens)
-                ++open_depth;
-              else if (line == "end" && --open_depth == 0)
-                {
-                  // the closing "end" of the section itself stays out of its text
-                  std::string body;
-                  for (std::size_t j = 0; j < file_lines.size(); ++j)
-                    body += (j > static_cast<std::size_t>(open->line - 1) && j < i ? file_lines[j] : "") + "\n";
-                  open->text = body;
-                  open       = nullptr;
-                }
-            }
         }
-      if (open)
-        throw InputError(file_name + ":" + std::to_string(open->line) + ": 'subsection Model " +
-                         open->name + "' has no 'end'");
-      std::string rest;
-      for (std::size_t i = 0; i < file_lines.size(); ++i)
-        rest += (in_section[i] ? std::string() : file_lines[i]) + "\n";
-      return rest;
+      if (open_depth > 0)
+        throw InputError(file_name + ":" + std::to_string(sections.back().line) +
+                         ": 'subsection Model " + sections.back().name + "' has no 'end'");
+      return blank_except(file_lines, [&](std::size_t i) { return !in_section[i]; });
     }
 
     /// deal.II's parse messages span several lines and say "Line <n> of file <f>"; the
@@ -211,8 +215,8 @@ namespace suturesim::scene
       }
     prm.set("Model", chosen);
     for (const auto &section : sections)
-      if (const auto keys = locate_keys(section.text); keys.count("Model") > 0)
-        throw InputError(name + ":" + std::to_string(keys.at("Model")) +
+      if (const auto model = section.keys.find("Model"); model != section.keys.end())
+        throw InputError(name + ":" + std::to_string(model->second) +
                          ": Model cannot be set inside 'subsection Model " + section.name + "'");
 
     // Every section is checked in every run (a misspelt key of the accurate section is
@@ -233,9 +237,8 @@ namespace suturesim::scene
     for (const auto &section : sections)
       if (section.name == chosen)
         {
-          const auto own = locate_keys(section.text);
           parse(prm, section.text);
-          for (const auto &[path, line] : own)
+          for (const auto &[path, line] : section.keys)
             lines[path] = line;
           for (const auto &o : command_line)
             set_path(prm, o);
