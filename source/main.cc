@@ -79,15 +79,15 @@ main(int argc, char **argv)
   std::unique_ptr<io::Recorder> recorder;
   try
     {
-      std::unique_ptr<scene::ParameterFile> file;
+      std::unique_ptr<ParameterFile> file;
       if (scene_file.empty())
-        file = std::make_unique<scene::ParameterFile>(
+        file = std::make_unique<ParameterFile>(
           prm, scene::default_scene_text,
           std::string("<default scene ") + scene::default_scene_name + ">",
           std::string(SUTURESIM_SOURCE_DIR) + "/parameters", overrides);
       else
-        file = std::make_unique<scene::ParameterFile>(
-          scene::ParameterFile::from_file(prm, scene_file, overrides));
+        file = std::make_unique<ParameterFile>(
+          ParameterFile::from_file(prm, scene_file, overrides));
 
       scene::Simulation simulation(prm, *file);
       if (validate)

@@ -74,7 +74,7 @@ namespace suturesim::mesh
   }
 
   void
-  MeshParameters::parse(const ParameterHandler &prm, const scene::ParameterScope &scope)
+  MeshParameters::parse(const ParameterHandler &prm, const ParameterScope &scope)
   {
     source              = prm.get("Source");
     generator_name      = prm.get("Generator");
@@ -108,7 +108,7 @@ namespace suturesim::mesh
 
   types::boundary_id
   MeshInfo::boundary_id(const std::string          &name_or_id,
-                        const scene::ParameterScope &scope,
+                        const ParameterScope &scope,
                         const std::string          &key) const
   {
     for (const auto &[id, name] : boundary_names)

@@ -71,7 +71,7 @@ namespace suturesim::rod
                            "values damp the highest frequencies more. Unit: 1. Range: [0, 1].");
          prm.leave_subsection();
        },
-       [](const dealii::ParameterHandler &prm, const scene::ParameterScope &) {
+       [](const dealii::ParameterHandler &prm, const ParameterScope &) {
          auto &p = const_cast<dealii::ParameterHandler &>(prm);
          p.enter_subsection("Generalized-alpha");
          const double rho = p.get_double("Spectral radius");

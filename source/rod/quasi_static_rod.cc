@@ -53,7 +53,7 @@ namespace suturesim::rod
        "load stepping t = dt, 2 dt, ... T with Newton's method per step and halving of a "
        "failing step.",
        nullptr,
-       [](const dealii::ParameterHandler &, const scene::ParameterScope &) {
+       [](const dealii::ParameterHandler &, const ParameterScope &) {
          return std::unique_ptr<RodIntegrator>(std::make_unique<QuasiStaticRod>());
        }});
   } // namespace

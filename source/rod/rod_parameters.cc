@@ -107,10 +107,10 @@ namespace suturesim::rod
   }
 
   void
-  EndCondition::parse(const ParameterHandler &prm, const scene::ParameterScope &scope)
+  EndCondition::parse(const ParameterHandler &prm, const ParameterScope &scope)
   {
     type       = prm.get("Type");
-    keyframes  = scene::get_keyframes(prm, "Keyframes", scope);
+    keyframes  = get_keyframes(prm, "Keyframes", scope);
     grasp_time = prm.get_double("Grasp time");
     frame      = prm.get("Keyframes frame");
     scope.require(grasp_time == 0 || type != "free", "Grasp time", "needs a Type other than free");
@@ -138,15 +138,15 @@ namespace suturesim::rod
     prm.declare_entry("Elements", std::to_string(d.elements), Patterns::Integer(1, 1000000),
                       "Number of two-node elements. Unit: 1. Range: >= 1.");
     prm.enter_subsection("Straight");
-    prm.declare_entry("Start point", to_string(d.start), scene::vector_pattern(), "First node. Unit: m.");
-    prm.declare_entry("Direction", to_string(d.direction), scene::vector_pattern(),
+    prm.declare_entry("Start point", to_string(d.start), vector_pattern(), "First node. Unit: m.");
+    prm.declare_entry("Direction", to_string(d.direction), vector_pattern(),
                       "Direction of the rod (normalised). Unit: none. Range: non-zero.");
     prm.declare_entry("Length", "0.1", Patterns::Double(0), "Length. Unit: m. Range: > 0.");
     prm.leave_subsection();
     prm.enter_subsection("Arc");
-    prm.declare_entry("Centre", to_string(d.centre), scene::vector_pattern(), "Centre of the circle. Unit: m.");
+    prm.declare_entry("Centre", to_string(d.centre), vector_pattern(), "Centre of the circle. Unit: m.");
     prm.declare_entry("Radius", "0.01", Patterns::Double(0), "Radius. Unit: m. Range: > 0.");
-    prm.declare_entry("Plane normal", to_string(d.normal), scene::vector_pattern(),
+    prm.declare_entry("Plane normal", to_string(d.normal), vector_pattern(),
                       "Normal of the arc's plane; angles turn positively about it. Unit: "
                       "none. Range: non-zero.");
     prm.declare_entry("Start angle", "0", Patterns::Double(),
@@ -199,13 +199,13 @@ namespace suturesim::rod
       }
 
     prm.enter_subsection("Loads");
-    prm.declare_entry("End force", "0, 0, 0", scene::vector_pattern(),
+    prm.declare_entry("End force", "0, 0, 0", vector_pattern(),
                       "Force of fixed direction at the last end. Unit: N.");
-    prm.declare_entry("End moment", "0, 0, 0", scene::vector_pattern(),
+    prm.declare_entry("End moment", "0, 0, 0", vector_pattern(),
                       "Moment of fixed (spatial) direction at the last end. Unit: N m.");
-    prm.declare_entry("Gravity", "0, 0, 0", scene::vector_pattern(),
+    prm.declare_entry("Gravity", "0, 0, 0", vector_pattern(),
                       "Gravitational acceleration (weight rho A g per length). Unit: m/s^2.");
-    prm.declare_entry("Distributed load", "0, 0, 0", scene::vector_pattern(),
+    prm.declare_entry("Distributed load", "0, 0, 0", vector_pattern(),
                       "Force per unit reference length, fixed direction. Unit: N/m.");
     prm.declare_entry("Load ramp", d.load_ramp, Patterns::Selection("linear|constant"),
                       "linear: loads grow as t/T over the run (load stepping); constant: full "
@@ -260,14 +260,14 @@ namespace suturesim::rod
   }
 
   void
-  RodParameters::parse(ParameterHandler &prm, const scene::ParameterScope &scope)
+  RodParameters::parse(ParameterHandler &prm, const ParameterScope &scope)
   {
     centreline = prm.get("Centreline");
     elements   = prm.get_integer("Elements");
     prm.enter_subsection("Straight");
     const auto s = scope.subsection("Straight");
-    start        = scene::get_vector(prm, "Start point");
-    direction    = scene::get_vector(prm, "Direction");
+    start        = get_vector(prm, "Start point");
+    direction    = get_vector(prm, "Direction");
     length       = prm.get_double("Length");
     prm.leave_subsection();
     if (centreline == "straight")
@@ -278,9 +278,9 @@ namespace suturesim::rod
     direction.normalize();
     prm.enter_subsection("Arc");
     const auto a = scope.subsection("Arc");
-    centre       = scene::get_vector(prm, "Centre");
+    centre       = get_vector(prm, "Centre");
     arc_radius   = prm.get_double("Radius");
-    normal       = scene::get_vector(prm, "Plane normal");
+    normal       = get_vector(prm, "Plane normal");
     start_angle  = prm.get_double("Start angle");
     sweep        = prm.get_double("Sweep");
     prm.leave_subsection();
@@ -371,10 +371,10 @@ namespace suturesim::rod
       }
 
     prm.enter_subsection("Loads");
-    end_force   = scene::get_vector(prm, "End force");
-    end_moment  = scene::get_vector(prm, "End moment");
-    gravity     = scene::get_vector(prm, "Gravity");
-    distributed = scene::get_vector(prm, "Distributed load");
+    end_force   = get_vector(prm, "End force");
+    end_moment  = get_vector(prm, "End moment");
+    gravity     = get_vector(prm, "Gravity");
+    distributed = get_vector(prm, "Distributed load");
     load_ramp   = prm.get("Load ramp");
     prm.leave_subsection();
 

@@ -1,5 +1,6 @@
 #include <suturesim/collision/volume_penetration.h>
 #include <suturesim/core/error.h>
+#include <suturesim/core/parameter_adapter.h>
 #include <suturesim/io/polyline_writer.h>
 #include <suturesim/io/simplex_writer.h>
 #include <suturesim/mesh/gmsh_reader.h>
@@ -25,97 +26,6 @@ namespace suturesim::scene
 
   namespace
   {
-    /// The realtime library's plain declarations as deal.II entries of the current
-    /// subsection, with the same ranges (so the scene file is checked on parsing).
-    void
-    declare_specs(ParameterHandler &prm, const rt::ParameterDeclarations &declarations)
-    {
-      for (const auto &s : declarations.specs())
-        {
-          std::unique_ptr<Patterns::PatternBase> pattern;
-          switch (s.kind)
-            {
-              case rt::ParameterSpec::Kind::real:
-                pattern = std::make_unique<Patterns::Double>(s.min, s.max);
-                break;
-              case rt::ParameterSpec::Kind::integer:
-                pattern = std::make_unique<Patterns::Integer>(
-                  static_cast<int>(std::max<double>(s.min, std::numeric_limits<int>::min())),
-                  static_cast<int>(std::min<double>(s.max, std::numeric_limits<int>::max())));
-                break;
-              case rt::ParameterSpec::Kind::boolean:
-                pattern = std::make_unique<Patterns::Bool>();
-                break;
-              case rt::ParameterSpec::Kind::selection:
-                pattern = std::make_unique<Patterns::Selection>(s.choices);
-                break;
-              case rt::ParameterSpec::Kind::text:
-                pattern = std::make_unique<Patterns::Anything>();
-                break;
-            }
-          prm.declare_entry(s.name, s.default_value, *pattern, s.help);
-        }
-    }
-
-    /// "Key" selecting one model of @p Registry, and a subsection per model with its
-    /// parameters.
-    template <typename Registry>
-    void
-    declare_models(ParameterHandler &prm, const std::string &key, const std::string &default_name,
-                   const std::string &help, const std::string &extra_choices = "")
-    {
-      const auto &registry = Registry::instance();
-      std::string doc      = help + " Choices:";
-      for (const auto &[name, entry] : registry.all())
-        doc += " '" + name + "': " + entry.description;
-      prm.declare_entry(key, default_name,
-                        Patterns::Selection(extra_choices + registry.selection_pattern()), doc);
-      for (const auto &[name, entry] : registry.all())
-        if (entry.declare_parameters)
-          {
-            rt::ParameterDeclarations declarations;
-            entry.declare_parameters(declarations);
-            prm.enter_subsection(name);
-            declare_specs(prm, declarations);
-            prm.leave_subsection();
-          }
-    }
-
-    template <typename Registry>
-    rt::ParameterValues
-    read_values(ParameterHandler &prm, const std::string &name)
-    {
-      const auto              &entry = Registry::instance().get(name);
-      std::map<std::string, std::string> values;
-      if (entry.declare_parameters)
-        {
-          rt::ParameterDeclarations declarations;
-          entry.declare_parameters(declarations);
-          prm.enter_subsection(name);
-          for (const auto &s : declarations.specs())
-            values[s.name] = prm.get(s.name);
-          prm.leave_subsection();
-        }
-      return rt::ParameterValues(values);
-    }
-
-    /// The model @p name of @p Registry from its subsection; a ParameterError of the
-    /// model becomes an InputError naming the scene file's line.
-    template <typename Registry>
-    auto
-    create_model(ParameterHandler &prm, const ParameterScope &scope, const std::string &name)
-    {
-      const auto values = read_values<Registry>(prm, name);
-      try
-        {
-          return Registry::instance().get(name).create(values);
-        }
-      catch (const rt::ParameterError &e)
-        {
-          scope.subsection(name).fail(e.key, e.problem);
-        }
-    }
-
     std::string
     processor_name()
     {
@@ -217,7 +127,7 @@ namespace suturesim::scene
         suture_model = create_model<rt::SutureModel::Registry>(prm, scope, suture_name);
         if (self_collision_name != "off")
           self_collision_values =
-            read_values<rt::SelfCollision::Registry>(prm, self_collision_name);
+            read_model_values<rt::SelfCollision::Registry>(prm, self_collision_name);
       }
     if (in.tissue && in.suture && contact)
       scope.require(contact_stiffness > 0, "Contact stiffness",
@@ -467,7 +377,7 @@ namespace suturesim::scene
         {
           probes.emplace_back(name, world.add_probe({X[0], X[1], X[2]}));
         }
-      catch (const rt::ParameterError &e)
+      catch (const ParameterError &e)
         {
           ParameterScope(file, "Tissue").fail("Probes", "'" + name + "': " + e.problem);
         }
@@ -485,7 +395,7 @@ namespace suturesim::scene
             {
               gap_probes.emplace_back(world.add_probe(pair.a), world.add_probe(pair.b));
             }
-          catch (const rt::ParameterError &e)
+          catch (const ParameterError &e)
             {
               ParameterScope(file, "Closure").fail("Gap probes", "'" + pair.name + "': " + e.problem);
             }
@@ -495,7 +405,7 @@ namespace suturesim::scene
       {
         world.initialize();
       }
-    catch (const rt::ParameterError &e)
+    catch (const ParameterError &e)
       {
         scope.fail(e.key, e.problem);
       }

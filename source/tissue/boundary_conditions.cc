@@ -30,7 +30,7 @@ namespace suturesim::tissue
     std::unique_ptr<Functions::ParsedFunction<3>>
     parse_function(ParameterHandler          &prm,
                    const std::string         &name,
-                   const scene::ParameterScope &scope)
+                   const ParameterScope &scope)
     {
       prm.enter_subsection(name);
       auto f = std::make_unique<Functions::ParsedFunction<3>>(3);
@@ -95,9 +95,9 @@ namespace suturesim::tissue
   }
 
   void
-  BoundaryConditions::parse(ParameterHandler &prm, const scene::ParameterScope &s)
+  BoundaryConditions::parse(ParameterHandler &prm, const ParameterScope &s)
   {
-    scope = std::make_unique<scene::ParameterScope>(s);
+    scope = std::make_unique<ParameterScope>(s);
     dirichlet_specs.clear();
     for (const auto &item : Utilities::split_string_list(prm.get("Fixed")))
       dirichlet_specs.emplace_back(item, false);

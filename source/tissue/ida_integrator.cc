@@ -194,7 +194,7 @@ namespace suturesim::tissue
                            "a_K of the damping C = a_M M + a_K K_t. Unit: s. Range: >= 0.");
          prm.leave_subsection();
        },
-       [](const dealii::ParameterHandler &prm, const scene::ParameterScope &scope) {
+       [](const dealii::ParameterHandler &prm, const ParameterScope &scope) {
          auto &prm_mut = const_cast<dealii::ParameterHandler &>(prm);
          prm_mut.enter_subsection("ida");
          IdaParameters p;

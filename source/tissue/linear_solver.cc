@@ -58,7 +58,7 @@ namespace suturesim::tissue
 
   void
   LinearSolver::Parameters::parse(const dealii::ParameterHandler &prm,
-                                  const scene::ParameterScope    &scope)
+                                  const ParameterScope    &scope)
   {
     method         = prm.get("Method");
     preconditioner = prm.get("Preconditioner");

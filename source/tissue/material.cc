@@ -56,7 +56,7 @@ namespace suturesim::tissue
 
   Material
   Material::parse_parameters(const dealii::ParameterHandler &prm,
-                             const scene::ParameterScope    &scope)
+                             const ParameterScope    &scope)
   {
     const std::string model = prm.get("Model");
     auto             &prm_mut = const_cast<dealii::ParameterHandler &>(prm);

@@ -55,7 +55,7 @@ namespace suturesim::tissue
                            "C10 + C01 > 0.");
          prm.leave_subsection();
        },
-       [](const dealii::ParameterHandler &prm, const scene::ParameterScope &scope) {
+       [](const dealii::ParameterHandler &prm, const ParameterScope &scope) {
          const double c10 = prm.get_double("C10");
          const double c01 = prm.get_double("C01");
          scope.require(c10 + c01 > 0, "C10", "C10 + C01 must be > 0 Pa");

@@ -48,7 +48,7 @@ namespace suturesim::tissue
                            "Shear modulus mu = 2 C10. Unit: Pa. Range: > 0.");
          prm.leave_subsection();
        },
-       [](const dealii::ParameterHandler &prm, const scene::ParameterScope &scope) {
+       [](const dealii::ParameterHandler &prm, const ParameterScope &scope) {
          const double mu = prm.get_double("Shear modulus");
          scope.require(mu > 0, "Shear modulus", "must be > 0 Pa");
          return std::unique_ptr<IsochoricEnergy>(new NeoHookean(mu));

@@ -111,7 +111,7 @@ namespace suturesim::tissue
       {"quasi-static",
        "Quasi-static load stepping, Newton per step with bounded halving of failing steps.",
        nullptr,
-       [](const dealii::ParameterHandler &, const scene::ParameterScope &) {
+       [](const dealii::ParameterHandler &, const ParameterScope &) {
          return std::unique_ptr<TimeIntegrator>(new QuasiStatic());
        }});
   } // namespace

@@ -49,7 +49,7 @@ namespace suturesim::tissue
   }
 
   void
-  TimeParameters::parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope)
+  TimeParameters::parse(const dealii::ParameterHandler &prm, const ParameterScope &scope)
   {
     integrator      = prm.get("Integrator");
     end_time        = prm.get_double("End time");

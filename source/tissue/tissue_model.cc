@@ -63,7 +63,7 @@ namespace suturesim::tissue
   }
 
   void
-  NewtonParameters::parse(const ParameterHandler &prm, const scene::ParameterScope &)
+  NewtonParameters::parse(const ParameterHandler &prm, const ParameterScope &)
   {
     max_iterations              = prm.get_integer("Max iterations");
     residual_tolerance          = prm.get_double("Residual tolerance");
@@ -127,7 +127,7 @@ namespace suturesim::tissue
   }
 
   void
-  TissueParameters::parse(ParameterHandler &prm, const scene::ParameterScope &scope)
+  TissueParameters::parse(ParameterHandler &prm, const ParameterScope &scope)
   {
     degree      = prm.get_integer("Element degree");
     formulation = prm.get("Formulation");
@@ -149,7 +149,7 @@ namespace suturesim::tissue
       }
 
     region_moduli.clear();
-    for (const auto &[name, v] : scene::get_named_values(prm, "Region moduli"))
+    for (const auto &[name, v] : get_named_values(prm, "Region moduli"))
       {
         scope.require(v[0] > 0 && v[1] > 0 && v[0] < 1.5 * v[1], "Region moduli",
                       "region '" + name + "': needs 0 < mu < 1.5 K (Poisson's ratio in (0, 0.5))");

@@ -11,7 +11,7 @@
 //                                  case per process for a clean figure (README).
 // Run: build/tests/benchmarks/tissue_benchmark --benchmark_filter=...
 #include <suturesim/io/recorder.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
 
 #include <deal.II/base/mpi.h>
@@ -58,7 +58,7 @@ namespace
       {
         dealii::ParameterHandler prm;
         scene::Simulation::declare_parameters(prm);
-        scene::ParameterFile file(prm, block_scene(n, method), "benchmark.prm", ".");
+        ParameterFile file(prm, block_scene(n, method), "benchmark.prm", ".");
         scene::Simulation    simulation(prm, file);
         const std::string    dir =
           (std::filesystem::temp_directory_path() / "suturesim_benchmark").string();

@@ -18,23 +18,23 @@ namespace suturesim::test_support
              const Args &...args)
   {
     const auto                      &entry = Registry::instance().get(name);
-    realtime::ParameterDeclarations d;
+    ParameterDeclarations d;
     if (entry.declare_parameters)
       entry.declare_parameters(d);
-    auto p = realtime::ParameterValues::defaults(d);
+    auto p = ParameterValues::defaults(d);
     for (const auto &[k, v] : values)
       p.set(k, v);
     return entry.create(p, args...);
   }
 
-  inline realtime::ParameterValues
+  inline ParameterValues
   parameters_of(const std::string &self_collision, const std::map<std::string, std::string> &values = {})
   {
-    realtime::ParameterDeclarations d;
+    ParameterDeclarations d;
     if (self_collision != "off")
       if (const auto &f = realtime::SelfCollision::Registry::instance().get(self_collision).declare_parameters)
         f(d);
-    auto p = realtime::ParameterValues::defaults(d);
+    auto p = ParameterValues::defaults(d);
     for (const auto &[k, v] : values)
       p.set(k, v);
     return p;

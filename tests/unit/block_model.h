@@ -4,7 +4,7 @@
 #pragma once
 
 #include <suturesim/mesh/mesh_loader.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/tissue/tissue_model.h>
 
@@ -29,8 +29,8 @@ namespace suturesim::test_support
     {
       dealii::ParameterHandler prm;
       scene::Simulation::declare_parameters(prm);
-      const scene::ParameterFile  file(prm, "subsection Tissue\n" + tissue + "end\n", "block.prm", ".");
-      const scene::ParameterScope root(file, "");
+      const ParameterFile  file(prm, "subsection Tissue\n" + tissue + "end\n", "block.prm", ".");
+      const ParameterScope root(file, "");
       prm.enter_subsection("Tissue");
       parameters.parse(prm, root.subsection("Tissue"));
       prm.enter_subsection("Material");

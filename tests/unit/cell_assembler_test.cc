@@ -25,13 +25,13 @@ namespace
   {
     dealii::ParameterHandler prm;
     Material::declare_parameters(prm);
-    suturesim::scene::ParameterFile file(
+    suturesim::ParameterFile file(
       prm,
       "set Model = Mooney-Rivlin\nset Poisson ratio = " + std::to_string(nu) +
         "\nsubsection Mooney-Rivlin\n set C10 = 0.8e6\n set C01 = 0.2e6\nend\n",
       "test.prm",
       ".");
-    return Material::parse_parameters(prm, suturesim::scene::ParameterScope(file, ""));
+    return Material::parse_parameters(prm, suturesim::ParameterScope(file, ""));
   }
 
   struct Case

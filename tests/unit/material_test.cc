@@ -36,8 +36,8 @@ namespace
     else
       text += "subsection Mooney-Rivlin\n set C10 = " + std::to_string(c.c10) +
               "\n set C01 = " + std::to_string(c.c01) + "\nend\n";
-    scene::ParameterFile file(prm, text, "material_test.prm", ".");
-    return Material::parse_parameters(prm, scene::ParameterScope(file, ""));
+    ParameterFile file(prm, text, "material_test.prm", ".");
+    return Material::parse_parameters(prm, ParameterScope(file, ""));
   }
 
   const std::vector<Case> cases = {
@@ -218,10 +218,10 @@ TEST(Material, RejectsIncompressiblePoissonRatio)
 {
   dealii::ParameterHandler prm;
   Material::declare_parameters(prm);
-  scene::ParameterFile file(prm, "set Poisson ratio = 0.5\n", "nu.prm", ".");
+  ParameterFile file(prm, "set Poisson ratio = 0.5\n", "nu.prm", ".");
   try
     {
-      Material::parse_parameters(prm, scene::ParameterScope(file, "Tissue/Material"));
+      Material::parse_parameters(prm, ParameterScope(file, "Tissue/Material"));
       FAIL() << "nu = 0.5 accepted";
     }
   catch (const InputError &e)

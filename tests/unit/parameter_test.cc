@@ -1,7 +1,7 @@
 // Parameters: declare → print → parse round trip of the whole scene tree, and the
 // defaults declared through the in-class initialisers parse back to those initialisers
 // (conventions.md §2).
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/tissue/linear_solver.h>
 #include <suturesim/tissue/time_integrator.h>
@@ -38,13 +38,13 @@ TEST(Parameters, RoundTripOfEveryShippedScene)
     {
       dealii::ParameterHandler first;
       scene::Simulation::declare_parameters(first);
-      const auto file = scene::ParameterFile::from_file(first, test_support::source_path(scene));
+      const auto file = ParameterFile::from_file(first, test_support::source_path(scene));
       scene::Simulation parsed(first, file);
       const std::string printed = print(first);
 
       dealii::ParameterHandler second;
       scene::Simulation::declare_parameters(second);
-      scene::ParameterFile again(second, printed, "printed.prm", ".");
+      ParameterFile again(second, printed, "printed.prm", ".");
       scene::Simulation reparsed(second, again);
       EXPECT_EQ(print(second), printed) << scene;
       EXPECT_EQ(reparsed.name(), parsed.name());
@@ -61,8 +61,8 @@ TEST(Parameters, DeclaredDefaultsAreTheInClassDefaults)
   prm.enter_subsection("Time");
   tissue::TimeParameters::declare(prm);
   prm.leave_subsection();
-  scene::ParameterFile file(prm, "", "empty.prm", ".");
-  const scene::ParameterScope scope(file, "");
+  ParameterFile file(prm, "", "empty.prm", ".");
+  const ParameterScope scope(file, "");
 
   tissue::NewtonParameters newton, newton_default;
   newton.max_iterations = 0;
@@ -178,7 +178,7 @@ TEST(Parameters, ModelSectionIsReadInItsPathOnlyAndTheCommandLineGoesOverIt)
   {
     dealii::ParameterHandler prm;
     declare_two_paths(prm);
-    const scene::ParameterFile file(prm, two_paths, "two.prm", ".");
+    const ParameterFile file(prm, two_paths, "two.prm", ".");
     EXPECT_EQ(times(prm), std::make_pair(3.0, 0.5));
     EXPECT_EQ(file.line_of("Time/End time"), 13);  // messages name the section's line
     EXPECT_EQ(file.line_of("Time/Step size"), 4);
@@ -188,7 +188,7 @@ TEST(Parameters, ModelSectionIsReadInItsPathOnlyAndTheCommandLineGoesOverIt)
   {
     dealii::ParameterHandler prm;
     declare_two_paths(prm);
-    const scene::ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b"});
+    const ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b"});
     EXPECT_EQ(prm.get("Model"), "b");
     EXPECT_EQ(times(prm), std::make_pair(2.0, 0.02));
     EXPECT_EQ(file.line_of("Time/Step size"), 8);
@@ -196,7 +196,7 @@ TEST(Parameters, ModelSectionIsReadInItsPathOnlyAndTheCommandLineGoesOverIt)
   {
     dealii::ParameterHandler prm;
     declare_two_paths(prm);
-    const scene::ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b", "Time/Step size=0.01"});
+    const ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b", "Time/Step size=0.01"});
     EXPECT_EQ(times(prm), std::make_pair(2.0, 0.01));
   }
 }
@@ -209,7 +209,7 @@ TEST(Parameters, TheStitchRunsEachPathAtItsOwnResolution)
     {
       dealii::ParameterHandler prm;
       scene::Simulation::declare_parameters(prm);
-      scene::ParameterFile::from_file(prm, test_support::source_path("parameters/stitch_interrupted.prm"),
+      ParameterFile::from_file(prm, test_support::source_path("parameters/stitch_interrupted.prm"),
                                       {"Model=" + model});
       prm.enter_subsection("Mesh");
       const std::string geo = prm.get("Geo parameters");

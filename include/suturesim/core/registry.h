@@ -10,7 +10,7 @@
  * No deal.II header is needed here. The accurate path's models declare their parameters
  * into a dealii::ParameterHandler (Registry); the realtime library, which must build
  * without deal.II, declares them into its own plain list (BasicRegistry with
- * realtime::ParameterDeclarations), and the scene layer turns that list into deal.II
+ * ParameterDeclarations), and the scene layer turns that list into deal.II
  * entries.
  */
 

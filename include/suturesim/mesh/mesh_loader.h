@@ -8,7 +8,7 @@
  * "bottom" rather than "1".
  */
 
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria.h>
@@ -34,7 +34,7 @@ namespace suturesim::mesh
     declare(dealii::ParameterHandler &prm);
     /// Resolves the mesh file against the scene file; a missing file is an InputError.
     void
-    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   struct MeshInfo
@@ -47,7 +47,7 @@ namespace suturesim::mesh
     /// unknown.
     dealii::types::boundary_id
     boundary_id(const std::string          &name_or_id,
-                const scene::ParameterScope &scope,
+                const ParameterScope &scope,
                 const std::string          &key) const;
 
     std::string

@@ -14,7 +14,7 @@
  */
 
 #include <suturesim/core/registry.h>
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/realtime/system.h>
 
 #include <limits>

@@ -19,7 +19,7 @@
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/core/registry.h>
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 
 #include <memory>
 #include <string>

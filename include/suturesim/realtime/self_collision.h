@@ -17,7 +17,7 @@
 
 #include <suturesim/collision/sphere_tree.h>
 #include <suturesim/core/registry.h>
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/realtime/system.h>
 
 #include <vector>

@@ -15,7 +15,7 @@
 
 #include <suturesim/core/registry.h>
 #include <suturesim/mesh/simplex_mesh.h>
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/realtime/system.h>
 
 #include <map>

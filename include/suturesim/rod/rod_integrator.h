@@ -15,7 +15,7 @@
 #include <suturesim/io/polyline_writer.h>
 #include <suturesim/io/recorder.h>
 #include <suturesim/rod/rod_parameters.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/tissue/time_integrator.h>
 
 #include <chrono>
@@ -65,7 +65,7 @@ namespace suturesim::rod
   {
   public:
     using Registry = suturesim::Registry<RodIntegrator, const dealii::ParameterHandler &,
-                                         const scene::ParameterScope &>;
+                                         const ParameterScope &>;
     virtual ~RodIntegrator() = default;
 
     /// Runs from t = 0 to the end time; throws SolverError (the last converged state

@@ -11,7 +11,7 @@
 
 #include <suturesim/rod/cross_section.h>
 #include <suturesim/rod/rod_model.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -51,7 +51,7 @@ namespace suturesim::rod
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   struct RodParameters
@@ -94,7 +94,7 @@ namespace suturesim::rod
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
 
     /// The initial centreline: N + 1 nodes and frames whose first director is the
     /// tangent (parallel transported along polylines, so the rod starts twist free).

@@ -15,7 +15,7 @@
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/tools/surgical_pass.h>
 
 #include <deal.II/base/parameter_handler.h>

@@ -24,13 +24,13 @@
 #include <suturesim/io/recorder.h>
 #include <suturesim/mesh/mesh_loader.h>
 #include <suturesim/realtime/integrator.h>
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/scene/wound_closure.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
 #include <suturesim/tissue/time_integrator.h>
@@ -85,7 +85,7 @@ namespace suturesim::scene
 
     std::string                            tissue_name, integrator_name, suture_name;
     std::string                            self_collision_name, pierce_model_name;
-    realtime::ParameterValues              self_collision_values;
+    ParameterValues              self_collision_values;
     std::unique_ptr<realtime::TissueModel> tissue_model;
     std::unique_ptr<realtime::Integrator>  integrator;
     std::unique_ptr<realtime::SutureModel> suture_model;

@@ -17,7 +17,7 @@
  */
 
 #include <suturesim/mesh/mesh_loader.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
 

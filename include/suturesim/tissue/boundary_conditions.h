@@ -9,7 +9,7 @@
  */
 
 #include <suturesim/mesh/mesh_loader.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/parsed_function.h>
@@ -39,7 +39,7 @@ namespace suturesim::tissue
 
     /// Reads the subsection; boundary names are resolved against the mesh by resolve().
     void
-    parse(dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
 
     /// Turns names into boundary ids; an unknown name is an InputError.
     void
@@ -62,6 +62,6 @@ namespace suturesim::tissue
     std::vector<std::string>                      traction_specs;
     std::unique_ptr<dealii::Functions::ParsedFunction<3>> displacement_function;
     std::unique_ptr<dealii::Functions::ParsedFunction<3>> traction_function;
-    std::unique_ptr<scene::ParameterScope>         scope;
+    std::unique_ptr<ParameterScope>         scope;
   };
 } // namespace suturesim::tissue

@@ -11,7 +11,7 @@
  */
 
 #include <suturesim/core/registry.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <memory>
 
@@ -29,7 +29,7 @@ namespace suturesim::tissue
     /// Created from the model's own subsection; checks fail through the scope.
     using Registry = suturesim::Registry<IsochoricEnergy,
                                          const dealii::ParameterHandler &,
-                                         const scene::ParameterScope &>;
+                                         const ParameterScope &>;
 
     virtual ~IsochoricEnergy() = default;
 

@@ -12,7 +12,7 @@
  *    near null space, the right AMG for elasticity) or "boomeramg" (hypre) or "jacobi".
  */
 
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
@@ -40,7 +40,7 @@ namespace suturesim::tissue
       static void
       declare(dealii::ParameterHandler &prm);
       void
-      parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+      parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
     };
 
     /// Statistics of the most recent solve.

@@ -44,7 +44,7 @@ namespace suturesim::tissue
 
     /// Builds the material from the current subsection (the one declared into).
     static Material
-    parse_parameters(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse_parameters(const dealii::ParameterHandler &prm, const ParameterScope &scope);
 
     /// @p kappa the bulk modulus (Pa), @p density in kg/m³.
     Material(std::shared_ptr<const IsochoricEnergy> isochoric,

@@ -11,7 +11,7 @@
 
 #include <suturesim/core/registry.h>
 #include <suturesim/io/recorder.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/tissue/tissue_model.h>
 
 #include <deal.II/base/conditional_ostream.h>
@@ -36,7 +36,7 @@ namespace suturesim::tissue
     declare(dealii::ParameterHandler &prm,
             const std::map<std::string, std::string> &other_integrators = {});
     void
-    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   class TimeIntegrator
@@ -44,7 +44,7 @@ namespace suturesim::tissue
   public:
     using Registry = suturesim::Registry<TimeIntegrator,
                                          const dealii::ParameterHandler &,
-                                         const scene::ParameterScope &>;
+                                         const ParameterScope &>;
 
     virtual ~TimeIntegrator() = default;
 

@@ -47,7 +47,7 @@ namespace suturesim::tissue
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(const dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   /// What one Newton solve did, for summary.json and the convergence tests.
@@ -86,7 +86,7 @@ namespace suturesim::tissue
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(dealii::ParameterHandler &prm, const scene::ParameterScope &scope);
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   /// The tissue's boundary as triangles over the mesh vertices on it: two per boundary

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace suturesim::scene
+namespace suturesim
 {
   class ParameterFile
   {
@@ -142,4 +142,4 @@ namespace suturesim::scene
   /// given twice fails through @p scope. Value counts are the caller's to check.
   std::map<double, std::vector<double>>
   get_keyframes(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope);
-} // namespace suturesim::scene
+} // namespace suturesim

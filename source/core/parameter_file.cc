@@ -1,5 +1,5 @@
 #include <suturesim/core/error.h>
-#include <suturesim/scene/parameter_file.h>
+#include <suturesim/core/parameter_file.h>
 
 #include <deal.II/base/utilities.h>
 
@@ -14,7 +14,7 @@
 #  define SUTURESIM_SOURCE_DIR "."
 #endif
 
-namespace suturesim::scene
+namespace suturesim
 {
   namespace
   {
@@ -397,4 +397,4 @@ namespace suturesim::scene
                     "time " + time + " appears twice");
     return keyframes;
   }
-} // namespace suturesim::scene
+} // namespace suturesim

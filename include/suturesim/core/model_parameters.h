@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-namespace suturesim::realtime
+namespace suturesim
 {
   struct ParameterSpec
   {
@@ -120,4 +120,4 @@ namespace suturesim::realtime
   private:
     std::map<std::string, std::string> values;
   };
-} // namespace suturesim::realtime
+} // namespace suturesim

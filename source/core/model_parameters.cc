@@ -1,8 +1,8 @@
-#include <suturesim/realtime/model_parameters.h>
+#include <suturesim/core/model_parameters.h>
 
 #include <sstream>
 
-namespace suturesim::realtime
+namespace suturesim
 {
   namespace
   {
@@ -121,4 +121,4 @@ namespace suturesim::realtime
     values[name] = value;
     return *this;
   }
-} // namespace suturesim::realtime
+} // namespace suturesim
