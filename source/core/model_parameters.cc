@@ -1,26 +1,23 @@
 #include <suturesim/core/model_parameters.h>
 
+#include <charconv>
 #include <sstream>
 
 namespace suturesim
 {
-  namespace
+  std::string
+  shortest_text(const double v)
   {
-    std::string
-    to_text(const double v)
-    {
-      std::ostringstream s;
-      s.precision(17);
-      s << v;
-      return s.str();
-    }
-  } // namespace
+    char       buffer[32];
+    const auto end = std::to_chars(buffer, buffer + sizeof(buffer), v).ptr;
+    return std::string(buffer, end);
+  }
 
   void
   ParameterDeclarations::add_real(const std::string &name, const double default_value,
                                   const double min, const double max, const std::string &help)
   {
-    list.push_back({name, ParameterSpec::Kind::real, to_text(default_value), min, max, "", help});
+    list.push_back({name, ParameterSpec::Kind::real, shortest_text(default_value), min, max, "", help});
   }
 
   void

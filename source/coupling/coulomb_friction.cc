@@ -9,7 +9,7 @@ namespace suturesim::coupling
                    const double normal)
   {
     FrictionResult r;
-    const double   capacity = p.mu * std::max(normal, 0.0);
+    const double   capacity = friction_limit(p, normal);
     const double   gap      = zeta - anchor;
     const double   trial    = -p.stiffness * gap;
     if (std::abs(trial) <= capacity)
@@ -25,6 +25,29 @@ namespace suturesim::coupling
     r.anchor          = p.stiffness > 0 ? zeta - sign * capacity / p.stiffness : zeta;
     r.slipping        = true;
     return r;
+  }
+
+  void
+  FrictionParameters::declare(ParameterDeclarations &d)
+  {
+    const FrictionParameters defaults;
+    d.add_real("Friction coefficient", defaults.mu, 0, 10,
+               "Coulomb mu between tissue and thread (seed 000 eq. 2). Unit: 1. Range: [0, 10].");
+    d.add_real("Stick stiffness", defaults.stiffness, 0, 1e12,
+               "k_t of the elastic stick before slip (regularised Coulomb). Unit: N/m. Range: > 0.");
+    d.add_real("Grip", defaults.grip, 0, 1e6,
+               "Normal force N0 of the hole on a straight thread; N = N0 + |f_perp|. Unit: N. Range: >= 0.");
+  }
+
+  FrictionParameters
+  FrictionParameters::parse(const ParameterValues &v)
+  {
+    FrictionParameters p;
+    p.mu        = v.real("Friction coefficient");
+    p.stiffness = v.real("Stick stiffness");
+    p.grip      = v.real("Grip");
+    v.require(p.stiffness > 0, "Stick stiffness", "must be > 0 N/m");
+    return p;
   }
 
   NormalForce

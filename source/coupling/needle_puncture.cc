@@ -7,6 +7,32 @@
 
 namespace suturesim::coupling
 {
+  void
+  PunctureParameters::declare(ParameterDeclarations &d)
+  {
+    const PunctureParameters defaults;
+    d.add_real("Threshold", defaults.threshold, 0, 1e6,
+               "Normal force of the tip on the surface at which it punctures (default: 0.61-0.90 N for "
+               "suture needles, Maloney et al. 2025). Unit: N. Range: > 0.");
+    d.add_real("Tip stiffness", defaults.stiffness, 0, 1e12,
+               "Penalty k_c of the tip on the surface before puncture (the dimple). Unit: N/m. Range: > 0.");
+    d.add_real("Reach", defaults.reach, 0, 1,
+               "Distance from the surface within which the tip is looked for. Unit: m. Range: (0, 1].");
+  }
+
+  PunctureParameters
+  PunctureParameters::parse(const ParameterValues &v)
+  {
+    PunctureParameters p;
+    p.threshold = v.real("Threshold");
+    p.stiffness = v.real("Tip stiffness");
+    p.reach     = v.real("Reach");
+    v.require(p.threshold > 0, "Threshold", "must be > 0 N");
+    v.require(p.stiffness > 0, "Tip stiffness", "must be > 0 N/m");
+    v.require(p.reach > 0, "Reach", "must be > 0 m");
+    return p;
+  }
+
   NeedlePuncture::NeedlePuncture(const PunctureParameters &parameters,
                                  const std::vector<mesh::Triangle> &surface, const Matrix3Xd &X)
     : prm(parameters)

@@ -12,7 +12,7 @@ namespace suturesim::realtime
 {
   NeedleCoupling::NeedleCoupling(const System &s, const std::vector<mesh::Triangle> &surface,
                                  const tools::CurvedNeedle &geometry,
-                                 const NeedleCouplingParameters &parameters)
+                                 const NeedleCouplingParameters &parameters, SutureModel *suture_model)
     : prm(parameters)
     , triangles(surface)
     , suture(s.suture)
@@ -24,6 +24,7 @@ namespace suturesim::realtime
       link = (s.nodes.reference.col(suture.begin + 1) - s.nodes.reference.col(suture.begin)).norm();
     // throws std::invalid_argument naming the choices for an unknown name
     model = PierceModel::Registry::instance().get(prm.pierce_model).create(ParameterValues());
+    model->attach(suture_model, prm.project);
     // the thread's nodes: the suture's, continued along the needle from the swage at the
     // same spacing (the needle's own length when there is no suture)
     thread_nodes.swage = needle.length();
@@ -36,9 +37,10 @@ namespace suturesim::realtime
     states.reserve(16);
     zeta_work.reserve(16);
     slip_work.reserve(16);
-    soft_work.reserve(16);
-    load_work.reserve(16);
-    soft_index.reserve(16);
+    taken_work.reserve(16);
+    taken_force.reserve(16);
+    taken_index.reserve(16);
+    taken_slips.reserve(16);
   }
 
   void
@@ -56,19 +58,17 @@ namespace suturesim::realtime
   }
 
   void
-  NeedleCoupling::soft_loads(const Matrix3Xd &x) const
+  NeedleCoupling::gather_taken(const Matrix3Xd &x) const
   {
-    soft_work.clear();
-    soft_index.assign(points.size(), -1);
+    taken_work.clear();
+    taken_index.assign(points.size(), -1);
     const double L = needle.length();
     for (std::size_t k = 0; k < points.size(); ++k)
-      if (is_soft(points[k]))
+      if (taken(points[k]))
         {
-          soft_index[k] = soft_work.size();
-          soft_work.push_back({points[k].anchor - L, tissue_point(points[k], x)});
+          taken_index[k] = taken_work.size();
+          taken_work.push_back({points[k].anchor - L, tissue_point(points[k], x)});
         }
-    if (!soft_work.empty())
-      soft_model->soft_constraint_loads(sys, x, soft_work, load_work);
   }
 
   NeedleCoupling::ThreadPoint
@@ -144,16 +144,16 @@ namespace suturesim::realtime
         for (unsigned i = 0; i < 3; ++i)
           f.col(tri[i]) += touch->point.weights[i] * force;
       }
-    if (soft_model != nullptr)
-      soft_loads(x);
+    gather_taken(x);
+    if (!taken_work.empty())
+      model->taken_forces(sys, x, taken_work, taken_force);
     for (std::size_t k = 0; k < points.size(); ++k)
       {
         const auto &p = points[k];
-        if (is_soft(p))
+        if (taken_index[k] >= 0)
           {
-            // the suture is geometric: only the tissue point feels the tensions
-            const auto    &l     = load_work[soft_index[k]];
-            const Vector3d force = l.before * l.to_before + l.after * l.to_after;
+            // the model's force acts on the tissue point alone
+            const Vector3d &force = taken_force[taken_index[k]];
             for (unsigned i = 0; i < 3; ++i)
               f.col(p.nodes[i]) += p.weights[i] * force;
           }
@@ -255,8 +255,10 @@ namespace suturesim::realtime
           {
             const Vector3d dd    = tissue_point(p, x) - p.at.c;
             const double   zeta  = p.at.zeta - dd.dot(p.at.t);
+            // the limit in impulse units: μ (N₀ dt² + |λ⊥|)
             const double   limit = model->capped_stick()
-                                       ? prm.friction.mu * (prm.friction.grip * dt * dt + std::abs(p.lambda_n))
+                                       ? coupling::friction_limit(prm.friction,
+                                                                  prm.friction.grip * dt * dt + std::abs(p.lambda_n))
                                        : std::numeric_limits<double>::infinity();
             correct(p, -p.at.t, zeta - p.anchor, alpha_t, p.lambda_t, limit, x, w);
           }
@@ -301,7 +303,7 @@ namespace suturesim::realtime
         add(tip, -F * puncture.push_direction());
       }
     for (const auto &p : points)
-      if (!is_soft(p) && (!p.at.on_suture || prm.geometric_suture))
+      if (!taken(p) && (!p.at.on_suture || prm.geometric_suture))
         {
           const Vector3d on_tissue = prm.project
                                        ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2)
@@ -329,9 +331,29 @@ namespace suturesim::realtime
   void
   NeedleCoupling::after_step(Nodes &nodes)
   {
-    const Matrix3Xd &x   = nodes.x;
-    const Vector3d   tip = needle.tip(current_pose);
+    const Matrix3Xd &x = nodes.x;
+    accept_touch(x);
+    const double end = settle_anchors(x, time - last_time);
+    // order along the thread, between the tip and the thread's far end
+    if (!zeta_work.empty())
+      {
+        coupling::keep_order(zeta_work, model->order_gap(prm.spacing), 0, end);
+        for (std::size_t k = 0; k < points.size(); ++k)
+          points[k].anchor = zeta_work[k];
+      }
+    for (auto &p : points)
+      p.at = thread_at(p.anchor, x);
+    // the accepted points the model has taken over, for the suture's next update
+    gather_taken(x);
+    model->taken_accepted(taken_work);
+    record_states(x);
+    last_time = time;
+  }
 
+  void
+  NeedleCoupling::accept_touch(const Matrix3Xd &x)
+  {
+    const Vector3d tip = needle.tip(current_pose);
     // the touch: its force decides the puncture
     double F = 0;
     if (const auto *touch = puncture.touch())
@@ -348,13 +370,12 @@ namespace suturesim::realtime
         p.nodes   = triangles[at.triangle];
         p.weights = at.weights;
         // the stick starts where the point projects on the needle now
-        p.anchor  = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
-        p.at      = thread_at(p.anchor, x);
-        p.exit    = touch.exit;
+        p.anchor = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
+        p.at     = thread_at(p.anchor, x);
+        p.exit   = touch.exit;
         // the newest point is nearest the tip: first in thread order
         points.insert(points.begin(), p);
       }
-
     // seed 002: a new touch makes its point a vertex, pressed from the next step on
     if (const auto *touch = puncture.touch())
       {
@@ -362,55 +383,46 @@ namespace suturesim::realtime
         if (make_vertex(at, x))
           puncture.rename_touch(at);
       }
+  }
 
-    // friction: the anchors of the accepted state
-    const double step = time - last_time;
+  double
+  NeedleCoupling::settle_anchors(const Matrix3Xd &x, const double step)
+  {
     zeta_work.clear();
     slip_work.clear();
     states.resize(points.size());
     for (auto &p : points)
       p.at = thread_at(p.anchor, x);
-    if (soft_model != nullptr)
-      soft_loads(x);
+    gather_taken(x);
+    if (!taken_work.empty())
+      model->taken_slip(sys, x, taken_work, prm.friction, taken_slips);
     for (std::size_t k = 0; k < points.size(); ++k)
       {
-        auto &p = points[k];
-        if (is_soft(p))
-          {
-            // seed 002 slip on the suture with a Coulomb threshold (see the header)
-            const auto    &l     = load_work[soft_index[k]];
-            const double   D     = l.before - l.after;
-            const double   N     = prm.friction.grip + (l.before * l.to_before + l.after * l.to_after).norm();
-            const double   limit = prm.friction.mu * N;
-            // sliding ds into the section before lowers its tension by k_b ds and raises
-            // the other's by k_a ds: the slip that leaves exactly μN between them
-            const double   rate  = l.stiffness_before + l.stiffness_after;
-            const bool     slip  = std::abs(D) > limit && rate > 0;
-            const double   ds    = slip ? std::copysign((std::abs(D) - limit) / rate, D) : 0.0;
-            auto          &st    = states[k];
-            st.slip_speed        = step > 0 ? ds / step : 0;
-            st.slipping          = slip;
-            st.normal            = N;
-            st.friction          = std::clamp(D, -limit, limit);
-            if (!p.passed_swage)
-              {
-                p.passed_swage = true;
-                events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
-              }
-            p.anchor += ds;
-            zeta_work.push_back(p.anchor);
-            continue;
-          }
-        // the anchor of the accepted state is the model's (return mapping, or seed 001's
-        // node slip) at the end-of-step positions, in both modes (under XPBD the stick
-        // multiplier was clamped to the Coulomb limit, but a few iterations may leave a
-        // violation whose elastic force k_t (ζ − ζ_a) exceeds μN: that is slip, and the
-        // anchor must follow)
+        auto  &p = points[k];
         double N = 0;
-        pierce_force(p, x, nullptr, &N);
-        const Vector3d d = tissue_point(p, x) - p.at.c;
-        slip_work.push_back({p.anchor, p.at.zeta - d.dot(p.at.t), N, false, 0});
-        if (p.at.on_suture && !p.passed_swage)
+        if (taken_index[k] >= 0)
+          {
+            // the model's slip of a point it has taken over
+            const auto &slip = taken_slips[taken_index[k]];
+            auto       &st   = states[k];
+            st.slip_speed    = step > 0 ? slip.slip / step : 0;
+            st.slipping      = slip.slipping;
+            st.normal        = N = slip.normal;
+            st.friction      = slip.friction;
+            p.anchor += slip.slip;
+          }
+        else
+          {
+            // the anchor of the accepted state is the model's (return mapping, or seed
+            // 001's node slip) at the end-of-step positions, in both modes (under XPBD
+            // the stick multiplier was clamped to the Coulomb limit, but a few
+            // iterations may leave a violation whose elastic force k_t (ζ − ζ_a) exceeds
+            // μN: that is slip, and the anchor must follow)
+            pierce_force(p, x, nullptr, &N);
+            const Vector3d d = tissue_point(p, x) - p.at.c;
+            slip_work.push_back({p.anchor, p.at.zeta - d.dot(p.at.t), N, false, 0});
+          }
+        if ((taken_index[k] >= 0 || p.at.on_suture) && !p.passed_swage)
           {
             p.passed_swage = true;
             events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
@@ -422,14 +434,14 @@ namespace suturesim::realtime
         model->settle(slip_work, prm.friction, thread_nodes);
         std::size_t j = 0;
         for (std::size_t k = 0; k < points.size(); ++k)
-          if (!is_soft(points[k]))
+          if (taken_index[k] < 0)
             {
-              const auto &r = slip_work[j++];
-              auto       &s = states[k];
-              s.slip_speed  = step > 0 ? (r.anchor - points[k].anchor) / step : 0;
-              s.slipping    = r.slipping;
-              s.normal      = r.normal;
-              s.friction    = r.friction;
+              const auto &r    = slip_work[j++];
+              auto       &s    = states[k];
+              s.slip_speed     = step > 0 ? (r.anchor - points[k].anchor) / step : 0;
+              s.slipping       = r.slipping;
+              s.normal         = r.normal;
+              s.friction       = r.friction;
               points[k].anchor = zeta_work[k] = r.anchor;
             }
       }
@@ -444,34 +456,22 @@ namespace suturesim::realtime
           states.erase(states.begin() + k);
           zeta_work.erase(zeta_work.begin() + k);
         }
-    // order along the thread, between the tip and the thread's far end
-    if (!zeta_work.empty())
-      {
-        coupling::keep_order(zeta_work, model->order_gap(prm.spacing), 0, end);
-        for (std::size_t k = 0; k < points.size(); ++k)
-          points[k].anchor = zeta_work[k];
-      }
-    for (auto &p : points)
-      p.at = thread_at(p.anchor, x);
-    if (soft_model != nullptr)
-      {
-        // the accepted soft constraints for the suture's next update
-        soft_work.clear();
-        for (const auto &p : points)
-          if (is_soft(p))
-            soft_work.push_back({p.anchor - needle.length(), tissue_point(p, x)});
-        soft_model->set_soft_constraints(soft_work);
-      }
+    return end;
+  }
+
+  void
+  NeedleCoupling::record_states(const Matrix3Xd &x)
+  {
     std::fill(inside.begin(), inside.end(), 0);
     for (std::size_t k = 0; k < points.size(); ++k)
       {
         auto          &s = states[k];
         const Vector3d d = tissue_point(points[k], x) - points[k].at.c;
         s.zeta           = points[k].anchor - d.dot(points[k].at.t);
-        s.anchor    = points[k].anchor;
-        s.on_suture = points[k].at.on_suture;
-        s.exit      = points[k].exit;
-        s.position  = tissue_point(points[k], x);
+        s.anchor         = points[k].anchor;
+        s.on_suture      = points[k].at.on_suture;
+        s.exit           = points[k].exit;
+        s.position       = tissue_point(points[k], x);
         // thread between an exit point and the next entry point further along it lies
         // inside the tissue
         if (points[k].exit && k + 1 < points.size() && !points[k + 1].exit)
@@ -481,6 +481,5 @@ namespace suturesim::realtime
               inside[i] = inside[i] || (zeta > points[k].anchor - link && zeta < points[k + 1].anchor + link);
             }
       }
-    last_time = time;
   }
 } // namespace suturesim::realtime

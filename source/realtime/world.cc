@@ -132,19 +132,10 @@ namespace suturesim::realtime
     NeedleCouplingParameters p = parameters;
     p.project                  = time_integrator->position_based();
     p.geometric_suture         = suture_model && suture_model->geometric();
-    const bool soft_possible   = suture_model && suture_model->takes_soft_constraints() && !p.project;
     if (p.pierce_model == "automatic")
-      p.pierce_model = soft_possible ? "soft-constraint" : "node-path";
-    auto coupling = std::make_unique<NeedleCoupling>(sys, tissue_model->surface(), geometry, p);
+      p.pierce_model = PierceModel::automatic(suture_model.get(), p.project);
+    auto coupling = std::make_unique<NeedleCoupling>(sys, tissue_model->surface(), geometry, p, suture_model.get());
     coupling->set_pose(initial, 0);
-    if (coupling->pierce_model_takes_soft_constraints())
-      {
-        if (!soft_possible)
-          throw std::invalid_argument("pierce model '" + p.pierce_model +
-                                      "' needs a suture that takes soft constraints (Suture model = "
-                                      "ftl) and a force-based integrator");
-        coupling->use_soft_constraints(suture_model.get());
-      }
     // seed 002: a surface model subdivides where the needle touches it; the contact's
     // tree follows the new triangles (the needle's own puncture tree is rebuilt by it)
     coupling->subdivide_at_touch([this](const std::uint32_t triangle, const Vector3d &weights) {

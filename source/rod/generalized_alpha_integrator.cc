@@ -1,3 +1,4 @@
+#include <suturesim/core/cutback_stepper.h>
 #include <suturesim/core/error.h>
 #include <suturesim/rod/generalized_alpha.h>
 #include <suturesim/rod/rod_integrator.h>
@@ -6,6 +7,8 @@ namespace suturesim::rod
 {
   namespace
   {
+    /// Fixed-step generalized-α with the bounded cut-back of core/cutback_stepper.h (a
+    /// step that fails leaves the integrator's state as it was).
     class GeneralizedAlphaIntegrator : public RodIntegrator
     {
     public:
@@ -14,45 +17,40 @@ namespace suturesim::rod
       {}
 
       void
-      run(RodProblem &p) override
+      run(RodProblem &p, StateObserver &observer) override
       {
         p.set_time(0);
         GeneralizedAlpha ga(p.model, rho, p.parameters.damping);
         ga.initialize(std::vector<Vec3>(p.model.n_nodes(), Vec3::Zero()),
                       std::vector<Vec3>(p.model.n_nodes(), Vec3::Zero()));
-        p.record(0, {{"time", 0.0}, {"newton_iterations", 0}});
-        double   t = 0, dt = p.time.step_size;
-        unsigned cutbacks = 0;
-        const auto prescribed = p.prescribed_nodes();
-        while (t < p.time.end_time * (1 - 1e-12))
-          {
-            const double t_new = std::min(t + dt, p.time.end_time);
-            p.set_time(t_new);
-            const NewtonResult result = ga.step(t_new - t, p.parameters.newton, prescribed);
-            p.newton_iterations += result.iterations;
-            if (!result.converged)
-              {
-                p.set_time(t);
-                if (++cutbacks > p.time.max_cutbacks)
-                  throw SolverError("suture dynamics step from t = " + std::to_string(t) +
-                                    " s failed after " + std::to_string(p.time.max_cutbacks) +
-                                    " cutbacks (last step " + std::to_string(dt) + " s): " + result.reason +
-                                    "; the last converged state is kept");
-                dt *= 0.5;
-                continue;
-              }
-            t = t_new;
-            p.record(t,
-                     {{"time", t},
-                      {"newton_iterations", result.iterations},
-                      {"residual", result.residual},
-                      {"step_size", dt},
-                      {"kinetic_energy", p.model.kinetic_energy(ga.velocities(), ga.angular_velocities())}},
-                     &ga.last_residual());
-            if (cutbacks == 0)
-              dt = std::min(2 * dt, p.time.step_size);
-            cutbacks = 0;
-          }
+        observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr);
+        double       t          = 0;
+        const auto   prescribed = p.prescribed_nodes();
+        NewtonResult result;
+        StepHooks    hooks;
+        hooks.attempt = [&](const double t_new, const double dt) {
+          p.set_time(t_new);
+          result = ga.step(dt, p.parameters.newton, prescribed);
+          p.newton_iterations += result.iterations;
+          return result.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, result.reason};
+        };
+        hooks.undo   = [&](const StepAttempt &, double, double) { p.set_time(t); };
+        hooks.accept = [&](const double t_new, const double dt, unsigned) {
+          t = t_new;
+          observer.accepted(t,
+                            {{"time", t},
+                             {"newton_iterations", result.iterations},
+                             {"residual", result.residual},
+                             {"step_size", dt},
+                             {"kinetic_energy", p.model.kinetic_energy(ga.velocities(), ga.angular_velocities())}},
+                            &ga.last_residual());
+        };
+        hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
+          throw SolverError("suture dynamics step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +
+                            " s failed after " + std::to_string(cutbacks) + " step halvings: " + reason +
+                            "; the last converged state is kept");
+        };
+        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0}, hooks);
       }
 
     private:

@@ -1,3 +1,4 @@
+#include <suturesim/core/cutback_stepper.h>
 #include <suturesim/core/error.h>
 #include <suturesim/rod/rod_integrator.h>
 
@@ -5,46 +6,46 @@ namespace suturesim::rod
 {
   namespace
   {
-    /// Load stepping with Newton per step; a failed step restores the last converged
-    /// state and is halved, up to Time/Max cutbacks times in a row.
+    /// Load stepping with Newton per step and the bounded cut-back of
+    /// core/cutback_stepper.h (a failed step restores the last converged state).
     class QuasiStaticRod : public RodIntegrator
     {
     public:
       void
-      run(RodProblem &p) override
+      run(RodProblem &p, StateObserver &observer) override
       {
         p.set_time(0);
-        p.record(0, {{"time", 0.0}, {"newton_iterations", 0}});
-        double   t = 0, dt = p.time.step_size;
-        unsigned cutbacks = 0;
-        while (t < p.time.end_time * (1 - 1e-12))
-          {
-            const double t_new = std::min(t + dt, p.time.end_time);
-            const auto   x = p.model.positions();
-            const auto   q = p.model.rotations();
-            p.set_time(t_new);
-            const NewtonResult result = p.model.solve(p.parameters.newton);
-            p.newton_iterations += result.iterations;
-            if (!result.converged)
-              {
-                for (std::size_t i = 0; i < x.size(); ++i)
-                  p.model.set_node(i, x[i], q[i]);
-                p.set_time(t);
-                if (++cutbacks > p.time.max_cutbacks)
-                  throw SolverError("suture load step from t = " + std::to_string(t) + " s failed after " +
-                                    std::to_string(p.time.max_cutbacks) + " cutbacks (last step " +
-                                    std::to_string(dt) + " s): " + result.reason +
-                                    "; the last converged state is kept");
-                dt *= 0.5;
-                continue;
-              }
-            t = t_new;
-            p.record(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
-                         {"step_size", dt}});
-            if (cutbacks == 0)
-              dt = std::min(2 * dt, p.time.step_size);
-            cutbacks = 0;
-          }
+        observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr);
+        double                 t = 0;
+        std::vector<Vec3>      x;
+        std::vector<Quat>      q;
+        NewtonResult           result;
+        StepHooks              hooks;
+        hooks.attempt = [&](const double t_new, double) {
+          x = p.model.positions();
+          q = p.model.rotations();
+          p.set_time(t_new);
+          result = p.model.solve(p.parameters.newton);
+          p.newton_iterations += result.iterations;
+          return result.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, result.reason};
+        };
+        hooks.undo = [&](const StepAttempt &, double, double) {
+          for (std::size_t i = 0; i < x.size(); ++i)
+            p.model.set_node(i, x[i], q[i]);
+          p.set_time(t);
+        };
+        hooks.accept = [&](const double t_new, const double dt, unsigned) {
+          t = t_new;
+          observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
+                                {"step_size", dt}},
+                            nullptr);
+        };
+        hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
+          throw SolverError("suture load step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +
+                            " s failed after " + std::to_string(cutbacks) + " step halvings: " + reason +
+                            "; the last converged state is kept");
+        };
+        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0}, hooks);
       }
     };
 

@@ -1,62 +1,13 @@
-#include <suturesim/io/polyline_writer.h>
 #include <suturesim/rod/rod_integrator.h>
-
-#include <cstdio>
-#include <iomanip>
-#include <iostream>
 
 namespace suturesim::rod
 {
-  io::PolylineData
-  polyline_data(const RodModel &model, const double radius)
-  {
-    io::PolylineData data;
-    data.points         = model.positions();
-    const std::size_t n = model.n_nodes();
-    data.point_fields.emplace_back("radius", std::vector<double>(n, radius));
-    data.point_fields.emplace_back("contact_force", model.contact_forces());
-    std::vector<double> axial, shear, bending, twisting, twist, curvature;
-    const auto          states = model.element_states();
-    for (std::size_t e = 0; e < states.size(); ++e)
-      {
-        const auto &s = states[e];
-        const Vec3  K = s.K + model.references()[e].kappa0;
-        axial.push_back(s.N[0]);
-        shear.push_back(s.N.tail<2>().norm());
-        bending.push_back(s.M.tail<2>().norm());
-        twisting.push_back(s.M[0]);
-        twist.push_back(K[0]);
-        curvature.push_back(K.tail<2>().norm());
-      }
-    data.segment_fields = {{"axial_force", axial},   {"shear_force", shear},
-                           {"bending_moment", bending}, {"twisting_moment", twisting},
-                           {"twist", twist},          {"curvature", curvature}};
-    return data;
-  }
-
-  RodProblem::RodProblem(const RodParameters &parameters, const tissue::TimeParameters &time,
-                         io::Recorder &recorder)
+  RodProblem::RodProblem(const RodParameters &parameters, const TimeParameters &time)
     : model(parameters.create_model())
     , initial(model)
     , parameters(parameters)
     , time(time)
-    , recorder(recorder)
-  {
-    std::vector<std::string> columns{"time [s]"};
-    for (const std::string end : {"start", "last"})
-      {
-        for (const char c : {'x', 'y', 'z'})
-          columns.push_back(end + "_reaction_force_" + std::string(1, c) + " [N]");
-        for (const char c : {'x', 'y', 'z'})
-          columns.push_back(end + "_reaction_moment_" + std::string(1, c) + " [N m]");
-      }
-    for (const char c : {'x', 'y', 'z'})
-      columns.push_back("tip_" + std::string(1, c) + " [m]");
-    columns.push_back("max_axial_force [N]");
-    columns.push_back("elastic_energy [J]");
-    columns.push_back("contact_nodes [1]");
-    recorder.set_columns(columns);
-  }
+  {}
 
   void
   RodProblem::set_time(const double t)
@@ -74,67 +25,5 @@ namespace suturesim::rod
     if (parameters.last_end.type == "prescribed")
       nodes.push_back(model.n_nodes() - 1);
     return nodes;
-  }
-
-  void
-  RodProblem::record(const double t, nlohmann::json statistics, const Eigen::VectorXd *residual)
-  {
-    const Eigen::VectorXd r      = residual ? *residual : model.residual();
-    const auto            states = model.element_states();
-    const std::size_t     last   = model.n_nodes() - 1;
-    std::vector<double>   row{t};
-    // the reaction of a support is the residual of its node (zero for free ends)
-    for (const std::size_t node : {std::size_t(0), last})
-      for (unsigned d = 0; d < 6; ++d)
-        row.push_back(model.is_constrained(node, d) ? r[6 * node + d] : 0.0);
-    const Vec3 tip = model.positions()[last];
-    for (unsigned d = 0; d < 3; ++d)
-      row.push_back(tip[d]);
-    double max_axial = 0, energy = 0;
-    for (const auto &s : states)
-      {
-        max_axial = std::max(max_axial, std::abs(s.N[0]));
-        energy += s.energy;
-      }
-    row.push_back(max_axial);
-    row.push_back(energy);
-    std::size_t contact_nodes = 0;
-    for (const double f : model.contact_forces())
-      contact_nodes += f > 0;
-    row.push_back(contact_nodes);
-    recorder.add_row(row);
-
-    auto &summary                       = recorder.summary();
-    auto &metrics                       = summary["metrics"];
-    metrics["tip_position"]             = {tip[0], tip[1], tip[2]};
-    metrics["max_axial_force"]          = std::max(metrics.value("max_axial_force", 0.0), max_axial);
-    metrics["final_max_axial_force"]    = max_axial;
-    metrics["elastic_energy"]           = energy;
-    metrics["start_reaction"]           = std::vector<double>(row.begin() + 1, row.begin() + 7);
-    metrics["last_reaction"]            = std::vector<double>(row.begin() + 7, row.begin() + 13);
-    metrics["contact_nodes"]            = contact_nodes;
-    summary["solver"]["newton_iterations"] = newton_iterations;
-    summary["steps"].push_back(statistics);
-
-    const bool due = time.output_interval <= 0 || last_output_time < 0 ||
-                     t >= last_output_time + time.output_interval * (1 - 1e-9) ||
-                     t >= time.end_time * (1 - 1e-12);
-    if (due)
-      {
-        const io::PolylineData data = polyline_data(model, parameters.section.radius);
-        char name[32];
-        std::snprintf(name, sizeof(name), "suture_%05u.vtu", output_index++);
-        if (recorder.is_root())
-          io::write_polyline_vtu(recorder.directory() + "/" + name, data, t);
-        recorder.add_vtu("suture", t, name);
-        last_output_time = t;
-      }
-    if (recorder.is_root())
-      {
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::cout << "  t = " << std::setw(10) << t << " s, Newton " << statistics.value("newton_iterations", 0)
-                  << ", tip (" << tip.transpose() << ") m, max |N| " << max_axial << " N, "
-                  << std::setprecision(3) << elapsed << " s elapsed" << std::setprecision(6) << '\n';
-      }
   }
 } // namespace suturesim::rod

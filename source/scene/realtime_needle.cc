@@ -7,7 +7,7 @@ namespace suturesim::scene
   namespace rt = realtime;
 
   RealtimeNeedle::RealtimeNeedle(const NeedleParameters &parameters, rt::World &world,
-                                 const std::string &pierce_model)
+                                 const std::string &pierce_model, const double mass_ratio)
     : prm(parameters)
     , path(parameters.trajectory())
   {
@@ -17,7 +17,7 @@ namespace suturesim::scene
     c.friction             = prm.friction;
     c.transverse_stiffness = prm.transverse_stiffness;
     c.spacing              = prm.spacing;
-    c.mass_ratio           = prm.mass_ratio;
+    c.mass_ratio           = mass_ratio;
     c.pierce_model         = pierce_model;
     tool_index             = world.add_needle(prm.needle(), c, path.pose(0),
                                               prm.attach_suture && world.suture() != nullptr);
@@ -83,15 +83,13 @@ namespace suturesim::scene
     row[c++] = tension.empty() ? 0.0 : tension.back();
   }
 
-  void
-  RealtimeNeedle::finish(const rt::World &world, nlohmann::json &summary) const
+  std::vector<coupling::PunctureEvent>
+  RealtimeNeedle::events(const rt::World &world) const
   {
     std::vector<coupling::PunctureEvent> events = world.needle()->puncture_state().events();
     const auto &thread                          = world.needle()->thread_events();
     events.insert(events.end(), thread.begin(), thread.end());
-    std::stable_sort(events.begin(), events.end(),
-                     [](const auto &a, const auto &b) { return a.time < b.time; });
-    prm.write_summary(summary, events, peak_pull);
-    summary["pierce_model"] = world.needle()->pierce_model();
+    std::stable_sort(events.begin(), events.end(), [](const auto &a, const auto &b) { return a.time < b.time; });
+    return events;
   }
 } // namespace suturesim::scene

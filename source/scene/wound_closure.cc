@@ -1,3 +1,4 @@
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/scene/wound_closure.h>
 
 #include <deal.II/base/utilities.h>
@@ -11,6 +12,7 @@ namespace suturesim::scene
   void
   ClosureParameters::declare(ParameterHandler &prm)
   {
+    const ClosureParameters d;
     prm.enter_subsection("Closure");
     prm.declare_entry("Gap probes", "",
                       Patterns::Map(Patterns::Anything(), Patterns::List(Patterns::Double(), 6, 6, ","), 0,
@@ -19,14 +21,14 @@ namespace suturesim::scene
                       "...' (reference positions); the gap of a pair is its opening along the "
                       "line from a to b (negative: overlap). The first pair decides closure. "
                       "Empty: no closure measurement. Unit: m.");
-    prm.declare_entry("Closure gap", "1e-4", Patterns::Double(0),
+    prm.declare_entry("Closure gap", default_text(d.closure_gap), Patterns::Double(0),
                       "The wound counts as closed when the first pair's gap falls below this. "
                       "Unit: m. Range: > 0.");
-    prm.declare_entry("Start time", "0", Patterns::Double(0),
+    prm.declare_entry("Start time", default_text(d.start_time), Patterns::Double(0),
                       "Closure is looked for from this time on (when the suture is drawn "
                       "tight), not while the needle crossing the wound moves its edges. "
                       "Unit: s. Range: >= 0.");
-    prm.declare_entry("Tie off", "true", Patterns::Bool(),
+    prm.declare_entry("Tie off", default_text(d.tie_off), Patterns::Bool(),
                       "Once the first pair's gap falls below 'Tie-off gap', every prescribed "
                       "motion (needle, graspers) stops: the suture's ends are held where they "
                       "are. Unit: none.");
@@ -39,9 +41,9 @@ namespace suturesim::scene
                       "ids of the mesh), kept from passing through each other by a penalty "
                       "between A's vertices and B's surface. Empty: no contact between them. "
                       "Unit: none.");
-    prm.declare_entry("Face contact stiffness", "5e4", Patterns::Double(0),
+    prm.declare_entry("Face contact stiffness", default_text(d.face_contact_stiffness), Patterns::Double(0),
                       "Penalty of the face contact per vertex pair. Unit: N/m. Range: > 0.");
-    prm.declare_entry("Face contact margin", "5e-5", Patterns::Double(0),
+    prm.declare_entry("Face contact margin", default_text(d.face_contact_margin), Patterns::Double(0),
                       "A vertex pair is loaded (costs the coupled Newton iteration three "
                       "linear solves) while its gap is below this. Unit: m. Range: >= 0.");
     prm.leave_subsection();

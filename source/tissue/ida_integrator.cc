@@ -39,7 +39,7 @@ namespace suturesim::tissue
       {}
 
       void
-      run(TissueModel &model, const TimeParameters &time, io::Recorder &recorder) override
+      run(TissueModel &model, const TimeParameters &time, StateObserver &observer) override
       {
         MPI_Comm comm = MPI_COMM_WORLD;
         model.set_rayleigh_damping(p.rayleigh_mass, p.rayleigh_stiffness);
@@ -121,14 +121,15 @@ namespace suturesim::tissue
             throw SolverError("IDA could not advance past t = " + std::to_string(t) +
                               " s (error test or nonlinear solver failures at the minimum "
                               "step); last output t = " +
-                              std::to_string(last_converged_time) + " s in " +
-                              recorder.directory() + "/" + last_output_file);
+                              std::to_string(observer.last_accepted_time()) + " s in " +
+                              observer.keep_last_accepted());
           next_output = std::min(t + output_period, time.end_time);
           model.set_displacement(y.block(0));
-          record(model, recorder, time, t,
-                 {{"residual_evaluations", residuals}, {"jacobian_setups", jacobians},
-                  {"linear_solves", solves}},
-                 &y.block(1), &y_dot.block(1));
+          observer.accepted(t,
+                            {{"residual_evaluations", residuals},
+                             {"jacobian_setups", jacobians},
+                             {"linear_solves", solves}},
+                            &y.block(1), &y_dot.block(1));
           if (t > 0)
             progress(++outputs, expected, t, time.end_time,
                      "IDA " + std::to_string(residuals) + " residuals");
@@ -149,15 +150,13 @@ namespace suturesim::tissue
           {
             std::ostringstream info;
             e.print_info(info);
-            throw SolverError("IDA failed after t = " + std::to_string(last_converged_time) +
-                              " s: " + one_line(info.str()) + "; last output " +
-                              recorder.directory() + "/" + last_output_file);
+            throw SolverError("IDA failed after t = " + std::to_string(observer.last_accepted_time()) +
+                              " s: " + one_line(info.str()) + "; last output " + observer.keep_last_accepted());
           }
-        auto &stats                   = recorder.summary()["solver"];
-        stats["integrator"]           = "ida";
-        stats["residual_evaluations"] = residuals;
-        stats["jacobian_setups"]      = jacobians;
-        stats["linear_solves"]        = solves;
+        observer.totals({{"integrator", "ida"},
+                         {"residual_evaluations", residuals},
+                         {"jacobian_setups", jacobians},
+                         {"linear_solves", solves}});
       }
 
     private:

@@ -1,9 +1,9 @@
 /**
- * Quasi-static load stepping with bounded cutback: a step whose Newton solve fails is
- * halved (up to "Max cutbacks" times in a row), and after a success the step grows back
- * toward the nominal size. When it still fails the run stops with the reason, keeping
- * the last converged state on disk.
+ * Quasi-static load stepping: Newton per load level, with the bounded cut-back of
+ * core/cutback_stepper.h. When a step still fails the run stops with the reason, the
+ * last converged state kept by the observer.
  */
+#include <suturesim/core/cutback_stepper.h>
 #include <suturesim/core/error.h>
 #include <suturesim/tissue/time_integrator.h>
 
@@ -32,77 +32,54 @@ namespace suturesim::tissue
     {
     public:
       void
-      run(TissueModel &model, const TimeParameters &time, io::Recorder &recorder) override
+      run(TissueModel &model, const TimeParameters &time, StateObserver &observer) override
       {
         const double   T        = time.end_time;
         const unsigned expected = static_cast<unsigned>(std::ceil(T / time.step_size - 1e-9));
-        double         t        = 0;
-        double         dt       = time.step_size;
-        unsigned       step     = 0;
-        unsigned       total_iterations = 0;
+        unsigned       step = 0, total_iterations = 0;
 
         // Equilibrium at t = 0 (gravity or loads that start non-zero).
         model.save_state();
         const NewtonReport initial = model.solve_static(0.0);
         if (!initial.converged)
-          fail(model, recorder, 0.0, 0, 0, initial.failure, "the initial state");
-        record(model, recorder, time, 0.0, to_json(initial, 0.0, 0));
+          fail(observer, "the initial state", 0.0, 0, initial.failure);
+        observer.accepted(0.0, to_json(initial, 0.0, 0), nullptr, nullptr);
 
-        unsigned cutbacks = 0;
-        while (t < T * (1 - 1e-12))
-          {
-            const double step_dt = std::min(dt, T - t);
-            model.save_state();
-            const NewtonReport report = model.solve_static(t + step_dt);
-            if (!report.converged)
-              {
-                model.restore_state();
-                if (cutbacks == time.max_cutbacks)
-                  fail(model, recorder, t + step_dt, step + 1, cutbacks, report.failure, "");
-                ++cutbacks;
-                dt = 0.5 * step_dt;
-                continue;
-              }
-            t += step_dt;
-            ++step;
-            total_iterations += report.iterations;
-            record(model, recorder, time, t, to_json(report, step_dt, cutbacks));
-            std::ostringstream info;
-            info << "Newton " << report.iterations << " it"
-                 << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");
-            progress(step, std::max(expected, step), t, T, info.str());
-            cutbacks = 0;
-            dt       = std::min(2 * dt, time.step_size);
-          }
-        auto &stats                      = recorder.summary()["solver"];
-        stats["integrator"]              = "quasi-static";
-        stats["steps"]                   = step;
-        stats["newton_iterations_total"] = total_iterations;
+        NewtonReport report;
+        StepHooks    hooks;
+        hooks.attempt = [&](const double t_new, double) {
+          model.save_state();
+          report = model.solve_static(t_new);
+          return report.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, report.failure};
+        };
+        hooks.undo   = [&](const StepAttempt &, double, double) { model.restore_state(); };
+        hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
+          ++step;
+          total_iterations += report.iterations;
+          observer.accepted(t, to_json(report, dt, cutbacks), nullptr, nullptr);
+          std::ostringstream info;
+          info << "Newton " << report.iterations << " it"
+               << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");
+          progress(step, std::max(expected, step), t, T, info.str());
+        };
+        hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
+          fail(observer, "step " + std::to_string(step + 1), t_new, cutbacks, reason);
+        };
+        run_with_cutbacks({T, time.step_size, time.max_cutbacks, 0}, hooks);
+        observer.totals({{"integrator", "quasi-static"}, {"steps", step}, {"newton_iterations_total", total_iterations}});
       }
 
     private:
-      [[noreturn]] void
-      fail(TissueModel       &model,
-           io::Recorder      &recorder,
-           const double       t,
-           const unsigned     step,
-           const unsigned     cutbacks,
-           const std::string &reason,
-           const std::string &what)
+      [[noreturn]] static void
+      fail(StateObserver &observer, const std::string &what, const double t, const unsigned cutbacks,
+           const std::string &reason)
       {
-        // The state was restored to the last converged one: make sure it is on disk.
-        if (step > 0 && last_output_time < last_converged_time)
-          {
-            last_output_file = model.write_vtu(recorder.directory(), output_index++,
-                                               last_converged_time);
-            recorder.add_vtu("tissue", last_converged_time, last_output_file);
-          }
+        // the model holds the last converged state again: make sure it is on disk
+        const std::string where = observer.keep_last_accepted();
         std::ostringstream s;
-        s << "Newton failed at " << (what.empty() ? "step " + std::to_string(step) : what)
-          << " (t = " << t << " s) after " << cutbacks << " step halvings: " << reason
-          << "; last converged state t = " << last_converged_time << " s"
-          << (last_output_file.empty() ? "" : " in " + recorder.directory() + "/" +
-                                                last_output_file);
+        s << "Newton failed at " << what << " (t = " << t << " s) after " << cutbacks
+          << " step halvings: " << reason << "; last converged state t = " << observer.last_accepted_time() << " s"
+          << (where.empty() ? "" : " in " + where);
         throw SolverError(s.str());
       }
     };

@@ -193,7 +193,7 @@ TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
                                                      " --set 'Tissue/Boundary conditions/Prescribed displacement=sides'"
                                                      " --set 'Tissue/Boundary conditions/Prescribed displacement "
                                                      "function/Function expression=0; 0.002*t; 0'"
-                                                     " --set 'Pierce points/Enforcement=" + enforcement + "'"
+                                                     " --set 'Pierce points/Accurate/Enforcement=" + enforcement + "'"
                                                      " --set 'Pierce points/Transverse stiffness=" + std::to_string(k) + "'");
     EXPECT_EQ(r.exit_code, 0) << r.output;
     std::string header;

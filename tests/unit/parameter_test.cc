@@ -2,8 +2,12 @@
 // defaults declared through the in-class initialisers parse back to those initialisers
 // (conventions.md §2).
 #include <suturesim/core/parameter_file.h>
+#include <suturesim/scene/needle_parameters.h>
+#include <suturesim/scene/realtime_settings.h>
 #include <suturesim/scene/simulation.h>
+#include <suturesim/scene/wound_closure.h>
 #include <suturesim/tissue/linear_solver.h>
+#include <suturesim/core/time_parameters.h>
 #include <suturesim/tissue/time_integrator.h>
 #include <suturesim/tissue/tissue_model.h>
 
@@ -59,7 +63,7 @@ TEST(Parameters, DeclaredDefaultsAreTheInClassDefaults)
   tissue::LinearSolver::Parameters::declare(prm);
   prm.leave_subsection();
   prm.enter_subsection("Time");
-  tissue::TimeParameters::declare(prm);
+  TimeParameters::declare(prm, {{"quasi-static", "load stepping"}});
   prm.leave_subsection();
   ParameterFile file(prm, "", "empty.prm", ".");
   const ParameterScope scope(file, "");
@@ -86,7 +90,7 @@ TEST(Parameters, DeclaredDefaultsAreTheInClassDefaults)
   EXPECT_EQ(linear.max_iterations, linear_default.max_iterations);
 
   prm.enter_subsection("Time");
-  tissue::TimeParameters time, time_default;
+  TimeParameters time, time_default;
   time.end_time = -1;
   time.parse(prm, scope);
   prm.leave_subsection();
@@ -95,6 +99,91 @@ TEST(Parameters, DeclaredDefaultsAreTheInClassDefaults)
   EXPECT_EQ(time.step_size, time_default.step_size);
   EXPECT_EQ(time.max_cutbacks, time_default.max_cutbacks);
   EXPECT_EQ(time.output_interval, time_default.output_interval);
+}
+
+TEST(Parameters, NeedleClosureAndRealtimeDefaultsAreTheInClassDefaults)
+{
+  // The needle, its puncture and friction laws (declared by coupling/), the closure and
+  // the realtime settings declare their defaults through their in-class initialisers: an
+  // empty scene parses back to exactly those (a default written twice would drift).
+  dealii::ParameterHandler prm;
+  scene::NeedleParameters::declare(prm);
+  scene::ClosureParameters::declare(prm);
+  prm.enter_subsection("Realtime");
+  scene::RealtimeSettings::declare(prm);
+  prm.leave_subsection();
+  ParameterFile        file(prm, "", "empty.prm", ".");
+  const ParameterScope root(file, "");
+
+  scene::NeedleParameters needle;
+  const scene::NeedleParameters d;
+  needle.radius = needle.transverse_stiffness = needle.coupling_tolerance = -1;
+  needle.puncture.threshold = needle.friction.mu = needle.pass.bite_depth = -1;
+  needle.parse(prm, root);
+  EXPECT_EQ(needle.shape, d.shape);
+  EXPECT_EQ(needle.radius, d.radius);
+  EXPECT_EQ(needle.wire_diameter, d.wire_diameter);
+  EXPECT_EQ(needle.attach_suture, d.attach_suture);
+  EXPECT_EQ(needle.motion, d.motion);
+  EXPECT_EQ(needle.keyframe_text, d.keyframe_text);
+  const auto &p = needle.pass, &q = d.pass;
+  EXPECT_EQ(p.entry, q.entry);
+  EXPECT_EQ(p.normal, q.normal);
+  EXPECT_EQ(p.bite_direction, q.bite_direction);
+  EXPECT_EQ(p.bite_depth, q.bite_depth);
+  EXPECT_EQ(p.entry_angle, q.entry_angle); // pi/2 to the last digit, not deal.II's six
+  EXPECT_EQ(p.start_time, q.start_time);
+  EXPECT_EQ(p.angular_speed, q.angular_speed);
+  EXPECT_EQ(p.approach, q.approach);
+  EXPECT_EQ(p.pull, q.pull);
+  EXPECT_EQ(p.pull_duration, q.pull_duration);
+  EXPECT_EQ(p.tighten, q.tighten);
+  EXPECT_EQ(p.tighten_duration, q.tighten_duration);
+  EXPECT_EQ(needle.puncture.threshold, d.puncture.threshold);
+  EXPECT_EQ(needle.puncture.stiffness, d.puncture.stiffness);
+  EXPECT_EQ(needle.puncture.reach, d.puncture.reach);
+  EXPECT_EQ(needle.friction.mu, d.friction.mu);
+  EXPECT_EQ(needle.friction.stiffness, d.friction.stiffness);
+  EXPECT_EQ(needle.friction.grip, d.friction.grip);
+  EXPECT_EQ(needle.transverse_stiffness, d.transverse_stiffness);
+  EXPECT_EQ(needle.spacing, d.spacing);
+  EXPECT_EQ(needle.recorded, d.recorded);
+  EXPECT_EQ(needle.enforcement, d.enforcement);
+  EXPECT_EQ(needle.coupling_tolerance, d.coupling_tolerance);
+  EXPECT_EQ(needle.coupling_iterations, d.coupling_iterations);
+
+  scene::ClosureParameters closure;
+  const scene::ClosureParameters c;
+  closure.closure_gap = closure.face_contact_stiffness = -1;
+  closure.parse(prm, root);
+  EXPECT_EQ(closure.pairs.size(), c.pairs.size());
+  EXPECT_EQ(closure.closure_gap, c.closure_gap);
+  EXPECT_EQ(closure.start_time, c.start_time);
+  EXPECT_EQ(closure.tie_off, c.tie_off);
+  EXPECT_EQ(closure.tie_off_gap, c.tie_off_gap);
+  EXPECT_EQ(closure.face_contact, c.face_contact);
+  EXPECT_EQ(closure.face_contact_stiffness, c.face_contact_stiffness);
+  EXPECT_EQ(closure.face_contact_margin, c.face_contact_margin);
+
+  scene::RealtimeSettings realtime;
+  const scene::RealtimeSettings r;
+  realtime.rate = realtime.contact_depth = realtime.pierce_mass_ratio = -1;
+  prm.enter_subsection("Realtime");
+  realtime.parse(prm);
+  prm.leave_subsection();
+  EXPECT_EQ(realtime.tissue_model, r.tissue_model);
+  EXPECT_EQ(realtime.integrator, r.integrator);
+  EXPECT_EQ(realtime.suture_model, r.suture_model);
+  EXPECT_EQ(realtime.pierce_model, r.pierce_model);
+  EXPECT_EQ(realtime.self_collision, r.self_collision);
+  EXPECT_EQ(realtime.pierce_mass_ratio, r.pierce_mass_ratio);
+  EXPECT_EQ(realtime.contact, r.contact);
+  EXPECT_EQ(realtime.contact_stiffness, r.contact_stiffness);
+  EXPECT_EQ(realtime.contact_depth, r.contact_depth);
+  EXPECT_EQ(realtime.rate, r.rate);
+  EXPECT_EQ(realtime.substeps, r.substeps);
+  EXPECT_EQ(realtime.refuse_above_limit, r.refuse_above_limit);
+  EXPECT_EQ(realtime.pacing, r.pacing);
 }
 
 TEST(Parameters, EveryHelpTextNamesAUnitOrChoice)

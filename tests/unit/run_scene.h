@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -65,7 +66,9 @@ namespace suturesim::test_support
   {
     namespace fs = std::filesystem;
     RunResult r;
-    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + name)).string();
+    // one folder per build tree: test runs of two checkouts at once must not share it
+    const std::string tree = std::to_string(std::hash<std::string>{}(SUTURESIM_BINARY) % 100000);
+    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + tree + "_" + name)).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
     const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +

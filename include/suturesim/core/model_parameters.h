@@ -17,10 +17,30 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace suturesim
 {
+  /// The shortest text that reads back as @p v exactly ("0.2", "1.5707963267948966";
+  /// deal.II's Patterns::Tools::to_string keeps six digits).
+  std::string
+  shortest_text(double v);
+
+  /// A declared default as text, from the in-class initialiser it declares (so that the
+  /// two cannot drift: conventions.md §2).
+  template <typename T>
+  std::string
+  default_text(const T v)
+  {
+    if constexpr (std::is_same_v<T, bool>)
+      return v ? "true" : "false";
+    else if constexpr (std::is_integral_v<T>)
+      return std::to_string(v);
+    else
+      return shortest_text(v);
+  }
+
   struct ParameterSpec
   {
     enum class Kind

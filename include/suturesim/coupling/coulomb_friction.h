@@ -26,14 +26,37 @@
  * thread: N = N₀ + |f_⊥|, with the grip N₀ a parameter (N).
  */
 
+#include <suturesim/core/model_parameters.h>
+
+#include <algorithm>
+
 namespace suturesim::coupling
 {
+  /// The law's parameters, declared and parsed by the law (the scene's "Pierce points"
+  /// subsection, both model paths). Defaults: μ = 0.2 within the 0.1–0.3 measured for
+  /// monofilament sutures in soft tissue (references.md); k_t = 500 N/m, N₀ = 0.05 N.
   struct FrictionParameters
   {
-    double mu        = 0;   ///< Coulomb coefficient, 1
-    double stiffness = 0;   ///< k_t of the elastic stick, N/m
-    double grip      = 0;   ///< N₀, normal force of the hole on a straight thread, N
+    double mu        = 0.2;  ///< Coulomb coefficient, 1
+    double stiffness = 500;  ///< k_t of the elastic stick, N/m
+    double grip      = 0.05; ///< N₀, normal force of the hole on a straight thread, N
+
+    /// "Friction coefficient", "Stick stiffness", "Grip", with these defaults.
+    static void
+    declare(ParameterDeclarations &declarations);
+    /// The values of declare()'s entries; ParameterError for a bad one.
+    static FrictionParameters
+    parse(const ParameterValues &values);
   };
+
+  /// Coulomb's limit μ N of the tangential force for a normal force @p normal (N; a
+  /// negative one, a hole that does not press, carries none): the one place the limit
+  /// is computed, in both paths and every pierce model.
+  inline double
+  friction_limit(const FrictionParameters &p, const double normal)
+  {
+    return p.mu * std::max(normal, 0.0);
+  }
 
   struct FrictionResult
   {

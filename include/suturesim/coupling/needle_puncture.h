@@ -30,6 +30,7 @@
  */
 
 #include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/mesh/simplex_mesh.h>
 
 #include <Eigen/Core>
@@ -49,11 +50,23 @@ namespace suturesim::coupling
     Vector3d      weights  = Vector3d::Zero();
   };
 
+  /// Declared and parsed by the law (the scene's "Puncture" subsection, both paths).
+  /// Default threshold 0.7 N: the force to puncture with 3-0 to 5-0 taper and
+  /// reverse-cutting suture needles measured 0.61–0.90 N (Maloney et al. 2025, Ann.
+  /// Plast. Surg. 95:423, rabbit ear cartilage); sheepskin shows the entry and exit
+  /// peaks (Frick et al. 2001, J. Biomech. 34:1335). Scenes set their own.
   struct PunctureParameters
   {
-    double threshold = 1;    ///< puncture force, N
-    double stiffness = 1e3;  ///< penalty k_c of the tip on the surface, N/m
+    double threshold = 0.7;  ///< puncture force, N
+    double stiffness = 2000; ///< penalty k_c of the tip on the surface, N/m
     double reach     = 1e-3; ///< how far from the surface the tip is looked for, m
+
+    /// "Threshold", "Tip stiffness", "Reach", with these defaults.
+    static void
+    declare(ParameterDeclarations &declarations);
+    /// The values of declare()'s entries; ParameterError for a bad one.
+    static PunctureParameters
+    parse(const ParameterValues &values);
   };
 
   struct PunctureEvent

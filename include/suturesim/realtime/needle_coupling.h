@@ -28,20 +28,10 @@
  * of the pierce points on its arc) is reported as its tool force with the suture's
  * pull at the swage.
  *
- * On a suture that takes soft constraints (FTL, use_soft_constraints()) a pierce point
- * that has passed the swage is seed 002's soft constraint instead (§3–4): the thread is
- * laid through the tissue point, and the point is pulled by the quasi-spring tension of
- * the thread on either side, f = T₋ e₋ + T₊ e₊ ("pierced vertices [are] pulled by
- * suture tension"; e± the unit directions of the thread leaving the point). The thread
- * slides through the hole when the tension difference D = T₋ − T₊ exceeds the friction
- * μN, the normal force being the grip plus the resultant of the two tensions,
- * N = N₀ + |T₋ e₋ + T₊ e₊| (the wrap: zero on a straight pass, 2T sin(θ/2) at a bend of
- * θ): Δs = sign(D) (|D| − μN) / (k₋ + k₊), the slip that brings D back to the limit,
- * k± = −∂T±/∂(material length) of each section (SoftConstraintLoad; 2 k_q for seed 002's
- * tension law). This is seed 002
- * eq. (3)'s first term with a = 1/(k₋ + k₊) and a Coulomb threshold in place of its
- * constant friction; its second term (the mesh force along the thread) is left out: the
- * quasi-static tissue point is in balance with the tensions it feels.
+ * The pierce model (realtime/pierce_model.h, Realtime/Pierce model) decides how the
+ * points slip along the thread, and may take points over from the tie altogether
+ * (seed 002's soft constraints past the swage: their forces and slip are then the
+ * model's).
  */
 
 #include <suturesim/coupling/coulomb_friction.h>
@@ -93,22 +83,17 @@ namespace suturesim::realtime
   {
   public:
     /// @p surface: the tissue's surface triangles (system node indices); the suture is
-    /// the system's suture range, its first node at the swage.
+    /// the system's suture range, its first node at the swage, moved by
+    /// @p suture_model (nullptr: no suture). std::invalid_argument for an unknown pierce
+    /// model or one that cannot work with the suture and integrator.
     NeedleCoupling(const System &system, const std::vector<mesh::Triangle> &surface,
-                   const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters);
+                   const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters,
+                   SutureModel *suture_model);
 
     std::string
     name() const override
     {
       return "needle and pierce points";
-    }
-
-    /// Pierce points on the suture become soft constraints of @p model (seed 002; force-
-    /// based integrators only).
-    void
-    use_soft_constraints(SutureModel *model)
-    {
-      soft_model = model;
     }
 
     /// Makes a surface point a vertex of its own (triangle, barycentric weights) and
@@ -197,11 +182,6 @@ namespace suturesim::realtime
     {
       return prm.pierce_model;
     }
-    bool
-    pierce_model_takes_soft_constraints() const
-    {
-      return model->soft_on_suture();
-    }
     const tools::Pose &
     pose() const
     {
@@ -232,18 +212,29 @@ namespace suturesim::realtime
 
     Vector3d
     tissue_point(const PiercePoint &p, const Matrix3Xd &x) const;
-    /// A soft constraint of the suture model (seed 002) rather than a node-path tie.
-    bool
-    is_soft(const PiercePoint &p) const
-    {
-      // the suture's first segment is held by the needle (position and tangent at the
-      // swage): a point there is still tied to the needle, node-path
-      return soft_model != nullptr && model->soft_on_suture() && p.at.on_suture && p.at.k >= 1;
-    }
-    /// The soft constraints at @p x and their loads into the work lists (soft_work,
-    /// load_work); soft_index maps each pierce point to its entry there (−1: none).
+    /// After a step: the touch's force decides the puncture (a new pierce point), and
+    /// seed 002's subdivision makes a new touch's point a vertex.
     void
-    soft_loads(const Matrix3Xd &x) const;
+    accept_touch(const Matrix3Xd &x);
+    /// After a step of length @p step: the anchors of the accepted state (the model's
+    /// slip), the points' states, the points the thread has left released; returns the
+    /// thread's end coordinate.
+    double
+    settle_anchors(const Matrix3Xd &x, double step);
+    /// The recorded states and the suture nodes inside the tissue, at @p x.
+    void
+    record_states(const Matrix3Xd &x);
+    /// Whether the pierce model has taken @p p over from the tie.
+    bool
+    taken(const PiercePoint &p) const
+    {
+      return model->takes_over(p.at.on_suture, p.at.k);
+    }
+    /// The points the model has taken over at @p x into taken_work (material coordinate
+    /// along the suture, tissue point); taken_index maps each pierce point to its entry
+    /// there (−1: none).
+    void
+    gather_taken(const Matrix3Xd &x) const;
     /// The thread's point and tangent at coordinate @p zeta (the needle's arc up to L,
     /// the suture's polyline at material coordinate ζ − L beyond).
     ThreadPoint
@@ -287,11 +278,11 @@ namespace suturesim::realtime
     std::vector<char>                  inside;
     std::vector<double>                zeta_work;
     std::vector<coupling::PunctureEvent> events_on_thread;
-    SutureModel                         *soft_model = nullptr;
     Subdivide                            subdivision;
     const System                        &sys;
-    mutable std::vector<SoftConstraint>     soft_work;
-    mutable std::vector<SoftConstraintLoad> load_work;
-    mutable std::vector<std::int64_t>       soft_index;
+    mutable std::vector<SoftConstraint>  taken_work;
+    mutable std::vector<Vector3d>        taken_force;
+    mutable std::vector<std::int64_t>    taken_index;
+    std::vector<TakenSlip>               taken_slips;
   };
 } // namespace suturesim::realtime

@@ -2,24 +2,28 @@
 /**
  * @file
  * How a realtime pierce point holds on to the thread and slips along it, registered by
- * name (`Realtime/Pierce model`). The needle coupling (realtime/needle_coupling.h) owns
+ * name (`Realtime/Pierce model`), one self-contained file per model under
+ * source/realtime/pierce_models/. The needle coupling (realtime/needle_coupling.h) owns
  * the points, their tie across the thread and their order; the model decides the rest:
- *  - "node-path" (seed 004): the point's anchor is any thread coordinate ζ_a; the tie
- *    along the thread is an elastic stick with Coulomb's limit by return mapping
- *    (coupling/coulomb_friction.h), so the anchor slides continuously at |f| = μ N;
- *  - "soft-constraint" (seed 002 §3–4): as node-path on the needle (the return mapping is
- *    seed 002 eq. 2 with a = 1/k_t and a Coulomb threshold); past the swage the point is
- *    a soft constraint of a suture that takes them (FTL), pulled by the thread's
- *    quasi-spring tensions, slipping by eq. (3) (see needle_coupling.h);
- *  - "node-slip" (seed 001 §4): the point is joined to a node of the thread (the
- *    suture's nodes, continued onto the needle at the same spacing from the swage: seed
- *    001's needle is the suture's first nodes), held there by the full tie whatever the
- *    force, and moved to the next node when its pull exceeds μ N (coupling/node_slip.h).
+ *  - "node-path" (seed 004; node_path.cc): the point's anchor is any thread coordinate
+ *    ζ_a; the tie along the thread is an elastic stick with Coulomb's limit by return
+ *    mapping (coupling/coulomb_friction.h), so the anchor slides continuously at |f| = μN;
+ *  - "soft-constraint" (seed 002 §3–4; soft_constraint.cc): node-path on the needle;
+ *    past the swage the model takes the point over from the tie: it becomes a soft
+ *    constraint of a suture that takes them (FTL), pulled by the thread's quasi-spring
+ *    tensions and slipping by seed 002's eq. (3) with a Coulomb threshold;
+ *  - "node-slip" (seed 001 §4; node_slip.cc): the point is joined to a node of the
+ *    thread (the suture's nodes, continued onto the needle at the same spacing from the
+ *    swage: seed 001's needle is the suture's first nodes), held there by the full tie
+ *    whatever the force, and moved to the next node when its pull exceeds μN
+ *    (coupling/node_slip.h).
+ * The base class is node-path's behaviour; a model overrides what differs.
  */
 
-#include <suturesim/coupling/coulomb_friction.h>
-#include <suturesim/core/registry.h>
 #include <suturesim/core/model_parameters.h>
+#include <suturesim/core/registry.h>
+#include <suturesim/coupling/coulomb_friction.h>
+#include <suturesim/realtime/suture_model.h>
 
 #include <memory>
 #include <string>
@@ -44,6 +48,15 @@ namespace suturesim::realtime
     long   first = 0, last = 0; ///< node indices of the tip side and the far end
   };
 
+  /// A point the model has taken over from the tie, after an accepted step.
+  struct TakenSlip
+  {
+    double slip     = 0; ///< how far its anchor moves along the suture, m
+    bool   slipping = false;
+    double normal   = 0; ///< N
+    double friction = 0; ///< N
+  };
+
   class PierceModel
   {
   public:
@@ -51,12 +64,17 @@ namespace suturesim::realtime
 
     virtual ~PierceModel() = default;
 
-    /// Points past the swage become the suture model's soft constraints (seed 002).
-    virtual bool
-    soft_on_suture() const
-    {
-      return false;
-    }
+    /// The model "automatic" stands for: soft-constraint for a suture that takes soft
+    /// constraints (FTL) under a force-based integrator, node-path otherwise.
+    static std::string
+    automatic(const SutureModel *suture, bool position_based);
+
+    /// Called when the needle joins a world with @p suture (nullptr: none) under a
+    /// position-based integrator or not; std::invalid_argument when the model cannot
+    /// work with them.
+    virtual void
+    attach(SutureModel *, bool)
+    {}
     /// Least distance kept between points along the thread, given the scene's spacing, m.
     virtual double
     order_gap(const double spacing) const
@@ -79,11 +97,37 @@ namespace suturesim::realtime
     }
     /// The tangential force on the tissue point within a step (penalty form).
     virtual coupling::FrictionResult
-    tangential(const coupling::FrictionParameters &friction, double zeta, double anchor,
-               double normal) const;
+    tangential(const coupling::FrictionParameters &friction, double zeta, double anchor, double normal) const;
     /// Moves the anchors of @p points (thread order) after an accepted step.
     virtual void
     settle(std::vector<PierceSlip> &points, const coupling::FrictionParameters &friction,
            const ThreadNodes &nodes) const;
+
+    // --- points a model takes over from the tie (seed 002's soft constraints) --------------
+
+    /// Whether the model takes over a point on the suture (@p on_suture) in segment
+    /// @p segment (nodes segment, segment + 1): the coupling then leaves its force and
+    /// slip to taken_forces() and taken_slip().
+    virtual bool
+    takes_over(bool /*on_suture*/, std::uint32_t /*segment*/) const
+    {
+      return false;
+    }
+    /// The forces on the tissue points of @p points (ascending s; material coordinate
+    /// along the suture from the swage, tissue point positions) with the suture's nodes
+    /// at @p x.
+    virtual void
+    taken_forces(const System &, const Matrix3Xd &, const std::vector<SoftConstraint> &,
+                 std::vector<Vector3d> &) const
+    {}
+    /// Their slip and state after an accepted step at @p x.
+    virtual void
+    taken_slip(const System &, const Matrix3Xd &, const std::vector<SoftConstraint> &,
+               const coupling::FrictionParameters &, std::vector<TakenSlip> &) const
+    {}
+    /// The accepted points (after their slip), for the suture's next update.
+    virtual void
+    taken_accepted(const std::vector<SoftConstraint> &)
+    {}
   };
 } // namespace suturesim::realtime

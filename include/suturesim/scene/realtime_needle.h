@@ -25,9 +25,10 @@ namespace suturesim::scene
   {
   public:
     /// Adds the needle to @p world (as its next tool; before initialize()), its pierce
-    /// points of the model named @p pierce_model (realtime/pierce_model.h, or "automatic").
-    RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world,
-                   const std::string &pierce_model);
+    /// points of the model named @p pierce_model (realtime/pierce_model.h, or
+    /// "automatic") with XPBD mass scaling @p mass_ratio.
+    RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world, const std::string &pierce_model,
+                   double mass_ratio);
 
     /// Replaces @p points by a straight suture of the same length and number of nodes
     /// leaving the needle's swage along the needle (the pose at t = 0).
@@ -50,9 +51,15 @@ namespace suturesim::scene
     /// Writes this step's values from row[c] on (advancing c) and tracks the metrics.
     void
     fill_row(const realtime::World &world, std::vector<double> &row, std::size_t &c);
-    /// Events and metrics into @p summary.
-    void
-    finish(const realtime::World &world, nlohmann::json &summary) const;
+    /// The events in time order (punctures, passage onto the suture, release).
+    std::vector<coupling::PunctureEvent>
+    events(const realtime::World &world) const;
+    /// Largest needle force after the turn, N.
+    double
+    peak_pull_force() const
+    {
+      return peak_pull;
+    }
 
   private:
     const NeedleParameters &prm;

@@ -2,78 +2,71 @@
 /**
  * @file
  * Time integrators of the accurate tissue model, registered by name:
- *  - "quasi-static": load stepping t = Δt, 2Δt, … T with Newton per step, halving Δt on
- *    failure (bounded), growing it back after success;
+ *  - "quasi-static": load stepping t = Δt, 2Δt, … T with Newton per step and the
+ *    bounded cut-back of core/cutback_stepper.h;
  *  - "ida": implicit dynamics M v̇ + (a_M M + a_K K_t) v + R(u, t) = 0, u̇ = v, by
  *    SUNDIALS IDA (variable-order BDF, adaptive error-controlled steps).
- * Both record each accepted state the same way (reactions, probes, VTU, progress).
+ * An integrator leaves each accepted state in the model and hands it to a StateObserver
+ * (the driver's recorder: reactions, probes, VTU); it writes no output itself.
  */
 
-#include <suturesim/core/registry.h>
-#include <suturesim/io/recorder.h>
 #include <suturesim/core/parameter_file.h>
+#include <suturesim/core/registry.h>
+#include <suturesim/core/time_parameters.h>
 #include <suturesim/tissue/tissue_model.h>
 
-#include <deal.II/base/conditional_ostream.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
-#include <map>
+#include <string>
 
 namespace suturesim::tissue
 {
-  struct TimeParameters
+  /// What is told of the states an integrator accepts.
+  class StateObserver
   {
-    std::string integrator      = "quasi-static";
-    double      end_time        = 1.0;
-    double      step_size       = 0.1;
-    unsigned    max_cutbacks    = 6;
-    double      output_interval = 0.0;
+  public:
+    virtual ~StateObserver() = default;
 
-    /// Declares into the current subsection ("Time") and lets each tissue integrator
-    /// declare its own subsection. @p other_integrators (name → description) are
-    /// integrators of other bodies (the suture's) offered under the same key.
-    static void
-    declare(dealii::ParameterHandler &prm,
-            const std::map<std::string, std::string> &other_integrators = {});
-    void
-    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+    /// The model holds the accepted state at time @p t; in dynamics @p velocity and
+    /// @p acceleration are v and v̇ (the supports then carry M v̇ + C v too).
+    /// @p statistics: the solver's account of the step (summary.json "steps").
+    virtual void
+    accepted(double t, const nlohmann::json &statistics, const TissueModel::Vector *velocity,
+             const TissueModel::Vector *acceleration) = 0;
+
+    /// After a failure the model holds the last accepted state again: keep it (on
+    /// disk); returns where it is, for the message ("" if nowhere).
+    virtual std::string
+    keep_last_accepted() = 0;
+
+    /// The time of the last accepted state, s (0 before the first).
+    virtual double
+    last_accepted_time() const = 0;
+
+    /// The integrator's totals at the end of the run (summary.json "solver").
+    virtual void
+    totals(const nlohmann::json &solver) = 0;
   };
 
   class TimeIntegrator
   {
   public:
-    using Registry = suturesim::Registry<TimeIntegrator,
-                                         const dealii::ParameterHandler &,
-                                         const ParameterScope &>;
+    using Registry =
+      suturesim::Registry<TimeIntegrator, const dealii::ParameterHandler &, const ParameterScope &>;
 
     virtual ~TimeIntegrator() = default;
 
-    /// Runs from t = 0 to the end time; throws SolverError (after recording the last
-    /// converged state) when a step cannot be completed.
+    /// Runs from t = 0 to the end time; throws SolverError (after the observer has kept
+    /// the last accepted state) when a step cannot be completed.
     virtual void
-    run(TissueModel &model, const TimeParameters &time, io::Recorder &recorder) = 0;
+    run(TissueModel &model, const TimeParameters &time, StateObserver &observer) = 0;
 
   protected:
-    /// Records the current state at time t: a forces.csv row, the per-step statistics,
-    /// and (when due) a VTU file. @p statistics goes into summary.json "steps".
+    /// One progress line: step, simulated time, solver account, ETA.
     void
-    record(TissueModel                &model,
-           io::Recorder               &recorder,
-           const TimeParameters       &time,
-           double                      t,
-           nlohmann::json              statistics,
-           const TissueModel::Vector *velocity     = nullptr,
-           const TissueModel::Vector *acceleration = nullptr);
+    progress(unsigned step, unsigned expected_steps, double t, double end_time, const std::string &solver_info) const;
 
-    /// One progress line: step, simulated time, Newton iterations, ETA.
-    void
-    progress(unsigned step, unsigned expected_steps, double t, double end_time,
-             const std::string &solver_info);
-
-    std::string last_output_file;
-    double      last_output_time = -1;
-    double      last_converged_time = 0;
-    unsigned    output_index = 0;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   };
 } // namespace suturesim::tissue

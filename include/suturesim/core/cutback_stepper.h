@@ -1,0 +1,61 @@
+#pragma once
+/**
+ * @file
+ * The one step-size control of the implicit solvers (tissue, suture, and the two solved
+ * together): steps t = Δt, 2Δt, … up to the end time, each a nonlinear solve; a step
+ * that fails is undone and halved, up to "Max cutbacks" times in a row, after which
+ * the run fails; after an accepted step the step doubles back towards the nominal Δt
+ * (the usual bounded cut-back of load stepping, e.g. FEBio's auto time stepper or
+ * ASPECT's nonlinear-solver failure strategy, in its simplest form).
+ *
+ * A step may also converge and still be too long for an accuracy target of the caller
+ * (e.g. an event that must land within a tolerance of its threshold): it is then undone
+ * and halved as well, at most Max cutbacks + @ref StepControl::refinements halvings in a
+ * row, and accepted once none is left.
+ *
+ * Plain C++: the solvers of both paths may include it.
+ */
+
+#include <functional>
+#include <string>
+
+namespace suturesim
+{
+  struct StepControl
+  {
+    double   end_time     = 1;   ///< s
+    double   step_size    = 0.1; ///< nominal Δt, s
+    unsigned max_cutbacks = 6;   ///< halvings of a failing step in a row
+    unsigned refinements  = 0;   ///< further halvings of a step that is too long
+  };
+
+  struct StepAttempt
+  {
+    enum class Outcome
+    {
+      converged,
+      failed,  ///< the solve failed: undo, halve, or fail the run
+      too_long ///< converged, but the caller wants a shorter step
+    };
+    Outcome     outcome = Outcome::converged;
+    std::string reason; ///< why it failed
+  };
+
+  struct StepHooks
+  {
+    /// Solves from the current state (the last accepted one) to @p t_new = t + @p dt.
+    std::function<StepAttempt(double t_new, double dt)> attempt;
+    /// Returns to the last accepted state after @p attempt was rejected.
+    std::function<void(const StepAttempt &attempt, double t_new, double dt)> undo;
+    /// The attempt to @p t_new is accepted; @p cutbacks halvings led to it.
+    std::function<void(double t_new, double dt, unsigned cutbacks)> accept;
+    /// No halving is left for the failed step to @p t_new (the state is the last
+    /// accepted one again): throw the run's SolverError.
+    std::function<void(double t_new, unsigned cutbacks, const std::string &reason)> fail;
+  };
+
+  /// Runs from @p t_start to the end time; returns the number of accepted steps. When
+  /// @p hooks.fail returns, a SolverError with the reason is thrown.
+  unsigned
+  run_with_cutbacks(const StepControl &control, const StepHooks &hooks, double t_start = 0);
+} // namespace suturesim

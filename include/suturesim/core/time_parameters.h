@@ -1,0 +1,40 @@
+#pragma once
+/**
+ * @file
+ * The "Time" subsection every model path reads: which integrator, the end time, the
+ * (nominal) step, how many halvings of a failing step in a row, the output interval.
+ * The integrators themselves are registered by the bodies they integrate (tissue/,
+ * rod/); the scene offers all of them under one key (Simulation::declare_parameters).
+ */
+
+#include <suturesim/core/parameter_file.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <map>
+#include <string>
+
+namespace suturesim
+{
+  struct TimeParameters
+  {
+    std::string integrator      = "quasi-static";
+    double      end_time        = 1.0; ///< s
+    double      step_size       = 0.1; ///< s
+    unsigned    max_cutbacks    = 6;
+    double      output_interval = 0.0; ///< s; 0: every step
+
+    /// Declares into the current subsection ("Time"); @p integrators (name →
+    /// description) are the choices of "Integrator", of every body.
+    static void
+    declare(dealii::ParameterHandler &prm, const std::map<std::string, std::string> &integrators);
+    void
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+
+    /// Whether a state at @p t is due for output after the last one at @p last_output
+    /// (< 0: none yet): every state when the interval is 0, then one per interval, and
+    /// the end time's.
+    bool
+    output_due(double t, double last_output) const;
+  };
+} // namespace suturesim

@@ -1,0 +1,150 @@
+#pragma once
+/**
+ * @file
+ * The needle in the accurate path (Model = accurate, Bodies = tissue, or tissue and
+ * suture), built and stepped: quasi-static steps along the needle's trajectory, each a
+ * Newton solve of the FE tissue with the needle's loads at embedded material points
+ * (coupling/accurate/tissue_needle.h).
+ *  - With the suture (Bodies = tissue and suture, Needle/Attach suture): a Cosserat rod
+ *    (rod/rod_model.h) clamped at the swage (position and frame move with the needle:
+ *    the hard constraint of seed 002), its far end free or held by a grasper from its
+ *    Grasp time on. Pierce points pass onto it at the swage and slide along it with the
+ *    same friction law. Tissue and suture are solved by one Newton iteration, the
+ *    suture condensed onto the tissue's points (coupling/accurate/condensed_suture.h);
+ *    its nodes touch the tissue's surface by penalty (coupling/accurate/suture_contact.h)
+ *    and a viscous drag holds its slack tail (rod/viscous_drag.h, Suture/Stabilization).
+ *  - Rounds within a step follow only what a solve cannot change within itself: the
+ *    contacts and, with Enforcement = lagrange, the multipliers' Uzawa update; a step
+ *    that does not settle in Coupling iterations rounds fails.
+ *  - Steps are controlled by core/cutback_stepper.h: a failed step is halved
+ *    (Time/Max cutbacks in a row) with the needle's and the suture's state; a step that
+ *    carries the touch force past 1.04 × the puncture threshold is halved too (up to 8
+ *    more times), so that the puncture lands within 4 % above the threshold.
+ *  - Closure (scene/wound_closure.h): the gap probes join the tissue's probes; the
+ *    tie-off stops the needle's and the far end's motions; the incision's faces touch
+ *    by penalty (coupling/accurate/wound_contact.h, Closure/Face contact).
+ * The record (forces.csv, VTU, summary.json) is scene/accurate_stitch_record.h's.
+ */
+
+#include <suturesim/core/cutback_stepper.h>
+#include <suturesim/coupling/accurate/condensed_suture.h>
+#include <suturesim/coupling/accurate/suture_contact.h>
+#include <suturesim/coupling/accurate/tissue_needle.h>
+#include <suturesim/coupling/accurate/wound_contact.h>
+#include <suturesim/rod/viscous_drag.h>
+#include <suturesim/scene/scene_parameters.h>
+#include <suturesim/tissue/condensed_bodies.h>
+#include <suturesim/tissue/point_load_list.h>
+
+#include <deal.II/base/conditional_ostream.h>
+#include <deal.II/base/timer.h>
+#include <deal.II/distributed/tria.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace suturesim::scene
+{
+  class AccurateStitch
+  {
+  public:
+    /// Meshes the tissue into @p directory and builds every part of the problem.
+    AccurateStitch(SceneParameters &scene, const std::string &directory, dealii::TimerOutput &timer);
+
+    /// Equilibrium at t = 0 with the needle away; false with @p failure when it fails.
+    bool
+    solve_initial(std::string &failure);
+
+    /// The cut-back stepper's hooks: solve to @p tn over a step @p dt, undo.
+    StepAttempt
+    attempt(double tn, double dt);
+    void
+    undo();
+    /// Accepts the state: the needle's load and the pierce points' anchors. The state
+    /// is then recorded, before advance() prepares the next step (the point loads of
+    /// new pierce points, the surface).
+    void
+    accept();
+    void
+    advance();
+
+    /// This step's solver account (summary.json "steps").
+    nlohmann::json
+    step_statistics(double dt, unsigned cutbacks) const;
+
+    // --- what the record reads -----------------------------------------------------------
+    SceneParameters        &scene;
+    const NeedleParameters &np;
+    dealii::parallel::distributed::Triangulation<3> tria;
+    mesh::MeshInfo                                  mesh_info;
+    tissue::TissueParameters                        tissue_parameters; ///< with the gap probes
+    std::size_t                                     first_gap_probe = 0;
+    std::optional<ClosureMonitor>                   closure;
+    std::unique_ptr<tissue::TissueModel>            model;
+    tissue::BoundarySurface                         surface;
+    tools::CurvedNeedle                             geometry;
+    std::unique_ptr<coupling::TissueNeedle>         needle;
+    tools::Trajectory                               path;
+    double                                          pull_start = 0;
+    std::optional<rod::RodModel>                    suture;
+    std::optional<coupling::SutureContact>          contact;
+    std::optional<coupling::WoundContact>           faces;
+    Eigen::Matrix3Xd                                x_surface; ///< the surface's vertices, last accepted state
+    bool                                            grasped = false;
+    /// of the last accepted step: the needle's force and torque, the grasper's pull on
+    /// the far end, the drag's total, N (N m)
+    std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>> load;
+    double                                                 end_tension = 0, stabilization_force = 0;
+
+    /// The tissue points of the point loads, current positions.
+    std::vector<dealii::Point<3>>
+    positions() const;
+
+  private:
+    void
+    build_suture();
+    void
+    build_contacts();
+    /// The suture's Newton settings under the coupled solve.
+    void
+    tune_suture_newton();
+    /// The point loads on the tissue: the needle's touch and pierce points first (the
+    /// needle numbers them from 0), then the contacts.
+    void
+    locate_loads();
+    /// Moves the suture's held nodes to time @p t: the swage, and the far end once
+    /// grasped (from where it was then, by its keyframes, as in the realtime path).
+    void
+    hold_suture(double t);
+    /// New contacts of the suture against the surface at @p at; true when they changed.
+    bool
+    detect_contacts(const Eigen::Matrix3Xd &at);
+    /// The faces' loaded pairs for the surface at @p at; true when they changed.
+    bool
+    detect_faces(const Eigen::Matrix3Xd &at);
+    /// Coupled solves until the contacts and multipliers settle (this step's rounds).
+    void
+    solve_rounds(double tn);
+
+    double                                   force_floor = 0;
+    bool                                     lagrange    = false;
+    tools::Pose                              pose0;
+    rod::Quat                                frame0;
+    rod::Vec3                                grasped_at;
+    rod::NewtonParameters                    suture_newton;
+    tissue::PointLoadList                    loads;
+    std::optional<rod::ViscousDrag>          drag;
+    rod::NodalTerms                          node_terms;
+    std::optional<coupling::CondensedSuture> body;
+    std::vector<tissue::CondensedBody *>     parts;
+    std::optional<tissue::CondensedBodies>   both;
+    tissue::CondensedBody                   *coupled = nullptr;
+    std::vector<rod::Vec3>                   saved_x;
+    std::vector<rod::Quat>                   saved_q;
+    Eigen::Matrix3Xd                         round_surface;
+    tissue::NewtonReport                     report;
+    unsigned                                 rounds         = 0;
+    bool                                     points_changed = false;
+  };
+} // namespace suturesim::scene

@@ -1,0 +1,66 @@
+#pragma once
+/**
+ * @file
+ * The record of the accurate needle pass and stitch (scene/accurate_stitch.h), kept as
+ * the realtime path keeps its own (scene/realtime_needle.h):
+ *  - forces.csv per accepted step: reactions on the Dirichlet boundaries, the tissue's
+ *    probes, the closure gaps, the needle's force, torque and arc centre, per recorded
+ *    pierce point its state, ζ, slip velocity, normal and friction force; with the
+ *    suture its tension at the swage and the free end, the drag's total, the contact
+ *    force and count; with face contact its force and count;
+ *  - tissue_*.vtu and suture_*.vtu at Time/Output interval (and the last state);
+ *  - summary.json: the steps' solver account, the reactions and probes of the last
+ *    state, events and puncture/pull metrics (NeedleParameters::write_summary), the
+ *    suture nodes left inside the tissue, the closure metrics.
+ */
+
+#include <suturesim/io/recorder.h>
+#include <suturesim/scene/accurate_stitch.h>
+#include <suturesim/scene/run_summary.h>
+
+#include <string>
+
+namespace suturesim::scene
+{
+  class AccurateStitchRecord
+  {
+  public:
+    /// Sets the forces.csv columns and the head of summary.json.
+    AccurateStitchRecord(AccurateStitch &stitch, io::Recorder &recorder);
+
+    /// Records the accepted state at @p t with the solver's @p statistics.
+    void
+    record(double t, const nlohmann::json &statistics);
+
+    /// Makes sure the last accepted state at @p t is on disk; returns its file ("" if
+    /// none was written).
+    std::string
+    keep(double t);
+
+    /// The metrics of the end of the run (simulated time @p t).
+    void
+    finish(double t);
+
+    /// The time of the last state written, s (−1: none).
+    double
+    last_written() const
+    {
+      return last_output;
+    }
+
+  private:
+    void
+    write_state(double t);
+    /// The closure's gaps from the probes @p probes, into the row and the monitor.
+    void
+    record_gaps(double t, const std::vector<dealii::Tensor<1, 3>> &probes, std::vector<double> &row);
+
+    AccurateStitch &stitch;
+    io::Recorder   &recorder;
+    RunSummary      summary;
+    double          peak_pull    = 0;
+    double          last_output  = -1;
+    unsigned        output_index = 0;
+    std::string     last_file;
+  };
+} // namespace suturesim::scene

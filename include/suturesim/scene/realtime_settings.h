@@ -1,0 +1,63 @@
+#pragma once
+/**
+ * @file
+ * The "Realtime" subsection of a scene (Model = realtime): the tissue model, integrator,
+ * suture model, pierce model and self-collision response, each chosen from its registry
+ * with its own parameters in a subsection of the same name (core/parameter_adapter.h);
+ * the haptic rate and substeps, suture–tissue contact, the stability policy.
+ * RealtimeModels are the chosen models built from it, so that --validate reports a bad
+ * model value with file and line.
+ */
+
+#include <suturesim/core/model_parameters.h>
+#include <suturesim/core/parameter_file.h>
+#include <suturesim/realtime/integrator.h>
+#include <suturesim/realtime/suture_model.h>
+#include <suturesim/realtime/tissue_model.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <memory>
+#include <string>
+
+namespace suturesim::scene
+{
+  struct RealtimeSettings
+  {
+    std::string tissue_model   = "volume";
+    std::string integrator     = "xpbd";
+    std::string suture_model   = "xpbd-rod";
+    std::string pierce_model   = "automatic";
+    std::string self_collision = "off";
+    /// XPBD: the suture nodes' inverse masses within a pierce constraint are capped at
+    /// this multiple of the tissue point's (mass scaling), 1
+    double      pierce_mass_ratio  = 10;
+    bool        contact            = true;
+    double      contact_stiffness  = 100;  ///< N/m
+    double      contact_depth      = 1e-3; ///< m
+    double      rate               = 1000; ///< Hz
+    unsigned    substeps           = 1;
+    bool        refuse_above_limit = false;
+    bool        pacing             = false;
+
+    /// Declares the entries of the current subsection ("Realtime").
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(const dealii::ParameterHandler &prm);
+  };
+
+  /// The models a RealtimeSettings chose, built (those of absent bodies left empty).
+  struct RealtimeModels
+  {
+    std::unique_ptr<realtime::TissueModel> tissue;
+    std::unique_ptr<realtime::Integrator>  integrator;
+    std::unique_ptr<realtime::SutureModel> suture;
+    ParameterValues                        self_collision;
+
+    /// Builds them from the current subsection ("Realtime", @p scope); a bad value fails
+    /// through @p scope.
+    RealtimeModels(dealii::ParameterHandler &prm, const ParameterScope &scope, const RealtimeSettings &settings,
+                   bool with_tissue, bool with_suture);
+  };
+} // namespace suturesim::scene

@@ -1,0 +1,96 @@
+#pragma once
+/**
+ * @file
+ * The realtime world of a scene (Model = realtime), built from the scene's shared
+ * subsections:
+ *  - Mesh: the same gmsh file as the accurate path, read as tetrahedra;
+ *  - Tissue/Material: E and ν from the shear and bulk moduli of the small-strain limit
+ *    (per region with Tissue/Region moduli), ρ from the density; Tissue/Boundary
+ *    conditions: fixed and prescribed boundaries hold their surface nodes, tractions
+ *    become nodal loads, gravity acts on every node; Tissue/Probes: interpolated
+ *    displacements;
+ *  - Suture: centreline, section (EA, EI, radius, density) and ends: an end whose frame
+ *    is fixed (clamped, or prescribed with rotations) is a tool holding its two end
+ *    nodes (a grasper fixes position and direction); a pinned end, or one prescribed by
+ *    displacements only, a tool holding one; a grasper that closes later (Grasp time)
+ *    holds nothing until then;
+ *  - Needle (scene/realtime_needle.h), Closure (two probes per gap pair).
+ * It also gives each tool its pose at a time and measures the closure's gaps.
+ */
+
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/world.h>
+#include <suturesim/scene/realtime_needle.h>
+#include <suturesim/scene/realtime_settings.h>
+#include <suturesim/scene/scene_parameters.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace suturesim::scene
+{
+  class RealtimeWorld
+  {
+  public:
+    /// Builds the world into its initialised state; @p directory receives gmsh's mesh.
+    RealtimeWorld(SceneParameters &scene, const RealtimeSettings &settings, RealtimeModels models,
+                  const std::string &directory);
+
+    /// The poses of every tool at time @p t (a grasper closes on its end at its grasp
+    /// time, where the end is then).
+    void
+    tool_poses(double t, std::vector<realtime::ToolPose> &poses);
+
+    /// The closure gaps of the current state and the suture tension charged to them:
+    /// what the grasper on the suture's far end feels, else the needle's pull.
+    void
+    measure_closure();
+
+    /// The tension the closure is charged to, N.
+    double
+    closure_tension() const;
+
+    struct Boundary
+    {
+      std::string                name;
+      std::vector<std::uint32_t> nodes;
+    };
+    struct ToolEnd
+    {
+      std::string                name;
+      const rod::EndCondition   *end;
+      realtime::Vector3d         initial;
+      std::vector<std::uint32_t> held;
+      bool                       grasped = true; ///< false until its Grasp time
+    };
+
+    SceneParameters                                 &scene;
+    mesh::SimplexMesh                                tissue_mesh;
+    mesh::BoundarySurface                            surface;
+    std::unique_ptr<realtime::World>                 world;
+    std::vector<Boundary>                            boundaries;
+    std::optional<RealtimeNeedle>                    needle;
+    std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's
+    std::vector<ToolEnd>                             tool_ends;
+    std::vector<std::pair<std::string, std::size_t>> probes;
+    std::optional<ClosureMonitor>                    closure;
+    std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
+    std::vector<double>                              gaps; ///< of the last measure_closure()
+
+  private:
+    void
+    read_tissue(realtime::WorldSetup &setup, const std::string &directory);
+    void
+    place_suture(realtime::WorldSetup &setup);
+    void
+    hold_boundaries();
+    void
+    add_tractions();
+    void
+    add_tools(const RealtimeSettings &settings);
+    void
+    add_probes();
+  };
+} // namespace suturesim::scene

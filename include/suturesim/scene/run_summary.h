@@ -1,0 +1,103 @@
+#pragma once
+/**
+ * @file
+ * The layout of summary.json, in one place: every scenario describes its run through
+ * these functions, so the keys a reader (postprocess/, the study layer, the tests)
+ * relies on are written here and nowhere else. The parts a component owns (the
+ * metrics of the closure, of the needle, of a recorder) are written by that component
+ * into "metrics"; io::Recorder adds version, commit, MPI processes, status, and
+ * main() the wall time.
+ *
+ *   scene, scene_file, model, bodies        the scene (begin())
+ *   mesh                                    the tissue's mesh and discretisation
+ *   suture                                  the suture's discretisation and section
+ *   realtime                                the realtime models and haptic loop
+ *   metrics                                 the run's measurements (SI units)
+ *   steps                                   per accepted step: the solver's account
+ *   solver, timings                         totals, wall time per section
+ */
+
+#include <suturesim/scene/scene_parameters.h>
+
+#include <deal.II/base/timer.h>
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace suturesim::scene
+{
+  class RunSummary
+  {
+  public:
+    explicit RunSummary(nlohmann::json &summary)
+      : json(summary)
+    {}
+
+    /// scene, scene_file, model, bodies; empty metrics and steps.
+    void
+    begin(const SceneParameters &scene);
+
+    /// The accurate tissue's mesh: description, cells, DoFs, element degree and
+    /// formulation; @p surface_triangles when the boundary was triangulated (> 0).
+    void
+    fe_mesh(const std::string &description, std::uint64_t cells, std::uint64_t dofs,
+            const tissue::TissueParameters &tissue, std::size_t surface_triangles = 0);
+
+    /// The realtime tissue's mesh: tetrahedra from gmsh and their boundary.
+    void
+    simplex_mesh(const std::string &description, std::size_t vertices, std::size_t tetrahedra,
+                 std::size_t surface_triangles);
+
+    /// The accurate suture alone: elements, centreline, section stiffnesses.
+    void
+    rod(const rod::RodParameters &parameters, std::size_t elements);
+
+    /// The accurate suture coupled to the tissue by a needle's pierce points.
+    void
+    coupled_suture(std::size_t elements, double length, double coupling_tolerance);
+
+    /// The realtime suture: nodes, radius, EA, EI.
+    void
+    realtime_suture(std::size_t nodes, double radius, double EA, double EI);
+
+    /// The needle: its punctures and passages as "events" (in time order), the first
+    /// entry and exit puncture forces and @p peak_pull_force under "metrics", the needle
+    /// and its pass under "needle"; the realtime @p pierce_model when given.
+    void
+    needle(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events, double peak_pull_force,
+           const std::string &pierce_model = "");
+
+    /// One accepted step's solver account at time @p t.
+    void
+    step(const nlohmann::json &statistics, double t);
+
+    /// The solver's totals (merged into "solver").
+    void
+    solver(const nlohmann::json &totals);
+
+    /// Wall time per section of @p timer, s.
+    void
+    timings(const dealii::TimerOutput &timer);
+
+    nlohmann::json &
+    metrics()
+    {
+      return json["metrics"];
+    }
+    /// The realtime block (models, rate, substeps, stability).
+    nlohmann::json &
+    realtime()
+    {
+      return json["realtime"];
+    }
+    nlohmann::json &
+    whole()
+    {
+      return json;
+    }
+
+  private:
+    nlohmann::json &json;
+  };
+} // namespace suturesim::scene

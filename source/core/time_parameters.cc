@@ -1,0 +1,51 @@
+#include <suturesim/core/model_parameters.h>
+#include <suturesim/core/time_parameters.h>
+
+namespace suturesim
+{
+
+  void
+  TimeParameters::declare(dealii::ParameterHandler &prm, const std::map<std::string, std::string> &integrators)
+  {
+    const TimeParameters d;
+    std::string          pattern, doc = "Time integration. ";
+    for (const auto &[name, description] : integrators)
+      {
+        pattern += (pattern.empty() ? "" : "|") + name;
+        doc += "'" + name + "': " + description + " ";
+      }
+    prm.declare_entry("Integrator", d.integrator, dealii::Patterns::Selection(pattern), doc + "Unit: none.");
+    prm.declare_entry("End time", default_text(d.end_time), dealii::Patterns::Double(0),
+                      "Simulated time at the end of the run (for quasi-static runs the "
+                      "load parameter of the boundary-condition functions). Unit: s. "
+                      "Range: > 0.");
+    prm.declare_entry("Step size", default_text(d.step_size), dealii::Patterns::Double(0),
+                      "Load step (quasi-static) or initial step (IDA). Unit: s. Range: > 0.");
+    prm.declare_entry("Max cutbacks", default_text(d.max_cutbacks), dealii::Patterns::Integer(0, 30),
+                      "Consecutive halvings of a failing step before the run stops. Unit: 1. "
+                      "Range: 0-30.");
+    prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
+                      "Simulated time between VTU outputs; 0 writes every step (quasi-"
+                      "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
+  }
+
+  void
+  TimeParameters::parse(const dealii::ParameterHandler &prm, const ParameterScope &scope)
+  {
+    integrator      = prm.get("Integrator");
+    end_time        = prm.get_double("End time");
+    step_size       = prm.get_double("Step size");
+    max_cutbacks    = prm.get_integer("Max cutbacks");
+    output_interval = prm.get_double("Output interval");
+    scope.require(end_time > 0, "End time", "must be > 0 s");
+    scope.require(step_size > 0, "Step size", "must be > 0 s");
+    scope.require(step_size <= end_time, "Step size", "must not exceed the end time");
+  }
+
+  bool
+  TimeParameters::output_due(const double t, const double last_output) const
+  {
+    return output_interval <= 0 || last_output < 0 || t >= last_output + output_interval * (1 - 1e-9) ||
+           t >= end_time * (1 - 1e-12);
+  }
+} // namespace suturesim

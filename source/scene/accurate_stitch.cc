@@ -1,0 +1,327 @@
+#include <suturesim/core/error.h>
+#include <suturesim/scene/accurate_stitch.h>
+
+#include <algorithm>
+#include <limits>
+#include <sstream>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  AccurateStitch::AccurateStitch(SceneParameters &s, const std::string &directory, TimerOutput &timer)
+    : scene(s)
+    , np(s.needle)
+    , tria(MPI_COMM_WORLD)
+    , tissue_parameters(s.tissue)
+    , geometry(s.needle.needle())
+    , path(s.needle.trajectory())
+  {
+    {
+      TimerOutput::Scope section(timer, "mesh");
+      mesh_info = mesh::create_mesh(scene.mesh, directory, tria);
+    }
+    scene.boundary_conditions.resolve(mesh_info);
+    // the closure's gap probes join the tissue's own (after them)
+    first_gap_probe = tissue_parameters.probes.size();
+    if (scene.closure.present())
+      {
+        closure.emplace(scene.closure);
+        for (const auto &pair : scene.closure.pairs)
+          for (const auto &[side, X] : {std::pair{"a", pair.a}, std::pair{"b", pair.b}})
+            tissue_parameters.probes.emplace_back("gap_" + pair.name + "_" + side, Point<3>(X[0], X[1], X[2]));
+      }
+    model = std::make_unique<tissue::TissueModel>(MPI_COMM_WORLD, tissue_parameters, *scene.material,
+                                                  scene.boundary_conditions, tria, timer);
+    model->setup();
+    surface = model->boundary_surface();
+
+    coupling::TissueNeedleParameters parameters;
+    parameters.puncture             = np.puncture;
+    parameters.friction             = np.friction;
+    parameters.transverse_stiffness = np.transverse_stiffness;
+    parameters.spacing              = np.spacing;
+    parameters.lagrange             = np.enforcement == "lagrange";
+    parameters.normal_smoothing     = np.transverse_stiffness * np.coupling_tolerance;
+    lagrange                        = parameters.lagrange;
+    needle = std::make_unique<coupling::TissueNeedle>(geometry, parameters, surface.triangles, surface.reference);
+    pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;
+    pose0      = path.pose(0);
+    if (scene.bodies == "tissue and suture")
+      build_suture();
+    build_contacts();
+    // The tissue is solved to a hundredth of the force a pierce tie carries at the
+    // coupling tolerance: finer residuals move no point measurably, and a solve that
+    // starts near equilibrium would otherwise chase its relative tolerance for half a
+    // dozen iterations. The suture, whose equilibrium under each tissue iterate is part
+    // of the tissue's residual (coupling/accurate/condensed_suture.h), to a tenth of
+    // that: on the tissue's floor itself it left the coupled iteration stalled just
+    // above it (the stitch's tightening: 2.5e-4 N after 25 iterations at k⊥ = 5e4 N/m,
+    // floor 5e-5 N), and its iterations cost little.
+    force_floor = 0.01 * np.transverse_stiffness * np.coupling_tolerance;
+    if (suture)
+      tune_suture_newton();
+    // the suture, solved with the tissue in one Newton iteration
+    if (suture)
+      body.emplace(*suture, suture_newton, *needle, contact ? &*contact : nullptr, loads,
+                   drag || contact ? &node_terms : nullptr);
+    // what is solved with the tissue: the suture, the wound's faces, or both
+    if (body)
+      parts.push_back(&*body);
+    if (faces)
+      parts.push_back(&*faces);
+    both.emplace(parts);
+    coupled = parts.empty() ? nullptr : parts.size() == 1 ? parts.front() : &*both;
+  }
+
+  void
+  AccurateStitch::build_suture()
+  {
+    // straight from the swage along the needle's trailing direction, its first node
+    // clamped to the swage's frame (which turns with the needle)
+    rod::RodParameters rp = scene.suture;
+    rp.centreline         = "straight";
+    rp.start              = geometry.swage(pose0);
+    rp.direction          = -geometry.tangent(pose0, geometry.length());
+    rp.last_end.type      = "free"; // held by hold_suture() from its grasp time on
+    suture.emplace(rp.create_model());
+    suture->constrain(0, {{true, true, true, true, true, true}});
+    frame0 = suture->rotations()[0];
+    std::vector<double> lengths;
+    for (const auto &r : suture->references())
+      lengths.push_back(r.length);
+    needle->set_thread(&suture->positions(), lengths, &suture->rotations());
+    if (scene.suture.stabilization > 0)
+      drag.emplace(*suture, scene.suture.stabilization);
+  }
+
+  void
+  AccurateStitch::build_contacts()
+  {
+    // the suture's nodes against the tissue's surface, outside the pierce points
+    if (suture && scene.suture.tissue_contact.enabled)
+      {
+        contact.emplace(coupling::SutureContactParameters{scene.suture.tissue_contact.stiffness,
+                                                          scene.suture.section.radius,
+                                                          scene.suture.tissue_contact.depth},
+                        surface.triangles, surface.reference);
+        contact->set_suture(&suture->positions());
+      }
+    // the incision's faces against each other (Closure/Face contact)
+    if (scene.closure.present() && !scene.closure.face_contact.empty())
+      {
+        const auto [a, b] = scene.closure.face_contact_ids(mesh_info);
+        faces.emplace(coupling::WoundContactParameters{scene.closure.face_contact_stiffness,
+                                                       scene.closure.face_contact_margin},
+                      surface.reference, surface.triangles, surface.ids, a, b);
+      }
+    // the terms the pass adds at the suture's nodes: the drag and the contact
+    node_terms = [this](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &, rod::Vec6 &r, rod::Mat6 &J) {
+      if (drag)
+        drag->add(i, xi, r, J);
+      if (contact)
+        contact->add_node_terms(i, xi, r, J);
+    };
+  }
+
+  void
+  AccurateStitch::tune_suture_newton()
+  {
+    suture_newton                = scene.suture.newton;
+    suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, 0.1 * force_floor);
+    // the suture's equilibrium under each tissue iterate: slack thread crawls at the
+    // step cap below (measured: up to a hundred iterations at the tightening), and an
+    // iteration costs a fraction of a millisecond
+    suture_newton.max_iterations = std::max(suture_newton.max_iterations, 500u);
+    // a stiff pierce tie pulls the node it holds by millimetres on the first iteration
+    // of a round, and the free tail would swing with it: half an element and a quarter
+    // radian per iteration at most
+    double shortest = std::numeric_limits<double>::infinity();
+    for (const auto &r : suture->references())
+      shortest = std::min(shortest, r.length);
+    suture_newton.max_displacement = 0.5 * shortest;
+    suture_newton.max_rotation     = 0.25;
+  }
+
+  void
+  AccurateStitch::locate_loads()
+  {
+    std::vector<const tissue::PointLoads *> list{needle.get()};
+    if (contact)
+      list.push_back(&*contact);
+    if (faces)
+      list.push_back(&*faces);
+    loads.set(list);
+    if (faces)
+      faces->set_offset(loads.offset(list.size() - 1));
+    model->set_point_loads(loads.points().empty() ? nullptr : &loads);
+  }
+
+  void
+  AccurateStitch::hold_suture(const double t)
+  {
+    const tools::Pose pose = path.pose(closure ? closure->motion_time(t) : t);
+    suture->set_node(0, geometry.swage(pose), pose.orientation * pose0.orientation.inverse() * frame0);
+    const auto       &end  = scene.suture.last_end;
+    const std::size_t last = suture->n_nodes() - 1;
+    if (end.type == "free" || t < end.grasp_time)
+      return;
+    if (!grasped)
+      {
+        grasped      = true;
+        grasped_at   = suture->positions()[last];
+        const bool r = end.fixes_rotation();
+        suture->constrain(last, {{true, true, true, r, r, r}});
+      }
+    const double motion = closure ? closure->motion_time(t) : t;
+    suture->set_node(last, end.position(std::max(motion, end.grasp_time), grasped_at), suture->rotations()[last]);
+  }
+
+  std::vector<Point<3>>
+  AccurateStitch::positions() const
+  {
+    std::vector<Point<3>> x(needle->points().size());
+    for (std::size_t k = 0; k < x.size(); ++k)
+      x[k] = model->point_position(k);
+    return x;
+  }
+
+  bool
+  AccurateStitch::detect_contacts(const Eigen::Matrix3Xd &at)
+  {
+    // left out: the nodes a stitch's pierce points draw into the tissue and the nodes a
+    // support holds
+    std::vector<char> skip = needle->thread_nodes_in_tracts();
+    skip.front()           = 1;
+    skip.back()            = skip.back() || grasped;
+    const bool changed     = contact->detect(at, suture->positions(), skip);
+    if (changed)
+      locate_loads();
+    return changed;
+  }
+
+  bool
+  AccurateStitch::detect_faces(const Eigen::Matrix3Xd &at)
+  {
+    const bool changed = faces && faces->detect(at);
+    if (changed)
+      locate_loads();
+    return changed;
+  }
+
+  bool
+  AccurateStitch::solve_initial(std::string &failure)
+  {
+    needle->begin_step(0, path.pose(0), surface.reference);
+    report = model->solve_static(0, force_floor);
+    failure = report.failure;
+    if (report.converged)
+      model->surface_positions(surface, x_surface);
+    return report.converged;
+  }
+
+  void
+  AccurateStitch::solve_rounds(const double tn)
+  {
+    for (rounds = 1;; ++rounds)
+      {
+        report = coupled ? model->solve_coupled(tn, force_floor, *coupled) : model->solve_static(tn, force_floor);
+        if (!report.converged || !(suture || lagrange || faces))
+          return;
+        const auto x = positions();
+        if (contact || faces)
+          model->surface_positions(surface, round_surface);
+        const bool   touched = detect_faces(round_surface);
+        const bool   changed = (contact && detect_contacts(round_surface)) || touched;
+        const double gap     = lagrange ? needle->constraint_gap(x) : 0;
+        if (!changed && gap <= np.coupling_tolerance)
+          return;
+        if (rounds == np.coupling_iterations)
+          {
+            std::ostringstream why;
+            why << "after " << rounds << " rounds the contacts still changed, the pierce ties gape by " << gap
+                << " m (Pierce points/Accurate/Coupling tolerance " << np.coupling_tolerance << " m)";
+            report.converged = false;
+            report.failure   = why.str();
+            return;
+          }
+        if (lagrange)
+          needle->update_multipliers(x);
+      }
+  }
+
+  StepAttempt
+  AccurateStitch::attempt(const double tn, const double dt)
+  {
+    needle->save();
+    model->save_state();
+    if (suture)
+      {
+        saved_x = suture->positions();
+        saved_q = suture->rotations();
+        hold_suture(tn);
+      }
+    if (needle->begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
+      locate_loads();
+    detect_faces(x_surface); // the last accepted state
+    if (drag)
+      drag->begin_step(&saved_x, dt);
+    // Tissue and suture by one Newton iteration, the suture condensed onto the tissue's
+    // points (the elements carrying the thread's pierce points follow within it).
+    solve_rounds(tn);
+    if (!report.converged)
+      return {StepAttempt::Outcome::failed, report.failure};
+    // land the puncture within 4 % above the threshold: a step that overshoots is cut
+    if (needle->touch_force(positions()) > 1.04 * np.puncture.threshold)
+      return {StepAttempt::Outcome::too_long, ""};
+    return {};
+  }
+
+  void
+  AccurateStitch::undo()
+  {
+    model->restore_state();
+    needle->restore();
+    if (suture)
+      for (std::size_t i = 0; i < saved_x.size(); ++i)
+        suture->set_node(i, saved_x[i], saved_q[i]);
+    locate_loads();
+  }
+
+  void
+  AccurateStitch::accept()
+  {
+    const auto x = positions();
+    // the suture pulls on the swage: minus the support's reaction at its node 0
+    rod::Vec6 swage_pull = rod::Vec6::Zero();
+    if (suture)
+      {
+        // at the points of the converged iterate, the last the suture was brought to
+        // equilibrium with
+        const Eigen::VectorXd r = body->residual();
+        swage_pull              = -r.head<6>();
+        end_tension             = r.tail<6>().head<3>().norm(); // the grasper's reaction
+        stabilization_force     = drag ? drag->total_force(suture->positions()) : 0.0;
+      }
+    load           = needle->needle_load(x, swage_pull);
+    points_changed = needle->accept_step(x);
+  }
+
+  void
+  AccurateStitch::advance()
+  {
+    if (points_changed)
+      locate_loads();
+    model->surface_positions(surface, x_surface);
+  }
+
+  nlohmann::json
+  AccurateStitch::step_statistics(const double dt, const unsigned cutbacks) const
+  {
+    return {{"dt", dt},
+            {"newton_iterations", report.iterations},
+            {"cutbacks", cutbacks},
+            {"coupling_rounds", rounds},
+            {"residual_norms", report.residual_norms}};
+  }
+} // namespace suturesim::scene

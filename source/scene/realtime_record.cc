@@ -1,0 +1,219 @@
+#include <suturesim/collision/volume_penetration.h>
+#include <suturesim/io/polyline_writer.h>
+#include <suturesim/io/simplex_writer.h>
+#include <suturesim/scene/realtime_record.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace suturesim::scene
+{
+  namespace rt = realtime;
+
+  namespace
+  {
+    std::string
+    processor_name()
+    {
+      std::ifstream in("/proc/cpuinfo");
+      for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0)
+          return line.substr(line.find(':') + 2);
+      return "unknown";
+    }
+
+    void
+    add_xyz(std::vector<std::string> &columns, const std::string &stem, const std::string &unit)
+    {
+      for (const char c : {'x', 'y', 'z'})
+        columns.push_back(stem + std::string(1, c) + " [" + unit + "]");
+    }
+  } // namespace
+
+  RealtimeRecord::RealtimeRecord(RealtimeWorld &w, const RealtimeSettings &settings, io::Recorder &r)
+    : world(w)
+    , recorder(r)
+    , summary(r.summary())
+  {
+    const auto &scene = world.scene;
+    const auto &rw    = *world.world;
+    const auto &sys   = rw.system();
+    summary.begin(scene);
+    summary.whole()["machine"] = processor_name() + ", one core";
+    const std::string settings_text = rw.integrator().settings();
+    auto             &realtime      = summary.realtime();
+    realtime = {{"integrator", settings_text.empty() ? settings.integrator : settings.integrator + " (" + settings_text + ")"},
+                {"rate_hz", settings.rate},
+                {"substeps", settings.substeps},
+                {"dt_s", rw.dt()},
+                {"dt_crit_s",
+                 std::isfinite(rw.stability_limit()) ? nlohmann::json(rw.stability_limit()) : nlohmann::json("none")},
+                {"stability_limit", rw.stability_description()},
+                {"nodes", sys.nodes.size()}};
+    if (!rw.warning().empty())
+      summary.whole()["warnings"].push_back(rw.warning());
+    if (scene.has_tissue())
+      {
+        realtime["tissue_model"] = settings.tissue_model;
+        summary.simplex_mesh(world.tissue_mesh.description, world.tissue_mesh.vertices.cols(),
+                             world.tissue_mesh.tetrahedra.size(), world.surface.triangles.size());
+      }
+    if (scene.has_suture())
+      {
+        realtime["suture_model"]   = settings.suture_model;
+        realtime["self_collision"] = settings.self_collision;
+        realtime["contact"]        = scene.has_tissue() && settings.contact;
+        summary.realtime_suture(sys.suture.size(), scene.suture.section.radius, rw.suture()->geometry().EA,
+                                rw.suture()->geometry().EI);
+      }
+    for (const auto &i : sys.interactions)
+      realtime["interactions"][i->name()] = i->size();
+
+    std::vector<std::string> columns{"time [s]"};
+    for (const auto &t : world.tool_ends)
+      add_xyz(columns, t.name + "_force_", "N");
+    if (world.needle)
+      world.needle->add_columns(columns);
+    for (const auto &b : world.boundaries)
+      add_xyz(columns, b.name + "_reaction_", "N");
+    for (const auto &[name, index] : world.probes)
+      add_xyz(columns, name + "_displacement_", "m");
+    if (world.closure)
+      for (const auto &pair : scene.closure.pairs)
+        columns.push_back("gap_" + pair.name + " [m]");
+    columns.push_back("kinetic_energy [J]");
+    columns.push_back("elastic_energy [J]");
+    recorder.set_columns(columns);
+    values.resize(columns.size());
+  }
+
+  void
+  RealtimeRecord::row()
+  {
+    const auto &rw  = *world.world;
+    const auto &sys = rw.system();
+    std::size_t c   = 0;
+    values[c++]     = rw.time();
+    for (std::size_t k = 0; k < world.tool_ends.size(); ++k)
+      for (int d = 0; d < 3; ++d)
+        values[c++] = rw.tool_forces()[world.first_end_tool + k].force[d];
+    if (world.needle)
+      world.needle->fill_row(rw, values, c);
+    for (const auto &b : world.boundaries)
+      {
+        const auto r = world.world->reaction(b.nodes);
+        for (int d = 0; d < 3; ++d)
+          values[c++] = r[d];
+      }
+    for (const auto &[name, index] : world.probes)
+      {
+        const auto u = rw.probe_displacement(index);
+        for (int d = 0; d < 3; ++d)
+          values[c++] = u[d];
+      }
+    for (const double g : world.gaps)
+      values[c++] = g;
+    values[c++] = sys.kinetic_energy();
+    values[c++] = sys.elastic_energy(sys.nodes.x);
+    recorder.add_row(values);
+  }
+
+  void
+  RealtimeRecord::write_state()
+  {
+    const auto  &rw     = *world.world;
+    const auto  &sys    = rw.system();
+    const double t      = rw.time();
+    last_written        = t;
+    const auto   suffix = [&](const std::string &series) {
+      std::ostringstream name;
+      name << series << "_" << std::setw(5) << std::setfill('0') << n_outputs << ".vtu";
+      return name.str();
+    };
+    if (world.scene.has_tissue())
+      {
+        const auto &tm   = *rw.tissue();
+        const auto  n    = sys.tissue.end;
+        const auto  X    = sys.nodes.reference.leftCols(n);
+        const auto  x    = sys.nodes.x.leftCols(n);
+        const auto  name = suffix("tissue");
+        if (!tm.volume_cells().empty())
+          {
+            io::SimplexData<4> data{x, tm.volume_cells(), {}, {}};
+            data.vector_fields = {{"displacement", x - X}, {"velocity", sys.nodes.v.leftCols(n)}};
+            io::write_simplex_vtu(recorder.directory() + "/" + name, data, t);
+          }
+        else
+          {
+            io::SimplexData<3> data{x, tm.surface(), {}, {}};
+            data.vector_fields = {{"displacement", x - X}, {"velocity", sys.nodes.v.leftCols(n)}};
+            io::write_simplex_vtu(recorder.directory() + "/" + name, data, t);
+          }
+        recorder.add_vtu("tissue", t, name);
+      }
+    if (world.scene.has_suture())
+      {
+        io::PolylineData data;
+        for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
+          data.points.push_back(sys.nodes.x.col(i));
+        std::vector<double> tension;
+        rw.suture()->segment_tension(sys, tension);
+        data.point_fields   = {{"radius", std::vector<double>(data.points.size(), world.scene.suture.section.radius)}};
+        data.segment_fields = {{"tension", tension}};
+        const auto name     = suffix("suture");
+        io::write_polyline_vtu(recorder.directory() + "/" + name, data, t);
+        recorder.add_vtu("suture", t, name);
+      }
+    ++n_outputs;
+  }
+
+  void
+  RealtimeRecord::finish(const rt::LoopStatistics &stats, const double wall_time)
+  {
+    const auto &scene                = world.scene;
+    const auto &rw                   = *world.world;
+    const auto &sys                  = rw.system();
+    auto       &metrics              = summary.metrics();
+    metrics["steps"]                 = stats.steps;
+    metrics["step_time_median_us"]   = stats.median_us;
+    metrics["step_time_p99_us"]      = stats.p99_us;
+    metrics["step_time_max_us"]      = stats.max_us;
+    metrics["step_time_mean_us"]     = stats.mean_us;
+    metrics["deadline_us"]           = stats.deadline_us;
+    metrics["deadline_misses"]       = stats.deadline_misses;
+    metrics["final_time"]            = rw.time();
+    metrics["simulated_time"]        = rw.time();
+    metrics["wall_time"]             = wall_time;
+    if (world.closure)
+      world.closure->write(metrics);
+    // no suture node may end inside the tissue, deeper than its radius below the
+    // surface, but those the thread carries between two pierce points
+    if (scene.has_tissue() && scene.has_suture() && !rw.tissue()->volume_cells().empty())
+      {
+        const rt::Matrix3Xd nodes = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
+        std::vector<char>   pierced;
+        if (rw.needle())
+          pierced = rw.needle()->suture_inside();
+        const auto inside = collision::volume_penetration(sys.nodes.x.leftCols(sys.tissue.end),
+                                                          rw.tissue()->volume_cells(), rw.tissue()->surface(), nodes,
+                                                          scene.suture.section.radius);
+        const auto split  = collision::split_by_tracts(inside, pierced);
+        metrics["suture_nodes_inside_tissue"] = split.outside_tracts;
+        metrics["suture_penetration_depth"]   = split.depth;
+        metrics["suture_nodes_in_tracts"]     = split.in_tracts;
+      }
+    for (std::size_t k = 0; k < world.tool_ends.size(); ++k)
+      metrics[world.tool_ends[k].name + "_force_magnitude"] = rw.tool_forces()[world.first_end_tool + k].force.norm();
+    if (world.needle)
+      summary.needle(scene.needle, world.needle->events(rw), world.needle->peak_pull_force(),
+                     rw.needle()->pierce_model());
+    for (const auto &[name, index] : world.probes)
+      {
+        const auto u = rw.probe_displacement(index);
+        for (int d = 0; d < 3; ++d)
+          metrics[name + "_displacement_" + std::string(1, char('x' + d))] = u[d];
+      }
+  }
+} // namespace suturesim::scene

@@ -1,0 +1,91 @@
+#include <suturesim/core/model_parameters.h>
+#include <suturesim/core/parameter_adapter.h>
+#include <suturesim/realtime/pierce_model.h>
+#include <suturesim/realtime/self_collision.h>
+#include <suturesim/scene/realtime_settings.h>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+  namespace rt = realtime;
+
+  void
+  RealtimeSettings::declare(ParameterHandler &prm)
+  {
+    const RealtimeSettings d;
+    declare_models<rt::TissueModel::Registry>(
+      prm, "Tissue model", d.tissue_model,
+      "Realtime tissue model, built from the tetrahedra of Mesh (the .geo must offer "
+      "tetrahedra, e.g. Geo parameters = hexahedra: 0).");
+    declare_models<rt::Integrator::Registry>(prm, "Integrator", d.integrator,
+                                             "Realtime time integrator of tissue and suture.");
+    declare_models<rt::SutureModel::Registry>(prm, "Suture model", d.suture_model, "Realtime suture model.");
+    declare_models<rt::PierceModel::Registry>(
+      prm, "Pierce model", d.pierce_model,
+      "How pierce points hold on to the needle and suture and slip along them; 'automatic': "
+      "soft-constraint with the ftl suture under a force-based integrator, node-path otherwise.",
+      "automatic|");
+    declare_models<rt::SelfCollision::Registry>(prm, "Self-collision", d.self_collision,
+                                                "Suture self-collision response; 'off': none.", "off|");
+    prm.declare_entry("Pierce mass ratio", default_text(d.pierce_mass_ratio), Patterns::Double(1),
+                      "XPBD: the suture nodes' inverse masses within a pierce constraint are "
+                      "capped at this multiple of the tissue point's (mass scaling against "
+                      "jitter: a suture node is some 300 times lighter than a tissue node). "
+                      "Unit: 1. Range: >= 1.");
+    prm.declare_entry("Contact", default_text(d.contact), Patterns::Bool(),
+                      "Suture-tissue surface contact (tissue and suture scenes). Unit: none.");
+    prm.declare_entry("Contact stiffness", default_text(d.contact_stiffness), Patterns::Double(0),
+                      "Penalty stiffness k of suture-tissue contact (compliance 1/k under "
+                      "XPBD). Unit: N/m. Range: >= 0.");
+    prm.declare_entry("Contact depth", default_text(d.contact_depth), Patterns::Double(0),
+                      "How far inside the tissue surface a suture node is still pushed out "
+                      "(deeper nodes are taken to have pierced it). Unit: m. Range: >= 0.");
+    prm.declare_entry("Rate", default_text(d.rate), Patterns::Double(1, 1e7),
+                      "Haptic rate: one step(tool poses) -> tool forces per 1/Rate of "
+                      "simulated time, and the deadline of each step. Unit: Hz. Range: "
+                      "[1, 1e7].");
+    prm.declare_entry("Substeps", default_text(d.substeps), Patterns::Integer(1, 100000),
+                      "Integrator substeps per haptic step (dt = 1/(Rate Substeps)). Unit: "
+                      "none. Range: [1, 100000].");
+    prm.declare_entry("Above stability limit", d.refuse_above_limit ? "refuse" : "warn",
+                      Patterns::Selection("warn|refuse"),
+                      "What to do when dt exceeds the integrator's stability limit dt_crit "
+                      "(reported in summary.json): warn and run, or refuse to run. Unit: "
+                      "none.");
+    prm.declare_entry("Pacing", default_text(d.pacing), Patterns::Bool(),
+                      "Wait for the wall clock between steps as a haptic loop does (true), "
+                      "or step as fast as possible (false, for benchmarks). Unit: none.");
+  }
+
+  void
+  RealtimeSettings::parse(const ParameterHandler &prm)
+  {
+    tissue_model       = prm.get("Tissue model");
+    integrator         = prm.get("Integrator");
+    suture_model       = prm.get("Suture model");
+    self_collision     = prm.get("Self-collision");
+    pierce_model       = prm.get("Pierce model");
+    pierce_mass_ratio  = prm.get_double("Pierce mass ratio");
+    contact            = prm.get_bool("Contact");
+    contact_stiffness  = prm.get_double("Contact stiffness");
+    contact_depth      = prm.get_double("Contact depth");
+    rate               = prm.get_double("Rate");
+    substeps           = prm.get_integer("Substeps");
+    refuse_above_limit = prm.get("Above stability limit") == "refuse";
+    pacing             = prm.get_bool("Pacing");
+  }
+
+  RealtimeModels::RealtimeModels(ParameterHandler &prm, const ParameterScope &scope, const RealtimeSettings &settings,
+                                 const bool with_tissue, const bool with_suture)
+  {
+    integrator = create_model<rt::Integrator::Registry>(prm, scope, settings.integrator);
+    if (with_tissue)
+      tissue = create_model<rt::TissueModel::Registry>(prm, scope, settings.tissue_model);
+    if (with_suture)
+      {
+        suture = create_model<rt::SutureModel::Registry>(prm, scope, settings.suture_model);
+        if (settings.self_collision != "off")
+          self_collision = read_model_values<rt::SelfCollision::Registry>(prm, settings.self_collision);
+      }
+  }
+} // namespace suturesim::scene

@@ -1,0 +1,329 @@
+#include <suturesim/core/error.h>
+#include <suturesim/mesh/gmsh_reader.h>
+#include <suturesim/scene/realtime_world.h>
+
+#include <algorithm>
+#include <iostream>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+  namespace rt = realtime;
+
+  namespace
+  {
+    rt::ToolPose
+    pose_of(const rod::EndCondition &end, const Eigen::Vector3d &initial, const double t)
+    {
+      rt::ToolPose pose;
+      pose.position = initial;
+      if (end.type == "prescribed")
+        {
+          const Eigen::Vector3d theta = end.motion(t).second;
+          pose.position               = end.position(t, initial);
+          const double angle          = theta.norm();
+          if (angle > 0)
+            pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, theta / angle));
+        }
+      return pose;
+    }
+
+    /// E and ν of the small-strain limit of shear modulus @p mu and bulk modulus @p K.
+    std::pair<double, double>
+    youngs_and_poisson(const double mu, const double K)
+    {
+      return {9 * K * mu / (3 * K + mu), (3 * K - 2 * mu) / (2 * (3 * K + mu))};
+    }
+  } // namespace
+
+  RealtimeWorld::RealtimeWorld(SceneParameters &s, const RealtimeSettings &settings, RealtimeModels models,
+                               const std::string &directory)
+    : scene(s)
+  {
+    rt::WorldSetup setup;
+    setup.rate               = settings.rate;
+    setup.substeps           = settings.substeps;
+    setup.refuse_above_limit = settings.refuse_above_limit;
+    if (scene.has_tissue())
+      {
+        read_tissue(setup, directory);
+        setup.tissue = std::move(models.tissue);
+      }
+    if (scene.has_suture())
+      {
+        place_suture(setup);
+        setup.suture                    = std::move(models.suture);
+        setup.self_collision            = settings.self_collision;
+        setup.self_collision_parameters = models.self_collision;
+      }
+    setup.contact           = scene.has_tissue() && scene.has_suture() && settings.contact;
+    setup.contact_stiffness = settings.contact_stiffness;
+    setup.contact_depth     = settings.contact_depth;
+    setup.integrator        = std::move(models.integrator);
+    world                   = std::make_unique<rt::World>(std::move(setup));
+
+    if (scene.has_tissue())
+      {
+        hold_boundaries();
+        add_tractions();
+      }
+    add_tools(settings);
+    add_probes();
+    try
+      {
+        world->initialize();
+      }
+    catch (const ParameterError &e)
+      {
+        scene.scope("Realtime").fail(e.key, e.problem);
+      }
+    if (!world->warning().empty())
+      std::cerr << "warning: " << scene.file->name() << ": " << world->warning() << '\n';
+  }
+
+  void
+  RealtimeWorld::read_tissue(rt::WorldSetup &setup, const std::string &directory)
+  {
+    tissue_mesh = mesh::read_simplex_mesh(scene.mesh, directory);
+    try
+      {
+        surface = mesh::extract_boundary(tissue_mesh);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        throw InputError(scene.mesh.file + ": " + e.what());
+      }
+    mesh::MeshInfo mesh_info;
+    for (const auto &[id, name] : tissue_mesh.boundary_names)
+      mesh_info.boundary_names[id] = name;
+    mesh_info.description = tissue_mesh.description;
+    scene.boundary_conditions.resolve(mesh_info);
+
+    const auto &material = *scene.material;
+    std::tie(setup.material.youngs_modulus, setup.material.poisson_ratio) =
+      youngs_and_poisson(material.shear_modulus(), material.bulk_modulus());
+    setup.material.density = material.density();
+    for (const auto &r : scene.tissue.region_moduli)
+      {
+        const auto named = std::find_if(tissue_mesh.material_names.begin(), tissue_mesh.material_names.end(),
+                                        [&](const auto &m) { return m.second == r.name; });
+        if (named == tissue_mesh.material_names.end())
+          throw InputError(scene.file->name() + ": Tissue/Region moduli: the mesh (" + scene.mesh.file +
+                           ") has no physical volume '" + r.name + "'");
+        const auto [E, nu]                   = youngs_and_poisson(r.shear_modulus, r.bulk_modulus);
+        setup.material.regions[named->first] = {E, nu};
+      }
+    setup.mesh          = &tissue_mesh;
+    const auto &gravity = scene.boundary_conditions.gravity;
+    setup.gravity       = {gravity[0], gravity[1], gravity[2]};
+  }
+
+  void
+  RealtimeWorld::place_suture(rt::WorldSetup &setup)
+  {
+    const auto            &rod = scene.suture;
+    std::vector<rod::Vec3> x;
+    std::vector<rod::Quat> q;
+    rod.initial_configuration(x, q);
+    for (const auto &p : x)
+      setup.suture_geometry.points.push_back(p);
+    if (scene.needle.present() && scene.needle.attach_suture)
+      RealtimeNeedle::place_suture(scene.needle, setup.suture_geometry.points);
+    const auto &section           = rod.section;
+    const auto  k                 = section.stiffness();
+    setup.suture_geometry.radius  = section.radius;
+    setup.suture_geometry.EA      = k.force[0];
+    setup.suture_geometry.EI      = k.moment[1];
+    setup.suture_geometry.density = section.density;
+    if (!scene.has_tissue())
+      setup.gravity = rod.gravity;
+    else if (!rod.gravity.isZero() && !rod.gravity.isApprox(setup.gravity))
+      scene.scope("Suture").fail("Gravity", "differs from Tissue/Boundary conditions/Gravity; the realtime path "
+                                            "has one gravity for all bodies");
+  }
+
+  void
+  RealtimeWorld::hold_boundaries()
+  {
+    for (const auto &d : scene.boundary_conditions.dirichlet)
+      {
+        const auto vertices = mesh::vertices_with_tag(surface, d.id);
+        if (!d.prescribed)
+          {
+            world->fix_vertices(vertices);
+            boundaries.push_back({d.name, world->nodes_of_vertices(vertices)});
+            continue;
+          }
+        auto *bc = &scene.boundary_conditions;
+        boundaries.push_back(
+          {d.name, world->prescribe_vertices(vertices, [bc](const double t, const std::vector<std::uint32_t> &nodes,
+                                                            const rt::Matrix3Xd &X, rt::Matrix3Xd &target) {
+             auto          &g = bc->displacement(t);
+             Vector<double> u(3);
+             for (const auto i : nodes)
+               {
+                 g.vector_value(Point<3>(X(0, i), X(1, i), X(2, i)), u);
+                 for (int c = 0; c < 3; ++c)
+                   target(c, i) = X(c, i) + u[c];
+               }
+           })});
+      }
+  }
+
+  void
+  RealtimeWorld::add_tractions()
+  {
+    // Tractions t0(X, t) as nodal loads: a third of each loaded triangle's force, t0 at
+    // its centroid times its reference area, to each of its vertices.
+    struct Loaded
+    {
+      std::array<std::int64_t, 3> nodes;
+      Point<3>                    centroid;
+      double                      area;
+    };
+    std::vector<Loaded> loaded;
+    for (std::size_t f = 0; f < surface.triangles.size(); ++f)
+      if (scene.boundary_conditions.traction_boundaries.count(surface.tags[f]))
+        {
+          const auto        &tri = surface.triangles[f];
+          const rt::Vector3d a = tissue_mesh.vertices.col(tri[0]), b = tissue_mesh.vertices.col(tri[1]),
+                             c = tissue_mesh.vertices.col(tri[2]);
+          const rt::Vector3d m = (a + b + c) / 3;
+          const auto        *tissue = world->tissue();
+          loaded.push_back({{{tissue->node(tri[0]), tissue->node(tri[1]), tissue->node(tri[2])}},
+                            Point<3>(m[0], m[1], m[2]),
+                            0.5 * (b - a).cross(c - a).norm()});
+        }
+    if (loaded.empty())
+      return;
+    auto *bc = &scene.boundary_conditions;
+    world->set_loads([bc, loaded](const double t, rt::Matrix3Xd &external) {
+      auto          &traction = bc->traction(t);
+      Vector<double> t0(3);
+      for (const auto &l : loaded)
+        {
+          traction.vector_value(l.centroid, t0);
+          for (const auto n : l.nodes)
+            if (n >= 0)
+              for (int c = 0; c < 3; ++c)
+                external(c, n) += t0[c] * l.area / 3;
+        }
+    });
+  }
+
+  void
+  RealtimeWorld::add_tools(const RealtimeSettings &settings)
+  {
+    if (scene.needle.present())
+      {
+        if (!scene.has_tissue())
+          scene.scope("Needle").fail("Shape", "a needle needs tissue (Bodies = tissue or tissue and suture)");
+        try
+          {
+            needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);
+          }
+        catch (const std::invalid_argument &e)
+          {
+            if (std::string(e.what()).find("pierce model") != std::string::npos)
+              scene.scope("Realtime").fail("Pierce model", e.what());
+            scene.scope("Needle").fail("Shape", e.what());
+          }
+      }
+    first_end_tool = needle ? 1 : 0;
+    if (!scene.has_suture())
+      return;
+    const auto         &sys   = world->system();
+    const std::uint32_t first = sys.suture.begin, last = sys.suture.end - 1;
+    for (const auto &[name, end, a, b] :
+         {std::tuple{std::string("suture_start"), &scene.suture.start_end, first, first + 1},
+          std::tuple{std::string("suture_end"), &scene.suture.last_end, last, last - 1}})
+      {
+        if (end->type == "free")
+          continue;
+        // A grasper that fixes the end's frame holds two nodes (position and direction);
+        // a pin or a moving pin holds one.
+        std::vector<std::uint32_t> held{a};
+        if (end->fixes_rotation())
+          held.push_back(b);
+        const rt::Vector3d X = sys.nodes.x.col(a);
+        // a grasper that closes later holds nothing until then
+        const bool later = end->grasp_time > 0;
+        world->add_tool(name, later ? std::vector<std::uint32_t>() : held, pose_of(*end, X, 0));
+        tool_ends.push_back({name, end, X, held, !later});
+      }
+  }
+
+  void
+  RealtimeWorld::add_probes()
+  {
+    for (const auto &[name, X] : scene.tissue.probes)
+      try
+        {
+          probes.emplace_back(name, world->add_probe({X[0], X[1], X[2]}));
+        }
+      catch (const ParameterError &e)
+        {
+          scene.scope("Tissue").fail("Probes", "'" + name + "': " + e.problem);
+        }
+    if (!scene.closure.present())
+      return;
+    // the closure measurement: two probes per pair
+    if (!scene.has_tissue())
+      scene.scope("Closure").fail("Gap probes", "closure needs tissue");
+    closure.emplace(scene.closure);
+    for (const auto &pair : scene.closure.pairs)
+      try
+        {
+          gap_probes.emplace_back(world->add_probe(pair.a), world->add_probe(pair.b));
+        }
+      catch (const ParameterError &e)
+        {
+          scene.scope("Closure").fail("Gap probes", "'" + pair.name + "': " + e.problem);
+        }
+    gaps.resize(gap_probes.size());
+  }
+
+  void
+  RealtimeWorld::tool_poses(const double t, std::vector<rt::ToolPose> &poses)
+  {
+    poses.resize(first_end_tool + tool_ends.size());
+    for (std::size_t k = 0; k < tool_ends.size(); ++k)
+      {
+        auto &e = tool_ends[k];
+        if (!e.grasped && t >= e.end->grasp_time)
+          {
+            // the grasper closes on the end where it is now
+            e.initial = world->system().nodes.x.col(e.held.front());
+            world->grasp(first_end_tool + k, e.held, pose_of(*e.end, e.initial, e.end->grasp_time));
+            e.grasped = true;
+          }
+        poses[first_end_tool + k] = pose_of(*e.end, e.initial, std::max(t, e.end->grasp_time));
+      }
+    if (needle)
+      poses[needle->tool()] = needle->pose(t);
+  }
+
+  double
+  RealtimeWorld::closure_tension() const
+  {
+    if (!tool_ends.empty())
+      return world->tool_forces()[first_end_tool + tool_ends.size() - 1].force.norm();
+    if (needle)
+      return world->tool_forces()[needle->tool()].force.norm();
+    return 0;
+  }
+
+  void
+  RealtimeWorld::measure_closure()
+  {
+    if (!closure)
+      return;
+    for (std::size_t k = 0; k < gap_probes.size(); ++k)
+      {
+        const auto &pair = scene.closure.pairs[k];
+        gaps[k]          = closure->gap(k, pair.a + world->probe_displacement(gap_probes[k].first),
+                                        pair.b + world->probe_displacement(gap_probes[k].second));
+      }
+    closure->update(world->time(), gaps, closure_tension());
+  }
+} // namespace suturesim::scene

@@ -1,0 +1,138 @@
+#include <suturesim/scene/run_summary.h>
+
+namespace suturesim::scene
+{
+  void
+  RunSummary::begin(const SceneParameters &scene)
+  {
+    json["scene"]      = scene.name;
+    json["scene_file"] = scene.file->name();
+    json["model"]      = scene.model;
+    json["bodies"]     = scene.bodies;
+    json["metrics"]    = nlohmann::json::object();
+    json["steps"]      = nlohmann::json::array();
+  }
+
+  void
+  RunSummary::fe_mesh(const std::string &description, const std::uint64_t cells, const std::uint64_t dofs,
+                      const tissue::TissueParameters &tissue, const std::size_t surface_triangles)
+  {
+    json["mesh"] = {{"description", description},
+                    {"cells", cells},
+                    {"dofs", dofs},
+                    {"element_degree", tissue.degree},
+                    {"formulation", tissue.formulation}};
+    if (surface_triangles > 0)
+      json["mesh"]["surface_triangles"] = surface_triangles;
+    json["solver"]["linear_solver"] =
+      tissue.linear.method + (tissue.linear.method == "direct" ? std::string(" (MUMPS)") : "+" + tissue.linear.preconditioner);
+  }
+
+  void
+  RunSummary::simplex_mesh(const std::string &description, const std::size_t vertices, const std::size_t tetrahedra,
+                           const std::size_t surface_triangles)
+  {
+    json["mesh"] = {{"description", description},
+                    {"vertices", vertices},
+                    {"tetrahedra", tetrahedra},
+                    {"surface_triangles", surface_triangles}};
+  }
+
+  void
+  RunSummary::rod(const rod::RodParameters &parameters, const std::size_t elements)
+  {
+    const auto &section = parameters.section;
+    const auto  k       = section.stiffness();
+    json["suture"]      = {{"elements", elements},
+                           {"centreline", parameters.centreline},
+                           {"preset", parameters.preset},
+                           {"radius", section.radius},
+                           {"EA", k.force[0]},
+                           {"GA", k.force[1]},
+                           {"EI", k.moment[1]},
+                           {"GJ", k.moment[0]},
+                           {"self_contact", parameters.contact.enabled}};
+    json["solver"]["linear_solver"] =
+      parameters.contact.enabled ? "block-tridiagonal LU; sparse LU with contact" : "block-tridiagonal LU";
+  }
+
+  void
+  RunSummary::coupled_suture(const std::size_t elements, const double length, const double coupling_tolerance)
+  {
+    json["suture"] = {{"elements", elements},
+                      {"length", length},
+                      {"coupling_tolerance", coupling_tolerance},
+                      {"coupling", "one Newton iteration of tissue and suture, the suture condensed onto the "
+                                   "tissue's points; rounds for carriers, contacts and multipliers"}};
+  }
+
+  void
+  RunSummary::realtime_suture(const std::size_t nodes, const double radius, const double EA, const double EI)
+  {
+    json["suture"] = {{"nodes", nodes}, {"radius", radius}, {"EA", EA}, {"EI", EI}};
+  }
+
+  void
+  RunSummary::needle(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
+                     const double peak_pull_force, const std::string &pierce_model)
+  {
+    auto &list    = json["events"];
+    list          = nlohmann::json::array();
+    auto &metrics = json["metrics"];
+    for (const auto &e : events)
+      {
+        list.push_back({{"kind", e.kind},
+                        {"time", e.time},
+                        {"position", {e.position[0], e.position[1], e.position[2]}},
+                        {"force", e.force}});
+        for (const std::string kind : {"entry", "exit"})
+          if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
+            metrics["puncture_force_" + kind] = e.force;
+      }
+    metrics["peak_pull_force"] = peak_pull_force;
+    json["needle"]             = {{"shape", np.shape},
+                                  {"arc_radius", np.radius},
+                                  {"wire_diameter", np.wire_diameter},
+                                  {"motion", np.motion},
+                                  {"enforcement", np.enforcement},
+                                  {"puncture_threshold", np.puncture.threshold}};
+    if (np.motion == "pass")
+      {
+        const auto pass        = np.planned_pass();
+        json["needle"]["pass"] = {{"entry_angle_rad", pass.entry_angle},
+                                  {"bite_depth", pass.bite_depth},
+                                  {"bite_width", pass.bite_width},
+                                  {"exit", {pass.exit[0], pass.exit[1], pass.exit[2]}},
+                                  {"t_tip_entry", pass.t_tip_entry},
+                                  {"t_tip_exit", pass.t_tip_exit},
+                                  {"t_swage_exit", pass.t_swage_exit},
+                                  {"t_turn_end", pass.t_turn_end},
+                                  {"t_end", pass.t_end}};
+      }
+    if (!pierce_model.empty())
+      json["pierce_model"] = pierce_model;
+  }
+
+  void
+  RunSummary::step(const nlohmann::json &statistics, const double t)
+  {
+    nlohmann::json s = statistics;
+    s["time"]        = t;
+    json["steps"].push_back(s);
+  }
+
+  void
+  RunSummary::solver(const nlohmann::json &totals)
+  {
+    for (const auto &[key, value] : totals.items())
+      json["solver"][key] = value;
+  }
+
+  void
+  RunSummary::timings(const dealii::TimerOutput &timer)
+  {
+    auto &t = json["timings"];
+    for (const auto &[section, seconds] : timer.get_summary_data(dealii::TimerOutput::total_wall_time))
+      t[section] = seconds;
+  }
+} // namespace suturesim::scene

@@ -1,0 +1,124 @@
+/**
+ * The needle in the accurate path: a needle pass through the FE tissue (Bodies =
+ * tissue) or a stitch with the Cosserat suture attached at the swage (Bodies = tissue
+ * and suture), built and stepped by scene/accurate_stitch.h, recorded by
+ * scene/accurate_stitch_record.h; quasi-static steps under core/cutback_stepper.h.
+ */
+#include <suturesim/core/error.h>
+#include <suturesim/scene/accurate_stitch_record.h>
+#include <suturesim/scene/scenario.h>
+#include <suturesim/scene/timed_run.h>
+
+#include <iomanip>
+#include <sstream>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  namespace
+  {
+    class AccurateNeedle : public Scenario
+    {
+    public:
+      AccurateNeedle(ParameterHandler &prm, SceneParameters &s)
+        : scene(s)
+      {
+        const ParameterScope root = scene.scope();
+        scene.scope("Closure").require(!scene.closure.present() || scene.bodies == "tissue and suture", "Gap probes",
+                                       "wound closure needs the suture in the tissue: Bodies = tissue and suture");
+        root.require(scene.bodies != "tissue and suture" || (scene.needle.present() && scene.needle.attach_suture),
+                     "Bodies",
+                     "the accurate path couples tissue and suture through a needle's pierce points: "
+                     "set Needle/Shape and Needle/Attach suture = true, or use Model = realtime");
+        scene.parse_bodies(prm);
+        if (scene.has_suture())
+          scene.scope("Suture/Start end")
+            .require(scene.suture.start_end.type == "free", "Type",
+                     "must be free: the needle holds the suture's start (Needle/Attach suture)");
+        scene.scope("Tissue").require(scene.tissue.region_moduli.empty(), "Region moduli",
+                                      "layered tissue is realtime only so far: use Model = realtime");
+        scene.parse_time(prm);
+        // the needle's steps are quasi-static (the needle is kinematic, the tissue in
+        // equilibrium at each pose): another integrator is refused, not ignored
+        scene.scope("Time").require(scene.time.integrator == "quasi-static", "Integrator",
+                                    "the accurate needle pass steps quasi-statically; use quasi-static "
+                                    "(dynamics of the needle scenes: not yet)");
+      }
+
+      void
+      run(io::Recorder &recorder) override
+      {
+        run_timed(recorder, [&](TimerOutput &timer, ConditionalOStream &pcout) {
+          AccurateStitch       stitch(scene, recorder.directory(), timer);
+          AccurateStitchRecord record(stitch, recorder);
+          const auto          &np = scene.needle;
+          pcout << "suturesim: scene '" << scene.name << "', " << stitch.mesh_info.description << ", "
+                << stitch.tria.n_global_active_cells() << " cells, " << stitch.model->n_dofs() << " DoFs, needle "
+                << np.shape << " R = " << np.radius << " m, " << np.enforcement << " pierce points"
+                << (stitch.suture ? ", Cosserat suture of " + std::to_string(stitch.suture->n_elements()) + " elements"
+                                  : "")
+                << "\n";
+
+          double     t = 0;
+          const auto fail = [&](const double tn, const std::string &reason) {
+            // the state is the last accepted one again: keep it
+            const std::string where = record.keep(t);
+            record.finish(t);
+            std::ostringstream s;
+            s << "Newton failed at t = " << tn << " s after " << scene.time.max_cutbacks
+              << " step halvings: " << reason << "; last converged state t = " << t << " s"
+              << (where.empty() ? "" : " in " + where);
+            throw SolverError(s.str());
+          };
+          std::string failure;
+          if (!stitch.solve_initial(failure))
+            fail(0, failure);
+          record.record(0, stitch.step_statistics(0, 0));
+
+          unsigned  steps = 0, total_iterations = 0;
+          StepHooks hooks;
+          hooks.attempt = [&](const double tn, const double dt) { return stitch.attempt(tn, dt); };
+          hooks.undo    = [&](const StepAttempt &attempt, const double tn, const double dt) {
+            if (attempt.outcome == StepAttempt::Outcome::failed)
+              pcout << "t = " << tn << " s: step of " << dt << " s failed: " << attempt.reason << "\n";
+            stitch.undo();
+          };
+          hooks.accept = [&](const double tn, const double dt, const unsigned cutbacks) {
+            stitch.accept();
+            t = tn;
+            ++steps;
+            const nlohmann::json statistics = stitch.step_statistics(dt, cutbacks);
+            total_iterations += statistics["newton_iterations"].get<unsigned>();
+            record.record(t, statistics);
+            stitch.advance();
+            // one line a step (as ASPECT): a run that slows down shows where and why
+            pcout << "step " << steps << "  t = " << std::setprecision(5) << t << " s  dt = " << dt << " s  Newton "
+                  << statistics["newton_iterations"] << " it  rounds " << statistics["coupling_rounds"]
+                  << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
+                  << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
+          };
+          hooks.fail = [&](const double tn, unsigned, const std::string &reason) { fail(tn, reason); };
+          // a step that overshoots the puncture threshold is halved up to 8 more times
+          run_with_cutbacks({scene.time.end_time, scene.time.step_size, scene.time.max_cutbacks, 8}, hooks);
+
+          record.finish(t);
+          RunSummary(recorder.summary()).solver({{"steps", steps}, {"newton_iterations_total", total_iterations}});
+        });
+      }
+
+    private:
+      SceneParameters &scene;
+    };
+
+    const bool registered = Scenario::Registry::instance().add(
+      {"accurate needle",
+       "a needle pass through the FE tissue, with the Cosserat suture attached at its swage (a stitch) "
+       "when Bodies = tissue and suture (Model = accurate)",
+       nullptr,
+       [](const SceneParameters &s) {
+         return s.model == "accurate" && s.has_tissue() && (s.needle.present() || s.bodies == "tissue and suture");
+       },
+       [](ParameterHandler &prm, SceneParameters &s) { return std::unique_ptr<Scenario>(new AccurateNeedle(prm, s)); }});
+  } // namespace
+} // namespace suturesim::scene

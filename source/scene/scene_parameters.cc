@@ -1,0 +1,88 @@
+#include <suturesim/scene/scene_parameters.h>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  void
+  SceneParameters::declare(ParameterHandler &prm, const std::map<std::string, std::string> &integrators)
+  {
+    prm.declare_entry("Scene name", "scene", Patterns::Anything(), "Name recorded in summary.json. Unit: none.");
+    prm.declare_entry("Model", "accurate", Patterns::Selection("accurate|realtime"),
+                      "Model path: 'accurate' (finite-strain hyperelastic FE tissue, "
+                      "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture) or "
+                      "'realtime' (the seed papers' reduced models at haptic rate; subsection "
+                      "Realtime).");
+    prm.declare_entry("Bodies", "tissue", Patterns::Selection("tissue|suture|tissue and suture"),
+                      "What the scene simulates: 'tissue' (subsections Mesh, Tissue), "
+                      "'suture' (subsection Suture), or both in contact ('tissue and "
+                      "suture'; the accurate path couples them through a needle's pierce "
+                      "points, the suture attached at its swage). "
+                      "Unit: none.");
+    prm.enter_subsection("Suture");
+    rod::RodParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Mesh");
+    mesh::MeshParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Tissue");
+    tissue::TissueParameters::declare(prm);
+    prm.enter_subsection("Material");
+    tissue::Material::declare_parameters(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Boundary conditions");
+    tissue::BoundaryConditions::declare(prm);
+    prm.leave_subsection();
+    prm.leave_subsection();
+    prm.enter_subsection("Time");
+    TimeParameters::declare(prm, integrators);
+    prm.leave_subsection();
+    NeedleParameters::declare(prm);
+    ClosureParameters::declare(prm);
+  }
+
+  void
+  SceneParameters::parse_common(ParameterHandler &prm, const ParameterFile &parameter_file)
+  {
+    file   = &parameter_file;
+    name   = prm.get("Scene name");
+    model  = prm.get("Model");
+    bodies = prm.get("Bodies");
+    needle.parse(prm, scope());
+    closure.parse(prm, scope());
+  }
+
+  void
+  SceneParameters::parse_bodies(ParameterHandler &prm)
+  {
+    if (has_suture())
+      {
+        prm.enter_subsection("Suture");
+        suture.parse(prm, scope("Suture"));
+        prm.leave_subsection();
+      }
+    if (!has_tissue())
+      return;
+    prm.enter_subsection("Mesh");
+    mesh.parse(prm, scope("Mesh"));
+    prm.leave_subsection();
+    prm.enter_subsection("Tissue");
+    const ParameterScope t = scope("Tissue");
+    tissue.parse(prm, t);
+    prm.enter_subsection("Material");
+    material.emplace(tissue::Material::parse_parameters(prm, t.subsection("Material")));
+    prm.leave_subsection();
+    prm.enter_subsection("Boundary conditions");
+    boundary_conditions.parse(prm, t.subsection("Boundary conditions"));
+    prm.leave_subsection();
+    prm.leave_subsection();
+  }
+
+  void
+  SceneParameters::parse_time(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Time");
+    time.parse(prm, scope("Time"));
+    prm.leave_subsection();
+  }
+} // namespace suturesim::scene
