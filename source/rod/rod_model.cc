@@ -13,13 +13,9 @@ namespace suturesim::rod
 {
   struct RodModel::System
   {
-    std::vector<Mat6>                  diag, upper, lower; // (i,i), (i,i+1), (i+1,i)
-    Eigen::VectorXd                    r;
-    std::vector<Eigen::Triplet<double>> extra;              // couplings beyond neighbours
-    // work space of the block LU, kept so that a Newton iteration does not allocate
-    std::vector<Eigen::PartialPivLU<Mat6>> lu;
-    std::vector<Mat6>                      C;
-    std::vector<Vec6>                      y;
+    BlockTridiagonal                    J;     // the couplings of neighbouring nodes
+    Eigen::VectorXd                     r;
+    std::vector<Eigen::Triplet<double>> extra; // couplings beyond neighbours
     // the factorisation when contact couples distant nodes (sparse_factorized)
     Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse;
     Eigen::SparseMatrix<double>                  A;
@@ -32,12 +28,7 @@ namespace suturesim::rod
       extra.clear();
       if (!jacobian)
         return;
-      diag.resize(n);
-      upper.resize(n - 1);
-      lower.resize(n - 1);
-      for (auto *blocks : {&diag, &upper, &lower})
-        for (auto &b : *blocks)
-          b.setZero();
+      J.reset(n);
     }
 
     /// Adds a 3×3 translational block at nodes (a, b).
@@ -45,11 +36,11 @@ namespace suturesim::rod
     add_translational(const std::size_t a, const std::size_t b, const Mat3 &k)
     {
       if (a == b)
-        diag[a].topLeftCorner<3, 3>() += k;
+        J.diagonal(a).topLeftCorner<3, 3>() += k;
       else if (b == a + 1)
-        upper[a].topLeftCorner<3, 3>() += k;
+        J.upper(a).topLeftCorner<3, 3>() += k;
       else if (a == b + 1)
-        lower[b].topLeftCorner<3, 3>() += k;
+        J.lower(b).topLeftCorner<3, 3>() += k;
       else
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j)
@@ -156,10 +147,7 @@ namespace suturesim::rod
         if (with_jacobian)
           {
             element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, &H);
-            s.diag[k] += H.topLeftCorner<6, 6>();
-            s.diag[k + 1] += H.bottomRightCorner<6, 6>();
-            s.upper[k] += H.topRightCorner<6, 6>();
-            s.lower[k] += H.bottomLeftCorner<6, 6>();
+            s.J.add_pair(k, H);
           }
         else
           element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, nullptr);
@@ -167,7 +155,7 @@ namespace suturesim::rod
       }
     if (with_jacobian)
       for (std::size_t i = 0; i < n; ++i)
-        s.diag[i].block<3, 3>(3, 3) -= 0.5 * skew(s.r.segment<3>(6 * i + 3));
+        s.J.diagonal(i).block<3, 3>(3, 3) -= 0.5 * skew(s.r.segment<3>(6 * i + 3));
 
     std::fill(contact_force.begin(), contact_force.end(), 0.0);
     for (const auto &c : self_contact.update(pos))
@@ -230,12 +218,7 @@ namespace suturesim::rod
           (*element_terms)(k, r, with_jacobian ? &J : nullptr);
           s.r.segment<12>(6 * k) += r;
           if (with_jacobian)
-            {
-              s.diag[k] += J.topLeftCorner<6, 6>();
-              s.diag[k + 1] += J.bottomRightCorner<6, 6>();
-              s.upper[k] += J.topRightCorner<6, 6>();
-              s.lower[k] += J.bottomLeftCorner<6, 6>();
-            }
+            s.J.add_pair(k, J);
         }
     if (extra)
       for (std::size_t i = 0; i < n; ++i)
@@ -245,7 +228,7 @@ namespace suturesim::rod
           (*extra)(i, pos[i], rot[i], r, J);
           s.r.segment<6>(6 * i) += r;
           if (with_jacobian)
-            s.diag[i] += J;
+            s.J.diagonal(i) += J;
         }
   }
 
@@ -257,56 +240,17 @@ namespace suturesim::rod
     for (std::size_t i = 0; i < n; ++i)
       for (unsigned c = 0; c < 6; ++c)
         if (fixed[i][c])
-          {
-            s.diag[i].row(c).setZero();
-            s.diag[i].col(c).setZero();
-            s.diag[i](c, c) = 1;
-            if (i + 1 < n)
-              {
-                s.upper[i].row(c).setZero();
-                s.lower[i].col(c).setZero();
-              }
-            if (i > 0)
-              {
-                s.lower[i - 1].row(c).setZero();
-                s.upper[i - 1].col(c).setZero();
-              }
-          }
+          s.J.constrain(i, c);
     s.sparse_factorized = !s.extra.empty();
     if (!s.sparse_factorized)
       {
         // block LU (Thomas): O(N) for the block-tridiagonal Jacobian of an open rod
-        s.lu.resize(n);
-        s.C.resize(n);
-        s.y.resize(n);
-        for (std::size_t i = 0; i < n; ++i)
-          {
-            Mat6 D = s.diag[i];
-            if (i > 0)
-              D -= s.lower[i - 1] * s.C[i - 1];
-            s.lu[i].compute(D);
-            if (i + 1 < n)
-              s.C[i] = s.lu[i].solve(s.upper[i]);
-          }
+        s.J.factorize();
         return;
       }
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(36 * 3 * n + s.extra.size());
-    const auto add_block = [&](const std::size_t a, const std::size_t b, const Mat6 &m) {
-      for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j)
-          if (m(i, j) != 0)
-            t.emplace_back(6 * a + i, 6 * b + j, m(i, j));
-    };
-    for (std::size_t i = 0; i < n; ++i)
-      {
-        add_block(i, i, s.diag[i]);
-        if (i + 1 < n)
-          {
-            add_block(i, i + 1, s.upper[i]);
-            add_block(i + 1, i, s.lower[i]);
-          }
-      }
+    s.J.append_nonzeros(t);
     for (const auto &e : s.extra)
       if (!fixed[e.row() / 6][e.row() % 6] && !fixed[e.col() / 6][e.col() % 6])
         t.push_back(e);
@@ -327,18 +271,7 @@ namespace suturesim::rod
           b[6 * i + c] = 0;
     if (s.sparse_factorized)
       return s.sparse.solve(b);
-    Eigen::VectorXd delta(6 * n);
-    for (std::size_t i = 0; i < n; ++i)
-      {
-        Vec6 rhs = b.segment<6>(6 * i);
-        if (i > 0)
-          rhs -= s.lower[i - 1] * s.y[i - 1];
-        s.y[i] = s.lu[i].solve(rhs);
-      }
-    delta.segment<6>(6 * (n - 1)) = s.y[n - 1];
-    for (std::size_t i = n - 1; i-- > 0;)
-      delta.segment<6>(6 * i) = s.y[i] - s.C[i] * delta.segment<6>(6 * (i + 1));
-    return delta;
+    return s.J.solve(b);
   }
 
   Eigen::VectorXd
@@ -375,17 +308,7 @@ namespace suturesim::rod
   {
     System s;
     assemble(s, extra, true);
-    const std::size_t n = n_nodes();
-    Eigen::MatrixXd   J = Eigen::MatrixXd::Zero(6 * n, 6 * n);
-    for (std::size_t i = 0; i < n; ++i)
-      {
-        J.block<6, 6>(6 * i, 6 * i) += s.diag[i];
-        if (i + 1 < n)
-          {
-            J.block<6, 6>(6 * i, 6 * i + 6) += s.upper[i];
-            J.block<6, 6>(6 * i + 6, 6 * i) += s.lower[i];
-          }
-      }
+    Eigen::MatrixXd J = s.J.dense();
     for (const auto &e : s.extra)
       J(e.row(), e.col()) += e.value();
     return J;

@@ -40,6 +40,57 @@ namespace suturesim::tissue
   }
 
   bool
+  CellAssembler::mixed_fields(const DoFHandler<3>::active_cell_iterator &cell,
+                              const Material                            &material,
+                              std::array<double, 4>                     &p_coef,
+                              FullMatrix<double>                        &M_inv,
+                              FullMatrix<double>                        &K_JJ)
+  {
+    const unsigned int n_q    = fe_values.n_quadrature_points;
+    const Point<3>     center = cell->center();
+    const double       h      = cell->diameter();
+    FullMatrix<double> M(n_p, n_p);
+    Vector<double>     JN(n_p);
+    for (unsigned int q = 0; q < n_q; ++q)
+      {
+        Np_q[q]         = pressure_basis(fe_values.quadrature_point(q), center, h);
+        const double dV = fe_values.JxW(q);
+        for (unsigned int a = 0; a < n_p; ++a)
+          {
+            JN[a] += Np_q[q][a] * J_q[q] * dV;
+            for (unsigned int b = 0; b < n_p; ++b)
+              M(a, b) += Np_q[q][a] * Np_q[q][b] * dV;
+          }
+      }
+    M_inv.reinit(n_p, n_p);
+    M_inv.invert(M);
+    Vector<double> J_coef(n_p), pN(n_p);
+    M_inv.vmult(J_coef, JN);
+    K_JJ.reinit(n_p, n_p);
+    for (unsigned int q = 0; q < n_q; ++q)
+      {
+        double J_tilde = 0;
+        for (unsigned int a = 0; a < n_p; ++a)
+          J_tilde += Np_q[q][a] * J_coef[a];
+        if (!(J_tilde > 0))
+          return false;
+        const double dV  = fe_values.JxW(q);
+        const double dp  = material.volumetric().pressure(J_tilde);
+        const double ddp = material.volumetric().pressure_derivative(J_tilde);
+        for (unsigned int a = 0; a < n_p; ++a)
+          {
+            pN[a] += Np_q[q][a] * dp * dV;
+            for (unsigned int b = 0; b < n_p; ++b)
+              K_JJ(a, b) += Np_q[q][a] * ddp * Np_q[q][b] * dV;
+          }
+      }
+    for (unsigned int a = 0; a < n_p; ++a)
+      for (unsigned int b = 0; b < n_p; ++b)
+        p_coef[a] += M_inv(a, b) * pN[b];
+    return true;
+  }
+
+  bool
   CellAssembler::assemble(const DoFHandler<3>::active_cell_iterator &cell,
                           const Vector<double>                      &u,
                           const Material                            &material,
@@ -76,46 +127,8 @@ namespace suturesim::tissue
     FullMatrix<double>    M_inv, K_JJ;
     if (mixed)
       {
-        const Point<3> center = cell->center();
-        const double   h      = cell->diameter();
-        FullMatrix<double> M(n_p, n_p);
-        Vector<double>     JN(n_p);
-        for (unsigned int q = 0; q < n_q; ++q)
-          {
-            Np_q[q]         = pressure_basis(fe_values.quadrature_point(q), center, h);
-            const double dV = fe_values.JxW(q);
-            for (unsigned int a = 0; a < n_p; ++a)
-              {
-                JN[a] += Np_q[q][a] * J_q[q] * dV;
-                for (unsigned int b = 0; b < n_p; ++b)
-                  M(a, b) += Np_q[q][a] * Np_q[q][b] * dV;
-              }
-          }
-        M_inv.reinit(n_p, n_p);
-        M_inv.invert(M);
-        Vector<double> J_coef(n_p), pN(n_p);
-        M_inv.vmult(J_coef, JN);
-        K_JJ.reinit(n_p, n_p);
-        for (unsigned int q = 0; q < n_q; ++q)
-          {
-            double J_tilde = 0;
-            for (unsigned int a = 0; a < n_p; ++a)
-              J_tilde += Np_q[q][a] * J_coef[a];
-            if (!(J_tilde > 0))
-              return false;
-            const double dV  = fe_values.JxW(q);
-            const double dp  = material.volumetric().pressure(J_tilde);
-            const double ddp = material.volumetric().pressure_derivative(J_tilde);
-            for (unsigned int a = 0; a < n_p; ++a)
-              {
-                pN[a] += Np_q[q][a] * dp * dV;
-                for (unsigned int b = 0; b < n_p; ++b)
-                  K_JJ(a, b) += Np_q[q][a] * ddp * Np_q[q][b] * dV;
-              }
-          }
-        for (unsigned int a = 0; a < n_p; ++a)
-          for (unsigned int b = 0; b < n_p; ++b)
-            p_coef[a] += M_inv(a, b) * pN[b];
+        if (!mixed_fields(cell, material, p_coef, M_inv, K_JJ))
+          return false;
         if (pressure != nullptr)
           *pressure = p_coef;
         K_pu = 0;

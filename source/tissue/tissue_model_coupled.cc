@@ -1,7 +1,7 @@
 /**
  * The tissue solved together with a body condensed onto its point loads
  * (tissue/condensed_body.h): TissueModel::solve_coupled(). Kept apart from
- * tissue_model.cc, which holds the tissue's own solves.
+ * tissue_newton.cc, which holds the tissue's own solve.
  */
 #include <suturesim/core/error.h>
 #include <suturesim/tissue/tissue_model.h>

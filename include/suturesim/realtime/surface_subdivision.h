@@ -92,6 +92,13 @@ namespace suturesim::realtime
     /// Stiffness of a new spring of length @p l from seed 002's eq. (1), N/m.
     double
     stiffness(double l, double k_mesh) const;
+    /// Masses and home springs of the nodes of the patch whose triangles @p old_patch
+    /// became @p new_patch (new nodes P … P + 3): each node's share of the surface
+    /// changes by a third of the area of its triangles, rescaled so that the patch keeps
+    /// its totals.
+    void
+    relump(Nodes &nodes, const std::vector<mesh::Triangle> &old_patch,
+           const std::vector<mesh::Triangle> &new_patch, std::uint32_t P);
 
     SubdivisionParameters prm;
     SpringSet            &springs;

@@ -17,10 +17,11 @@
  * direction), so Newton converges quadratically.
  *
  * Linear solves: without contact the Jacobian of an open rod is block tridiagonal
- * (6 × 6 blocks) and is factorised by block LU in O(N); contact couples distant nodes
- * and the system then goes to a sparse LU (Eigen::SparseLU).
+ * (6 × 6 blocks) and is factorised by block LU in O(N) (block_tridiagonal.h); contact
+ * couples distant nodes and the system then goes to a sparse LU (Eigen::SparseLU).
  */
 
+#include <suturesim/rod/block_tridiagonal.h>
 #include <suturesim/rod/rod_element.h>
 #include <suturesim/rod/self_contact.h>
 
@@ -34,8 +35,6 @@
 
 namespace suturesim::rod
 {
-  using Mat6 = Eigen::Matrix<double, 6, 6>;
-
   /// Mass per node of a lumped rod (translational and material rotational inertia).
   struct NodeInertia
   {

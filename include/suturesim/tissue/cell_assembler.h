@@ -84,6 +84,16 @@ namespace suturesim::tissue
     }
 
   private:
+    /// The condensed mixed fields of the cell (fe_values reinitialised on it, J_q
+    /// filled): p̃'s coefficients @p p_coef, M⁻¹ and K_JJ (see the file's description).
+    /// Returns false when J̃ ≤ 0 at a quadrature point.
+    bool
+    mixed_fields(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                 const Material                                    &material,
+                 std::array<double, 4>                             &p_coef,
+                 dealii::FullMatrix<double>                        &M_inv,
+                 dealii::FullMatrix<double>                        &K_JJ);
+
     dealii::FEValues<3>  fe_values;
     const bool           mixed;
     const unsigned int   n_p;

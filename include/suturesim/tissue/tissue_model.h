@@ -7,6 +7,11 @@
  * implicit time integrator needs (residual and Jacobian of M v̇ + C v + R(u) = 0), and
  * the measurements written per step: reaction forces on every Dirichlet boundary,
  * displacements at probe points, and the VTU fields.
+ *
+ * Implemented in tissue_model.cc (DoFs, constraints, assembly, state), tissue_newton.cc
+ * (solve_static()), tissue_model_coupled.cc (solve_coupled()), tissue_output.cc
+ * (reactions, probes, VTU) and tissue_dynamics.cc (mass, damping, the residual and
+ * Jacobian of the dynamics); the parameters are in tissue_parameters.h.
  */
 
 #include <suturesim/mesh/mesh_loader.h>
@@ -16,6 +21,7 @@
 #include <suturesim/tissue/material.h>
 #include <suturesim/tissue/condensed_body.h>
 #include <suturesim/tissue/point_loads.h>
+#include <suturesim/tissue/tissue_parameters.h>
 
 #include <deal.II/base/timer.h>
 #include <deal.II/distributed/tria.h>
@@ -34,22 +40,6 @@
 
 namespace suturesim::tissue
 {
-  /// Newton–Raphson with a slack line search on the energy's directional derivative.
-  struct NewtonParameters
-  {
-    unsigned max_iterations              = 25;
-    double   residual_tolerance          = 1e-9;
-    double   absolute_residual_tolerance = 1e-12;
-    double   increment_tolerance         = 1e-9;
-    bool     line_search                 = true;
-    unsigned max_backtracks              = 6;
-
-    static void
-    declare(dealii::ParameterHandler &prm);
-    void
-    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
-  };
-
   /// What one Newton solve did, for summary.json and the convergence tests.
   struct NewtonReport
   {
@@ -62,31 +52,6 @@ namespace suturesim::tissue
     double              assembly_seconds  = 0;
     double              solve_seconds     = 0;
     std::string         failure;
-  };
-
-  struct TissueParameters
-  {
-    unsigned         degree          = 2;
-    std::string      formulation     = "mixed";
-    unsigned         pressure_degree = 1;
-    NewtonParameters newton;
-    LinearSolver::Parameters linear;
-    std::vector<std::pair<std::string, dealii::Point<3>>> probes;
-    /// A region (gmsh physical volume, by name) with its own shear and bulk moduli.
-    struct RegionModuli
-    {
-      std::string name;
-      double      shear_modulus = 0, bulk_modulus = 0; ///< Pa
-    };
-    std::vector<RegionModuli> region_moduli;
-
-    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes", "Region
-    /// moduli" and the
-    /// subsections "Newton" and "Linear solver" into the current subsection.
-    static void
-    declare(dealii::ParameterHandler &prm);
-    void
-    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   /// The tissue's boundary as triangles over the mesh vertices on it: two per boundary
@@ -302,6 +267,14 @@ namespace suturesim::tissue
 
     void
     assemble_mass_matrix();
+
+    /// Fills reaction_dofs (setup()).
+    void
+    find_reaction_dofs();
+    /// Finds the cell and rank of every probe (setup()); throws InputError for a probe
+    /// outside the mesh.
+    void
+    locate_probes();
 
     std::vector<Vector>
     rigid_body_modes() const;

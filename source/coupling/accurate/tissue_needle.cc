@@ -30,43 +30,6 @@ namespace suturesim::coupling
       return {p[0], p[1], p[2]};
     }
 
-    /// A thread element's cubic Hermite curve c(u), u ∈ [0, 1] from node a to node b,
-    /// with end tangents m_a, m_b (see the header), and its first two derivatives.
-    struct Hermite
-    {
-      Eigen::Vector3d xa, ma, xb, mb;
-
-      Eigen::Vector3d
-      at(const double u) const
-      {
-        const double u2 = u * u, u3 = u2 * u;
-        return (2 * u3 - 3 * u2 + 1) * xa + (u3 - 2 * u2 + u) * ma + (3 * u2 - 2 * u3) * xb + (u3 - u2) * mb;
-      }
-      Eigen::Vector3d
-      rate(const double u) const
-      {
-        const double u2 = u * u;
-        return (6 * u2 - 6 * u) * (xa - xb) + (3 * u2 - 4 * u + 1) * ma + (3 * u2 - 2 * u) * mb;
-      }
-      Eigen::Vector3d
-      bend(const double u) const
-      {
-        return (12 * u - 6) * (xa - xb) + (6 * u - 4) * ma + (6 * u - 2) * mb;
-      }
-    };
-
-    /// The curve of the element from (@p xa, @p qa) to (@p xb, @p qb): the rod's tangent
-    /// director d₁ = R e₁ at each node scaled by the chord, or the chord itself.
-    Hermite
-    element_curve(const rod::Vec3 &xa, const rod::Quat &qa, const rod::Vec3 &xb, const rod::Quat &qb,
-                  const bool directors)
-    {
-      if (!directors)
-        return {xa, xb - xa, xb, xb - xa};
-      const double chord = (xb - xa).norm();
-      return {xa, chord * (qa * Eigen::Vector3d::UnitX()), xb, chord * (qb * Eigen::Vector3d::UnitX())};
-    }
-
     /// Central-difference steps of the thread's tangents: positions (m), rotations (rad).
     constexpr double position_step = 1e-8, rotation_step = 1e-7;
   } // namespace
@@ -85,71 +48,33 @@ namespace suturesim::coupling
   TissueNeedle::set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths,
                            const std::vector<rod::Quat> *rotations)
   {
-    thread           = nodes;
-    thread_rotations = rotations;
-    thread_s.assign(1, 0.0);
-    for (const double l : element_lengths)
-      thread_s.push_back(thread_s.back() + l);
+    thread.attach(nodes, element_lengths, rotations);
   }
 
   double
   TissueNeedle::curve_length() const
   {
-    return needle.length() + (thread ? thread_s.back() : 0.0);
-  }
-
-  std::pair<std::size_t, double>
-  TissueNeedle::thread_element(const double s) const
-  {
-    const std::size_t n = thread_s.size() - 1;
-    const std::size_t e = std::min<std::size_t>(
-      n - 1, std::upper_bound(thread_s.begin(), thread_s.end(), std::max(0.0, s)) - thread_s.begin() - 1);
-    const double xi = std::clamp((s - thread_s[e]) / (thread_s[e + 1] - thread_s[e]), 0.0, 1.0);
-    return {e, xi};
+    return needle.length() + (thread.attached() ? thread.length() : 0.0);
   }
 
   std::pair<Tensor<1, 3>, Tensor<1, 3>>
   TissueNeedle::curve(const double zeta) const
   {
-    if (!thread || zeta <= needle.length())
+    if (!thread.attached() || zeta <= needle.length())
       return {tensor(needle.point(current, zeta)), tensor(needle.tangent(current, zeta))};
-    const auto [e, xi]       = thread_element(zeta - needle.length());
-    const auto [xa, qa]      = thread_node(e);
-    const auto [xb, qb]      = thread_node(e + 1);
-    const Hermite  h         = element_curve(xa, qa, xb, qb, thread_rotations);
+    const auto [e, xi]     = thread.element(zeta - needle.length());
+    const HermiteSegment h = thread.segment(e);
     return {tensor(h.at(xi)), tensor(-h.rate(xi).normalized())};
   }
 
-  std::pair<rod::Vec3, rod::Quat>
-  TissueNeedle::thread_node(const std::size_t i) const
-  {
-    return {(*thread)[i], thread_rotations ? (*thread_rotations)[i] : rod::Quat::Identity()};
-  }
-
   TissueNeedle::Offset
-  TissueNeedle::across_element(const std::size_t e, const Eigen::Vector3d &x, const rod::Vec3 &xa,
-                               const rod::Quat &qa, const rod::Vec3 &xb, const rod::Quat &qb, const double u0) const
+  TissueNeedle::across_element(const std::size_t e, const Eigen::Vector3d &x, const HermiteSegment &h,
+                               const double u0) const
   {
-    const Hermite h = element_curve(xa, qa, xb, qb, thread_rotations);
-    // the closest point: g(u) = (x − c)·c′ = 0 by Newton, g′ = −|c′|² + (x − c)·c″; where
-    // the point lies beyond the curve's centre of curvature g′ may not be negative, and
-    // the step falls back to the Gauss–Newton one (−|c′|²)
-    double u = u0;
-    for (unsigned iteration = 0; iteration < 50; ++iteration)
-      {
-        const Eigen::Vector3d d = x - h.at(u), c1 = h.rate(u);
-        const double          a = c1.squaredNorm();
-        double                slope = -a + d.dot(h.bend(u));
-        if (slope > -0.1 * a)
-          slope = -a;
-        const double step = -d.dot(c1) / slope;
-        u                 = std::clamp(u + step, -1.0, 2.0);
-        if (std::abs(step) < 1e-14)
-          break;
-      }
-    Offset o;
+    const double u = h.closest(x, u0);
+    Offset       o;
     o.u                  = u;
-    o.zeta               = needle.length() + thread_s[e] + u * (thread_s[e + 1] - thread_s[e]);
+    o.zeta               = needle.length() + thread.arc_length(e) + u * thread.element_length(e);
     o.tangent            = tensor(-h.rate(u).normalized());
     const Tensor<1, 3> d = tensor(x - h.at(u));
     o.across             = d - (d * o.tangent) * o.tangent;
@@ -162,7 +87,7 @@ namespace suturesim::coupling
     std::vector<std::size_t> elements;
     for (const auto &p : pierce)
       if (on_thread(p))
-        elements.push_back(thread_element(p.carrier - needle.length()).first);
+        elements.push_back(thread.element(p.carrier - needle.length()).first);
     std::sort(elements.begin(), elements.end());
     elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
     return elements;
@@ -189,14 +114,14 @@ namespace suturesim::coupling
       {
         if (!on_thread(pierce[j]))
           continue;
-        const auto [e, xi] = thread_element(pierce[j].carrier - needle.length());
+        const auto [e, xi] = thread.element(pierce[j].carrier - needle.length());
         if (e != element)
           continue;
         const Eigen::Vector3d xj = eigen(x[offset + j]);
         // the point's force f on the tissue and its reaction on the nodes, with the
         // element's nodes at (ya, ra), (yb, rb)
         const auto load = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
-          const Offset       o = across_element(e, xj, ya, ra, yb, rb, xi);
+          const Offset       o = across_element(e, xj, thread.segment(ya, ra, yb, rb), xi);
           const Tensor<1, 3> f = pierce_force(pierce[j], o, nullptr, nullptr);
           const double       u = std::clamp(o.u, 0.0, 1.0);
           Vec12              r = Vec12::Zero();
@@ -207,8 +132,8 @@ namespace suturesim::coupling
             }
           return r;
         };
-        const auto [xa, qa] = thread_node(e);
-        const auto [xb, qb] = thread_node(e + 1);
+        const auto [xa, qa] = thread.node(e);
+        const auto [xb, qb] = thread.node(e + 1);
         residual += load(xa, qa, xb, qb);
         if (!jacobian)
           continue;
@@ -315,10 +240,8 @@ namespace suturesim::coupling
   {
     if (on_thread(p))
       {
-        const auto [e, xi]  = thread_element(p.carrier - needle.length());
-        const auto [xa, qa] = thread_node(e);
-        const auto [xb, qb] = thread_node(e + 1);
-        return across_element(e, eigen(x), xa, qa, xb, qb, xi);
+        const auto [e, xi] = thread.element(p.carrier - needle.length());
+        return across_element(e, eigen(x), thread.segment(e), xi);
       }
     Offset o;
     o.zeta            = projection(p, x);
@@ -384,15 +307,11 @@ namespace suturesim::coupling
   TissueNeedle::carried_to(const AccuratePiercePoint &p, const Point<3> &x) const
   {
     const double      L = needle.length();
-    const std::size_t n = thread_s.size() - 1;
-    auto [e, xi]        = thread_element(p.carrier - L);
+    const std::size_t n = thread.n_elements();
+    auto [e, xi]        = thread.element(p.carrier - L);
     const Eigen::Vector3d X = eigen(x);
     // u of x's projection on element k's curve (extended)
-    const auto along = [&](const std::size_t k) {
-      const auto [xa, qa] = thread_node(k);
-      const auto [xb, qb] = thread_node(k + 1);
-      return across_element(k, X, xa, qa, xb, qb, 0.5).u;
-    };
+    const auto along = [&](const std::size_t k) { return across_element(k, X, thread.segment(k), 0.5).u; };
     // Walk while the projection lies beyond the element's ends by more than a tenth of
     // it. The slack is a dead zone, kept from the polyline (where a point at the outside
     // of a bend projects beyond the end of either element that meets there, and the
@@ -418,9 +337,9 @@ namespace suturesim::coupling
         else
           break;
       }
-    // kept inside the element, so that the carrier names it (thread_element() of an
+    // kept inside the element, so that the carrier names it (ThreadCurve::element() of an
     // element's end names the next one): a point beyond an end loads that end's node
-    return L + thread_s[e] + std::clamp(xi, 1e-9, 1 - 1e-9) * (thread_s[e + 1] - thread_s[e]);
+    return L + thread.arc_length(e) + std::clamp(xi, 1e-9, 1 - 1e-9) * thread.element_length(e);
   }
 
   bool
@@ -433,7 +352,7 @@ namespace suturesim::coupling
         {
           const double next   = carried_to(pierce[j], x[offset + j]);
           const double L      = needle.length();
-          changed             = changed || thread_element(next - L).first != thread_element(pierce[j].carrier - L).first;
+          changed             = changed || thread.element(next - L).first != thread.element(pierce[j].carrier - L).first;
           pierce[j].carrier   = next;
         }
     return changed;
@@ -553,7 +472,7 @@ namespace suturesim::coupling
         keep_order(anchors, prm.spacing, 0, end);
         for (std::size_t j = 0; j < pierce.size(); ++j)
           {
-            if (thread && on_needle[j] && anchors[j] > needle.length())
+            if (thread.attached() && on_needle[j] && anchors[j] > needle.length())
               {
                 log.push_back({"onto_suture", time, eigen(pierce[j].X), pierce[j].normal});
                 pierce[j].carrier = anchors[j];
@@ -610,13 +529,13 @@ namespace suturesim::coupling
   std::vector<char>
   TissueNeedle::thread_nodes_in_tracts() const
   {
-    std::vector<char> inside(thread ? thread_s.size() : 0, 0);
+    std::vector<char> inside(thread.attached() ? thread.n_nodes() : 0, 0);
     for (std::size_t k = 0; k + 1 < pierce.size(); ++k)
       if (pierce[k].exit && !pierce[k + 1].exit)
         for (std::size_t i = 0; i < inside.size(); ++i)
           {
-            const double zeta   = needle.length() + thread_s[i];
-            const double margin = thread_s[std::min(i + 1, inside.size() - 1)] - thread_s[i > 0 ? i - 1 : 0];
+            const double zeta   = needle.length() + thread.arc_length(i);
+            const double margin = thread.arc_length(std::min(i + 1, inside.size() - 1)) - thread.arc_length(i > 0 ? i - 1 : 0);
             inside[i] = inside[i] || (zeta > pierce[k].anchor - margin && zeta < pierce[k + 1].anchor + margin);
           }
     return inside;

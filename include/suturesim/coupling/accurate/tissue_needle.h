@@ -33,15 +33,12 @@
  * The thread (set_thread(): the Cosserat suture's nodes and rotations, node 0 at the
  * swage) continues the needle's curve: ζ = L + s at the suture's reference arc length s.
  * The pierce point is measured against a C¹ centreline, not the elements' polyline: on
- * element e (nodes a, b, reference length l₀) the cubic Hermite curve
- *   c(u) = h₀₀(u) x_a + h₁₀(u) ℓ d₁(a) + h₀₁(u) x_b + h₁₁(u) ℓ d₁(b),   ℓ = |x_b − x_a|,
- * through both nodes with the rods' tangent directors d₁ = R e₁ there (shared by the
- * elements that meet at a node, so the curve's tangent is continuous along the thread;
- * the beam-contact smoothing of Litewka & Wriggers 2002, Comput. Mech. 28:26–39, with
- * the Cosserat rod's own nodal tangents; a thread without rotations, as in unit tests,
- * gets the chord, c = (1 − u) x_a + u x_b). The point's projection u solves
- * (x − c(u))·c′(u) = 0 (Newton); ζ = L + s_e + u l₀, the tangent t = −c′/|c′| (the way
- * the needle advances). Why: on the polyline a taut thread bent round its hole puts the
+ * element e (nodes a, b, reference length l₀) the cubic Hermite curve c(u) through both
+ * nodes with the rod's tangent directors d₁ = R e₁ there, so that its tangent is
+ * continuous along the thread (coupling/accurate/thread_curve.h has the curve, its
+ * source, and the chord a thread without rotations gets). The point's projection u on it
+ * solves (x − c(u))·c′(u) = 0 (HermiteSegment::closest()); ζ = L + s_e + u l₀, the
+ * tangent t = −c′/|c′| (the way the needle advances). Why: on the polyline a taut thread bent round its hole puts the
  * point at the bend's inside, where the distance to the polyline has a kink and the
  * carrier element flips between the two that meet there; each flip jumped the tie's
  * force and the stitch's tightening stalled at any step size (docs/interrupted_stitch.md).
@@ -62,6 +59,7 @@
  * until the carriers stay), as contact active sets do.
  */
 
+#include <suturesim/coupling/accurate/thread_curve.h>
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
 #include <suturesim/rod/rod_model.h>
@@ -237,14 +235,11 @@ namespace suturesim::coupling
     bool
     on_thread(const AccuratePiercePoint &p) const
     {
-      return thread && p.anchor > needle.length();
+      return thread.attached() && p.anchor > needle.length();
     }
     /// Point and advancing tangent of the curve (needle, then thread) at ζ.
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>>
     curve(double zeta) const;
-    /// Element of the thread holding arc length s and the weight ξ of its second node.
-    std::pair<std::size_t, double>
-    thread_element(double s) const;
     /// The carrier of @p p after following the thread to @p x (see follow_thread()).
     double
     carried_to(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
@@ -267,14 +262,11 @@ namespace suturesim::coupling
     };
     Offset
     across_curve(const AccuratePiercePoint &p, const dealii::Point<3> &x) const;
-    /// The same on the thread's element @p e with its nodes at (@p xa, @p qa) and
-    /// (@p xb, @p qb), the projection's Newton iteration started at @p u0.
+    /// The same on the thread's element @p e with its curve @p h (its nodes where they
+    /// are, or moved for a finite difference), the projection's Newton iteration started
+    /// at @p u0.
     Offset
-    across_element(std::size_t e, const Eigen::Vector3d &x, const rod::Vec3 &xa, const rod::Quat &qa,
-                   const rod::Vec3 &xb, const rod::Quat &qb, double u0) const;
-    /// Node i's position and rotation (identity without rotations).
-    std::pair<rod::Vec3, rod::Quat>
-    thread_node(std::size_t i) const;
+    across_element(std::size_t e, const Eigen::Vector3d &x, const HermiteSegment &h, double u0) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();
@@ -297,9 +289,7 @@ namespace suturesim::coupling
     std::vector<PunctureEvent>         log;
     std::size_t                        saved_log = 0;
     std::vector<dealii::Point<3>>      X;
-    const std::vector<rod::Vec3>      *thread = nullptr;
-    const std::vector<rod::Quat>      *thread_rotations = nullptr;
-    std::vector<double>                thread_s; ///< reference arc length at each node
+    ThreadCurve                        thread; ///< the suture beyond the swage
     tools::Pose                        current, saved_pose;
     double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
     double                             touch_value = 0;

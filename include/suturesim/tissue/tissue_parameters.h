@@ -1,0 +1,66 @@
+#pragma once
+/**
+ * @file
+ * The parameters of the accurate tissue model (tissue_model.h): the element
+ * (Q_k displacement, the three-field u–p–J mixed formulation or plain displacement),
+ * the Newton–Raphson solve of a load level, the linear solver, probe points and layers
+ * of other moduli. Each struct declares and parses its own subsection.
+ */
+
+#include <suturesim/core/parameter_file.h>
+#include <suturesim/tissue/linear_solver.h>
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace suturesim::tissue
+{
+  /// Newton–Raphson with a slack line search on the energy's directional derivative
+  /// g(α) = R(u + α Δu)·Δu (Crisfield 1991, §9.3; FEBio's line search): α is accepted
+  /// when |g(α)| ≤ 0.9 |g(0)|, else moved to the zero of g's linear interpolant. The
+  /// tolerances are those of the end test of TissueModel::solve_static() (free-DoF
+  /// residual absolute, or relative together with the increment).
+  struct NewtonParameters
+  {
+    unsigned max_iterations              = 25;
+    double   residual_tolerance          = 1e-9;
+    double   absolute_residual_tolerance = 1e-12;
+    double   increment_tolerance         = 1e-9;
+    bool     line_search                 = true;
+    unsigned max_backtracks              = 6;
+
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+  };
+
+  struct TissueParameters
+  {
+    unsigned         degree          = 2;
+    std::string      formulation     = "mixed";
+    unsigned         pressure_degree = 1;
+    NewtonParameters newton;
+    LinearSolver::Parameters linear;
+    std::vector<std::pair<std::string, dealii::Point<3>>> probes;
+    /// A region (gmsh physical volume, by name) with its own shear and bulk moduli.
+    struct RegionModuli
+    {
+      std::string name;
+      double      shear_modulus = 0, bulk_modulus = 0; ///< Pa
+    };
+    std::vector<RegionModuli> region_moduli;
+
+    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes", "Region
+    /// moduli" and the
+    /// subsections "Newton" and "Linear solver" into the current subsection.
+    static void
+    declare(dealii::ParameterHandler &prm);
+    void
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
+  };
+} // namespace suturesim::tissue

@@ -1,0 +1,179 @@
+/**
+ * The Newton solve of one quasi-static load level of the tissue,
+ * TissueModel::solve_static(), and its end test. Kept apart from tissue_model.cc, which
+ * holds the degrees of freedom, the constraints and the assembly it calls.
+ */
+#include <suturesim/core/error.h>
+#include <suturesim/tissue/tissue_model.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+namespace suturesim::tissue
+{
+  using namespace dealii;
+
+  double
+  TissueModel::free_dot(const Vector &a, const Vector &b) const
+  {
+    double dirichlet_part = 0;
+    for (const auto i : owned_dirichlet)
+      dirichlet_part += a[i] * b[i];
+    return (a * b) - Utilities::MPI::sum(dirichlet_part, comm);
+  }
+
+  double
+  TissueModel::free_residual_norm() const
+  {
+    Vector r = system_rhs;
+    for (const auto i : owned_dirichlet)
+      r[i] = 0;
+    r.compress(VectorOperation::insert);
+    return r.l2_norm();
+  }
+
+  bool
+  TissueModel::boundary_reached(const double gap) const
+  {
+    return gap <= 1e-12 * std::max(solution.l2_norm(), 1e-3);
+  }
+
+  bool
+  TissueModel::newton_stop(const unsigned it, const double r_norm, const double r_ref, const double du_norm,
+                           const double du_max, const double gap, const double force_floor,
+                           NewtonReport &report) const
+  {
+    const NewtonParameters &np     = parameters.newton;
+    const double            u_norm = solution.l2_norm();
+    // An update at round-off level of the body's size ends the iteration too: the
+    // residual of a very stiff (nearly incompressible) body cannot go below ε·κ·area,
+    // which may exceed the absolute tolerance.
+    const bool round_off = it > 0 && du_max <= 1e-13 * length_scale;
+    report.iterations    = it;
+    if (boundary_reached(gap) &&
+        (r_norm <= std::max(np.absolute_residual_tolerance, force_floor) || round_off ||
+         (r_norm <= np.residual_tolerance * r_ref && du_norm <= np.increment_tolerance * std::max(u_norm, 1e-12))))
+      {
+        report.converged = true;
+        return true;
+      }
+    if (!std::isfinite(r_norm) || r_norm > 1e10 * std::max(r_ref, 1e-300))
+      {
+        report.failure = "residual diverged (" + std::to_string(r_norm) + " N)";
+        return true;
+      }
+    if (it == np.max_iterations)
+      {
+        std::ostringstream s;
+        s << "no convergence in " << it << " iterations (residual " << std::scientific << std::setprecision(2)
+          << r_norm << " N, relative " << r_norm / r_ref << ")";
+        report.failure = s.str();
+        return true;
+      }
+    return false;
+  }
+
+  NewtonReport
+  TissueModel::solve_static(const double t, const double force_floor)
+  {
+    const NewtonParameters &np = parameters.newton;
+    NewtonReport            report;
+    Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm);
+
+    solution_ghost = solution;
+    double gap     = make_constraints(t, solution_ghost, constraints);
+    Timer  clock;
+    bool   ok = assemble(t, solution_ghost, true, constraints);
+    report.assembly_seconds += clock.wall_time();
+    if (!ok)
+      {
+        report.failure = "an element is inverted at the start of the step";
+        return report;
+      }
+    double r_norm    = free_residual_norm();
+    double r_ref     = r_norm;
+    double du_norm   = std::numeric_limits<double>::infinity();
+    double du_max    = du_norm;
+    report.residual_norms.push_back(r_norm);
+
+    for (unsigned it = 0;; ++it)
+      {
+        if (newton_stop(it, r_norm, r_ref, du_norm, du_max, gap, force_floor, report))
+          return report;
+        const bool bc_moving = !boundary_reached(gap);
+        clock.restart();
+        {
+          TimerOutput::Scope scope(timer, "linear solve");
+          update = 0;
+          try
+            {
+              // The update need not be more accurate than the residual this step aims at.
+              const double target =
+                std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
+              solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
+            }
+          catch (const SolverError &e)
+            {
+              report.failure    = e.what();
+              report.iterations = it;
+              return report;
+            }
+          report.linear_iterations += solver->statistics().iterations;
+        }
+        report.solve_seconds += clock.wall_time();
+        // The constrained entries of the update are the inhomogeneities g − u.
+        constraints.distribute(update);
+        du_norm = update.l2_norm();
+        du_max  = update.linfty_norm();
+        report.increment_norms.push_back(du_norm);
+
+        // Line search on the energy's directional derivative g(α) = R(u + αΔu)·Δu
+        // (Crisfield 1991, §9.3; FEBio's line search): accept α when |g(α)| ≤ 0.9 |g(0)|,
+        // else interpolate the zero of g linearly. Full steps whenever the boundary
+        // values still move (the old residual says nothing about the new boundary
+        // state); halve on an inverted element.
+        const double g0    = -free_dot(system_rhs, update);
+        double       alpha = 1.0;
+        for (unsigned k = 0;; ++k)
+          {
+            trial = solution;
+            trial.add(alpha, update);
+            solution_ghost = trial;
+            gap            = make_constraints(t, solution_ghost, constraints);
+            clock.restart();
+            ok = assemble(t, solution_ghost, true, constraints);
+            report.assembly_seconds += clock.wall_time();
+            if (ok)
+              {
+                const double g = -free_dot(system_rhs, update);
+                const bool   slack_ok = std::abs(g) <= 0.9 * std::abs(g0) || g0 >= 0;
+                if (slack_ok || !np.line_search || bc_moving || k >= np.max_backtracks)
+                  {
+                    r_norm = free_residual_norm();
+                    break;
+                  }
+                // zero of the linear interpolant of g(α) through (0, g0) and (α, g)
+                const double next = (g0 - g != 0) ? alpha * g0 / (g0 - g) : 0.5 * alpha;
+                alpha             = std::clamp(next, 0.1 * alpha, 0.9 * alpha);
+              }
+            else
+              {
+                if (k >= np.max_backtracks)
+                  {
+                    report.failure    = "an element inverted in every backtracked update";
+                    report.iterations = it + 1;
+                    return report;
+                  }
+                alpha *= 0.5;
+              }
+            ++report.backtracks;
+          }
+        solution = trial;
+        r_ref    = std::max(r_ref, r_norm);
+        report.residual_norms.push_back(r_norm);
+      }
+  }
+} // namespace suturesim::tissue

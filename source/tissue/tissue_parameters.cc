@@ -1,0 +1,150 @@
+#include <suturesim/tissue/tissue_parameters.h>
+
+#include <algorithm>
+#include <string>
+
+namespace suturesim::tissue
+{
+  using namespace dealii;
+
+  void
+  NewtonParameters::declare(ParameterHandler &prm)
+  {
+    const NewtonParameters d;
+    prm.declare_entry("Max iterations",
+                      std::to_string(d.max_iterations),
+                      Patterns::Integer(1, 1000),
+                      "Newton iterations per load step before the step is cut back. Unit: "
+                      "1. Range: 1-1000.");
+    prm.declare_entry("Residual tolerance",
+                      Patterns::Tools::to_string(d.residual_tolerance),
+                      Patterns::Double(0, 1),
+                      "Convergence when the free-DoF residual norm falls below this "
+                      "fraction of the largest residual of the step (and the increment "
+                      "test holds). Unit: 1. Range: (0, 1).");
+    prm.declare_entry("Absolute residual tolerance",
+                      Patterns::Tools::to_string(d.absolute_residual_tolerance),
+                      Patterns::Double(0),
+                      "Convergence whenever the free-DoF residual norm is below this force. "
+                      "Unit: N. Range: >= 0.");
+    prm.declare_entry("Increment tolerance",
+                      Patterns::Tools::to_string(d.increment_tolerance),
+                      Patterns::Double(0, 1),
+                      "Convergence needs |du| below this fraction of |u|. Unit: 1. Range: "
+                      "(0, 1).");
+    prm.declare_entry("Line search",
+                      d.line_search ? "true" : "false",
+                      Patterns::Bool(),
+                      "Slack line search on the energy's directional derivative "
+                      "R(u + a du).du: accept when it is at most 0.9 of its value at a = 0 "
+                      "(Crisfield 1991, FEBio), else interpolate. Unit: none.");
+    prm.declare_entry("Max backtracks",
+                      std::to_string(d.max_backtracks),
+                      Patterns::Integer(0, 30),
+                      "Line-search reductions of a Newton update per iteration. Unit: 1. Range: 0-30.");
+  }
+
+  void
+  NewtonParameters::parse(const ParameterHandler &prm, const ParameterScope &)
+  {
+    max_iterations              = prm.get_integer("Max iterations");
+    residual_tolerance          = prm.get_double("Residual tolerance");
+    absolute_residual_tolerance = prm.get_double("Absolute residual tolerance");
+    increment_tolerance         = prm.get_double("Increment tolerance");
+    line_search                 = prm.get_bool("Line search");
+    max_backtracks              = prm.get_integer("Max backtracks");
+  }
+
+  namespace
+  {
+    const Patterns::Map probe_pattern(Patterns::Anything(),
+                                      Patterns::List(Patterns::Double(), 3, 3, ","),
+                                      0,
+                                      Patterns::Map::max_int_value,
+                                      ";",
+                                      ":");
+  }
+
+  void
+  TissueParameters::declare(ParameterHandler &prm)
+  {
+    prm.declare_entry("Element degree",
+                      "2",
+                      Patterns::Integer(1, 4),
+                      "Polynomial degree of the Lagrange (Q_k) displacement element. Unit: "
+                      "1. Range: 1-4.");
+    prm.declare_entry("Formulation",
+                      "mixed",
+                      Patterns::Selection("mixed|displacement"),
+                      "'mixed': three-field u-p-J (Simo-Taylor-Pister 1985, deal.II "
+                      "step-44) with discontinuous pressure and dilatation condensed per "
+                      "cell, free of volumetric locking up to nu = 0.4999; 'displacement': "
+                      "plain Q_k, which locks for nearly incompressible tissue.");
+    prm.declare_entry("Pressure degree",
+                      "-1",
+                      Patterns::Integer(-1, 1),
+                      "Degree of the discontinuous pressure/dilatation of the mixed "
+                      "formulation: 0 (mean dilatation), 1, or -1 for element degree - 1 "
+                      "(Q2-P1, Q1-P0). Unit: 1. Range: -1-1.");
+    prm.declare_entry("Probes",
+                      "",
+                      probe_pattern,
+                      "Named points in the reference configuration whose displacement is "
+                      "recorded, 'name: x, y, z; name: x, y, z'. Unit: m.");
+    prm.declare_entry("Region moduli",
+                      "",
+                      Patterns::Map(Patterns::Anything(), Patterns::List(Patterns::Double(0), 2, 2, ","),
+                                    0, Patterns::Map::max_int_value, ";", ":"),
+                      "Layers of other tissue: 'name: mu, K; ...', the gmsh physical volume "
+                      "'name' taking shear modulus mu and bulk modulus K in place of the "
+                      "Material's (e.g. hypodermis under dermis, Tran et al. 2007: mu = "
+                      "0.84e3, K = 36e3). Realtime path only for now. Unit: Pa. Range: "
+                      "0 < mu < 1.5 K.");
+    prm.enter_subsection("Newton");
+    NewtonParameters::declare(prm);
+    prm.leave_subsection();
+    prm.enter_subsection("Linear solver");
+    LinearSolver::Parameters::declare(prm);
+    prm.leave_subsection();
+  }
+
+  void
+  TissueParameters::parse(ParameterHandler &prm, const ParameterScope &scope)
+  {
+    degree      = prm.get_integer("Element degree");
+    formulation = prm.get("Formulation");
+    const int p = prm.get_integer("Pressure degree");
+    pressure_degree = p < 0 ? std::min<unsigned>(degree - 1, 1) : static_cast<unsigned>(p);
+
+    // The pattern has validated the text; split it here to keep the order of the file
+    // (a std::map would sort the probes and merge duplicates silently).
+    probes.clear();
+    for (const auto &item : Utilities::split_string_list(prm.get("Probes"), ';'))
+      {
+        const auto colon = item.find(':');
+        const std::string name = Utilities::trim(item.substr(0, colon));
+        const auto x = Utilities::string_to_double(
+          Utilities::split_string_list(item.substr(colon + 1), ','));
+        for (const auto &[other, point] : probes)
+          scope.require(other != name, "Probes", "probe '" + name + "' is named twice");
+        probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
+      }
+
+    region_moduli.clear();
+    for (const auto &[name, v] : get_named_values(prm, "Region moduli"))
+      {
+        scope.require(v[0] > 0 && v[1] > 0 && v[0] < 1.5 * v[1], "Region moduli",
+                      "region '" + name + "': needs 0 < mu < 1.5 K (Poisson's ratio in (0, 0.5))");
+        for (const auto &r : region_moduli)
+          scope.require(r.name != name, "Region moduli", "region '" + name + "' is named twice");
+        region_moduli.push_back({name, v[0], v[1]});
+      }
+
+    prm.enter_subsection("Newton");
+    newton.parse(prm, scope.subsection("Newton"));
+    prm.leave_subsection();
+    prm.enter_subsection("Linear solver");
+    linear.parse(prm, scope.subsection("Linear solver"));
+    prm.leave_subsection();
+  }
+} // namespace suturesim::tissue
