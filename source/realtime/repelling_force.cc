@@ -15,15 +15,22 @@ namespace suturesim::realtime
 {
   namespace
   {
+    /// o_ij where the force has fallen to 10⁻³ k_c, m.
+    double
+    cutoff_of(const double width, const double growth)
+    {
+      return 2 * width + std::log(1000.0) / growth;
+    }
+
     class RepellingForce : public SelfCollision
     {
     public:
       RepellingForce(const ParameterValues &p, const SelfCollisionSetup &s)
-        : SelfCollision(s)
+        : SelfCollision(s, cutoff_of(2 * s.radius, p.real("Growth factor")))
         , factor(p.real("Repulsion factor"))
         , growth(p.real("Growth factor"))
         , width(2 * s.radius)
-        , cutoff(2 * width + std::log(1000.0) / growth)
+        , cutoff(cutoff_of(width, growth))
       {
         p.require(growth > 0, "Growth factor", "must be > 0 1/m");
       }
@@ -38,6 +45,7 @@ namespace suturesim::realtime
       detect(const Matrix3Xd &x) override
       {
         find_pairs(x, cutoff);
+        count_pairs();
       }
 
       void

@@ -19,7 +19,7 @@ namespace suturesim::realtime
     {
     public:
       TransientConstraints(const ParameterValues &, const SelfCollisionSetup &s)
-        : SelfCollision(s)
+        : SelfCollision(s, 2 * s.radius)
         , shift(Matrix3Xd::Zero(3, s.suture.size()))
         , count(s.suture.size(), 0)
       {}
@@ -70,6 +70,7 @@ namespace suturesim::realtime
               n.target.col(b0 + k) = n.x.col(b0 + k);
               n.set_held(b0 + k, Nodes::transient, true);
             }
+        count_after(n.x);
       }
 
     private:

@@ -643,6 +643,17 @@ namespace suturesim::scene
     metrics["final_time"]                   = world.time();
     metrics["simulated_time"]               = world.time();
     metrics["wall_time"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    if (const auto *self = world.self_collision())
+      {
+        // pair-steps with a response, most pairs at once, least distances (null: no pair
+        // came within the reach), as counted by the response (self_collision.h)
+        const auto &c     = self->counts();
+        const auto  least = [](const double d) { return std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(); };
+        metrics["self_collision"] = {{"pair_steps", c.pair_steps}, {"max_pairs", c.max_pairs},
+                                     {"min_distance", least(c.min_distance)},
+                                     {"min_distance_detected", least(c.min_distance_detected)},
+                                     {"reach", c.reach}};
+      }
     if (closure)
       closure->write(metrics);
     // no suture node may end inside the tissue, deeper than its radius below the surface,
