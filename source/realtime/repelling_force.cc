@@ -6,6 +6,11 @@
  * by the segment end nodes in proportion to the closest-point parameters (so the force
  * and its moment about the pair are kept). Cut off at o_ij = 2d + ln(1000)/k_o, where it
  * has fallen to 10⁻³ k_c, so that distant segments cost nothing.
+ *
+ * Its potential: F = −dE/do_ij of E = (k_c/k_o) exp(k_o (2d − o_ij)) per pair; the
+ * closest points minimise the distance, so (envelope theorem) ∂o_ij/∂x of a segment's
+ * end node is its closest-point weight times the unit normal, and the shared force above
+ * is exactly −∂E/∂x (tests/realtime/interaction_test.cc checks it).
  */
 #include <suturesim/realtime/self_collision.h>
 
@@ -46,6 +51,15 @@ namespace suturesim::realtime
       {
         find_pairs(x, cutoff);
         count_pairs();
+      }
+
+      std::optional<double>
+      energy(const Matrix3Xd &x) const override
+      {
+        double e = 0;
+        for (const auto &c : pairs)
+          e += factor / growth * std::exp(growth * (2 * width - distance(x, c.a, c.b)));
+        return e;
       }
 
       void
