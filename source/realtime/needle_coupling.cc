@@ -162,6 +162,35 @@ namespace suturesim::realtime
       }
   }
 
+  std::optional<double>
+  NeedleCoupling::energy(const Matrix3Xd &x) const
+  {
+    double e = 0;
+    if (const auto *touch = puncture.touch(); touch != nullptr && prm.puncture.stiffness > 0)
+      {
+        const double F = puncture.normal_force(needle.tip(current_pose), puncture.position(touch->point, x));
+        e += 0.5 * F * F / prm.puncture.stiffness;
+      }
+    for (const auto &p : points)
+      {
+        if (taken(p)) // the model's (seed 002's soft constraints): no potential
+          return std::nullopt;
+        const std::uint32_t a = suture.begin + p.at.k;
+        const Vector3d      c = p.at.on_suture ? Vector3d((1 - p.at.s) * x.col(a) + p.at.s * x.col(a + 1)) : p.at.c;
+        const Vector3d      d = tissue_point(p, x) - c;
+        const Vector3d d_perp = d - d.dot(p.at.t) * p.at.t;
+        e += 0.5 * prm.transverse_stiffness * d_perp.squaredNorm();
+        const double zeta = p.at.zeta - d.dot(p.at.t);
+        const auto   r    = model->tangential(prm.friction, zeta, p.anchor,
+                                              prm.friction.grip + prm.transverse_stiffness * d_perp.norm());
+        if (!r.slipping)
+          e += 0.5 * prm.friction.stiffness * (zeta - p.anchor) * (zeta - p.anchor);
+        else if (r.force != 0)
+          return std::nullopt;
+      }
+    return e;
+  }
+
   void
   NeedleCoupling::reset_multipliers()
   {

@@ -6,6 +6,11 @@
  * by the segment end nodes in proportion to the closest-point parameters (so the force
  * and its moment about the pair are kept). Cut off at o_ij = 2d + ln(1000)/k_o, where it
  * has fallen to 10⁻³ k_c, so that distant segments cost nothing.
+ *
+ * Its potential: F = −dE/do_ij of E = (k_c/k_o) exp(k_o (2d − o_ij)) per pair; the
+ * closest points minimise the distance, so (envelope theorem) ∂o_ij/∂x of a segment's
+ * end node is its closest-point weight times the unit normal, and the shared force above
+ * is exactly −∂E/∂x (tests/realtime/interaction_test.cc checks it).
  */
 #include <suturesim/realtime/self_collision.h>
 
@@ -15,15 +20,22 @@ namespace suturesim::realtime
 {
   namespace
   {
+    /// o_ij where the force has fallen to 10⁻³ k_c, m.
+    double
+    cutoff_of(const double width, const double growth)
+    {
+      return 2 * width + std::log(1000.0) / growth;
+    }
+
     class RepellingForce : public SelfCollision
     {
     public:
       RepellingForce(const ParameterValues &p, const SelfCollisionSetup &s)
-        : SelfCollision(s)
+        : SelfCollision(s, cutoff_of(2 * s.radius, p.real("Growth factor")))
         , factor(p.real("Repulsion factor"))
         , growth(p.real("Growth factor"))
         , width(2 * s.radius)
-        , cutoff(2 * width + std::log(1000.0) / growth)
+        , cutoff(cutoff_of(width, growth))
       {
         p.require(growth > 0, "Growth factor", "must be > 0 1/m");
       }
@@ -38,6 +50,16 @@ namespace suturesim::realtime
       detect(const Matrix3Xd &x) override
       {
         find_pairs(x, cutoff);
+        count_pairs();
+      }
+
+      std::optional<double>
+      energy(const Matrix3Xd &x) const override
+      {
+        double e = 0;
+        for (const auto &c : pairs)
+          e += factor / growth * std::exp(growth * (2 * width - distance(x, c.a, c.b)));
+        return e;
       }
 
       void

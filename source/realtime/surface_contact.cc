@@ -104,6 +104,18 @@ namespace suturesim::realtime
       }
   }
 
+  std::optional<double>
+  SurfaceContact::energy(const Matrix3Xd &x) const
+  {
+    double e = 0;
+    for (const auto &c : contacts)
+      {
+        const double g = std::min(gap(c, x), 0.0);
+        e += 0.5 * prm.stiffness * g * g;
+      }
+    return e;
+  }
+
   void
   SurfaceContact::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {

@@ -46,7 +46,10 @@ namespace suturesim::realtime
       if (auto self = make_self_collision(setup.self_collision, setup.self_collision_parameters,
                                           {sys.suture, setup.suture_geometry.radius,
                                            suture_model->link_length(), &sys.nodes.x}))
-        sys.contacts.push_back(std::move(self));
+        {
+          self_collision_set = self.get();
+          sys.contacts.push_back(std::move(self));
+        }
   }
 
   std::vector<std::uint32_t>

@@ -186,6 +186,18 @@ namespace suturesim::scene
     metrics["final_time"]            = rw.time();
     metrics["simulated_time"]        = rw.time();
     metrics["wall_time"]             = wall_time;
+    if (const auto *self = rw.self_collision())
+      {
+        // pair-steps with a response, most pairs at once, least distances (null: no pair
+        // came within the reach), as counted by the response (realtime/self_collision.h)
+        const auto &c     = self->counts();
+        const auto  least = [](const double d) { return std::isfinite(d) ? nlohmann::json(d) : nlohmann::json(); };
+        metrics["self_collision"] = {{"pair_steps", c.pair_steps},
+                                     {"max_pairs", c.max_pairs},
+                                     {"min_distance", least(c.min_distance)},
+                                     {"min_distance_detected", least(c.min_distance_detected)},
+                                     {"reach", c.reach}};
+      }
     if (world.closure)
       world.closure->write(metrics);
     // no suture node may end inside the tissue, deeper than its radius below the

@@ -9,21 +9,23 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 #include "realtime/test_meshes.h"
+#include "realtime/test_worlds.h"
 
 using namespace suturesim;
 using namespace suturesim::realtime;
 
 namespace
 {
-  /// max |f − (−∂E/∂x)| / max |f| over a random configuration, by central differences.
+  /// max |f − (−∂E/∂x)| / max |f| at @p x, by central differences of @p energy with the
+  /// step h = 1e-6 max |x|.
+  template <typename Energy>
   double
-  force_error(const Interaction &interaction, const Matrix3Xd &x)
+  gradient_error(const Matrix3Xd &f, const Matrix3Xd &x, const Energy &energy)
   {
-    Matrix3Xd f = Matrix3Xd::Zero(3, x.cols());
-    interaction.add_forces(x, f);
     const double scale = x.cwiseAbs().maxCoeff();
     const double h     = 1e-6 * scale;
     double       error = 0;
@@ -31,13 +33,31 @@ namespace
     for (Eigen::Index i = 0; i < x.size(); ++i)
       {
         y.data()[i]     = x.data()[i] + h;
-        const double ep = interaction.energy(y);
+        const double ep = energy(y);
         y.data()[i]     = x.data()[i] - h;
-        const double em = interaction.energy(y);
+        const double em = energy(y);
         y.data()[i]     = x.data()[i];
         error           = std::max(error, std::abs(f.data()[i] + (ep - em) / (2 * h)));
       }
     return error / f.cwiseAbs().maxCoeff();
+  }
+
+  double
+  force_error(const Interaction &interaction, const Matrix3Xd &x)
+  {
+    Matrix3Xd f = Matrix3Xd::Zero(3, x.cols());
+    interaction.add_forces(x, f);
+    return gradient_error(f, x, [&](const Matrix3Xd &y) { return interaction.energy(y); });
+  }
+
+  /// The same for a contact set at the state of its last detect(): what detection fixed
+  /// (pairs, normals, weights) is held in E (system.h). Throws when it has no energy.
+  double
+  force_error(const ContactSet &contacts, const Matrix3Xd &x)
+  {
+    Matrix3Xd f = Matrix3Xd::Zero(3, x.cols());
+    contacts.add_forces(x, f);
+    return gradient_error(f, x, [&](const Matrix3Xd &y) { return contacts.energy(y).value(); });
   }
 
   Matrix3Xd
@@ -83,6 +103,152 @@ TEST(RealtimeInteractions, ForcesAreMinusTheEnergyGradient)
   for (std::uint32_t v = 1; v + 1 < node.size(); ++v)
     curvature.add(v - 1, v, v + 1, 2.0);
   EXPECT_LT(force_error(curvature, x), 1e-6);
+}
+
+// The contact sets with a potential, at the state of a detection (their penalty laws,
+// the forces the force-based integrators apply; XPBD's constraint forces are multipliers,
+// not gradients): suture–tissue contact ½ k min(g, 0)² and seed 000's repelling force
+// (k_c/k_o) exp(k_o (2d − o)). Without a potential, and so not checked here: seed 002's
+// transient constraints (position corrections that hold nodes for a step; tested in
+// self_collision_test.cc) and the FTL push-out of SurfaceContact::after_step (the same).
+TEST(RealtimeInteractions, ContactForcesAreMinusTheEnergyGradient)
+{
+  std::mt19937                           random(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  {
+    // a suture over the top of a block, every other node pressed 0.2–0.8 r into it, the
+    // others within the skin (1.09–1.15 r above, listed within 1.25 r); the
+    // tissue's nodes moved by up to 5 µm
+    const double H = 0.01, r = 1e-4;
+    const auto   mesh = test_support::box_mesh(0.02, 0.02, H, 4, 4, 2);
+    WorldSetup   w;
+    w.mesh              = &mesh;
+    w.material          = {6e3, 0.45, 1060, {}};
+    w.tissue            = test_support::make_model<TissueModel::Registry>("volume");
+    w.suture            = test_support::make_model<SutureModel::Registry>("mass-spring");
+    w.suture_geometry   = test_support::straight_suture(20, 0.016, Vector3d(0.002, 0.0101, H),
+                                                        Vector3d::UnitX(), 1, 0, r, 1100);
+    w.contact_stiffness = 100;
+    w.contact_depth     = 1e-3;
+    w.integrator        = test_support::make_model<Integrator::Registry>("quasi-static");
+    World      world(std::move(w));
+    const auto s = world.system().suture;
+    Matrix3Xd  x = world.system().nodes.x;
+    for (auto i = world.system().tissue.begin; i < world.system().tissue.end; ++i)
+      x.col(i) += 5e-6 * Vector3d(u(random), u(random), u(random));
+    for (auto i = s.begin; i < s.end; ++i)
+      x(2, i) = H + r * ((i - s.begin) % 2 == 0 ? 0.5 + 0.3 * u(random) : 1.12 + 0.03 * u(random));
+    auto &contact = dynamic_cast<SurfaceContact &>(*world.system().contacts.front());
+    contact.detect(x);
+    std::size_t pressed = 0;
+    for (const auto &c : contact.list())
+      pressed += contact.gap(c, x) < 0;
+    std::printf("[ -grad E ] surface contact: %zu contacts, %zu pressed\n", contact.active(), pressed);
+    EXPECT_EQ(pressed, 11u); // the even nodes
+    EXPECT_EQ(contact.active(), 21u);
+    EXPECT_LT(force_error(contact, x), 1e-6);
+  }
+  {
+    // a suture folded across itself with its strands 0.3 mm apart (between 2r and the
+    // cut-off 2d + ln(1000)/k_o = 0.745 mm), every node moved by up to 50 µm
+    const double r = 1e-4;
+    WorldSetup   w;
+    w.suture                    = test_support::make_model<SutureModel::Registry>("mass-spring");
+    w.suture_geometry           = test_support::folded_suture(3e-4, 1, 0, r);
+    w.integrator                = test_support::make_model<Integrator::Registry>("quasi-static");
+    w.self_collision            = "repelling-force";
+    w.self_collision_parameters = test_support::parameters_of("repelling-force");
+    World      world(std::move(w));
+    Matrix3Xd  x = world.system().nodes.x;
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      x.data()[i] += 5e-5 * u(random);
+    auto &repelling = dynamic_cast<SelfCollision &>(*world.system().contacts.front());
+    repelling.detect(x);
+    double least = std::numeric_limits<double>::infinity();
+    for (const auto &c : repelling.list())
+      least = std::min(least, c.distance);
+    std::printf("[ -grad E ] repelling force: %zu pairs, least distance %.3e m\n", repelling.active(), least);
+    EXPECT_GE(repelling.active(), 2u);
+    EXPECT_LT(least, 2 * 2 * r); // into the exponential's steep part, F > k_c
+    EXPECT_LT(force_error(repelling, x), 1e-6);
+  }
+  {
+    // seed 002's constraints have none
+    WorldSetup w;
+    w.suture                    = test_support::make_model<SutureModel::Registry>("mass-spring");
+    w.suture_geometry           = test_support::folded_suture(1e-4, 1, 0, 1e-4);
+    w.integrator                = test_support::make_model<Integrator::Registry>("quasi-static");
+    w.self_collision            = "transient-constraint";
+    World world(std::move(w));
+    EXPECT_FALSE(world.system().contacts.front()->energy(world.system().nodes.x).has_value());
+  }
+}
+
+// The needle's penalty forms (force-based integrators) along a pass through a block: the
+// tip's touch ½ k_c max(0, (x_m − x_tip)·n)² and each pierce point's tie ½ k⊥ |P⊥(p − c)|²
+// across the thread, on the needle and on the suture (whose nodes it moves), at μ = 0 where
+// the points slip freely; and the stick ½ k_t (ζ − ζ_a)² along the thread at a μ so high
+// they never slip. Slip at μN > 0 (its force follows N = N₀ + |f⊥| and the anchor's
+// history) and seed 002's soft constraints (one-sided tension loads) have no potential.
+TEST(RealtimeInteractions, NeedleTouchAndPiercePointForcesAreMinusTheEnergyGradient)
+{
+  const auto                mesh = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);
+  const tools::CurvedNeedle needle(0.008, tools::CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  const auto                pass = test_support::block_pass(needle, 0.004);
+  for (const double mu : {0.0, 1e3})
+    {
+      WorldSetup w;
+      w.mesh            = &mesh;
+      w.material        = {1e5, 0.3, 1100, {}};
+      w.tissue          = test_support::make_model<TissueModel::Registry>("volume");
+      const auto start  = pass.trajectory.pose(0);
+      w.suture          = test_support::make_model<SutureModel::Registry>("ftl");
+      w.suture_geometry = test_support::straight_suture(100, 0.1, needle.swage(start),
+                                                        -needle.tangent(start, needle.length()), 119,
+                                                        3e-9, 1.1e-4, 1100);
+      w.contact_stiffness = 100;
+      w.contact_depth     = 1e-3;
+      w.integrator = test_support::make_model<Integrator::Registry>("quasi-static", {{"Tissue damping", "0.5"}});
+      w.substeps   = 4;
+      World world(std::move(w));
+      world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+      NeedleCouplingParameters p;
+      p.puncture             = {0.5, 2000, 1e-3};
+      p.friction             = {mu, 500, 0.05};
+      p.transverse_stiffness = 500;
+      p.pierce_model         = "node-path";
+      world.add_needle(needle, p, start, true);
+      world.initialize();
+      const auto &coupling = *world.needle();
+
+      std::size_t touches = 0, on_needle = 0, on_suture = 0, first_point = 0;
+      double      worst = 0;
+      const int   steps = static_cast<int>(pass.t_end * 1000);
+      for (int k = 1; k <= steps; ++k)
+        {
+          world.step({pass.trajectory.pose(k * 1e-3)});
+          const auto &points = coupling.pierce_points();
+          if (first_point == 0 && !points.empty())
+            first_point = k;
+          // held fast, the points drag the tissue along: a hundred steps show the stick
+          if (mu > 0 && first_point > 0 && k > static_cast<int>(first_point) + 100)
+            break;
+          const bool touch = coupling.puncture_state().touch() != nullptr && coupling.touch_force() > 0;
+          if (k % 10 != 0 || (!touch && points.empty()))
+            continue;
+          touches += touch;
+          for (const auto &q : points)
+            (q.on_suture ? on_suture : on_needle) += 1;
+          worst = std::max(worst, force_error(coupling, world.system().nodes.x));
+        }
+      std::printf("[ -grad E ] needle at mu = %g: %zu states with a touch, %zu points on the "
+                  "needle, %zu on the suture; largest relative error %.2e\n",
+                  mu, touches, on_needle, on_suture, worst);
+      EXPECT_LT(worst, 1e-6) << mu;
+      EXPECT_GT(touches, 0u) << mu;
+      EXPECT_GT(on_needle, 0u) << mu;
+      EXPECT_EQ(on_suture > 0, mu == 0) << mu; // held fast, no point reaches the suture
+    }
 }
 
 TEST(RealtimeInteractions, VanGelderNetworkStoresTheDilatationEnergyOfBulkModulusTwoThirdsE)

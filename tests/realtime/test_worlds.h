@@ -4,6 +4,7 @@
 #include <suturesim/realtime/world.h>
 #include <suturesim/tools/surgical_pass.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -53,6 +54,29 @@ namespace suturesim::test_support
     g.EA      = EA;
     g.EI      = EI;
     g.density = density;
+    return g;
+  }
+
+  /// A suture folded across itself, 60 links of 1 mm: strand A along +x from
+  /// (−10, 0, 0) mm (nodes 0–20), a connector (10 links along −y rising to z = @p height,
+  /// 10 along −x), strand B along +y (nodes 40–60) at z = @p height, crossing above A's
+  /// node 10 between its nodes 49 and 50.
+  inline realtime::SutureGeometry
+  folded_suture(const double height, const double EA, const double EI, const double radius)
+  {
+    const double             link = 1e-3;
+    realtime::SutureGeometry g    = straight_suture(1, link, Eigen::Vector3d(-0.01, 0, 0),
+                                                    Eigen::Vector3d::UnitX(), EA, EI, radius, 1100);
+    g.points.resize(1);
+    const double sine = height / (10 * link), cosine = std::sqrt(1 - sine * sine);
+    const auto   walk = [&](const Eigen::Vector3d &direction, const int n) {
+      for (int i = 0; i < n; ++i)
+        g.points.push_back(g.points.back() + link * direction);
+    };
+    walk(Eigen::Vector3d::UnitX(), 20);
+    walk(Eigen::Vector3d(0, -cosine, sine), 10);
+    walk(-Eigen::Vector3d::UnitX(), 10);
+    walk(Eigen::Vector3d::UnitY(), 20);
     return g;
   }
 

@@ -117,6 +117,13 @@ namespace suturesim::realtime
     detect(const Matrix3Xd &x) override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// The penalty forms' energy: the touch ½ k_c max(0, (x_m − x_tip)·n)², each tie
+    /// ½ k⊥ |P⊥ (p − c)|² (c on the suture moves with its segment's nodes, the tangent
+    /// and the closest point's place held as located) and, while it sticks,
+    /// ½ k_t (ζ − ζ_a)². std::nullopt when a point slips at μN > 0 or is a soft
+    /// constraint (seed 002): their forces have no potential.
+    std::optional<double>
+    energy(const Matrix3Xd &x) const override;
     bool
     has_projection() const override
     {

@@ -55,6 +55,10 @@ namespace suturesim::realtime
     detect(const Matrix3Xd &x) override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// E = Σ ½ k min(g, 0)² over the contacts found, their normals and weights held: the
+    /// penalty forces are −∂E/∂x at any @p x.
+    std::optional<double>
+    energy(const Matrix3Xd &x) const override;
     void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
     bool

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -153,6 +154,16 @@ namespace suturesim::realtime
     /// Penalty or repelling forces of the contacts found by detect(), at @p x.
     virtual void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const = 0;
+
+    /// Potential energy of the contacts found by detect(), at @p x (J), with what
+    /// detect() fixed (the pairs, normals, closest-point weights) held: add_forces() at
+    /// the detected state is −∂E/∂x there. std::nullopt for sets whose forces have no
+    /// potential (position corrections, friction in slip, one-sided loads).
+    virtual std::optional<double>
+    energy(const Matrix3Xd &) const
+    {
+      return std::nullopt;
+    }
 
     /// True when XPBD should project the contacts as constraints rather than apply
     /// add_forces() as external forces.

@@ -18,6 +18,7 @@
 #include <suturesim/realtime/divergence_guard.h>
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/needle_coupling.h>
+#include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/surface_contact.h>
 #include <suturesim/realtime/tissue_model.h>
@@ -168,6 +169,12 @@ namespace suturesim::realtime
     {
       return contact;
     }
+    /// The suture's self-collision response with its counts; nullptr when "off".
+    const SelfCollision *
+    self_collision() const
+    {
+      return self_collision_set;
+    }
     double
     time() const
     {
@@ -261,6 +268,7 @@ namespace suturesim::realtime
     std::unique_ptr<SutureModel> suture_model;
     std::unique_ptr<Integrator>  time_integrator;
     SurfaceContact              *contact = nullptr;
+    SelfCollision               *self_collision_set = nullptr;
     NeedleCoupling              *needle_coupling = nullptr;
     std::size_t                  needle_tool     = 0;
     double                       contact_stiffness = 0;
