@@ -6,7 +6,7 @@ set -euo pipefail
 bin=${1:-build/suturesim}
 out=${2:-output/locking}
 mkdir -p "$out"
-scene=$(dirname "$0")/../parameters/benchmarks/cook_membrane.prm
+scene=$(dirname "$0")/../benchmarks/cook_membrane/cook_membrane.prm
 printf '%-4s %14s %14s %14s %14s\n' n "Q1 displ." "Q1-P0 mixed" "Q2 displ." "Q2-P1 mixed"
 for n in 2 4 8 16 32; do
   row=$(printf '%-4s' $n)

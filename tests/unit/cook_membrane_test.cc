@@ -16,7 +16,7 @@ namespace
        const std::string &extra = "", const std::string &launcher = "")
   {
     return run_suturesim(name,
-                         source_path("parameters/benchmarks/cook_membrane.prm") +
+                         source_path("benchmarks/cook_membrane/cook_membrane.prm") +
                            " --set 'Mesh/Elements per edge=" + std::to_string(n) +
                            "' --set 'Tissue/Element degree=" + std::to_string(degree) + "' " +
                            extra,
@@ -42,7 +42,7 @@ TEST(CookMembrane, PublishedTipDisplacementQ2Default)
 {
   // The scene as shipped (Q2, 16 elements per edge): 14.32 mm, tolerance 0.3 % (issue).
   const auto r = run_suturesim("cook_default",
-                               source_path("parameters/benchmarks/cook_membrane.prm"));
+                               source_path("benchmarks/cook_membrane/cook_membrane.prm"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NEAR(tip_mm(r), 14.32, 0.003 * 14.32);
 }

@@ -14,7 +14,7 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  const std::string scene = "'" + source_path("parameters/benchmarks/realtime_seed004_scale.prm") + "'";
+  const std::string scene = "'" + source_path("benchmarks/realtime_seed004_scale/realtime_seed004_scale.prm") + "'";
   // a coarse block (h = 5 mm) keeps these runs short
   const std::string coarse = " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 0'";
 } // namespace
@@ -92,11 +92,11 @@ TEST(RealtimeScene, RefusesAboveTheStabilityLimitWhenAsked)
 
 TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
 {
-  // parameters/benchmarks/block_patch_load.prm run by both paths from the one file
+  // benchmarks/block_patch_load/block_patch_load.prm run by both paths from the one file
   // (coarse meshes), then postprocess/compare_probes.py: both must report every probe,
   // press the top centre down, and agree to within a factor of two there (the measured
   // error of the converged volume model at the shipped resolution is 17 %, README).
-  const std::string file = "'" + source_path("parameters/benchmarks/block_patch_load.prm") + "'";
+  const std::string file = "'" + source_path("benchmarks/block_patch_load/block_patch_load.prm") + "'";
   const auto fe = run_suturesim("patch_accurate", file + " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 1'");
   ASSERT_EQ(fe.exit_code, 0) << fe.output;
   const auto rt = run_suturesim("patch_realtime",

@@ -224,7 +224,7 @@ TEST(RodDynamics, EnergyConservedOrBoundedlyDissipated)
 TEST(RodBenchmark, ShippedScenes)
 {
   {
-    const auto run = run_suturesim("rod_rollup", source_path("parameters/benchmarks/rod_rollup.prm"));
+    const auto run = run_suturesim("rod_rollup", source_path("benchmarks/rod_rollup/rod_rollup.prm"));
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const auto tip = run.summary["metrics"]["tip_position"];
     EXPECT_LT(std::hypot(double(tip[0]), double(tip[1]), double(tip[2])), 1e-4);
@@ -232,7 +232,7 @@ TEST(RodBenchmark, ShippedScenes)
     EXPECT_TRUE(std::filesystem::exists(run.directory + "/suture_00010.vtu"));
   }
   {
-    const auto run = run_suturesim("rod_cantilever", source_path("parameters/benchmarks/rod_cantilever.prm"));
+    const auto run = run_suturesim("rod_cantilever", source_path("benchmarks/rod_cantilever/rod_cantilever.prm"));
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const auto   tip       = run.summary["metrics"]["tip_position"];
     const double reference = elastica_tip(3).second * 0.1;
