@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -115,7 +116,10 @@ namespace suturesim::test_support
   {
     namespace fs = std::filesystem;
     RunResult r;
-    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + name)).string();
+    // one folder per test name and build tree: checkouts testing at the same time on one
+    // machine must not remove each other's runs
+    static const std::string tree = std::to_string(std::hash<std::string>{}(SUTURESIM_BINARY) % 100000);
+    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + tree + "_" + name)).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
     const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +
