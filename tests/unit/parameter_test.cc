@@ -34,8 +34,8 @@ namespace
 TEST(Parameters, RoundTripOfEveryShippedScene)
 {
   for (const std::string scene :
-       {"parameters/skin_pad_pull.prm", "parameters/benchmarks/cook_membrane.prm",
-        "parameters/benchmarks/block_patch_load.prm",
+       {"parameters/skin_pad_pull.prm", "benchmarks/cook_membrane/cook_membrane.prm",
+        "benchmarks/block_patch_load/block_patch_load.prm",
         // with model sections: the printed state is the common text and the chosen
         // section merged, and reads back as itself
         "parameters/stitch_interrupted.prm"})

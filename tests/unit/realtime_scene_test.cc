@@ -14,7 +14,7 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  const std::string scene = "'" + source_path("parameters/benchmarks/realtime_seed004_scale.prm") + "'";
+  const std::string scene = "'" + source_path("benchmarks/realtime_seed004_scale/realtime_seed004_scale.prm") + "'";
   // a coarse block (h = 5 mm) keeps these runs short
   const std::string coarse = " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 0'";
 } // namespace
@@ -92,11 +92,12 @@ TEST(RealtimeScene, RefusesAboveTheStabilityLimitWhenAsked)
 
 TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
 {
-  // parameters/benchmarks/block_patch_load.prm run by both paths from the one file
-  // (coarse meshes), then postprocess/compare_probes.py: both must report every probe,
-  // press the top centre down, and agree to within a factor of two there (the measured
-  // error of the converged volume model at the shipped resolution is 17 %, README).
-  const std::string file = "'" + source_path("parameters/benchmarks/block_patch_load.prm") + "'";
+  // benchmarks/block_patch_load run by both paths from the one file (coarse meshes), then
+  // its compare.py --against: both must report every probe, press the top centre down,
+  // and agree there within the factor of reference.json "realtime_check" (the measured
+  // error of the converged volume model at the shipped resolution: the folder's README).
+  const std::string file   = "'" + benchmark_scene("block_patch_load") + "'";
+  const double      factor = benchmark_reference("block_patch_load")["realtime_check"]["max_factor"];
   const auto fe = run_suturesim("patch_accurate", file + " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 1'");
   ASSERT_EQ(fe.exit_code, 0) << fe.output;
   const auto rt = run_suturesim("patch_realtime",
@@ -111,10 +112,10 @@ TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
   const double u_rt = rt.summary["metrics"]["top_centre_displacement_z"];
   EXPECT_LT(u_fe, 0);
   EXPECT_LT(u_rt, 0);
-  EXPECT_LT(std::abs(std::log(u_rt / u_fe)), std::log(2.0)) << u_fe << " vs " << u_rt;
+  EXPECT_LT(std::abs(std::log(u_rt / u_fe)), std::log(factor)) << u_fe << " vs " << u_rt;
 
-  const std::string command = "/usr/bin/python3 '" + source_path("postprocess/compare_probes.py") +
-                              "' '" + fe.directory + "' '" + rt.directory + "' 2>&1";
+  const std::string command = "/usr/bin/python3 '" + source_path("benchmarks/block_patch_load/compare.py") +
+                              "' --against '" + fe.directory + "' '" + rt.directory + "' 2>&1";
   FILE *pipe = popen(command.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;
@@ -193,7 +194,9 @@ namespace
         ASSERT_GE(b, 0);
         for (const auto &row : rows)
           if (row[a] > 0 && row[b] > 0)
-            EXPECT_LT(row[a + 1], row[b + 1]) << "t = " << row[0]; // anchors ascending from the tip
+            {
+              EXPECT_LT(row[a + 1], row[b + 1]) << "t = " << row[0]; // anchors ascending from the tip
+            }
       }
   }
 } // namespace

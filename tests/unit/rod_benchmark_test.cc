@@ -1,7 +1,9 @@
 // Classical rod benchmarks (references.md "Suture (Cosserat rod)"): roll-up under an end
-// moment, the large-deflection cantilever against the elastica computed here by
-// shooting, energy behaviour of the implicit dynamics, and the two shipped scenes run
-// through the suturesim command.
+// moment against the closed form of the discrete rod, the large-deflection cantilever
+// against the elastica (shooting here, checked against Mattiasson's published table) with
+// its convergence table, energy behaviour of the implicit dynamics, and the shipped
+// scenes of benchmarks/rod_rollup and benchmarks/rod_cantilever through the suturesim
+// command. Reference values and tolerances come from those folders' reference.json.
 #include <suturesim/rod/generalized_alpha.h>
 #include <suturesim/rod/rod_model.h>
 
@@ -10,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <sstream>
 
 using namespace suturesim::rod;
 using namespace suturesim::test_support;
@@ -30,6 +33,19 @@ namespace
     RodModel model(x, q, s, 1, Vec3::Zero());
     model.constrain(0, {{true, true, true, true, true, true}});
     return model;
+  }
+
+  /// Nodes of a clamped rod along +x rolled up by an end moment M about +z: each of the
+  /// N elements (L0 = L/N) turns by φ = M L0/EI (the Crisfield–Jelenić curvature ψ/L0 is
+  /// M/EI in every element), so x_k = L0 Σ_{j<k} (cos((j+½)φ), sin((j+½)φ), 0).
+  std::vector<Vec3>
+  rolled_up_nodes(const unsigned N, const double L, const double M, const double EI)
+  {
+    const double      L0 = L / N, phi = M * L0 / EI;
+    std::vector<Vec3> x{Vec3::Zero()};
+    for (unsigned j = 0; j < N; ++j)
+      x.push_back(x.back() + L0 * Vec3(std::cos((j + 0.5) * phi), std::sin((j + 0.5) * phi), 0));
+    return x;
   }
 
   /// Inextensible, unshearable elastica of a cantilever (L = EI = 1) under a tip force
@@ -75,8 +91,10 @@ namespace
     return s;
   }
 
-  double
-  cantilever_tip_y(const unsigned N, const double k)
+  /// Tip (x, y) of a clamped unit rod of N elements under the tip force k along −y,
+  /// reached in 10 load steps.
+  Vec3
+  cantilever_tip(const unsigned N, const double k)
   {
     RodModel         model = clamped_rod(N, 1, slender_section());
     NewtonParameters newton;
@@ -87,12 +105,25 @@ namespace
         const auto result     = model.solve(newton);
         EXPECT_TRUE(result.converged) << result.reason;
       }
-    return model.positions().back()[1];
+    return model.positions().back();
+  }
+
+  /// The three components of a vector parameter "a, b, c".
+  Vec3
+  vector_parameter(const RunResult &run, const std::string &path)
+  {
+    std::stringstream s(run_parameter(run, path));
+    Vec3              v;
+    char              comma;
+    s >> v[0] >> comma >> v[1] >> comma >> v[2];
+    return v;
   }
 } // namespace
 
-// M = 2πEI/L closes the rod into a circle: the tip returns to the root (1e-3 L), and the
-// nodes lie on a circle of radius L/2π, up to the chord effect (L/2π)(ψ²/24), ψ = 2π/N.
+// M = 2πEI/L closes the rod into a circle: the tip returns to the root (1e-3 L), and every
+// node lies where the closed form of the discrete rod puts it (1e-6 R, R = L/2π; issue 3).
+// The nodes form a regular polygon of side L/N whose circumradius exceeds R by the chord
+// effect, R_N/R − 1 = ψ²/24 + …, ψ = 2π/N (printed).
 TEST(RodBenchmark, RollUpClosesIntoCircle)
 {
   const unsigned N = 64;
@@ -109,47 +140,81 @@ TEST(RodBenchmark, RollUpClosesIntoCircle)
       ASSERT_TRUE(result.converged) << result.reason;
     }
   EXPECT_LT(model.positions().back().norm(), 1e-3 * L);
-  // the nodes of the discrete solution form a regular polygon of side L/N, whose
-  // circumradius R_N = (L/N)/(2 sin(π/N)) = R (1 + ψ²/24 + ...) tends to R = L/2π
-  const double R = L / (2 * M_PI), RN = (L / N) / (2 * std::sin(M_PI / N));
+  const double R     = L / (2 * M_PI);
+  const auto   exact = rolled_up_nodes(N, L, M, s.moment[2]);
   double       worst = 0;
-  for (const Vec3 &x : model.positions())
-    worst = std::max(worst, std::abs((x - Vec3(0, RN, 0)).norm() - RN));
-  std::printf("roll-up, N = %u: tip %.3e m from the root; nodes within %.3e R of the "
-              "polygon's circle (R_N/R - 1 = %.3e)\n",
-              N, model.positions().back().norm(), worst / R, RN / R - 1);
+  for (unsigned k = 0; k <= N; ++k)
+    worst = std::max(worst, (model.positions()[k] - exact[k]).norm());
+  std::printf("roll-up, N = %u: tip %.3e m from the root; nodes within %.3e R of the closed "
+              "form (chord effect R_N/R - 1 = %.3e)\n",
+              N, model.positions().back().norm(), worst / R, (L / N) / (2 * std::sin(M_PI / N)) / R - 1);
   EXPECT_LT(worst, 1e-6 * R);
-  EXPECT_LT(RN / R - 1, 1e-3);
 }
 
-// Tip deflection within 0.5 % of the elastica for PL²/EI = 1, 3, 10 at 32 elements, and
-// second-order convergence under refinement (one-point integration of linear elements).
-TEST(RodBenchmark, CantileverMatchesElastica)
+// The shooting that gives the elastica reference reproduces Mattiasson's (1981) published
+// table to its last digit (benchmarks/rod_cantilever/reference.json), and the stored
+// elastica value of the shipped scene (PL²/EI = 3) is what the shooting gives.
+TEST(RodBenchmark, ElasticaShootingReproducesThePublishedTable)
 {
-  for (const double k : {1.0, 3.0, 10.0})
+  const auto ref = benchmark_reference("rod_cantilever");
+  const auto &published = ref["published"];
+  const double tolerance = published["tolerance"];
+  for (std::size_t i = 0; i < published["load_PL2_over_EI"].size(); ++i)
     {
-      const double reference = elastica_tip(k).second;
-      std::printf("PL^2/EI = %4.1f: elastica tip y/L = %.8f\n     N   tip y/L       rel. error   rate\n",
-                  k, reference);
+      const double k   = published["load_PL2_over_EI"][i];
+      const auto   tip = elastica_tip(k);
+      std::printf("PL^2/EI = %4.1f: w/L = %.7f (published %.5f), u/L = %.7f (published %.5f)\n", k,
+                  -tip.second, published["w_over_L"][i].get<double>(), 1 - tip.first,
+                  published["u_over_L"][i].get<double>());
+      EXPECT_NEAR(-tip.second, published["w_over_L"][i].get<double>(), tolerance) << k;
+      EXPECT_NEAR(1 - tip.first, published["u_over_L"][i].get<double>(), tolerance) << k;
+    }
+  const auto &stored = ref["elastica"];
+  const auto  tip    = elastica_tip(stored["load_PL2_over_EI"]);
+  EXPECT_NEAR(tip.first, stored["x_over_L"].get<double>(), stored["tolerance"].get<double>());
+  EXPECT_NEAR(tip.second, stored["y_over_L"].get<double>(), stored["tolerance"].get<double>());
+}
+
+// Convergence table of the cantilever against the elastica (reference.json "convergence"):
+// tip error |x_N − x_elastica|/L per refinement and the observed rate, second order by
+// theory, checked on every refinement onto N >= rate_from_elements; at N = 32 the tip
+// deflection is within the issue-3 acceptance (0.5 %) for each load.
+TEST(RodBenchmark, CantileverConvergesToTheElastica)
+{
+  const auto ref = benchmark_reference("rod_cantilever");
+  const auto &c  = ref["convergence"];
+  unsigned    rates = 0, accepted = 0;
+  for (const double k : c["load_PL2_over_EI"].get<std::vector<double>>())
+    {
+      const auto   tip = elastica_tip(k);
+      const Vec3   exact(tip.first, tip.second, 0);
+      std::printf("PL^2/EI = %4.1f, elastica tip (%.8f, %.8f) L\n     N   tip y/L       |tip - elastica|/L   rate\n",
+                  k, tip.first, tip.second);
       double previous = 0;
-      for (const unsigned N : {4u, 8u, 16u, 32u, 64u})
+      for (const unsigned N : c["elements"].get<std::vector<unsigned>>())
         {
-          const double y     = cantilever_tip_y(N, k);
-          const double error = std::abs(y - reference) / std::abs(reference);
+          const Vec3   x     = cantilever_tip(N, k);
+          const double error = (x - exact).norm();
           const double rate  = previous > 0 ? std::log2(previous / error) : 0;
-          std::printf("  %4u   %.8f   %.3e   %s\n", N, y, error,
+          std::printf("  %4u   %.8f   %.3e            %s\n", N, x[1], error,
                       previous > 0 ? std::to_string(rate).substr(0, 4).c_str() : "-");
+          if (N >= c["rate_from_elements"].get<unsigned>())
+            {
+              EXPECT_GE(rate, c["rate_min"].get<double>()) << "PL^2/EI = " << k << ", N = " << N;
+              EXPECT_LE(rate, c["rate_max"].get<double>()) << "PL^2/EI = " << k << ", N = " << N;
+              ++rates;
+            }
           if (N == 32)
             {
-              EXPECT_LT(error, 5e-3) << "PL^2/EI = " << k;
-            }
-          if (N >= 16)
-            {
-              EXPECT_GT(rate, 1.8) << "PL^2/EI = " << k << ", N = " << N;
+              EXPECT_LT(std::abs(x[1] - exact[1]), ref["acceptance"]["relative_tip_deflection"].get<double>() * std::abs(exact[1]))
+                << "PL^2/EI = " << k;
+              ++accepted;
             }
           previous = error;
         }
     }
+  EXPECT_EQ(rates, 3u * 3u); // N = 16, 32, 64 for each of the three loads
+  EXPECT_EQ(accepted, 3u);
 }
 
 namespace
@@ -220,33 +285,60 @@ TEST(RodDynamics, EnergyConservedOrBoundedlyDissipated)
   EXPECT_LT(loss, 0.1);
 }
 
-// The shipped benchmark scenes through the suturesim command (issue 3 acceptance).
-TEST(RodBenchmark, ShippedScenes)
+
+// benchmarks/rod_rollup as shipped: the issue-3 acceptance (tip within 1e-4 m of the root)
+// and, separately, the regression check against the closed form of the discrete rod for
+// the scene's own M, N, E and r, at the tolerance of reference.json (near its measured
+// reproducibility).
+TEST(RodBenchmark, ShippedRollUpScene)
 {
-  {
-    const auto run = run_suturesim("rod_rollup", source_path("parameters/benchmarks/rod_rollup.prm"));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    const auto tip = run.summary["metrics"]["tip_position"];
-    EXPECT_LT(std::hypot(double(tip[0]), double(tip[1]), double(tip[2])), 1e-4);
-    EXPECT_TRUE(std::filesystem::exists(run.directory + "/suture.pvd"));
-    EXPECT_TRUE(std::filesystem::exists(run.directory + "/suture_00010.vtu"));
-  }
-  {
-    const auto run = run_suturesim("rod_cantilever", source_path("parameters/benchmarks/rod_cantilever.prm"));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    const auto   tip       = run.summary["metrics"]["tip_position"];
-    const double reference = elastica_tip(3).second * 0.1;
-    EXPECT_NEAR(double(tip[1]), reference, 5e-3 * std::abs(reference));
-    EXPECT_GT(double(run.summary["metrics"]["max_axial_force"]), 0);
-  }
-  {
-    // a real 3-0 monofilament at dt = 1 ms, where an explicit scheme needs ~1 us
-    const auto run = run_suturesim("suture_swing", source_path("parameters/suture_swing.prm"));
-    ASSERT_EQ(run.exit_code, 0) << run.output;
-    EXPECT_EQ(run.summary["status"], "completed");
-    EXPECT_EQ(run.summary["steps"].size(), 501u) << "every 1 ms step accepted without cut-back";
-    const auto tip = run.summary["metrics"]["tip_position"];
-    EXPECT_LT(double(tip[2]), -0.01) << "the suture fell under gravity";
-    EXPECT_LT(std::hypot(double(tip[0]), double(tip[2])), 0.05 * (1 + 1e-3)) << "and did not stretch";
-  }
+  const auto ref = benchmark_reference("rod_rollup");
+  const auto run = run_suturesim("rod_rollup", "'" + benchmark_scene("rod_rollup") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto   t   = run.summary["metrics"]["tip_position"];
+  const Vec3   tip(t[0], t[1], t[2]);
+  const double r   = std::stod(run_parameter(run, "Suture/Cross section/Radius"));
+  const double E   = std::stod(run_parameter(run, "Suture/Cross section/Young's modulus"));
+  const double EI  = E * M_PI * std::pow(r, 4) / 4;
+  const double M   = vector_parameter(run, "Suture/Loads/End moment")[2];
+  const auto   exact = rolled_up_nodes(std::stoul(run_parameter(run, "Suture/Elements")),
+                                       std::stod(run_parameter(run, "Suture/Straight/Length")), M, EI);
+  std::printf("roll-up scene: tip (%.6e, %.6e, %.6e) m, closed form (%.6e, %.6e) m, difference %.2e m\n",
+              tip[0], tip[1], tip[2], exact.back()[0], exact.back()[1], (tip - exact.back()).norm());
+  EXPECT_LT(tip.norm(), ref["acceptance"]["tip_distance_from_root_m"].get<double>());
+  EXPECT_LT((tip - exact.back()).norm(), ref["regression"]["tip_minus_closed_form_m"].get<double>());
+  EXPECT_TRUE(std::filesystem::exists(run.directory + "/suture.pvd"));
+  EXPECT_TRUE(std::filesystem::exists(run.directory + "/suture_00010.vtu"));
+}
+
+// benchmarks/rod_cantilever as shipped: the issue-3 acceptance against the elastica
+// (0.5 %), and, separately, the regression value of the scene at its measured
+// reproducibility (reference.json "regression").
+TEST(RodBenchmark, ShippedCantileverScene)
+{
+  const auto ref = benchmark_reference("rod_cantilever");
+  const auto run = run_suturesim("rod_cantilever", "'" + benchmark_scene("rod_cantilever") + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto   tip = run.summary["metrics"]["tip_position"];
+  const double L   = std::stod(run_parameter(run, "Suture/Straight/Length"));
+  const double y   = ref["elastica"]["y_over_L"].get<double>() * L;
+  std::printf("cantilever scene: tip (%.10e, %.10e) m; elastica y %.7e m, deflection error %.2e\n",
+              double(tip[0]), double(tip[1]), y, std::abs(double(tip[1]) - y) / std::abs(y));
+  EXPECT_NEAR(double(tip[1]), y, ref["acceptance"]["relative_tip_deflection"].get<double>() * std::abs(y));
+  const auto  &regression = ref["regression"];
+  for (int d = 0; d < 2; ++d)
+    EXPECT_NEAR(double(tip[d]), regression["tip_m"][d].get<double>(), regression["tolerance_m"].get<double>()) << d;
+  EXPECT_GT(double(run.summary["metrics"]["max_axial_force"]), 0);
+}
+
+// a real 3-0 monofilament at dt = 1 ms, where an explicit scheme needs ~1 us
+TEST(RodBenchmark, SutureSwingScene)
+{
+  const auto run = run_suturesim("suture_swing", source_path("parameters/suture_swing.prm"));
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.summary["status"], "completed");
+  EXPECT_EQ(run.summary["steps"].size(), 501u) << "every 1 ms step accepted without cut-back";
+  const auto tip = run.summary["metrics"]["tip_position"];
+  EXPECT_LT(double(tip[2]), -0.01) << "the suture fell under gravity";
+  EXPECT_LT(std::hypot(double(tip[0]), double(tip[2])), 0.05 * (1 + 1e-3)) << "and did not stretch";
 }

@@ -4,8 +4,8 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,6 +25,25 @@ namespace suturesim::test_support
   source_path(const std::string &relative)
   {
     return std::string(SUTURESIM_SOURCE_DIR) + "/" + relative;
+  }
+
+  /// The scene of a benchmark folder: benchmarks/<name>/<name>.prm.
+  inline std::string
+  benchmark_scene(const std::string &name)
+  {
+    return source_path("benchmarks/" + name + "/" + name + ".prm");
+  }
+
+  /// benchmarks/<name>/reference.json: the benchmark's reference values with their
+  /// source and tolerances, the one place where these numbers are written (the folder's
+  /// compare.py reads the same file).
+  inline nlohmann::json
+  benchmark_reference(const std::string &name)
+  {
+    std::ifstream  in(source_path("benchmarks/" + name + "/reference.json"));
+    nlohmann::json reference;
+    in >> reference;
+    return reference;
   }
 
   /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes. The test
@@ -59,6 +78,37 @@ namespace suturesim::test_support
     return rows;
   }
 
+  /// The value of "Sub/Sub/Key" in the run's parameters.prm (every value the run used);
+  /// empty when the key is not there.
+  inline std::string
+  run_parameter(const RunResult &r, const std::string &path)
+  {
+    const auto trim = [](std::string s) {
+      const auto a = s.find_first_not_of(" \t");
+      const auto b = s.find_last_not_of(" \t");
+      return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
+    };
+    std::ifstream            prm(r.directory + "/parameters.prm");
+    std::vector<std::string> sections;
+    for (std::string line; std::getline(prm, line);)
+      {
+        line = trim(line.substr(0, line.find('#')));
+        if (line.rfind("subsection ", 0) == 0)
+          sections.push_back(trim(line.substr(11)));
+        else if (line == "end" && !sections.empty())
+          sections.pop_back();
+        else if (line.rfind("set ", 0) == 0 && line.find('=') != std::string::npos)
+          {
+            std::string key = trim(line.substr(4, line.find('=') - 4));
+            for (auto s = sections.rbegin(); s != sections.rend(); ++s)
+              key = *s + "/" + key;
+            if (key == path)
+              return trim(line.substr(line.find('=') + 1));
+          }
+      }
+    return "";
+  }
+
   /// Runs `[launcher] suturesim args --output <fresh folder>`.
   inline RunResult
   run_suturesim(const std::string &name, const std::string &args,
@@ -66,8 +116,9 @@ namespace suturesim::test_support
   {
     namespace fs = std::filesystem;
     RunResult r;
-    // one folder per build tree: test runs of two checkouts at once must not share it
-    const std::string tree = std::to_string(std::hash<std::string>{}(SUTURESIM_BINARY) % 100000);
+    // one folder per test name and build tree: checkouts testing at the same time on one
+    // machine must not remove each other's runs
+    static const std::string tree = std::to_string(std::hash<std::string>{}(SUTURESIM_BINARY) % 100000);
     r.directory = (fs::temp_directory_path() / ("suturesim_test_" + tree + "_" + name)).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
