@@ -111,6 +111,7 @@ TEST(RealtimeModels, FollowTheLeaderTensionIsTheQuasiSpringFormula)
   // the averaging produced (on a curved slack suture those come out longer than l, so
   // the seed's quasi-spring reports some tension even with the ends closer than its
   // length)
+  unsigned taut = 0;
   for (const double stretch : {-0.1, 0.0, 0.01, 0.05})
     {
       ToolPose pose = right;
@@ -120,10 +121,15 @@ TEST(RealtimeModels, FollowTheLeaderTensionIsTheQuasiSpringFormula)
       EXPECT_NEAR(forces[0].force.norm(), T, 1e-12 + 1e-9 * T) << "stretch " << stretch;
       EXPECT_NEAR(forces[1].force.norm(), T, 1e-12 + 1e-9 * T);
       if (T > 0)
-        EXPECT_GT(forces[0].force.dot(s.nodes.x.col(s.suture.begin + 1) - s.nodes.x.col(s.suture.begin)), 0);
+        {
+          EXPECT_GT(forces[0].force.dot(s.nodes.x.col(s.suture.begin + 1) - s.nodes.x.col(s.suture.begin)), 0);
+          ++taut;
+        }
       std::printf("[ FTL ] stretch %+.2f: tension %.6e N (formula %.6e N)\n", stretch,
                   forces[0].force.norm(), T);
     }
+  std::printf("[ FTL ] taut at %u of the 4 stretches\n", taut);
+  EXPECT_EQ(taut, 4u); // measured: the averaged links are longer than l in every pose
 }
 
 namespace
