@@ -265,6 +265,18 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   // the bites carry between their pierce points, and the check sees those
   EXPECT_EQ(m5["suture_nodes_inside_tissue"].get<int>(), 0) << m5["suture_penetration_depth"];
   EXPECT_GT(m5["suture_nodes_in_tracts"].get<int>(), 5);
+  // Regression values of this deterministic run (the checks above are the physics):
+  // stored 2026-11-25 from `suturesim --output DIR` (the default scene). Spread measured
+  // on this machine (AMD EPYC, GCC 12): bit-identical with the hot kernels' x86-64-v3
+  // (FMA) clones and with their baseline build (this scene's quasi-static tissue and
+  // FTL suture do not call them); an input moved by one ulp (shear modulus, angular
+  // speed) moves them by at most 6e-16 (closure) and 2.2e-15 (tie-off) relative, so
+  // the run does not amplify round-off. Tolerance 1e-12 relative: ~500 times that
+  // spread, room for another compiler's or libm's rounding; closing one haptic step
+  // earlier or later moves the tension by 2e-3 N (4.6e-4 relative).
+  EXPECT_NEAR(m5["closure_tension"].get<double>(), 4.474548216066862, 1e-12 * 4.474548216066862);
+  EXPECT_NEAR(m5["tie_off_tension"].get<double>(), 4.848175935808833, 1e-12 * 4.848175935808833);
+  EXPECT_NEAR(m5["closure_time"].get<double>(), 6.644, 1e-9); // a whole haptic step (1 ms)
 
   const auto r6 = run_suturesim("stitch_bite_6mm", stitch +
                                                      " --set 'Needle/Pass/Entry point=-0.006, 0, 0.006'"

@@ -222,6 +222,7 @@ TEST(VtuOutput, RodFilesHoldSectionForcesThatCarryTheEndLoad)
   const auto  &axial = rod.get("PointData", "axial_force").values, &shear = rod.get("PointData", "shear_force").values;
   for (std::size_t p = 0; p < rod.n_points; ++p)
     {
+      // measured 4e-8 (Float32 and Newton's tolerance)
       EXPECT_NEAR(std::hypot(axial[p], shear[p]), P, 1e-6 * P) << "point " << p;
       EXPECT_EQ(rod.get("PointData", "contact_force").values[p], 0.0);
       EXPECT_NEAR(rod.get("PointData", "radius").values[p], 0.5e-3, 0.5e-3 * float_rounding);
@@ -233,5 +234,5 @@ TEST(VtuOutput, RodFilesHoldSectionForcesThatCarryTheEndLoad)
   const auto &x   = rod.points().values;
   const auto &tip = r.summary["metrics"]["tip_position"];
   for (unsigned d = 0; d < 3; ++d)
-    EXPECT_NEAR(x[x.size() - 3 + d], tip[d].get<double>(), 0.1 * float_rounding + 1e-12) << d;
+    EXPECT_NEAR(x[x.size() - 3 + d], tip[d].get<double>(), float_rounding * 0.1) << d; // |x| < 0.1 m
 }
