@@ -219,9 +219,9 @@ TEST(AccurateNeedle, CoupledNewtonContractsLinearlyWithFrictionAndReachesRoundOf
   // 4.5e-5, 8.8e-8, 1.8e-10 N: a constant contraction of about 2e-3 an iteration, order
   // q = log(r₊/r)/log(r/r₋) = 1.00–1.13 (linear, not quadratic). Without friction
   // (μ = 0) the same steps fall 3.6e-3, 1.0e-6, 1.1e-12 N: to round-off in two
-  // iterations. The condensation is exact (tests/unit/condensation_test.cc); the
-  // linear rate comes with the friction in slip, whose part of the coupled tangent is
-  // off by about that 2e-3.
+  // iterations. The condensation is exact (tests/unit/condensation_test.cc), so the
+  // linear rate comes with the friction in slip: its part of the coupled tangent is
+  // what is inexact (a relative error of about 2e-3 gives that rate).
   const std::string base = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=1.5'"
                                          " --set 'Time/Output interval=0.5'"
                                          " --set 'Pierce points/Coupling tolerance=1e-10'";

@@ -28,7 +28,7 @@ namespace
   std::string
   work_folder(const std::string &name)
   {
-    const auto dir = fs::temp_directory_path() / ("suturesim_mesh_" + name);
+    const auto dir = test_support::scratch_path() / ("mesh_" + name);
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir.string();

@@ -26,6 +26,17 @@ namespace suturesim::test_support
     return std::string(SUTURESIM_SOURCE_DIR) + "/" + relative;
   }
 
+  /// The folder the tests write their runs into: one per build tree (not the machine's
+  /// shared temporary folder, where two builds' test runs of the same scene cleared
+  /// and read each other's outputs).
+  inline std::filesystem::path
+  scratch_path()
+  {
+    const std::filesystem::path dir(SUTURESIM_TEST_SCRATCH);
+    std::filesystem::create_directories(dir);
+    return dir;
+  }
+
   /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes. The test
   /// process is an MPI singleton: its OMPI_/PMIX_ variables would make the child mpirun
   /// join it, so they are removed first.
@@ -65,7 +76,7 @@ namespace suturesim::test_support
   {
     namespace fs = std::filesystem;
     RunResult r;
-    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + name)).string();
+    r.directory = (scratch_path() / name).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
     const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +
