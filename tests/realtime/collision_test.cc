@@ -125,7 +125,7 @@ TEST(SurfaceContact, SutureLyingAcrossABlockStaysOnItsTopAndIsNotPushedOverTheEd
   const auto   mesh = test_support::box_mesh(0.04, 0.04, H, 8, 8, 2);
   WorldSetup   w;
   w.mesh              = &mesh;
-  w.material          = {6e3, 0.45, 1060};
+  w.material          = {6e3, 0.45, 1060, {}};
   w.tissue            = test_support::make_model<TissueModel::Registry>("volume");
   w.suture            = test_support::make_model<SutureModel::Registry>("xpbd-rod");
   w.suture_geometry   = test_support::straight_suture(99, 0.06, Vector3d(-0.01, 0.02, H + 2 * r),

@@ -18,7 +18,7 @@ TEST(RealtimeModels, HomeSpringsRestoreTheRestShapeAfterTheLoadIsRemoved)
   const auto mesh = test_support::box_mesh(0.02, 0.02, 0.01, 4, 4, 2);
   WorldSetup w;
   w.mesh       = &mesh;
-  w.material   = {1e4, 0.3, 1000};
+  w.material   = {1e4, 0.3, 1000, {}};
   w.tissue     = test_support::make_model<TissueModel::Registry>("surface");
   w.integrator = test_support::make_model<Integrator::Registry>("quasi-static", {{"Tissue damping", "2"}});
   w.rate       = 1000;
@@ -289,7 +289,7 @@ TEST(RealtimeModels, XpbdSutureIterationsResolveTheSutureAndLeaveTheTissueAlone)
     const auto  mesh = test_support::box_mesh(0.02, 0.02, 0.01, 4, 4, 2);
     WorldSetup  w;
     w.mesh     = &mesh;
-    w.material = {6e3, 0.45, 1060};
+    w.material = {6e3, 0.45, 1060, {}};
     w.tissue   = test_support::make_model<TissueModel::Registry>("volume");
     w.suture   = test_support::make_model<SutureModel::Registry>("xpbd-rod");
     w.suture_geometry =

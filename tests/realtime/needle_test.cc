@@ -37,7 +37,7 @@ namespace
 
     WorldSetup w;
     w.mesh     = &mesh;
-    w.material = {1e5, 0.3, 1100};
+    w.material = {1e5, 0.3, 1100, {}};
     w.tissue   = test_support::make_model<TissueModel::Registry>("volume");
     const tools::Pose start = pass.trajectory.pose(0);
     if (with_suture)
