@@ -137,7 +137,7 @@ TEST(Condensation, SutureStiffnessIsTheDerivativeOfTheForceWithTheSutureInEquili
       const double          error    = (G - expected).norm() / G.norm();
       std::printf("[ condensation ] %s: |G| = %.4e N/m, |G_12| = %.4e N/m, |G - (df/dy - dF/dy)| / |G| = %.2e\n",
                   along > 0 ? "slip" : "stick", G.norm(), G.block<3, 3>(0, 3).norm(), error);
-      // measured 5e-9 and 7e-9 (2025-11): the central differences of G's blocks
+      // measured 5e-9 and 7e-9 (2026-11-25): the central differences of G's blocks
       // (1e-8 m, 1e-7 rad) and of this test (1e-7 m) and the suture's solve tolerance;
       // a term left out of G would show at 1e-3 and above
       EXPECT_LT(error, 1e-6) << "G\n" << G << "\nfrom differences\n" << expected;

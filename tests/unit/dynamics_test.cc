@@ -145,7 +145,7 @@ TEST(Dynamics, RayleighDampingDecaysTheBarsModesAtTheirModalRates)
   // mode's amplitude falls as e^{−a_M t/2}, to 0.22 by 30 ms), then stiffness-
   // proportional a_K = 5e-4 s (ζ₁ = a_K ω₁/2 = 0.069; the higher modes more, beyond
   // ω = 2/a_K = 4e3 rad/s over-damped). The FE + IDA histories follow the damped
-  // series to 1 % of the undamped peak 2 u_s (measured 0.47 % and 0.65 %, 2025-11: the
+  // series to 1 % of the undamped peak 2 u_s (measured 0.47 % and 0.65 %, 2026-11-25: the
   // 8 Q2 elements' dispersion, as undamped); the undamped series misses them by 34 %
   // and 17 %, so the damping's closed form is what is met.
   const double static_tip = 1000 * 10 * 0.08 * 0.08 / (2 * 2e5);

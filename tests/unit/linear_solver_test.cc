@@ -64,7 +64,7 @@ TEST(LinearSolver, KrylovMethodsWithAlgebraicMultigridGiveTheDirectSolution)
                   method.c_str(), preconditioner.c_str(), s.report.iterations, s.report.linear_iterations, error);
       // Newton stops at 1e-9 of the first residual (Tissue/Newton defaults) whichever the
       // solver, the Krylov solves at 1e-2 of that: the solutions agree to the Newton
-      // tolerance (measured 2.6e-12 to 1.0e-11, 2025-11: the last update is quadratic)
+      // tolerance (measured 2.6e-12 to 1.0e-11, 2026-11-25: the last update is quadratic)
       EXPECT_LT(error, 1e-9) << method << " + " << preconditioner;
       EXPECT_GT(s.report.linear_iterations, 0u);
       ++compared;
