@@ -165,11 +165,19 @@ namespace suturesim::rod
 
     std::string presets = "custom";
     std::string preset_doc;
+    // the table's values as a reader gives them (6 digits: 0.2745 mm, not the double's
+    // 0.27450000000000002)
+    const auto text = [](const double value) {
+      std::ostringstream out;
+      out << std::setprecision(6) << value;
+      return out.str();
+    };
     for (const auto &p : preset_table())
       {
         presets += "|" + p.name;
-        preset_doc += p.name + ": d = " + Utilities::to_string(p.diameter * 1e3) + " mm, E = " +
-                      Utilities::to_string(p.E / 1e9) + " GPa (" + p.source + "). ";
+        preset_doc += p.name + ": d = " + text(p.diameter * 1e3) + " mm, E = " + text(p.E / 1e9) +
+                      " GPa, nu = " + text(p.nu) + ", density = " + text(p.density) + " kg/m^3 (" + p.source +
+                      "). ";
       }
     prm.declare_entry("Preset", d.preset, Patterns::Selection(presets),
                       "A named suture (USP size + material) that sets the cross-section's "

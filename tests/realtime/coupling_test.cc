@@ -268,12 +268,15 @@ TEST(NeedlePuncture, ATipThatJumpsAThinGapInOneStepLeavesTheFirstBodyBeforeEnter
   EXPECT_NEAR(touched_at[2], 0.0101, 1e-12);
   EXPECT_NEAR(touched_at[3], 0.0201, 1e-12);
   // every puncture within one step (0.3 N) of the threshold
+  unsigned punctures = 0;
   for (const auto &e : puncture.events())
     if (e.kind.rfind("puncture", 0) == 0)
       {
         EXPECT_GE(e.force, 0.5);
         EXPECT_LT(e.force, 0.8);
+        ++punctures;
       }
+  EXPECT_EQ(punctures, 4u); // two passes, each in and out
 }
 
 TEST(NeedlePuncture, ATipThatBacksOffReleasesTheTouch)

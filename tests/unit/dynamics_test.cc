@@ -10,6 +10,8 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
+#include <cstdio>
 
 using namespace suturesim::test_support;
 
@@ -95,7 +97,7 @@ TEST(Dynamics, BarDrivenAtBothEndsFollowsTheWaveEquation)
       ASSERT_EQ(v.size(), 10u);
       const double t        = v[0];
       const auto [mid, force] = driven_bar(t);
-      rows.push_back({t, v[7] - A * (w * t - std::sin(w * t)), mid, v[1] + v[4], force});
+      rows.push_back({{t, v[7] - A * (w * t - std::sin(w * t)), mid, v[1] + v[4], force}});
       max_w = std::max(max_w, std::abs(mid));
       max_r = std::max(max_r, std::abs(force));
     }
@@ -107,4 +109,71 @@ TEST(Dynamics, BarDrivenAtBothEndsFollowsTheWaveEquation)
       EXPECT_NEAR(row[1], row[2], 0.002 * max_w) << "t = " << row[0];
       EXPECT_NEAR(row[3], row[4], 0.005 * max_r) << "t = " << row[0];
     }
+}
+
+namespace
+{
+  /// The same bar and load with Rayleigh damping C = a_M M + a_K K (a fixed-free bar's
+  /// modes are orthogonal under both, so each mode keeps its own equation)
+  ///   q̈_n + (a_M + a_K ω_n²) q̇_n + ω_n² q_n = ω_n² b_n,  q_n(0) = q̇_n(0) = 0,
+  /// whose step response is q_n = b_n [1 + (s₂ e^{s₁t} − s₁ e^{s₂t}) / (s₁ − s₂)] with
+  /// s₁,₂ the roots of s² + (a_M + a_K ω²) s + ω² (complex when under-damped: then
+  /// 1 − e^{−ζωt}(cos ω_D t + ζ/√(1−ζ²) sin ω_D t), ζ = a_M/(2ω) + a_K ω/2; Chopra,
+  /// Dynamics of Structures, §4.3 and §11.4).
+  double
+  damped_tip_series(const double t, const double a_M, const double a_K)
+  {
+    const double L = 0.08, rho = 1000, g = 10, E = 2e5, c = std::sqrt(E / rho);
+    double       u = 0;
+    for (int n = 1; n <= 2000; ++n)
+      {
+        const double               k = (2 * n - 1) * M_PI / (2 * L), w = c * k;
+        const double               b = 2 * rho * g / (E * L * k * k * k);
+        const double               damping = a_M + a_K * w * w;
+        const std::complex<double> root  = std::sqrt(std::complex<double>(damping * damping - 4 * w * w, 0));
+        const std::complex<double> s1    = 0.5 * (-damping + root), s2 = 0.5 * (-damping - root);
+        const double               q = b * (1.0 + (s2 * std::exp(s1 * t) - s1 * std::exp(s2 * t)) / (s1 - s2)).real();
+        u += q * ((n % 2) ? 1.0 : -1.0);
+      }
+    return u;
+  }
+} // namespace
+
+TEST(Dynamics, RayleighDampingDecaysTheBarsModesAtTheirModalRates)
+{
+  // tests/data/bar_dynamics.prm with damping: mass-proportional a_M = 100 1/s (every
+  // mode's amplitude falls as e^{−a_M t/2}, to 0.22 by 30 ms), then stiffness-
+  // proportional a_K = 5e-4 s (ζ₁ = a_K ω₁/2 = 0.069; the higher modes more, beyond
+  // ω = 2/a_K = 4e3 rad/s over-damped). The FE + IDA histories follow the damped
+  // series to 1 % of the undamped peak 2 u_s (measured 0.47 % and 0.65 %, 2026-11-25: the
+  // 8 Q2 elements' dispersion, as undamped); the undamped series misses them by 34 %
+  // and 17 %, so the damping's closed form is what is met.
+  const double static_tip = 1000 * 10 * 0.08 * 0.08 / (2 * 2e5);
+  unsigned     runs       = 0;
+  for (const auto &[a_M, a_K] : std::vector<std::pair<double, double>>{{100, 0}, {0, 5e-4}})
+    {
+      const auto r = run_suturesim("bar_rayleigh", source_path("tests/data/bar_dynamics.prm") +
+                                                     " --set 'Time/ida/Rayleigh mass coefficient=" +
+                                                     std::to_string(a_M) +
+                                                     "' --set 'Time/ida/Rayleigh stiffness coefficient=" +
+                                                     std::to_string(a_K) + "'");
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      double   max_error = 0, max_undamped = 0;
+      unsigned rows      = 0;
+      for (const auto &v : read_forces(r))
+        {
+          ASSERT_EQ(v.size(), 7u);
+          max_error    = std::max(max_error, std::abs(v[4] - damped_tip_series(v[0], a_M, a_K)));
+          max_undamped = std::max(max_undamped, std::abs(v[4] - tip_series(v[0])));
+          ++rows;
+        }
+      std::printf("[ Rayleigh ] a_M = %g 1/s, a_K = %g s: %u rows, max |u_FE - u_damped| = %.3e m, "
+                  "max |u_FE - u_undamped| = %.3e m (static tip %.3e m)\n",
+                  a_M, a_K, rows, max_error, max_undamped, static_tip);
+      EXPECT_GE(rows, 30u);
+      EXPECT_LE(max_error, 0.01 * 2 * static_tip) << "a_M = " << a_M << ", a_K = " << a_K;
+      EXPECT_GT(max_undamped, 0.1 * 2 * static_tip) << "a_M = " << a_M << ", a_K = " << a_K;
+      ++runs;
+    }
+  EXPECT_EQ(runs, 2u);
 }

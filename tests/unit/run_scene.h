@@ -5,7 +5,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -44,6 +43,17 @@ namespace suturesim::test_support
     nlohmann::json reference;
     in >> reference;
     return reference;
+  }
+
+  /// The folder the tests write their runs into: one per build tree (not the machine's
+  /// shared temporary folder, where two builds' test runs of the same scene cleared
+  /// and read each other's outputs).
+  inline std::filesystem::path
+  scratch_path()
+  {
+    const std::filesystem::path dir(SUTURESIM_TEST_SCRATCH);
+    std::filesystem::create_directories(dir);
+    return dir;
   }
 
   /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes. The test
@@ -116,10 +126,7 @@ namespace suturesim::test_support
   {
     namespace fs = std::filesystem;
     RunResult r;
-    // one folder per test name and build tree: checkouts testing at the same time on one
-    // machine must not remove each other's runs
-    static const std::string tree = std::to_string(std::hash<std::string>{}(SUTURESIM_BINARY) % 100000);
-    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + tree + "_" + name)).string();
+    r.directory = (scratch_path() / name).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
     const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +

@@ -1,0 +1,272 @@
+// The gmsh readers on their own: mesh/gmsh_reader.h (the realtime path's tetrahedra,
+// through the gmsh API) and mesh/mesh_loader.h (the accurate path's hexahedra, through
+// deal.II's GridIn; a .geo meshed by the gmsh CLI first): node and element counts,
+// physical groups as tags, names and boundary ids, and a one-line InputError naming the
+// file for what they cannot read.
+#include "run_scene.h"
+
+#include <suturesim/core/error.h>
+#include <suturesim/mesh/gmsh_reader.h>
+#include <suturesim/mesh/mesh_loader.h>
+
+#include <deal.II/distributed/tria.h>
+
+#include <Eigen/Geometry>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using namespace suturesim;
+namespace fs = std::filesystem;
+
+namespace
+{
+  /// A fresh folder for one test's files.
+  std::string
+  work_folder(const std::string &name)
+  {
+    const auto dir = test_support::scratch_path() / ("mesh_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir.string();
+  }
+
+  std::string
+  write(const std::string &dir, const std::string &name, const std::string &text)
+  {
+    const std::string file = dir + "/" + name;
+    std::ofstream(file) << text;
+    return file;
+  }
+
+  mesh::MeshParameters
+  gmsh_source(const std::string &file, std::map<std::string, double> geo = {})
+  {
+    mesh::MeshParameters p;
+    p.source         = "gmsh";
+    p.file           = file;
+    p.geo_parameters = std::move(geo);
+    return p;
+  }
+
+  /// The message of the InputError @p f throws ("" if it throws none).
+  template <typename F>
+  std::string
+  input_error(F &&f)
+  {
+    try
+      {
+        f();
+      }
+    catch (const InputError &e)
+      {
+        return e.what();
+      }
+    return "";
+  }
+
+  // The pyramid over the unit square with its apex above the origin, cut along the
+  // square's diagonal into two tetrahedra: physical volume "dermis" (7), the two
+  // triangles of the base as "bottom" (3); msh 2.2 as gmsh writes it.
+  const std::string two_tetrahedra = R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 3 "bottom"
+3 7 "dermis"
+$EndPhysicalNames
+$Nodes
+5
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 0 0 1
+$EndNodes
+$Elements
+4
+1 2 2 3 1 1 3 2
+2 2 2 3 1 1 4 3
+3 4 2 7 1 1 2 3 5
+4 4 2 7 1 1 3 4 5
+$EndElements
+)";
+
+  // Two hexahedra side by side along x, physical volume "dermis" (7), the face x = 0
+  // as "left" (1) and both bottom quadrangles as "bottom" (2).
+  const std::string two_hexahedra = R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+3
+2 1 "left"
+2 2 "bottom"
+3 7 "dermis"
+$EndPhysicalNames
+$Nodes
+12
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 0 0 1
+6 1 0 1
+7 1 1 1
+8 0 1 1
+9 2 0 0
+10 2 1 0
+11 2 0 1
+12 2 1 1
+$EndNodes
+$Elements
+5
+1 3 2 1 1 1 4 8 5
+2 3 2 2 2 1 2 3 4
+3 3 2 2 2 2 9 10 3
+4 5 2 7 1 1 2 3 4 5 6 7 8
+5 5 2 7 1 2 9 10 3 6 11 12 7
+$EndElements
+)";
+} // namespace
+
+TEST(GmshReader, ReadsTetrahedraWithTheirPhysicalGroupsAndNames)
+{
+  const std::string dir  = work_folder("tetrahedra");
+  const auto        mesh = mesh::read_simplex_mesh(gmsh_source(write(dir, "two.msh", two_tetrahedra)), dir);
+  EXPECT_EQ(mesh.vertices.cols(), 5);
+  ASSERT_EQ(mesh.tetrahedra.size(), 2u);
+  EXPECT_EQ(mesh.tetrahedron_tags, (std::vector<int>{7, 7}));
+  EXPECT_NEAR(mesh.volume(0) + mesh.volume(1), 1.0 / 3.0, 1e-15); // the pyramid over the unit square
+  EXPECT_EQ(mesh.triangles.size(), 2u);
+  EXPECT_EQ(mesh.triangle_tags, (std::vector<int>{3, 3}));
+  EXPECT_EQ(mesh.boundary_names.at(3), "bottom");
+  EXPECT_EQ(mesh.material_names.at(7), "dermis");
+  EXPECT_EQ(mesh.boundary_id("bottom"), 3);
+  EXPECT_EQ(mesh.boundary_id("3"), 3);
+  EXPECT_EQ(mesh.boundary_id("side"), -1);
+  EXPECT_NE(mesh.description.find("5 vertices, 2 tetrahedra"), std::string::npos) << mesh.description;
+
+  // tests/data/tetrahedron.msh: one group, no names: the tag is the name
+  const auto one = mesh::read_simplex_mesh(gmsh_source(test_support::source_path("tests/data/tetrahedron.msh")), dir);
+  ASSERT_EQ(one.tetrahedra.size(), 1u);
+  EXPECT_NEAR(one.volume(0), 1.0 / 6.0, 1e-15);
+  EXPECT_EQ(one.material_names.at(1), "1");
+  EXPECT_TRUE(one.triangles.empty());
+}
+
+TEST(GmshReader, ReadsTheBlockGeoThroughGmshIntoAClosedMeshOfItsVolume)
+{
+  // meshes/block.geo (40 x 40 x 10 mm) at h = 5 mm: the tetrahedra fill the block, the
+  // "bottom" triangles tile z = 0
+  const std::string dir  = work_folder("block_geo");
+  const auto        mesh = mesh::read_simplex_mesh(
+    gmsh_source(test_support::source_path("meshes/block.geo"), {{"h", 0.005}, {"hexahedra", 0}}), dir);
+  ASSERT_GT(mesh.tetrahedra.size(), 100u);
+  double volume = 0;
+  for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+    volume += mesh.volume(t);
+  EXPECT_NEAR(volume, 0.04 * 0.04 * 0.01, 1e-12 * 0.04 * 0.04 * 0.01);
+  const int bottom = mesh.boundary_id("bottom"), top = mesh.boundary_id("top");
+  ASSERT_GE(bottom, 0);
+  ASSERT_GE(top, 0);
+  double   area = 0;
+  unsigned on_bottom = 0;
+  for (std::size_t k = 0; k < mesh.triangles.size(); ++k)
+    if (mesh.triangle_tags[k] == bottom)
+      {
+        const auto    &t = mesh.triangles[k];
+        const Eigen::Vector3d a = mesh.vertices.col(t[0]), b = mesh.vertices.col(t[1]), c = mesh.vertices.col(t[2]);
+        for (const auto &v : {a, b, c})
+          EXPECT_EQ(v[2], 0.0);
+        area += 0.5 * (b - a).cross(c - a).norm();
+        ++on_bottom;
+      }
+  EXPECT_GT(on_bottom, 10u);
+  EXPECT_NEAR(area, 0.04 * 0.04, 1e-12);
+  // the boundary extracted from the tetrahedra carries those tags
+  const auto surface = mesh::extract_boundary(mesh);
+  EXPECT_FALSE(mesh::vertices_with_tag(surface, bottom).empty());
+}
+
+TEST(GmshReader, TheAccuratePathReadsHexahedraWithBoundaryIdsAndNames)
+{
+  const std::string                               dir = work_folder("hexahedra");
+  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+  const auto info = mesh::create_mesh(gmsh_source(write(dir, "two.msh", two_hexahedra)), dir, tria);
+  EXPECT_EQ(tria.n_global_active_cells(), 2u);
+  EXPECT_EQ(tria.n_vertices(), 12u);
+  EXPECT_EQ(info.boundary_names.at(1), "left");
+  EXPECT_EQ(info.boundary_names.at(2), "bottom");
+  EXPECT_EQ(info.material_names.at(7), "dermis");
+  std::map<dealii::types::boundary_id, unsigned> faces;
+  for (const auto &cell : tria.active_cell_iterators())
+    {
+      EXPECT_EQ(cell->material_id(), 7u);
+      for (const auto f : cell->face_indices())
+        if (cell->face(f)->at_boundary())
+          {
+            const auto id = cell->face(f)->boundary_id();
+            ++faces[id];
+            // counted in faces[] below
+            if (id == 1)
+              {
+                EXPECT_NEAR(cell->face(f)->center()[0], 0.0, 1e-15);
+              }
+            if (id == 2)
+              {
+                EXPECT_NEAR(cell->face(f)->center()[2], 0.0, 1e-15);
+              }
+          }
+    }
+  EXPECT_EQ(faces[1], 1u);
+  EXPECT_EQ(faces[2], 2u);
+  EXPECT_EQ(faces[0], 7u); // the other faces: deal.II's default id, named for outputs
+  EXPECT_EQ(info.boundary_names.at(0), "boundary_0");
+
+  // meshes/block.geo with hexahedra at h = 5 mm: 8 x 8 x 2 cells, its named faces
+  dealii::parallel::distributed::Triangulation<3> block(MPI_COMM_WORLD);
+  const auto geo = mesh::create_mesh(
+    gmsh_source(test_support::source_path("meshes/block.geo"), {{"h", 0.005}, {"hexahedra", 1}}), dir, block);
+  EXPECT_EQ(block.n_global_active_cells(), 128u);
+  for (const char *name : {"bottom", "top"})
+    {
+      unsigned found = 0;
+      for (const auto &[id, n] : geo.boundary_names)
+        found += n == name;
+      EXPECT_EQ(found, 1u) << name;
+    }
+}
+
+TEST(GmshReader, MalformedInputIsOneLineNamingTheFile)
+{
+  const std::string dir = work_folder("malformed");
+  // a file cut short inside its nodes
+  const std::string cut = write(dir, "cut.msh", two_hexahedra.substr(0, two_hexahedra.find("7 1 1 1")));
+  // an inverted tetrahedron (two vertices swapped)
+  std::string inverted = two_tetrahedra;
+  inverted.replace(inverted.find("3 4 2 7 1 1 2 3 5"), 17, "3 4 2 7 1 2 1 3 5");
+  const std::string flipped = write(dir, "flipped.msh", inverted);
+  unsigned          checked = 0;
+  const auto        expect_one_line = [&](const std::string &message, const std::string &file, const char *fragment) {
+    EXPECT_FALSE(message.empty()) << "no InputError for " << file;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    EXPECT_EQ(message.rfind(file, 0), 0u) << message;
+    EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    ++checked;
+  };
+  dealii::parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+  expect_one_line(input_error([&] { mesh::create_mesh(gmsh_source(cut), dir, tria); }), cut, "cannot read");
+  expect_one_line(input_error([&] { mesh::read_simplex_mesh(gmsh_source(cut), dir); }), cut, "cannot read");
+  expect_one_line(input_error([&] { mesh::read_simplex_mesh(gmsh_source(flipped), dir); }), flipped,
+                  "tetrahedron 0 is inverted");
+  const std::string hex = test_support::source_path("tests/data/inverted_hex.msh");
+  dealii::parallel::distributed::Triangulation<3> again(MPI_COMM_WORLD);
+  expect_one_line(input_error([&] { mesh::create_mesh(gmsh_source(hex), dir, again); }), hex, "is inverted");
+  // the realtime path's reader refuses hexahedra, naming the .geo switch
+  expect_one_line(input_error([&] { mesh::read_simplex_mesh(gmsh_source(hex), dir); }), hex, "needs tetrahedra");
+  EXPECT_EQ(checked, 5u);
+}
