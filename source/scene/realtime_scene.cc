@@ -297,8 +297,8 @@ namespace suturesim::scene
                                  b = tissue_mesh.vertices.col(tri[1]),
                                  c = tissue_mesh.vertices.col(tri[2]);
               const rt::Vector3d m = (a + b + c) / 3;
-              Loaded l{{world.tissue()->node(tri[0]), world.tissue()->node(tri[1]),
-                        world.tissue()->node(tri[2])},
+              Loaded l{{{world.tissue()->node(tri[0]), world.tissue()->node(tri[1]),
+                         world.tissue()->node(tri[2])}},
                        Point<3>(m[0], m[1], m[2]),
                        0.5 * (b - a).cross(c - a).norm()};
               loaded.push_back(l);

@@ -95,7 +95,8 @@ TEST(Dynamics, BarDrivenAtBothEndsFollowsTheWaveEquation)
       ASSERT_EQ(v.size(), 10u);
       const double t        = v[0];
       const auto [mid, force] = driven_bar(t);
-      rows.push_back({t, v[7] - A * (w * t - std::sin(w * t)), mid, v[1] + v[4], force});
+      rows.push_back(
+        {{t, v[7] - A * (w * t - std::sin(w * t)), mid, v[1] + v[4], force}});
       max_w = std::max(max_w, std::abs(mid));
       max_r = std::max(max_r, std::abs(force));
     }

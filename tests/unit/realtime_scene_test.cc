@@ -191,9 +191,16 @@ namespace
         const int b = index("pierce_" + std::to_string(k + 1) + "_state [0:none|1:stick|2:slip]");
         ASSERT_GE(a, 0);
         ASSERT_GE(b, 0);
+        std::size_t both = 0;
         for (const auto &row : rows)
           if (row[a] > 0 && row[b] > 0)
-            EXPECT_LT(row[a + 1], row[b + 1]) << "t = " << row[0]; // anchors ascending from the tip
+            {
+              EXPECT_LT(row[a + 1], row[b + 1]) << "t = " << row[0]; // anchors ascending from the tip
+              ++both;
+            }
+        std::printf("[ pierce order ] points %d and %d both present in %zu of %zu rows\n", k,
+                    k + 1, both, rows.size());
+        EXPECT_GT(both, 0u) << "points " << k << " and " << k + 1 << " never both present";
       }
   }
 } // namespace
