@@ -58,14 +58,17 @@ namespace suturesim::test_support
     return rows;
   }
 
-  /// Runs `[launcher] suturesim args --output <fresh folder>`.
+  /// Runs `[launcher] suturesim args --output <fresh folder>`. The folder is in the build
+  /// tree that holds the suturesim binary (test_runs/<name>), not in /tmp: two build
+  /// trees, or two clones, testing at once on one machine must not share it.
   inline RunResult
   run_suturesim(const std::string &name, const std::string &args,
                 const std::string &launcher = "")
   {
     namespace fs = std::filesystem;
     RunResult r;
-    r.directory = (fs::temp_directory_path() / ("suturesim_test_" + name)).string();
+    r.directory = (fs::path(SUTURESIM_BINARY).parent_path() / "test_runs" / name).string();
+    fs::create_directories(fs::path(r.directory).parent_path());
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
     const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +
