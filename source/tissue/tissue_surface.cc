@@ -93,13 +93,13 @@ namespace suturesim::tissue
         const std::uint32_t a = node(g, 0), b = node(g, 1), c = node(g, 3), d = node(g, 2);
         if (!g.flip)
           {
-            s.triangles.push_back({a, b, c});
-            s.triangles.push_back({a, c, d});
+            s.triangles.push_back({{a, b, c}});
+            s.triangles.push_back({{a, c, d}});
           }
         else
           {
-            s.triangles.push_back({a, c, b});
-            s.triangles.push_back({a, d, c});
+            s.triangles.push_back({{a, c, b}});
+            s.triangles.push_back({{a, d, c}});
           }
         s.ids.insert(s.ids.end(), 2, g.id);
       }

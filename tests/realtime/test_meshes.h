@@ -23,14 +23,14 @@ namespace suturesim::test_support
       for (unsigned j = 0; j <= ny; ++j)
         for (unsigned i = 0; i <= nx; ++i)
           m.vertices.col(index(i, j, k)) << a * i / nx, b * j / ny, c * k / nz;
-    const std::array<std::array<unsigned, 3>, 6> permutations{
-      {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+    const unsigned permutations[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                         {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
     for (unsigned k = 0; k < nz; ++k)
       for (unsigned j = 0; j < ny; ++j)
         for (unsigned i = 0; i < nx; ++i)
           for (const auto &p : permutations)
             {
-              std::array<unsigned, 3> corner{i, j, k};
+              std::array<unsigned, 3> corner{{i, j, k}};
               mesh::Tetrahedron       t;
               t[0] = index(corner[0], corner[1], corner[2]);
               for (unsigned s = 0; s < 3; ++s)

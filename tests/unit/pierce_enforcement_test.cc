@@ -37,7 +37,7 @@ namespace
   {
     tools::CurvedNeedle               needle{0.008, 0.75 * M_PI, 0.0005};
     Eigen::Matrix3Xd                  reference = (Eigen::Matrix3Xd(3, 3) << 1, 1.01, 1, 0, 0, 0.01, 0, 0, 0).finished();
-    std::vector<mesh::Triangle>       triangles{{0, 1, 2}};
+    std::vector<mesh::Triangle>       triangles{{{0, 1, 2}}};
 
     /// A needle with the thread @p nodes (element lengths @p lengths; its rotations
     /// @p rotations, or nullptr for the polyline) and one pierce point anchored at

@@ -18,7 +18,8 @@ namespace
   struct Wound
   {
     Eigen::Matrix3Xd                          X;
-    std::vector<std::array<std::uint32_t, 3>> triangles{{0, 1, 2}, {1, 3, 2}, {0, 4, 1}, {1, 4, 5}};
+    std::vector<std::array<std::uint32_t, 3>> triangles{
+      {{0, 1, 2}}, {{1, 3, 2}}, {{0, 4, 1}}, {{1, 4, 5}}};
     std::vector<types::boundary_id>           ids{3, 3, 4, 4};
     Wound()
       : X(3, 6)
