@@ -226,7 +226,7 @@ TEST(AccurateNeedle, CoupledNewtonContractsLinearlyWithFrictionAndReachesRoundOf
   // what is inexact (a relative error of about 2e-3 gives that rate).
   const std::string base = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=1.5'"
                                          " --set 'Time/Output interval=0.5'"
-                                         " --set 'Pierce points/Coupling tolerance=1e-10'";
+                                         " --set 'Pierce points/Accurate/Coupling tolerance=1e-10'";
   const double round_off = 1e-10; // N: 100 times the residual reached without friction
   unsigned     runs      = 0;
   for (const double mu : {0.2, 0.0})

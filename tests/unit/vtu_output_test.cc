@@ -205,11 +205,11 @@ TEST(VtuOutput, RealtimeFilesHoldTheDeformedTissueAndTheThreadsTension)
 
 TEST(VtuOutput, RodFilesHoldSectionForcesThatCarryTheEndLoad)
 {
-  // parameters/benchmarks/rod_cantilever.prm: clamped at x = 0, the end force
+  // benchmarks/rod_cantilever/rod_cantilever.prm: clamped at x = 0, the end force
   // P = (0, −0.0442, 0) N alone; every section carries P (statics of the cut-off part:
   // its resultant in the section's frame, axial² + shear² = |P|², whatever the
   // deflection), the tip is metrics.tip_position, contact forces are zero
-  const auto r = run_suturesim("vtu_rod", "'" + source_path("parameters/benchmarks/rod_cantilever.prm") + "'");
+  const auto r = run_suturesim("vtu_rod", "'" + benchmark_scene("rod_cantilever") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Vtu rod = read_vtu(r.directory + "/suture_00005.vtu");
   EXPECT_NEAR(rod.get("FieldData", "TIME").values.at(0), 1.0, 1e-7);
