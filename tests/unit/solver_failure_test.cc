@@ -1,0 +1,116 @@
+// A solve that fails after its step halvings (the accurate tissue, the suture alone, the
+// coupled needle pass) stops with exit code 3 and one error line that names the step and
+// the last converged state; summary.json says "failed" with the message, and every output
+// ends at that state: the last .pvd entry and the last forces.csv row are at the time the
+// message names, never at the failed step's. Each run is made to fail by allowing Newton
+// too few iterations for the step (the nonlinear problem cannot converge in them).
+#include "run_scene.h"
+#include "vtu_reader.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+using namespace suturesim::test_support;
+
+namespace
+{
+  /// The (timestep, file) of the last DataSet of a .pvd collection.
+  std::pair<double, std::string>
+  last_pvd_entry(const std::string &pvd)
+  {
+    std::ifstream     in(pvd);
+    std::stringstream s;
+    s << in.rdbuf();
+    const std::string text = s.str();
+    const std::regex  entry(R"re(<DataSet timestep="([^"]*)"[^>]*file="([^"]*)")re");
+    std::pair<double, std::string> last{-1.0, ""};
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), entry); it != std::sregex_iterator(); ++it)
+      last = {std::stod((*it)[1].str()), (*it)[2].str()};
+    return last;
+  }
+
+  std::size_t
+  count_lines_starting(const std::string &text, const std::string &prefix)
+  {
+    std::size_t        n = 0;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+      n += line.rfind(prefix, 0) == 0;
+    return n;
+  }
+
+  /// What every failed run shows: exit 3, one error line, summary.json "failed".
+  void
+  expect_failed(const RunResult &r)
+  {
+    EXPECT_EQ(r.exit_code, 3) << r.output;
+    EXPECT_EQ(count_lines_starting(r.output, "error: "), 1u) << r.output;
+    ASSERT_TRUE(r.has_summary) << r.output;
+    EXPECT_EQ(r.summary["status"], "failed");
+    ASSERT_TRUE(r.summary.contains("error"));
+    EXPECT_NE(r.summary["error"].get<std::string>().find("failed"), std::string::npos);
+  }
+
+  /// The .pvd @p series, its last file and forces.csv end at @p converged_time.
+  void
+  expect_outputs_end_at(const RunResult &r, const double converged_time, const std::string &series)
+  {
+    const auto [time, file] = last_pvd_entry(r.directory + "/" + series);
+    EXPECT_NEAR(time, converged_time, 1e-12) << series;
+    const Vtu last = read_vtu(r.directory + "/" + file);
+    EXPECT_NEAR(last.get("FieldData", "TIME").values.at(0), converged_time, 1e-7) << file;
+
+    const auto rows = read_forces(r);
+    ASSERT_FALSE(rows.empty());
+    EXPECT_NEAR(rows.back().at(0), converged_time, 1e-12) << "forces.csv goes past the converged state";
+  }
+} // namespace
+
+TEST(SolverFailure, TissueNewtonThatCannotConvergeKeepsTheInitialState)
+{
+  // Cook's membrane (2 × 2 Q1) in two load steps; one Newton iteration cannot solve the
+  // first, nor its half after the one halving allowed.
+  const auto r = run_suturesim("fail_tissue", "'" + source_path("tests/data/cook_coarse.prm") +
+                                                "' --set 'Tissue/Newton/Max iterations=1'"
+                                                " --set 'Time/Max cutbacks=1'");
+  EXPECT_NE(r.output.find("error: Newton failed at step 1 (t = 0.25 s) after 1 step halvings"), std::string::npos)
+    << r.output;
+  expect_failed(r);
+  expect_outputs_end_at(r, 0.0, "tissue.pvd");
+}
+
+TEST(SolverFailure, SutureNewtonThatCannotConvergeKeepsTheInitialState)
+{
+  const auto r = run_suturesim("fail_suture", "'" + benchmark_scene("rod_cantilever") +
+                                                "' --set 'Suture/Newton/Max iterations=1'"
+                                                " --set 'Time/Max cutbacks=1'");
+  EXPECT_NE(r.output.find("error: suture load step from t = 0.000000 s to 0.100000 s failed after 1 step halvings"),
+            std::string::npos)
+    << r.output;
+  expect_failed(r);
+  expect_outputs_end_at(r, 0.0, "suture.pvd");
+}
+
+TEST(SolverFailure, CoupledNeedlePassThatCannotConvergeKeepsItsLastAcceptedStep)
+{
+  // The accurate needle pass: two tissue Newton iterations solve the approach, not the
+  // first step with a pierce point on the needle (its first halving also fails).
+  const auto r = run_suturesim("fail_needle", "'" + source_path("parameters/needle_pass.prm") +
+                                                "' --set Model=accurate --set 'Time/Step size=0.04'"
+                                                " --set 'Time/End time=1.5'"
+                                                " --set 'Tissue/Newton/Max iterations=2'"
+                                                " --set 'Time/Max cutbacks=1'");
+  std::smatch       m;
+  const std::regex  last(R"(last converged state t = ([0-9.eE+-]+) s)");
+  ASSERT_TRUE(std::regex_search(r.output, m, last)) << r.output;
+  const double converged = std::stod(m[1].str());
+  EXPECT_GT(converged, 0.0) << "the pass failed before any step was accepted";
+  EXPECT_NE(r.output.find("coupled Newton: no convergence in 2 iterations"), std::string::npos) << r.output;
+  expect_failed(r);
+  expect_outputs_end_at(r, converged, "tissue.pvd");
+  expect_outputs_end_at(r, converged, "suture.pvd");
+  EXPECT_NEAR(r.summary["metrics"]["simulated_time"].get<double>(), converged, 1e-12);
+}
