@@ -15,6 +15,8 @@
 
 #include "run_scene.h"
 
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -33,16 +35,23 @@ namespace
 
 TEST(Parameters, RoundTripOfEveryShippedScene)
 {
-  for (const std::string scene :
-       {"parameters/skin_pad_pull.prm", "benchmarks/cook_membrane/cook_membrane.prm",
-        "benchmarks/block_patch_load/block_patch_load.prm",
-        // with model sections: the printed state is the common text and the chosen
-        // section merged, and reads back as itself
-        "parameters/stitch_interrupted.prm"})
+  // Every scene in parameters/ and benchmarks/<case>/. With model sections the printed
+  // state is the common text and the chosen section merged, and reads back as itself.
+  namespace fs = std::filesystem;
+  std::vector<std::string> scenes;
+  for (const auto &entry : fs::recursive_directory_iterator(test_support::source_path("parameters")))
+    if (entry.path().extension() == ".prm")
+      scenes.push_back(entry.path().string());
+  for (const auto &entry : fs::recursive_directory_iterator(test_support::source_path("benchmarks")))
+    if (entry.path().extension() == ".prm")
+      scenes.push_back(entry.path().string());
+  std::printf("[ round trip ] %zu shipped scenes\n", scenes.size());
+  EXPECT_GE(scenes.size(), 9u) << "shipped scenes went missing";
+  for (const auto &scene : scenes)
     {
       dealii::ParameterHandler first;
       scene::Simulation::declare_parameters(first);
-      const auto file = ParameterFile::from_file(first, test_support::source_path(scene));
+      const auto file = ParameterFile::from_file(first, scene);
       scene::Simulation parsed(first, file);
       const std::string printed = print(first);
 
@@ -51,7 +60,7 @@ TEST(Parameters, RoundTripOfEveryShippedScene)
       ParameterFile again(second, printed, "printed.prm", ".");
       scene::Simulation reparsed(second, again);
       EXPECT_EQ(print(second), printed) << scene;
-      EXPECT_EQ(reparsed.name(), parsed.name());
+      EXPECT_EQ(reparsed.name(), parsed.name()) << scene;
     }
 }
 
