@@ -5,7 +5,7 @@
 # Writes <output>/realtime and <output>/accurate, and the overlaid figure
 # <output>/realtime/needle_forces.{png,pdf}. The accurate run carries the Cosserat
 # suture through the pierce points (Bodies = tissue and suture, as in the file) on Q1
-# hexahedra of 2 mm with 20 ms load steps (about 5 minutes); the realtime run is the
+# hexahedra of 2 mm with 20 ms load steps (several minutes); the realtime run is the
 # scene as shipped.
 set -euo pipefail
 bin=${1:-build/suturesim}

@@ -2,9 +2,9 @@
 # Every figure of the README from fresh runs, one command:
 #   postprocess/readme_figures.sh [path/to/suturesim] [output folder]
 # Runs the stitch in both paths (scripts/run_default_scene.sh: the realtime scene as
-# shipped and the accurate one, about 3 minutes) and draws its picture (plot_scene.py)
+# shipped and the accurate one, several minutes) and draws its picture (plot_scene.py)
 # and curves (plot_stitch.py, both paths overlaid), then both paths through needle_pass
-# (needle_pass_figure.sh, about 6 minutes), and copies the PNGs the README shows into
+# (needle_pass_figure.sh, several minutes), and copies the PNGs the README shows into
 # docs/figures/.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)

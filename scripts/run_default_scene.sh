@@ -4,7 +4,7 @@
 #   scripts/run_default_scene.sh [path/to/suturesim] [output folder]
 # realtime: the scene as shipped (output folder); accurate: the same file with
 # Model = accurate, at the resolution of its "subsection Model accurate" (Q1-P0
-# hexahedra of 2 mm, 20 ms steps; output folder + "_accurate"; about 4 minutes on
+# hexahedra of 2 mm, 20 ms steps; output folder + "_accurate"; several minutes on
 # 2 cores). Then the curves of both, overlaid (stitch_curves.{png,pdf}), and the
 # realtime run's picture (scene.{png,pdf}), in the realtime run's folder.
 # docs/interrupted_stitch.md explains the settings.
