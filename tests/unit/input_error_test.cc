@@ -91,7 +91,7 @@ TEST(InputErrors, UnwritableOutputFolder)
 {
   // Under a regular file no folder can be made, even as root.
   const std::string blocked = source_path("tests/data/cook_coarse.prm") + "/out";
-  const std::string cmd = std::string(SUTURESIM_BINARY) + " " +
+  const std::string cmd = std::string(suturesim_binary()) + " " +
                           source_path("tests/data/cook_coarse.prm") + " --output '" +
                           blocked + "' 2>&1";
   FILE       *pipe = popen(cmd.c_str(), "r");

@@ -11,6 +11,16 @@
 
 namespace suturesim::test_support
 {
+  /// The source tree, the suturesim binary and the scratch folder of this build
+  /// (tests/unit/test_paths.cc: the one file compiled with these paths, so that the other
+  /// test files' compiler-cache entries do not depend on where the tree is checked out).
+  const char *
+  source_directory();
+  const char *
+  suturesim_binary();
+  const char *
+  scratch_directory();
+
   struct RunResult
   {
     int            exit_code = -1;
@@ -23,7 +33,7 @@ namespace suturesim::test_support
   inline std::string
   source_path(const std::string &relative)
   {
-    return std::string(SUTURESIM_SOURCE_DIR) + "/" + relative;
+    return std::string(source_directory()) + "/" + relative;
   }
 
   /// The scene of a benchmark folder: benchmarks/<name>/<name>.prm.
@@ -51,7 +61,7 @@ namespace suturesim::test_support
   inline std::filesystem::path
   scratch_path()
   {
-    const std::filesystem::path dir(SUTURESIM_TEST_SCRATCH);
+    const std::filesystem::path dir(scratch_directory());
     std::filesystem::create_directories(dir);
     return dir;
   }
@@ -129,7 +139,7 @@ namespace suturesim::test_support
     r.directory = (scratch_path() / name).string();
     fs::remove_all(r.directory);
     const std::string log = r.directory + ".log";
-    const std::string cmd = launcher + " " + SUTURESIM_BINARY + " " + args + " --output '" +
+    const std::string cmd = launcher + " " + suturesim_binary() + " " + args + " --output '" +
                             r.directory + "' > '" + log + "' 2>&1";
     const int status = std::system(cmd.c_str());
     r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
