@@ -1,0 +1,146 @@
+// The study's error metrics (study/curve_metrics.h) and trade-off (study/pareto.h) on
+// synthetic data whose answers are known in closed form.
+#include <suturesim/study/curve_metrics.h>
+#include <suturesim/study/pareto.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+using namespace suturesim::study;
+
+namespace
+{
+  Curve
+  sampled(const double a, const double b, const std::size_t n, double (*f)(double))
+  {
+    Curve c;
+    for (std::size_t k = 0; k <= n; ++k)
+      {
+        c.x.push_back(a + (b - a) * k / n);
+        c.y.push_back(f(c.x.back()));
+      }
+    return c;
+  }
+} // namespace
+
+TEST(StudyMetrics, CurveErrorsOfAConstantOffsetAndAScaledCurve)
+{
+  // r = 1 + x on [0, 2]; c = r + 0.1: ∫ 0.01 dx / ∫ (1 + x)² dx = 0.02 / (26/3), so
+  // e₂ = sqrt(0.06/26); e∞ = 0.1/3; peak (3.1 − 3)/3.
+  const Curve r = sampled(0, 2, 4, [](const double x) { return 1 + x; });
+  // the candidate sampled elsewhere (7 pieces): interpolation of a line is exact
+  const Curve c  = sampled(0, 2, 7, [](const double x) { return 1.1 + x; });
+  const auto  e  = curve_errors(c, r, 0, 2);
+  EXPECT_NEAR(e.relative_l2, std::sqrt(0.06 / 26), 1e-14);
+  EXPECT_NEAR(e.relative_linf, 0.1 / 3, 1e-14);
+  EXPECT_NEAR(e.peak, 0.1 / 3, 1e-14);
+
+  // c = 0.8 r: every relative error is 0.2, the peak 20 % low
+  const Curve low = sampled(0, 2, 3, [](const double x) { return 0.8 * (1 + x); });
+  const auto  f   = curve_errors(low, r, 0.5, 1.5);
+  EXPECT_NEAR(f.relative_l2, 0.2, 1e-14);
+  EXPECT_NEAR(f.relative_linf, 0.2, 1e-14);
+  EXPECT_NEAR(f.peak, -0.2 * 2.5 / 2.5, 1e-14);
+}
+
+TEST(StudyMetrics, L2IsExactForPiecewiseLinearCurvesSampledApart)
+{
+  // r = 1 on [0, 1] (samples at the ends only); c = h·hat, the hat of height 1 at 0.5
+  // (samples 0, 0.5, 1): ∫ (c − r)² = ∫ (h·hat − 1)² = h²/3 − h + 1 (∫hat = 1/2,
+  // ∫hat² = 1/3), ∫ r² = 1; a quadrature on the samples of one curve only would miss it.
+  const double h = 3;
+  Curve        r{{0, 1}, {1, 1}};
+  Curve        c{{0, 0.5, 1}, {0, h, 0}};
+  const auto   e = curve_errors(c, r, 0, 1);
+  EXPECT_NEAR(e.relative_l2, std::sqrt(1 - h + h * h / 3), 1e-14);
+  EXPECT_NEAR(e.relative_linf, h - 1, 1e-14);
+  EXPECT_NEAR(e.peak, h - 1, 1e-14);
+}
+
+TEST(StudyMetrics, EventWarpAlignsPhasesSoThatAShiftedCurveHasNoError)
+{
+  // The reference rises on [1, 2] and falls on [2, 4]; the candidate does the same on
+  // [1.5, 2.1] and [2.1, 3.0]: after the warp its phases coincide with the reference's.
+  const auto shape = [](const double s, const int phase) { return phase == 0 ? s : 1 - 0.5 * s; };
+  Curve      r, c;
+  // both sampled at their events (the kinks), as runs record the step of an event
+  for (int k = 0; k <= 60; ++k)
+    {
+      const double s = k / 60.0;
+      r.x.push_back(1 + 3 * s);
+      r.y.push_back(r.x.back() < 2 ? shape(r.x.back() - 1, 0) : shape((r.x.back() - 2) / 2, 1));
+    }
+  for (int k = 0; k <= 30; ++k)
+    {
+      const double x = 1.5 + 1.5 * k / 30.0;
+      c.x.push_back(x);
+      c.y.push_back(x < 2.1 ? shape((x - 1.5) / 0.6, 0) : shape((x - 2.1) / 0.9, 1));
+    }
+  const std::vector<double> ce{1.5, 2.1, 3.0}, re{1, 2, 4};
+  const auto                phases = phase_errors(c, r, ce, re);
+  ASSERT_EQ(phases.size(), 2u);
+  for (const auto &p : phases)
+    {
+      EXPECT_LT(p.relative_l2, 1e-14);
+      EXPECT_LT(p.relative_linf, 1e-14);
+    }
+  // without the warp the same curves differ
+  EXPECT_GT(curve_errors(c, r, 1.5, 3.0).relative_l2, 0.1);
+  EXPECT_THROW(warp_to_events(c, {1.5, 2.1}, re), std::invalid_argument);
+  EXPECT_THROW(warp_to_events(c, {2.1, 1.5, 3.0}, re), std::invalid_argument);
+}
+
+TEST(StudyMetrics, RelativeErrorsRefuseAVanishingReference)
+{
+  EXPECT_DOUBLE_EQ(relative_error(4.47, 8.94), -0.5);
+  EXPECT_THROW(relative_error(1, 0), std::invalid_argument);
+  const Curve zero{{0, 1}, {0, 0}}, one{{0, 1}, {1, 1}};
+  EXPECT_THROW(curve_errors(one, zero, 0, 1), std::invalid_argument);
+  EXPECT_THROW(curve_errors(one, one, 0.5, 2), std::invalid_argument);
+  EXPECT_THROW(curve_errors(one, one, 0.5, 0.5), std::invalid_argument);
+}
+
+TEST(StudyPareto, FrontOfASyntheticSetAgainstBruteForce)
+{
+  // A known set: (cost, error) with a front (1, 9), (2, 5), (4, 2), (8, 1); dominated
+  // and failed cases around it.
+  std::vector<TradeOff> cases{{4, 2},   {1, 9},   {3, 6},          {2, 5},  {8, 1},
+                              {9, 1},   {2, 7},   {0.5, 0.1, false}, {5, 2}, {8, 1.5}};
+  const auto front = pareto_front(cases);
+  EXPECT_EQ(front, (std::vector<std::size_t>{1, 3, 0, 4}));
+  EXPECT_EQ(cheapest_within(cases, 5.0), std::optional<std::size_t>(3));
+  EXPECT_EQ(cheapest_within(cases, 1.0), std::optional<std::size_t>(4));
+  EXPECT_FALSE(cheapest_within(cases, 0.5).has_value()) << "a failed case was chosen";
+
+  // random sets: the front is exactly the completed cases no completed case dominates
+  std::mt19937                           random(11);
+  std::uniform_int_distribution<int>     value(0, 20);
+  std::bernoulli_distribution            failed(0.1);
+  std::size_t                            checked = 0;
+  for (int trial = 0; trial < 200; ++trial)
+    {
+      std::vector<TradeOff> set;
+      for (int i = 0; i < 30; ++i)
+        set.push_back({double(value(random)), double(value(random)), !failed(random)});
+      std::vector<std::size_t> brute;
+      for (std::size_t i = 0; i < set.size(); ++i)
+        {
+          if (!set[i].completed)
+            continue;
+          bool dominated = false;
+          for (std::size_t j = 0; j < set.size(); ++j)
+            dominated |= set[j].completed && set[j].cost <= set[i].cost && set[j].error <= set[i].error &&
+                         (set[j].cost < set[i].cost || set[j].error < set[i].error);
+          if (!dominated)
+            brute.push_back(i);
+        }
+      auto front_set = pareto_front(set);
+      std::sort(front_set.begin(), front_set.end());
+      EXPECT_EQ(front_set, brute) << "trial " << trial;
+      checked += brute.size();
+    }
+  EXPECT_GT(checked, 200u);
+}
