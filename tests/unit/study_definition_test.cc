@@ -1,0 +1,84 @@
+// Study files (study/study_definition.h): the cases a study expands to, and one-line
+// errors naming the study file's line for what a case could not run with.
+#include <suturesim/core/error.h>
+#include <suturesim/study/study_definition.h>
+
+#include "run_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+
+using namespace suturesim;
+using namespace suturesim::test_support;
+
+namespace
+{
+  /// Writes @p text as a study file into the scratch folder and returns the error of
+  /// reading it (empty if there was none).
+  std::string
+  error_of(const std::string &name, const std::string &text)
+  {
+    const auto dir = scratch_path() / "studies";
+    std::filesystem::create_directories(dir);
+    const std::string file = (dir / (name + ".prm")).string();
+    std::ofstream(file) << text;
+    try
+      {
+        study::StudyDefinition::read(file);
+      }
+    catch (const InputError &e)
+      {
+        return e.what();
+      }
+    return "";
+  }
+
+  const std::string header = "set Name = bad\nset Base scene = " + source_path("tests/data/cook_coarse.prm") + "\n";
+} // namespace
+
+TEST(StudyDefinition, AxesMultiplyAndListedCasesFollow)
+{
+  const auto d = study::StudyDefinition::read(source_path("tests/data/studies/cook_small.prm"));
+  EXPECT_EQ(d.name, "cook_small");
+  EXPECT_EQ(d.base_scene, source_path("tests/data/cook_coarse.prm"));
+  EXPECT_EQ(d.reference.settings,
+            (std::vector<std::string>{"Tissue/Element degree=2", "Mesh/Elements per edge=8"}));
+  ASSERT_EQ(d.cases.size(), 5u);
+  const std::vector<std::string> names{"1_0.5", "1_0.25", "2_0.5", "2_0.25", "fine_mesh"};
+  for (std::size_t k = 0; k < names.size(); ++k)
+    EXPECT_EQ(d.cases[k].name, names[k]);
+  EXPECT_EQ(d.cases[1].settings,
+            (std::vector<std::string>{"Mesh/Elements per edge=2", "Tissue/Element degree=1", "Time/Step size=0.25"}));
+  EXPECT_EQ(d.cases[4].settings,
+            (std::vector<std::string>{"Mesh/Elements per edge=2", "Mesh/Elements per edge=4"}));
+}
+
+TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
+{
+  // line 4 holds the axes in each of these
+  const std::string axes = "subsection Cases\n  set Axes = ";
+  struct Bad
+  {
+    std::string name, text, expected;
+  };
+  const std::vector<Bad> cases{
+    {"unknown_path", header + axes + "Tissue/Nonsense = 1 | 2\nend\n", "unknown_path.prm:4: Cases/Axes: case '1'"},
+    {"bad_value", header + axes + "Tissue/Element degree = 1 | seven\nend\n", "Cases/Axes: case 'seven'"},
+    {"empty_axis", header + axes + "Time/Step size = \nend\n", ":4: Cases/Axes: the axis 'Time/Step size =' has no values"},
+    {"no_cases", header, "Cases/Axes (default): the study has no cases"},
+    {"same_name", header + "subsection Cases\n  set List = a: Time/Step size=0.5; a: Time/Step size=0.25\nend\n",
+     ":4: Cases/List: two cases are named 'a'"},
+    {"no_base", "set Name = x\n", "Base scene (default): a study needs a base scene"},
+    {"bad_reference", header + "subsection Reference\n  set Settings = Model=nonsense\nend\n",
+     ":4: Reference/Settings: case 'reference'"},
+  };
+  for (const auto &c : cases)
+    {
+      const std::string what = error_of(c.name, c.text);
+      std::printf("[ study error ] %s\n", what.c_str());
+      EXPECT_NE(what.find(c.expected), std::string::npos) << c.name << ": " << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << c.name << ": " << what;
+    }
+}
