@@ -8,10 +8,17 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <iomanip>
 #include <sstream>
+#include <vector>
 
 #ifndef SUTURESIM_GMSH
 #  define SUTURESIM_GMSH "gmsh"
@@ -211,6 +218,43 @@ namespace suturesim::mesh
     }
   } // namespace
 
+  namespace
+  {
+    /// Runs gmsh on the scene's .geo with an argument vector (no shell: a file name or a
+    /// geo-parameter key is never read as a command), its output into @p log. Returns
+    /// gmsh's exit status, -1 if it could not be started or did not exit normally.
+    int
+    run_gmsh(const MeshParameters &p, const std::string &msh, const std::string &log)
+    {
+      std::vector<std::string> args{SUTURESIM_GMSH, "-3", "-format", "msh22", "-nt", "1"};
+      for (const auto &[k, v] : p.geo_parameters)
+        {
+          std::ostringstream value;
+          value << std::setprecision(17) << v;
+          args.insert(args.end(), {"-setnumber", k, value.str()});
+        }
+      args.insert(args.end(), {"-o", msh, p.file});
+      std::vector<char *> argv;
+      for (auto &a : args)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+
+      posix_spawn_file_actions_t actions;
+      posix_spawn_file_actions_init(&actions);
+      posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+      pid_t     pid     = 0;
+      const int started = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+      posix_spawn_file_actions_destroy(&actions);
+      if (started != 0)
+        return -1;
+      int wstatus = 0;
+      if (waitpid(pid, &wstatus, 0) != pid || !WIFEXITED(wstatus))
+        return -1;
+      return WEXITSTATUS(wstatus);
+    }
+  } // namespace
+
   std::string
   mesh_file(const MeshParameters &p, const std::string &work_directory)
   {
@@ -221,13 +265,8 @@ namespace suturesim::mesh
     int               status = 0;
     if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
       {
-        std::ostringstream cmd;
-        cmd << SUTURESIM_GMSH << " -3 -format msh22 -nt 1";
-        for (const auto &[k, v] : p.geo_parameters)
-          cmd << " -setnumber " << k << " " << std::setprecision(17) << v;
-        cmd << " -o '" << msh << "' '" << p.file << "' > '" << log << "' 2>&1";
         fs::remove(msh);
-        status = std::system(cmd.str().c_str());
+        status = run_gmsh(p, msh, log);
         if (status == 0 && !fs::exists(msh))
           status = -1;
       }
