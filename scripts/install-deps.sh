@@ -15,6 +15,7 @@ packages=(
   numdiff
   libopenblas0-pthread    # optimised BLAS/LAPACK: MUMPS spends its time in dense BLAS-3
   python3-matplotlib python3-numpy   # postprocess/
+  snakemake               # suturesim study --export snakemake: a study as a workflow (tested)
 )
 
 missing=()

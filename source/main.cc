@@ -3,6 +3,7 @@
 #include <suturesim/core/version.h>
 #include <suturesim/scene/default_scene.h>
 #include <suturesim/scene/simulation.h>
+#include <suturesim/study/study_command.h>
 
 #include <deal.II/base/mpi.h>
 
@@ -24,13 +25,18 @@ namespace
     "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
     "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
     "                the file and its 'subsection Model <path>' settings\n"
-    "  --help        this text and every parameter with its unit and range\n";
+    "  --help        this text and every parameter with its unit and range\n"
+    "       suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
+    "                 runs a study's cases and measures them against its reference (docs/studies.md)\n";
 }
 
 int
 main(int argc, char **argv)
 {
   using namespace suturesim;
+  // A study starts its cases as processes of their own: it is not an MPI process itself.
+  if (argc > 1 && std::string(argv[1]) == "study")
+    return study::study_command(std::vector<std::string>(argv + 2, argv + argc));
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 

@@ -354,10 +354,16 @@ namespace suturesim
     const fs::path local = fs::path(directory) / path;
     if (fs::exists(local))
       return local.lexically_normal().string();
-    const fs::path project = fs::path(SUTURESIM_SOURCE_DIR) / path;
+    const fs::path project = project_path(path);
     if (fs::exists(project))
       return project.lexically_normal().string();
     return local.lexically_normal().string();
+  }
+
+  std::string
+  project_path(const std::string &relative)
+  {
+    return (std::filesystem::path(SUTURESIM_SOURCE_DIR) / relative).lexically_normal().string();
   }
 
   const dealii::Patterns::List &

@@ -454,7 +454,7 @@ namespace suturesim::realtime
         if ((taken_index[k] >= 0 || p.at.on_suture) && !p.passed_swage)
           {
             p.passed_swage = true;
-            events_on_thread.push_back({"on_suture", time, tissue_point(p, x), N});
+            events_on_thread.push_back({"onto_suture", time, tissue_point(p, x), N});
           }
         zeta_work.push_back(p.anchor);
       }

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <set>
 
 namespace suturesim::study
@@ -24,29 +26,82 @@ namespace suturesim::study
       return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
     }
 
-    /// The non-empty trimmed parts of @p text between @p separator.
+    /// The non-empty trimmed parts of @p text between @p separator; a separator inside
+    /// double quotes does not split (the quotes stay, for unquote()).
     std::vector<std::string>
     split(const std::string &text, const char separator)
     {
       std::vector<std::string> parts;
-      std::size_t              start = 0;
-      while (start <= text.size())
-        {
-          const auto end  = std::min(text.find(separator, start), text.size());
-          const auto part = trim(text.substr(start, end - start));
-          if (!part.empty())
-            parts.push_back(part);
-          start = end + 1;
-        }
+      std::string              part;
+      bool                     quoted = false;
+      for (const char c : text + separator)
+        if (c == '"')
+          quoted = !quoted, part += c;
+        else if (c == separator && !quoted)
+          {
+            if (!trim(part).empty())
+              parts.push_back(trim(part));
+            part.clear();
+          }
+        else
+          part += c;
       return parts;
+    }
+
+    std::string
+    unquote(const std::string &s)
+    {
+      std::string out;
+      for (const char c : s)
+        if (c != '"')
+          out += c;
+      return trim(out);
+    }
+
+    /// "Path/Key=value" settings of @p text (separated by ","), unquoted.
+    std::vector<std::string>
+    settings(const std::string &text)
+    {
+      std::vector<std::string> out;
+      for (const auto &s : split(text, ','))
+        out.push_back(unquote(s));
+      return out;
+    }
+
+    /// "name: number" pairs separated by ","; errors at @p key of @p scope.
+    std::vector<std::pair<std::string, double>>
+    named_numbers(const std::string &text, const ParameterScope &scope, const std::string &key)
+    {
+      std::vector<std::pair<std::string, double>> out;
+      for (const auto &item : split(text, ','))
+        {
+          const auto colon = item.rfind(':');
+          scope.require(colon != std::string::npos && colon > 0, key, "'" + item + "' is not 'name: number'");
+          const std::string number = trim(item.substr(colon + 1));
+          char             *end    = nullptr;
+          const double      value  = std::strtod(number.c_str(), &end);
+          scope.require(!number.empty() && *end == '\0' && std::isfinite(value), key,
+                        "'" + number + "' in '" + item + "' is not a number");
+          out.emplace_back(trim(item.substr(0, colon)), value);
+        }
+      return out;
     }
 
     std::string
     file_name_part(const std::string &value)
     {
+      // other characters become '_', runs of them one '_' ("h: 0.004, hexahedra: 0" -> h_0.004_hexahedra_0)
       std::string name;
       for (const char c : value)
-        name += (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-') ? c : '_';
+        {
+          const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-';
+          if (keep)
+            name += c;
+          else if (!name.empty() && name.back() != '_')
+            name += '_';
+        }
+      if (!name.empty() && name.back() == '_')
+        name.pop_back();
       return name;
     }
 
@@ -59,7 +114,7 @@ namespace suturesim::study
       prm.enter_subsection("Reference");
       prm.declare_entry("Settings", "", Anything(),
                         "Settings of the reference case over the base scene: \"Path/Key=value\", "
-                        "separated by commas. Unit: none.");
+                        "separated by commas (a part in double quotes keeps its commas). Unit: none.");
       prm.leave_subsection();
       prm.enter_subsection("Cases");
       prm.declare_entry("Settings", "", Anything(),
@@ -70,6 +125,48 @@ namespace suturesim::study
       prm.declare_entry("List", "", Anything(),
                         "Further cases: \"name: Path/Key=value, ...\", separated by semicolons. Unit: none.");
       prm.leave_subsection();
+      prm.enter_subsection("Metrics");
+      prm.declare_entry("Scalars", "", Anything(),
+                        "summary.json metrics compared by relative error (v - v_ref)/|v_ref|, separated by "
+                        "commas; nested ones with dots (gaps.mid.final). Unit: none.");
+      prm.declare_entry("Probes", "", Anything(),
+                        "Tissue probes compared by |u - u_ref|/|u_ref| of their displacement "
+                        "(<probe>_displacement_x,y,z); also their maximum, probes.max. Unit: none.");
+      prm.declare_entry("Curves", "", Anything(),
+                        "forces.csv columns (name without unit) compared by relative L2 and L-infinity "
+                        "error and peak error (study/curve_metrics.h). Unit: none.");
+      prm.declare_entry("Curve alignment", "time", dealii::Patterns::Selection("time|events"),
+                        "Compare curves at equal time, or phase by phase between the events listed in "
+                        "'Alignment events' (each phase mapped onto the reference's). Unit: none.");
+      prm.declare_entry("Alignment events", "", Anything(),
+                        "Event kinds of summary.json bounding the phases, in the order they happen "
+                        "(e.g. puncture_entry, puncture_exit, on_suture); each matches the next event "
+                        "of its kind. Unit: none.");
+      prm.leave_subsection();
+      prm.enter_subsection("Objective");
+      prm.declare_entry("Error", "", Anything(),
+                        "The error metric of the Pareto chart (a cases.csv error column, e.g. "
+                        "closure_tension or probes.max); its magnitude is used. Unit: none.");
+      prm.declare_entry("Cost", "step_time_median",
+                        dealii::Patterns::Selection("step_time_median|step_time_p99|wall_time|core_seconds"),
+                        "The cost of the Pareto chart and of 'cheapest within tolerance': realtime step "
+                        "time median or 99th percentile (s), wall time (s) or processor time (s) of "
+                        "the run. Unit: none.");
+      prm.declare_entry("Tolerances", "", Anything(),
+                        "Bounds on |error|: \"metric: bound\" separated by commas (e.g. probes.max: 0.2); "
+                        "a case within all of them is adequate (best.prm, the stability map's "
+                        "'inaccurate'). Unit: 1 (relative errors).");
+      prm.leave_subsection();
+      prm.enter_subsection("Figures");
+      prm.declare_entry("Stability axes", "", Anything(),
+                        "Two axis paths of Cases/Axes, \"x; y\", for the stability map (stable, diverged, "
+                        "inaccurate, with dt_crit); empty for none. Unit: none.");
+      prm.declare_entry("Convergence metric", "", Anything(),
+                        "A summary.json metric tabulated against the mesh size of the cases in "
+                        "'Convergence sizes' (observed order, Richardson extrapolation, GCI). Unit: none.");
+      prm.declare_entry("Convergence sizes", "", Anything(),
+                        "\"case: h\" separated by commas, h the cases' mesh size. Unit: m.");
+      prm.leave_subsection();
     }
 
     /// The product of @p axes (each "Path/Key = v1 | v2"), after @p common.
@@ -77,21 +174,23 @@ namespace suturesim::study
     product(const std::vector<std::string> &axes, const std::vector<std::string> &common,
             const ParameterScope &scope)
     {
-      std::vector<Case> cases{{"", common}};
+      std::vector<Case> cases{{"", common, {}}};
       for (const auto &axis : axes)
         {
           const auto equals = axis.find('=');
           scope.require(equals != std::string::npos, "Axes", "'" + axis + "' is not 'Path/Key = v1 | v2'");
-          const std::string path   = trim(axis.substr(0, equals));
+          const std::string path   = unquote(axis.substr(0, equals));
           const auto        values = split(axis.substr(equals + 1), '|');
           scope.require(!path.empty() && !values.empty(), "Axes", "the axis '" + axis + "' has no values");
           std::vector<Case> next;
           for (const auto &c : cases)
-            for (const auto &v : values)
+            for (const auto &quoted : values)
               {
-                Case n = c;
+                const std::string v = unquote(quoted);
+                Case              n = c;
                 n.name += (n.name.empty() ? "" : "_") + file_name_part(v);
                 n.settings.push_back(path + "=" + v);
+                n.axis_values.emplace_back(path, v);
                 next.push_back(n);
               }
           cases = next;
@@ -107,8 +206,8 @@ namespace suturesim::study
         {
           const auto colon = item.find(':');
           scope.require(colon != std::string::npos && colon > 0, "List", "'" + item + "' is not 'name: settings'");
-          Case c{file_name_part(trim(item.substr(0, colon))), common};
-          for (const auto &s : split(item.substr(colon + 1), ','))
+          Case c{file_name_part(unquote(item.substr(0, colon))), common, {}};
+          for (const auto &s : settings(item.substr(colon + 1)))
             c.settings.push_back(s);
           cases.push_back(c);
         }
@@ -131,10 +230,101 @@ namespace suturesim::study
           scope.fail(key, "case '" + c.name + "': " + e.what());
         }
     }
+
+    std::vector<std::string>
+    names(const std::string &text)
+    {
+      std::vector<std::string> out;
+      for (const auto &s : split(text, ','))
+        out.push_back(unquote(s));
+      return out;
+    }
+
+    void
+    read_metrics_and_objective(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top)
+    {
+      prm.enter_subsection("Metrics");
+      d.metrics.scalars   = names(prm.get("Scalars"));
+      d.metrics.probes    = names(prm.get("Probes"));
+      d.metrics.curves    = names(prm.get("Curves"));
+      d.metrics.alignment = prm.get("Curve alignment");
+      d.metrics.events    = names(prm.get("Alignment events"));
+      prm.leave_subsection();
+      const auto metrics = top.subsection("Metrics");
+      metrics.require(d.metrics.alignment == "time" || d.metrics.events.size() >= 2, "Alignment events",
+                      "event alignment needs at least two events (the ends of one phase)");
+
+      prm.enter_subsection("Objective");
+      const auto objective = top.subsection("Objective");
+      d.objective.error    = unquote(prm.get("Error"));
+      d.objective.cost     = prm.get("Cost");
+      d.objective.tolerances = named_numbers(prm.get("Tolerances"), objective, "Tolerances");
+      prm.leave_subsection();
+      const auto columns = d.metrics.error_columns();
+      const auto known   = [&](const std::string &c) {
+        return std::find(columns.begin(), columns.end(), c) != columns.end();
+      };
+      const std::string choices = columns.empty() ? "none: Metrics names no metric" : "one of the Metrics' "
+                                                                                      "columns";
+      objective.require(d.objective.error.empty() || known(d.objective.error), "Error",
+                        "'" + d.objective.error + "' is not " + choices);
+      for (const auto &[name, bound] : d.objective.tolerances)
+        {
+          objective.require(known(name), "Tolerances", "'" + name + "' is not " + choices);
+          objective.require(bound > 0, "Tolerances", "the bound of '" + name + "' must be > 0");
+        }
+    }
+
+    void
+    read_figures(ParameterHandler &prm, StudyDefinition &d, const std::vector<std::string> &axes,
+                 const ParameterScope &top)
+    {
+      prm.enter_subsection("Figures");
+      const auto figures   = top.subsection("Figures");
+      const auto stability = split(prm.get("Stability axes"), ';');
+      figures.require(stability.empty() || stability.size() == 2, "Stability axes", "needs two axes, 'x; y'");
+      for (const auto &a : stability)
+        figures.require(std::find(axes.begin(), axes.end(), unquote(a)) != axes.end(), "Stability axes",
+                        "'" + unquote(a) + "' is not an axis of Cases/Axes");
+      if (stability.size() == 2)
+        d.figures.stability_x = unquote(stability[0]), d.figures.stability_y = unquote(stability[1]);
+      d.figures.convergence_metric = unquote(prm.get("Convergence metric"));
+      d.figures.convergence_sizes  = named_numbers(prm.get("Convergence sizes"), figures, "Convergence sizes");
+      prm.leave_subsection();
+      figures.require(d.figures.convergence_metric.empty() || d.figures.convergence_sizes.size() >= 3,
+                      "Convergence sizes", "a convergence table needs three sizes or more");
+      for (const auto &[name, h] : d.figures.convergence_sizes)
+        {
+          figures.require(std::any_of(d.cases.begin(), d.cases.end(), [&](const Case &c) { return c.name == name; }),
+                          "Convergence sizes", "'" + name + "' is not a case of the study");
+          figures.require(h > 0, "Convergence sizes", "the size of '" + name + "' must be > 0 m");
+        }
+    }
   } // namespace
 
+  std::vector<std::string>
+  MetricsSpec::error_columns() const
+  {
+    std::vector<std::string> out = scalars;
+    for (const auto &p : probes)
+      out.push_back("probe." + p);
+    if (!probes.empty())
+      out.push_back("probes.max");
+    for (const auto &c : curves)
+      {
+        for (const char *e : {".l2", ".linf", ".peak"})
+          out.push_back(c + e);
+        if (alignment == "events")
+          for (std::size_t k = 1; k < events.size(); ++k)
+            out.push_back(c + ".phase" + std::to_string(k) + ".l2");
+      }
+    if (alignment == "events")
+      out.push_back("events.time");
+    return out;
+  }
+
   StudyDefinition
-  StudyDefinition::read(const std::string &study_file)
+  StudyDefinition::read(const std::string &study_file, const std::vector<std::string> &extra)
   {
     ParameterHandler prm;
     declare(prm);
@@ -142,22 +332,30 @@ namespace suturesim::study
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
+    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Cases/Settings", "Cases/Axes", "Cases/List",
+                            "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Alignment events",
+                            "Objective/Error", "Objective/Tolerances", "Figures/Stability axes",
+                            "Figures/Convergence metric", "Figures/Convergence sizes"})
+      d.lines[key] = file.line_of(key);
     d.name = prm.get("Name");
-    top.require(!d.name.empty(), "Name", "a study needs a name");
+    top.require(!d.name.empty() && file_name_part(d.name) == d.name, "Name",
+                "a study needs a name of letters, digits, '.', '-' and '_'");
     const std::string base = prm.get("Base scene");
     top.require(!base.empty(), "Base scene", "a study needs a base scene");
     d.base_scene = file.resolve(base);
 
     prm.enter_subsection("Reference");
-    d.reference = {"reference", split(prm.get("Settings"), ',')};
+    d.reference = {"reference", settings(prm.get("Settings")), {}};
+    d.reference.settings.insert(d.reference.settings.end(), extra.begin(), extra.end());
     prm.leave_subsection();
     check(d.reference, d.base_scene, top.subsection("Reference"), "Settings");
 
     prm.enter_subsection("Cases");
-    const ParameterScope cases = top.subsection("Cases");
-    const auto           common = split(prm.get("Settings"), ',');
-    d.cases                     = product(split(prm.get("Axes"), ';'), common, cases);
-    const std::size_t from_axes = d.cases.size();
+    const ParameterScope cases      = top.subsection("Cases");
+    const auto           common     = settings(prm.get("Settings"));
+    const auto           axis_texts = split(prm.get("Axes"), ';');
+    d.cases                         = product(axis_texts, common, cases);
+    const std::size_t from_axes     = d.cases.size();
     for (auto &c : listed(prm.get("List"), common, cases))
       d.cases.push_back(c);
     prm.leave_subsection();
@@ -166,10 +364,34 @@ namespace suturesim::study
     std::set<std::string> names{"reference"};
     for (std::size_t k = 0; k < d.cases.size(); ++k)
       {
+        d.cases[k].settings.insert(d.cases[k].settings.end(), extra.begin(), extra.end());
         const std::string key = k < from_axes ? "Axes" : "List";
+        cases.require(!d.cases[k].name.empty(), key, "a case's name has no letter or digit");
         cases.require(names.insert(d.cases[k].name).second, key, "two cases are named '" + d.cases[k].name + "'");
         check(d.cases[k], d.base_scene, cases, key);
       }
+    read_metrics_and_objective(prm, d, top);
+    std::vector<std::string> axes;
+    for (const auto &a : axis_texts)
+      axes.push_back(unquote(a.substr(0, a.find('='))));
+    read_figures(prm, d, axes, top);
     return d;
+  }
+
+  void
+  StudyDefinition::fail(const std::string &key, const std::string &problem) const
+  {
+    const auto line = lines.find(key);
+    const bool set  = line != lines.end() && line->second > 0;
+    throw InputError(file + (set ? ":" + std::to_string(line->second) : "") + ": " + key +
+                     (set ? "" : " (default)") + ": " + one_line(problem));
+  }
+
+  const std::map<std::string, std::string> &
+  StudyDefinition::cost_units()
+  {
+    static const std::map<std::string, std::string> units{
+      {"step_time_median", "s"}, {"step_time_p99", "s"}, {"wall_time", "s"}, {"core_seconds", "s"}};
+    return units;
   }
 } // namespace suturesim::study

@@ -1,5 +1,6 @@
 // The study's error metrics (study/curve_metrics.h) and trade-off (study/pareto.h) on
 // synthetic data whose answers are known in closed form.
+#include <suturesim/study/convergence.h>
 #include <suturesim/study/curve_metrics.h>
 #include <suturesim/study/pareto.h>
 
@@ -143,4 +144,39 @@ TEST(StudyPareto, FrontOfASyntheticSetAgainstBruteForce)
       checked += brute.size();
     }
   EXPECT_GT(checked, 200u);
+}
+
+TEST(StudyConvergence, ExactPowerLawsGiveTheirOrderAndLimit)
+{
+  // f(h) = 3 + 0.5 h^p: Celik et al.'s order and Richardson's limit are exact for it,
+  // with a constant refinement ratio (q = 0) and with unequal ratios (the iteration)
+  for (const double p : {1.0, 2.0, 3.0})
+    for (const std::vector<double> &h : {std::vector<double>{0.01, 0.02, 0.04}, std::vector<double>{0.04, 0.013, 0.02}})
+      {
+        std::vector<double> f;
+        for (const double x : h)
+          f.push_back(3 + 0.5 * std::pow(x, p));
+        const auto e = estimate_convergence(h, f);
+        EXPECT_TRUE(e.converged);
+        EXPECT_FALSE(e.oscillatory);
+        EXPECT_NEAR(e.order, p, 1e-9 * p);
+        EXPECT_NEAR(e.extrapolated, 3.0, 1e-12);
+        // GCI = 1.25 |(f1 - f2)/f1| / (r21^p - 1), r21 = h2/h1 of the two finest
+        const double h1 = *std::min_element(h.begin(), h.end());
+        const double h2 = 0.02; // the second finest in both sets
+        const double f1 = 3 + 0.5 * std::pow(h1, p), f2 = 3 + 0.5 * std::pow(h2, p);
+        EXPECT_NEAR(e.gci_fine, 1.25 * std::abs((f1 - f2) / f1) / (std::pow(h2 / h1, p) - 1), 1e-12);
+      }
+}
+
+TEST(StudyConvergence, OscillationAndStagnationAreFlagged)
+{
+  // f1 < f2 > f3: oscillatory; the order from |e32/e21| = 2 with ratio 2 is 1
+  const auto osc = estimate_convergence({1, 2, 4}, {1.0, 1.1, 0.9});
+  EXPECT_TRUE(osc.oscillatory);
+  EXPECT_GT(osc.order, 0);
+  // no change between the two finest: no order
+  EXPECT_FALSE(estimate_convergence({1, 2, 4}, {1.0, 1.0, 1.2}).converged);
+  EXPECT_THROW(estimate_convergence({1, 1, 2}, {1, 2, 3}), std::invalid_argument);
+  EXPECT_THROW(estimate_convergence({1, 2}, {1, 2}), std::invalid_argument);
 }

@@ -86,6 +86,10 @@ namespace suturesim
 
   /// A view of one subsection of a ParameterFile, for the checks a class makes on its
   /// own parameters after parsing them.
+  /// @p relative inside the suturesim source tree (meshes/, parameters/, postprocess/).
+  std::string
+  project_path(const std::string &relative);
+
   class ParameterScope
   {
   public:

@@ -3,9 +3,10 @@
  * @file
  * A study file (issue 24): a deal.II .prm, checked like a scene (file:line errors), that
  * names a base scene, the settings of a reference case, the settings every case shares,
- * and the cases — the product of axes over any scene parameter by its path, and/or a
- * list. Each case is the base scene with its settings applied as `--set` would apply
- * them, so it is an ordinary suturesim run, reproducible by itself.
+ * the cases — the product of axes over any scene parameter by its path, and/or a list —
+ * the metrics, the objective and the figures. Each case is the base scene with its
+ * settings applied as `--set` would apply them, so it is an ordinary suturesim run,
+ * reproducible by itself.
  *
  *   set Name       = patch_load_pareto
  *   set Base scene = ../../benchmarks/block_patch_load/block_patch_load.prm
@@ -13,18 +14,28 @@
  *     set Settings = Model=accurate
  *   end
  *   subsection Cases
- *     set Settings = Model=realtime
+ *     set Settings = Model=realtime, "Mesh/Geo parameters=h: 0.004, hexahedra: 0"
  *     set Axes     = Realtime/Integrator = xpbd | quasi-static; Realtime/xpbd/Iterations = 1 | 4
  *     set List     = few: Realtime/xpbd/Iterations=2, Time/Step size=0.002
  *   end
+ *   subsection Metrics
+ *     set Probes = top_centre, mid_depth_centre
+ *   end
+ *   subsection Objective
+ *     set Error = probes.max
+ *     set Cost  = step_time_median
+ *     set Tolerances = probes.max: 0.2
+ *   end
  *
  * Settings are "Path/Key=value" separated by ",", axes "Path/Key = v1 | v2 | …"
- * separated by ";", listed cases "name: settings" separated by ";". Axis cases are
- * named by their values (characters other than letters, digits, '.', '-' become '_'),
- * joined by "_".
+ * separated by ";", listed cases "name: settings" separated by ";"; a part in double
+ * quotes keeps its separators (the quotes are dropped). Axis cases are named by their
+ * values (characters other than letters, digits, '.', '-' become '_'), joined by "_".
  */
 
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace suturesim::study
@@ -33,6 +44,39 @@ namespace suturesim::study
   {
     std::string              name;
     std::vector<std::string> settings; ///< "Path/Key=value", applied in order
+    /// The axis values that made it, by axis path ({} for listed cases).
+    std::vector<std::pair<std::string, std::string>> axis_values;
+  };
+
+  /// What is measured of every case against the reference (study/case_metrics.h).
+  struct MetricsSpec
+  {
+    std::vector<std::string> scalars; ///< keys of summary.json "metrics" (dotted for nested)
+    std::vector<std::string> probes;  ///< probe names: <p>_displacement_{x,y,z}
+    std::vector<std::string> curves;  ///< forces.csv columns, by name without unit
+    std::string              alignment = "time"; ///< "time" or "events"
+    std::vector<std::string> events;  ///< event kinds that bound the phases (alignment = events)
+
+    /// The error columns these metrics give every case, in cases.csv order: each
+    /// scalar by its name; "probe.<p>" and "probes.max"; "<curve>.l2", ".linf", ".peak"
+    /// and, aligned on events, "<curve>.phase<k>.l2" (k = 1 …) and "events.time".
+    std::vector<std::string>
+    error_columns() const;
+  };
+
+  /// What "good enough" and "cheap" mean for the Pareto chart and best.prm.
+  struct ObjectiveSpec
+  {
+    std::string                                  error; ///< a metric column, e.g. "probes.max"
+    std::string                                  cost = "step_time_median";
+    std::vector<std::pair<std::string, double>> tolerances; ///< metric column: bound on |error|
+  };
+
+  struct FiguresSpec
+  {
+    std::string stability_x, stability_y; ///< axis paths of the stability map (empty: none)
+    std::string convergence_metric;       ///< a summary metric for the convergence table (empty: none)
+    std::vector<std::pair<std::string, double>> convergence_sizes; ///< case name: h (m)
   };
 
   struct StudyDefinition
@@ -42,11 +86,28 @@ namespace suturesim::study
     std::string       base_scene; ///< resolved against the study file's folder
     Case              reference;  ///< named "reference"
     std::vector<Case> cases;      ///< the product of the axes, then the listed ones
+    MetricsSpec       metrics;
+    ObjectiveSpec     objective;
+    FiguresSpec       figures;
 
     /// Reads and checks @p study_file: every case's settings are applied to the base
     /// scene as the run would apply them, so an unknown path or a bad value is found
-    /// now; errors are InputErrors "study_file:line: key: problem".
+    /// now; errors are InputErrors "study_file:line: key: problem". @p extra settings
+    /// (the command line's --set) go after every case's own, the reference's too: the
+    /// same study at another size, e.g. a shorter end time.
     static StudyDefinition
-    read(const std::string &study_file);
+    read(const std::string &study_file, const std::vector<std::string> &extra = {});
+
+    /// An InputError "study_file:line: key: problem" for what is found after the runs
+    /// (a metric no case produces, a failed reference); @p key as "Metrics/Scalars".
+    [[noreturn]] void
+    fail(const std::string &key, const std::string &problem) const;
+
+    /// The cost metric names Objective/Cost accepts, with their units.
+    static const std::map<std::string, std::string> &
+    cost_units();
+
+  private:
+    std::map<std::string, int> lines; ///< key path -> line in the study file
   };
 } // namespace suturesim::study

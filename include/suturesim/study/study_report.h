@@ -1,0 +1,84 @@
+#pragma once
+/**
+ * @file
+ * What a study writes into its output folder once its cases have run (issue 24):
+ *
+ * - `cases.csv`: one row per case (the reference first): name, status, reason, the axis
+ *   values (parameter paths as columns, with the parameter's unit), every error column
+ *   of MetricsSpec::error_columns() and every cost column (study/case_metrics.h), units
+ *   in the header; empty cells where a case has no value (a failed case's errors).
+ * - `study.json`: the definition, the rows, the Pareto front of (cost, |error|), the
+ *   cheapest adequate case, the stability map and the convergence table, for the figures
+ *   (postprocess/study_figures.py) and for scripts.
+ * - `best.prm`: the cheapest case whose errors are within every tolerance, as a complete
+ *   scene (its parameters.prm) headed by the evidence row and the settings that made it.
+ * - `stability.csv`: per case of the stability map's two axes, the cell's state (stable,
+ *   diverged, inaccurate = completed beyond a tolerance), dt and the predicted dt_crit.
+ * - `convergence.csv`: the convergence metric against h, observed orders, Richardson
+ *   extrapolation and Roache's grid-convergence index (study/convergence.h).
+ */
+
+#include <suturesim/study/case_run.h>
+#include <suturesim/study/study_definition.h>
+
+#include <nlohmann/json.hpp>
+
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace suturesim::study
+{
+  /// One case's row.
+  struct CaseRow
+  {
+    const Case         *definition = nullptr;
+    CaseOutcome         outcome;
+    std::vector<double> errors; ///< MetricsSpec::error_columns() order; NaN when absent
+    std::vector<double> costs;  ///< cost_columns() order; NaN when absent
+    double              dt = std::numeric_limits<double>::quiet_NaN(), dt_crit = dt; ///< realtime, s
+    double              convergence_value = dt; ///< the convergence metric, if any
+    bool                within_tolerance = false;
+  };
+
+  class StudyReport
+  {
+  public:
+    StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows);
+
+    /// Writes every output above into @p folder; throws InputError naming a file that
+    /// cannot be written.
+    void
+    write(const std::string &folder, const nlohmann::json &timing) const;
+
+    /// The study as study.json holds it.
+    nlohmann::json
+    to_json(const nlohmann::json &timing) const;
+
+    /// Index into rows of the cheapest case within every tolerance (cost: Objective/Cost).
+    std::optional<std::size_t>
+    best() const;
+
+  private:
+    const StudyDefinition &study;
+    std::vector<CaseRow>   rows; ///< the reference first
+
+    double
+    cost(const CaseRow &row) const;
+    double
+    error(const CaseRow &row) const;
+    void
+    write_cases_csv(const std::string &file) const;
+    void
+    write_best(const std::string &folder) const;
+    nlohmann::json
+    stability() const;
+    nlohmann::json
+    convergence() const;
+  };
+
+  /// The unit of a scene parameter, from the "Unit: …" of its documentation ("" if none).
+  std::string
+  parameter_unit(const std::string &path);
+} // namespace suturesim::study

@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""The figures of a suturesim study, from its study.json (written by `suturesim study`).
+
+Usage: /usr/bin/python3 postprocess/study_figures.py STUDY_FOLDER
+
+- pareto.png, pareto.pdf: the Objective's cost (log axis) against its error for every
+  case; the non-dominated front drawn and its cases labelled; the 1 ms and 0.25 ms
+  haptic budgets drawn when the cost is a step time; failed cases drawn as crosses at
+  the top of the chart (they have no error), never dropped; the cheapest case within
+  tolerance ringed, the tolerance drawn.
+- stability.png, stability.pdf (when the study names stability axes): each case a cell
+  stable / diverged / inaccurate, with the program's predicted boundary dt = dt_crit.
+- convergence.png, convergence.pdf (when the study names a convergence metric): the
+  metric against h, the Richardson extrapolation with Roache's GCI as its error bar.
+Run by `suturesim study` after the tables; runs by itself on an existing folder.
+"""
+import json
+import math
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+COLORS = {"stable": "#2a9d3f", "diverged": "#d62728", "inaccurate": "#ff9f1c"}
+
+
+def save(fig, folder, stem, tight=True):
+    if tight:
+        fig.tight_layout()
+    for ext in ("png", "pdf"):
+        fig.savefig(folder / f"{stem}.{ext}", dpi=150)
+    plt.close(fig)
+
+
+def pareto(study, folder):
+    cases = study["cases"][1:]
+    objective = study["objective"]
+    step_time = objective["cost"].startswith("step_time")
+    fig, ax = plt.subplots(figsize=(10, 5))
+    fig.subplots_adjust(right=0.7)
+    ok = [c for c in cases if c["status"] == "completed" and c["cost"] and c["error"] is not None]
+    bad = [c for c in cases if c not in ok]
+    front = sorted((c for c in ok if c["name"] in study["front"]), key=lambda c: c["cost"])
+    scale = 1e3 if step_time else 1.0
+    ax.scatter([c["cost"] * scale for c in ok], [c["error"] for c in ok], s=28, color="#1f77b4",
+               label=f"completed ({len(ok)})", zorder=3)
+    if front:
+        ax.plot([c["cost"] * scale for c in front], [c["error"] for c in front], "-", color="#1f77b4",
+                alpha=0.5, label="Pareto front")
+        # the front's cases numbered on the chart, named in a key beside it
+        for i, c in enumerate(front, 1):
+            ax.annotate(str(i), (c["cost"] * scale, c["error"]), textcoords="offset points",
+                        xytext=(3, 4), fontsize=7, weight="bold")
+        key = "\n".join(f"{i}: {c['name']}" for i, c in enumerate(front, 1))
+        fig.text(0.72, 0.5, "Pareto front\n" + key, fontsize=6, va="center", family="monospace")
+    errors = [c["error"] for c in ok] or [1.0]
+    top = max(errors) * 1.6 if max(errors) > 0 else 1.0
+    if bad:
+        costs = [(c["cost"] or 0) * scale for c in bad]
+        known = [x for x in costs if x > 0] or [1.0]
+        xs = [x if x > 0 else min(known) for x in costs]
+        ax.scatter(xs, [top] * len(bad), marker="x", s=40, color=COLORS["diverged"],
+                   label=f"failed or diverged ({len(bad)}), no error", zorder=3)
+        for c, x in zip(bad, xs):
+            ax.annotate(c["name"], (x, top), textcoords="offset points", xytext=(3, -10), fontsize=6,
+                        color=COLORS["diverged"])
+    if step_time:
+        for budget, label in ((1.0, "1 ms (1 kHz)"), (0.25, "0.25 ms")):
+            ax.axvline(budget, color="grey", ls="--", lw=1)
+            ax.text(budget, 0.98, f" {label}", fontsize=7, color="grey", va="top", rotation=90,
+                    transform=ax.get_xaxis_transform())
+    tolerance = objective["tolerances"].get(objective["error"])
+    if tolerance:
+        ax.axhline(tolerance, color="#2a9d3f", ls=":", lw=1, label=f"tolerance {tolerance:g}")
+    best = [c for c in ok if c["name"] == study.get("best")]
+    for c in best:
+        ax.scatter([c["cost"] * scale], [c["error"]], s=140, facecolors="none", edgecolors="#2a9d3f",
+                   linewidths=1.5, label=f"cheapest within tolerance: {c['name']}", zorder=4)
+    ax.set_xscale("log")
+    shown = [c["error"] for c in ok if c["error"] > 0]
+    if shown and max(shown) / min(shown) > 20:
+        ax.set_yscale("log")
+    unit = "ms" if step_time else "s"
+    ax.set_xlabel(f"{objective['cost'].replace('_', ' ')} [{unit}]")
+    ax.set_ylabel(f"|{objective['error']}| error [1]")
+    ax.set_title(f"study {study['name']}: {len(cases)} cases against the reference", fontsize=10)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, which="both", alpha=0.3)
+    save(fig, folder, "pareto", tight=False)
+
+
+def numeric(values):
+    try:
+        return [float(v) for v in values], True
+    except ValueError:
+        return list(values), False
+
+
+def stability(study, folder):
+    s = study["stability"]
+    cells = s["cells"]
+    xs, x_num = numeric([c["x"] for c in cells])
+    ys, y_num = numeric([c["y"] for c in cells])
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for state, color in COLORS.items():
+        pts = [(x, y) for x, y, c in zip(xs, ys, cells) if c["state"] == state]
+        if pts:
+            ax.scatter([p[0] for p in pts], [p[1] for p in pts], marker="s", s=60, color=color,
+                       label=state)
+    other = [(x, y, c) for x, y, c in zip(xs, ys, cells) if c["state"] not in COLORS]
+    if other:
+        ax.scatter([p[0] for p in other], [p[1] for p in other], marker="x", s=60, color="black",
+                   label="refused or crashed")
+    # predicted boundary: the x where dt = dt_crit, per row (dt grows or falls with x)
+    if x_num and y_num:
+        boundary = []
+        for y in sorted(set(ys)):
+            row = [(x, c) for x, yy, c in zip(xs, ys, cells) if yy == y and c["dt"] and c["dt_crit"]]
+            if len(row) < 2:
+                continue
+            (x0, c0), (x1, c1) = min(row, key=lambda r: r[0]), max(row, key=lambda r: r[0])
+            growing = c1["dt"] > c0["dt"]
+            x, c = row[0]
+            boundary.append((x * c["dt_crit"] / c["dt"] if growing else x * c["dt"] / c["dt_crit"], y))
+        if boundary:
+            ax.plot([b[0] for b in boundary], [b[1] for b in boundary], "k--", lw=1.2,
+                    label="predicted: dt = dt_crit")
+        if min(xs) > 0 and max(xs) / min(xs) > 3:
+            ax.set_xscale("log")
+        if min(ys) > 0 and max(ys) / min(ys) > 3:
+            ax.set_yscale("log")
+    ax.set_xlabel(f"{s['x']} [{s['x_unit'] or '-'}]")
+    ax.set_ylabel(f"{s['y']} [{s['y_unit'] or '-'}]")
+    ax.set_title(f"study {study['name']}: stability map", fontsize=10)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, which="both", alpha=0.3)
+    save(fig, folder, "stability")
+
+
+def convergence(study, folder):
+    c = study["convergence"]
+    table = [r for r in c["table"] if r["value"] is not None]
+    if not table:
+        return
+    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    ax.plot([r["h"] for r in table], [r["value"] for r in table], "o-", label=c["metric"])
+    if c.get("extrapolated") is not None:
+        f1 = min(table, key=lambda r: r["h"])["value"]
+        bar = abs(c["gci_fine"] * f1)
+        ax.errorbar([0], [c["extrapolated"]], yerr=[bar], fmt="s", color="#d62728", capsize=4,
+                    label=f"Richardson, p = {c['observed_order']:.2f}, GCI {100 * c['gci_fine']:.2g} %")
+    ax.set_xlabel("h [m]")
+    ax.set_ylabel(c["metric"])
+    ax.set_xlim(left=-0.05 * max(r["h"] for r in table))
+    ax.set_title(f"study {study['name']}: convergence", fontsize=10)
+    ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.3)
+    save(fig, folder, "convergence")
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    folder = Path(sys.argv[1])
+    with open(folder / "study.json") as f:
+        study = json.load(f)
+    if study["objective"]["error"]:
+        pareto(study, folder)
+    if study.get("stability"):
+        stability(study, folder)
+    if study.get("convergence"):
+        convergence(study, folder)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,245 @@
+#include <suturesim/study/case_metrics.h>
+#include <suturesim/study/curve_metrics.h>
+
+#include <algorithm>
+#include <array>
+#include <optional>
+#include <stdexcept>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace suturesim::study
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+    /// forces.csv: a header "name [unit],..." and rows of numbers.
+    void
+    read_columns(const fs::path &file, RunData &data)
+    {
+      std::ifstream in(file);
+      if (!in)
+        return;
+      std::string line, cell;
+      std::getline(in, line);
+      std::vector<std::string> names;
+      std::istringstream       header(line);
+      while (std::getline(header, cell, ','))
+        {
+          const auto bracket = cell.find(" [");
+          names.push_back(cell.substr(0, bracket));
+          data.units[names.back()] =
+            bracket == std::string::npos ? "" : cell.substr(bracket + 2, cell.size() - bracket - 3);
+        }
+      while (std::getline(in, line))
+        {
+          std::istringstream row(line);
+          for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k)
+            data.columns[names[k]].push_back(std::strtod(cell.c_str(), nullptr));
+        }
+    }
+
+    Curve
+    curve(const RunData &run, const std::string &name, const std::string &which)
+    {
+      const auto y = run.columns.find(name);
+      const auto t = run.columns.find("time");
+      if (y == run.columns.end() || t == run.columns.end())
+        throw MissingMetric("Metrics/Curves", "the " + which + " has no forces.csv column '" + name + "'",
+                            which == "reference");
+      // keep strictly increasing times (a restarted row repeats its time)
+      Curve c;
+      for (std::size_t k = 0; k < t->second.size() && k < y->second.size(); ++k)
+        if (c.x.empty() || t->second[k] > c.x.back())
+          c.x.push_back(t->second[k]), c.y.push_back(y->second[k]);
+      return c;
+    }
+
+    /// The times of @p kinds matched in order, each to the next event of its kind.
+    std::vector<double>
+    event_times(const RunData &run, const std::vector<std::string> &kinds, const std::string &which)
+    {
+      std::vector<std::pair<double, std::string>> events;
+      for (const auto &e : run.summary.value("events", nlohmann::json::array()))
+        events.emplace_back(e.at("time").get<double>(), e.at("kind").get<std::string>());
+      std::stable_sort(events.begin(), events.end(),
+                       [](const auto &a, const auto &b) { return a.first < b.first; });
+      std::vector<double> times;
+      std::size_t         next = 0;
+      for (const auto &kind : kinds)
+        {
+          while (next < events.size() && events[next].second != kind)
+            ++next;
+          if (next == events.size())
+            throw MissingMetric("Metrics/Alignment events",
+                                "the " + which + " has no event '" + kind + "' after " + std::to_string(times.size()) +
+                                  " matched ones",
+                                which == "reference");
+          times.push_back(events[next++].first);
+        }
+      return times;
+    }
+
+    std::array<double, 3>
+    probe(const RunData &run, const std::string &name, const std::string &which)
+    {
+      std::array<double, 3> u{};
+      for (int d = 0; d < 3; ++d)
+        {
+          const auto v = run.metric(name + "_displacement_" + "xyz"[d]);
+          if (!v)
+            throw MissingMetric("Metrics/Probes",
+                                "the " + which + " has no probe '" + name + "' (metrics." + name + "_displacement_" +
+                                  "xyz"[d] + ")",
+                                which == "reference");
+          u[d] = *v;
+        }
+      return u;
+    }
+
+    /// The errors, or NaN ones where they have no meaning (the reference vanishes).
+    template <typename F>
+    CurveErrors
+    guarded(const F &errors)
+    {
+      try
+        {
+          return errors();
+        }
+      catch (const std::invalid_argument &)
+        {
+          return {nan, nan, nan};
+        }
+    }
+
+    void
+    curve_columns(const MetricsSpec &spec, const RunData &run, const RunData &ref, std::vector<double> &out)
+    {
+      for (const auto &name : spec.curves)
+        {
+          const Curve r = curve(ref, name, "reference"), c = curve(run, name, "case");
+          if (spec.alignment == "time")
+            {
+              const auto e =
+                guarded([&] { return curve_errors(c, r, std::max(c.front(), r.front()), std::min(c.back(), r.back())); });
+              out.insert(out.end(), {e.relative_l2, e.relative_linf, e.peak});
+              continue;
+            }
+          // over the whole overlap after the warp (past the last event: shifted by its
+          // offset), then phase by phase; NaN where the reference vanishes (a tension
+          // before the thread is in)
+          const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
+          const auto warped = warp_to_events(c, ce, re);
+          const auto e = guarded([&] { return curve_errors(warped, r, std::max(warped.front(), r.front()),
+                                                           std::min(warped.back(), r.back())); });
+          out.insert(out.end(), {e.relative_l2, e.relative_linf, e.peak});
+          for (std::size_t k = 0; k + 1 < re.size(); ++k)
+            out.push_back(guarded([&] { return curve_errors(warped, r, re[k], re[k + 1]); }).relative_l2);
+        }
+      if (spec.alignment == "events")
+        {
+          const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
+          double     worst = 0;
+          for (std::size_t k = 0; k < ce.size(); ++k)
+            worst = std::max(worst, std::abs(ce[k] - re[k]));
+          out.push_back(worst);
+        }
+    }
+  } // namespace
+
+  RunData
+  RunData::read(const std::string &folder)
+  {
+    RunData       data;
+    std::ifstream in(fs::path(folder) / "summary.json");
+    if (!in)
+      throw std::runtime_error(folder + "/summary.json: cannot be read");
+    try
+      {
+        data.summary = nlohmann::json::parse(in);
+      }
+    catch (const nlohmann::json::exception &e)
+      {
+        throw std::runtime_error(folder + "/summary.json: " + e.what());
+      }
+    read_columns(fs::path(folder) / "forces.csv", data);
+    return data;
+  }
+
+  std::optional<double>
+  RunData::metric(const std::string &path) const
+  {
+    const nlohmann::json *node = &summary;
+    std::string           part;
+    std::istringstream    parts("metrics." + path);
+    while (std::getline(parts, part, '.'))
+      {
+        if (!node->is_object() || !node->contains(part))
+          return std::nullopt;
+        node = &node->at(part);
+      }
+    if (!node->is_number())
+      return std::nullopt;
+    return node->get<double>();
+  }
+
+  std::vector<double>
+  case_errors(const MetricsSpec &spec, const RunData &run, const RunData &reference)
+  {
+    std::vector<double> out;
+    for (const auto &s : spec.scalars)
+      {
+        const auto r = reference.metric(s), c = run.metric(s);
+        if (!r || !c)
+          throw MissingMetric("Metrics/Scalars",
+                              std::string("the ") + (r ? "case" : "reference") + " has no metric '" + s +
+                                "' in summary.json",
+                              !r);
+        if (*r == 0)
+          throw MissingMetric("Metrics/Scalars", "the reference's '" + s + "' is 0: it has no relative error", true);
+        out.push_back(relative_error(*c, *r));
+      }
+    double worst = 0;
+    for (const auto &p : spec.probes)
+      {
+        const auto r = probe(reference, p, "reference"), c = probe(run, p, "case");
+        double     diff = 0, norm = 0;
+        for (int d = 0; d < 3; ++d)
+          diff += (c[d] - r[d]) * (c[d] - r[d]), norm += r[d] * r[d];
+        if (norm == 0)
+          throw MissingMetric("Metrics/Probes", "the reference's probe '" + p + "' does not move", true);
+        out.push_back(std::sqrt(diff / norm));
+        worst = std::max(worst, out.back());
+      }
+    if (!spec.probes.empty())
+      out.push_back(worst);
+    curve_columns(spec, run, reference, out);
+    return out;
+  }
+
+  const std::vector<std::pair<std::string, std::string>> &
+  cost_columns()
+  {
+    static const std::vector<std::pair<std::string, std::string>> columns{
+      {"step_time_median", "s"}, {"step_time_p99", "s"}, {"wall_time", "s"}, {"core_seconds", "s"},
+      {"peak_memory", "B"}};
+    return columns;
+  }
+
+  std::vector<double>
+  case_costs(const RunData &run, const CaseOutcome &outcome)
+  {
+    const auto us = [&](const char *key) {
+      const auto v = run.metric(key);
+      return v ? 1e-6 * *v : nan;
+    };
+    return {us("step_time_median_us"), us("step_time_p99_us"), outcome.wall_seconds, outcome.cpu_seconds,
+            outcome.peak_memory_bytes};
+  }
+} // namespace suturesim::study

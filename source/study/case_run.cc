@@ -1,0 +1,252 @@
+#include <suturesim/core/error.h>
+#include <suturesim/core/parameter_file.h>
+#include <suturesim/scene/simulation.h>
+#include <suturesim/study/case_run.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+extern char **environ;
+
+namespace suturesim::study
+{
+  namespace fs = std::filesystem;
+  using Clock  = std::chrono::steady_clock;
+
+  std::string
+  digest(const std::string &text)
+  {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const unsigned char c : text)
+      h = (h ^ c) * 1099511628211ull;
+    std::ostringstream out;
+    out << std::hex << std::setw(16) << std::setfill('0') << h;
+    return out.str();
+  }
+
+  std::string
+  expected_parameters(const std::string &scene, const std::vector<std::string> &settings)
+  {
+    dealii::ParameterHandler prm;
+    scene::Simulation::declare_parameters(prm);
+    ParameterFile::from_file(prm, scene, settings);
+    std::ostringstream out;
+    prm.print_parameters(out, dealii::ParameterHandler::PRM);
+    return out.str();
+  }
+
+  namespace
+  {
+    std::string
+    read_text(const fs::path &file)
+    {
+      std::ifstream      in(file);
+      std::ostringstream text;
+      text << in.rdbuf();
+      return text.str();
+    }
+
+    /// The last "error: ..." line of the case's log (its one-line diagnostic).
+    std::string
+    error_line(const fs::path &log)
+    {
+      std::ifstream in(log);
+      std::string   line, last;
+      while (std::getline(in, line))
+        if (line.rfind("error: ", 0) == 0)
+          last = line.substr(7);
+      return last;
+    }
+
+    void
+    write_run_json(const CaseJob &job, const std::string &parameters, const CaseOutcome &o)
+    {
+      nlohmann::json j;
+      j["case"]              = job.name;
+      j["scene"]             = job.scene;
+      j["settings"]          = job.settings;
+      j["parameters_digest"] = digest(parameters);
+      j["status"]            = o.status;
+      j["reason"]            = o.reason;
+      j["exit_code"]         = o.exit_code;
+      j["wall_seconds"]      = o.wall_seconds;
+      j["cpu_seconds"]       = o.cpu_seconds;
+      j["peak_memory_bytes"] = o.peak_memory_bytes;
+      const fs::path file    = fs::path(job.folder) / "run.json";
+      std::ofstream  out(file);
+      out << j.dump(1) << '\n';
+      if (!out.good())
+        throw InputError(file.string() + ": cannot write the case's run record");
+    }
+
+    /// The case's child process: suturesim <scene> --output <folder> --set ... with its
+    /// output in log.txt, each case on one thread (the study's concurrency is the cases).
+    pid_t
+    spawn(const std::string &executable, const CaseJob &job)
+    {
+      fs::create_directories(job.folder);
+      std::vector<std::string> args{executable, job.scene, "--output", job.folder};
+      for (const auto &s : job.settings)
+        args.insert(args.end(), {"--set", s});
+      std::vector<char *> argv;
+      for (auto &a : args)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+
+      std::vector<std::string> env_text;
+      for (char **e = environ; *e; ++e)
+        if (std::strncmp(*e, "OPENBLAS_NUM_THREADS=", 21) != 0 && std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0)
+          env_text.emplace_back(*e);
+      env_text.insert(env_text.end(), {"OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1"});
+      std::vector<char *> env;
+      for (auto &e : env_text)
+        env.push_back(e.data());
+      env.push_back(nullptr);
+
+      const std::string           log = (fs::path(job.folder) / "log.txt").string();
+      posix_spawn_file_actions_t actions;
+      posix_spawn_file_actions_init(&actions);
+      posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      posix_spawn_file_actions_adddup2(&actions, 1, 2);
+      pid_t     pid = 0;
+      const int rc  = posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), env.data());
+      posix_spawn_file_actions_destroy(&actions);
+      if (rc != 0)
+        throw InputError("study: cannot start '" + executable + "' for case '" + job.name + "': " + std::strerror(rc));
+      return pid;
+    }
+
+    CaseOutcome
+    outcome_of(const CaseJob &job, const int status, const rusage &usage, const double wall)
+    {
+      CaseOutcome o;
+      o.wall_seconds = wall;
+      o.cpu_seconds  = usage.ru_utime.tv_sec + 1e-6 * usage.ru_utime.tv_usec + usage.ru_stime.tv_sec +
+                      1e-6 * usage.ru_stime.tv_usec;
+      o.peak_memory_bytes = 1024.0 * usage.ru_maxrss; // Linux: kilobytes
+      const fs::path log  = fs::path(job.folder) / "log.txt";
+      if (WIFSIGNALED(status))
+        {
+          o.status = "crashed";
+          o.reason = std::string("killed by signal ") + std::to_string(WTERMSIG(status)) + " (" +
+                     strsignal(WTERMSIG(status)) + ")";
+          return o;
+        }
+      o.exit_code = WEXITSTATUS(status);
+      const std::map<int, std::string> statuses{{0, "completed"}, {2, "refused"}, {3, "failed"}};
+      const auto                       s = statuses.find(o.exit_code);
+      o.status = s == statuses.end() ? "crashed" : s->second;
+      if (o.exit_code != 0)
+        o.reason = error_line(log);
+      if (o.reason.empty() && o.exit_code != 0)
+        o.reason = "exit code " + std::to_string(o.exit_code) + ", see " + log.string();
+      return o;
+    }
+
+    std::string
+    duration(const double seconds)
+    {
+      const long         s = std::lround(seconds);
+      std::ostringstream out;
+      if (s >= 60)
+        out << s / 60 << " min ";
+      out << s % 60 << " s";
+      return out.str();
+    }
+  } // namespace
+
+  std::optional<CaseOutcome>
+  completed_run(const CaseJob &job, const std::string &parameters)
+  {
+    const fs::path dir = job.folder;
+    if (!fs::exists(dir / "run.json"))
+      return std::nullopt;
+    nlohmann::json j;
+    try
+      {
+        j = nlohmann::json::parse(read_text(dir / "run.json"));
+        if (j.at("parameters_digest").get<std::string>() != digest(parameters))
+          return std::nullopt;
+        CaseOutcome o;
+        o.status            = j.at("status").get<std::string>();
+        o.reason            = j.at("reason").get<std::string>();
+        o.exit_code         = j.at("exit_code").get<int>();
+        o.wall_seconds      = j.at("wall_seconds").get<double>();
+        o.cpu_seconds       = j.at("cpu_seconds").get<double>();
+        o.peak_memory_bytes = j.at("peak_memory_bytes").get<double>();
+        o.reused            = true;
+        const bool started  = o.status == "completed" || o.status == "failed";
+        if (started && (read_text(dir / "parameters.prm") != parameters || !fs::exists(dir / "summary.json")))
+          return std::nullopt;
+        return o;
+      }
+    catch (const nlohmann::json::exception &)
+      {
+        return std::nullopt; // a damaged record: run the case again
+      }
+  }
+
+  std::vector<CaseOutcome>
+  run_cases(const std::string &executable, const std::vector<CaseJob> &jobs,
+            const std::vector<std::string> &parameters, const unsigned concurrency, std::ostream &progress)
+  {
+    std::vector<CaseOutcome>                              outcomes(jobs.size());
+    std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
+    std::size_t                                           next = 0, done = 0, failed = 0;
+    double                                                run_time = 0;
+    const auto                                            start    = Clock::now();
+    const auto report = [&](const std::string &event) {
+      const std::size_t left = jobs.size() - done;
+      std::string       eta  = "";
+      if (done > 0 && left > 0)
+        eta = ", about " + duration(run_time / done * left / std::max<std::size_t>(1, concurrency)) + " left";
+      progress << "study: " << done << "/" << jobs.size() << " done, " << running.size() << " running, " << failed
+               << " failed" << eta << " (" << event << ", " << duration(std::chrono::duration<double>(Clock::now() - start).count())
+               << ")\n"
+               << std::flush;
+    };
+    while (done < jobs.size())
+      {
+        while (next < jobs.size() && running.size() < std::max(1u, concurrency))
+          {
+            const pid_t pid = spawn(executable, jobs[next]);
+            running[pid]    = {next, Clock::now()};
+            report("started " + jobs[next++].name);
+          }
+        int    status = 0;
+        rusage usage{};
+        const pid_t pid = wait4(-1, &status, 0, &usage);
+        if (pid < 0)
+          throw std::runtime_error(std::string("study: waiting for a case failed: ") + std::strerror(errno));
+        const auto it = running.find(pid);
+        if (it == running.end())
+          continue;
+        const auto [k, t0] = it->second;
+        running.erase(it);
+        const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+        outcomes[k]       = outcome_of(jobs[k], status, usage, wall);
+        write_run_json(jobs[k], parameters[k], outcomes[k]);
+        run_time += wall;
+        ++done;
+        failed += outcomes[k].status != "completed";
+        report(jobs[k].name + " " + outcomes[k].status);
+      }
+    return outcomes;
+  }
+} // namespace suturesim::study

@@ -1,0 +1,248 @@
+#include <suturesim/core/error.h>
+#include <suturesim/core/parameter_file.h>
+#include <suturesim/study/case_metrics.h>
+#include <suturesim/study/snakemake_export.h>
+#include <suturesim/study/study_command.h>
+#include <suturesim/study/study_report.h>
+
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+
+#ifndef SUTURESIM_PYTHON
+#  define SUTURESIM_PYTHON "/usr/bin/python3"
+#endif
+
+extern char **environ;
+
+namespace suturesim::study
+{
+  namespace fs = std::filesystem;
+  using Clock  = std::chrono::steady_clock;
+
+  namespace
+  {
+    const char *usage =
+      "usage: suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
+      "                       [--case NAME] [--set S/K=V]...\n"
+      "  --output DIR        the study's folder (default: output/studies/<study name>)\n"
+      "  --jobs N            cases run at once on this machine, 1-256 (default 1)\n"
+      "  --validate          read and check the study and every case, then exit\n"
+      "  --export snakemake  write DIR/Snakefile (run it with snakemake --cores N) and exit\n"
+      "  --case NAME         run one case (what the Snakefile's rules do) and exit\n"
+      "  --set S/K=V         a setting for every case and the reference, after their own\n"
+      "                      (e.g. --set \"Time/End time=0.2\" for a small run of the study)\n";
+
+    struct Options
+    {
+      std::string              file, output, export_to, one_case;
+      std::vector<std::string> overrides;
+      unsigned    jobs     = 1;
+      bool        validate = false;
+    };
+
+    Options
+    parse(const std::vector<std::string> &args)
+    {
+      Options o;
+      for (std::size_t i = 0; i < args.size(); ++i)
+        {
+          const std::string &a        = args[i];
+          const bool         has_next = i + 1 < args.size();
+          if (a == "--validate")
+            o.validate = true;
+          else if (a == "--output" && has_next)
+            o.output = args[++i];
+          else if (a == "--set" && has_next)
+            o.overrides.push_back(args[++i]);
+          else if (a == "--case" && has_next)
+            o.one_case = args[++i];
+          else if (a == "--export" && has_next && args[i + 1] == "snakemake")
+            o.export_to = args[++i];
+          else if (a == "--jobs" && has_next)
+            {
+              const std::string n = args[++i];
+              char             *end = nullptr;
+              const long        v   = std::strtol(n.c_str(), &end, 10);
+              if (n.empty() || *end != '\0' || v < 1 || v > 256)
+                throw InputError("--jobs " + n + ": must be a whole number of cases from 1 to 256");
+              o.jobs = static_cast<unsigned>(v);
+            }
+          else if (a.rfind("--", 0) == 0 || !o.file.empty())
+            throw InputError("study: unknown, incomplete or extra argument '" + a + "'\n" + usage);
+          else
+            o.file = a;
+        }
+      if (o.file.empty())
+        throw InputError(std::string("study: no study file\n") + usage);
+      return o;
+    }
+
+    /// The row of a case that has run: its metrics against the reference.
+    CaseRow
+    row_of(const StudyDefinition &study, const Case &c, const CaseJob &job, const CaseOutcome &outcome,
+           const RunData *reference)
+    {
+      CaseRow row;
+      row.definition = &c;
+      row.outcome    = outcome;
+      if (!fs::exists(fs::path(job.folder) / "summary.json"))
+        {
+          row.costs = case_costs(RunData{}, outcome);
+          return row;
+        }
+      const RunData run = RunData::read(job.folder);
+      row.costs         = case_costs(run, outcome);
+      const auto &rt    = run.summary.value("realtime", nlohmann::json::object());
+      // dt_crit_s is "none" for an unconditionally stable integrator
+      const auto seconds = [&](const char *key) {
+        return rt.contains(key) && rt.at(key).is_number() ? rt.at(key).get<double>() : NAN;
+      };
+      row.dt      = seconds("dt_s");
+      row.dt_crit = seconds("dt_crit_s");
+      if (outcome.status != "completed")
+        return row;
+      try
+        {
+          row.errors = case_errors(study.metrics, run, reference ? *reference : run);
+        }
+      catch (const MissingMetric &e)
+        {
+          if (e.in_reference)
+            study.fail(e.key, e.what());
+          row.outcome.status = "incomplete";
+          row.outcome.reason = e.what();
+          return row;
+        }
+      if (!study.figures.convergence_metric.empty())
+        row.convergence_value = run.metric(study.figures.convergence_metric).value_or(NAN);
+      return row;
+    }
+
+    /// Runs postprocess/study_figures.py on @p folder; false (with the reason on
+    /// stderr) when it fails.
+    bool
+    draw_figures(const std::string &folder)
+    {
+      const std::string script = project_path("postprocess/study_figures.py");
+      std::vector<std::string> args{SUTURESIM_PYTHON, script, folder};
+      std::vector<char *>      argv;
+      for (auto &a : args)
+        argv.push_back(a.data());
+      argv.push_back(nullptr);
+      pid_t     pid = 0;
+      const int rc  = posix_spawn(&pid, args[0].c_str(), nullptr, nullptr, argv.data(), environ);
+      int       status = 0;
+      if (rc != 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        {
+          std::cerr << "error: study: the figures were not drawn (" << args[0] << " " << script << " " << folder
+                    << (rc ? std::string(": ") + std::strerror(rc) : std::string(" failed")) << ")\n";
+          return false;
+        }
+      return true;
+    }
+  } // namespace
+
+  int
+  study_command(const std::vector<std::string> &arguments)
+  {
+    const auto start = Clock::now();
+    try
+      {
+        const Options         o     = parse(arguments);
+        const StudyDefinition study = StudyDefinition::read(o.file, o.overrides);
+        if (o.validate)
+          {
+            std::cout << o.file << ": valid, " << study.cases.size() << " cases and the reference\n";
+            return 0;
+          }
+        const std::string folder = o.output.empty() ? "output/studies/" + study.name : o.output;
+        fs::create_directories(fs::path(folder) / "cases");
+        const std::string executable = fs::read_symlink("/proc/self/exe").string();
+
+        std::vector<const Case *> cases{&study.reference};
+        for (const auto &c : study.cases)
+          cases.push_back(&c);
+        std::vector<CaseJob>     jobs;
+        std::vector<std::string> parameters;
+        for (const auto *c : cases)
+          {
+            jobs.push_back({c->name, (fs::path(folder) / "cases" / c->name).string(), study.base_scene, c->settings});
+            parameters.push_back(expected_parameters(study.base_scene, c->settings));
+          }
+        if (!o.export_to.empty())
+          {
+            export_snakemake(executable, o.file, folder, jobs, parameters, o.overrides);
+            std::cout << "study: wrote " << folder << "/Snakefile; run it with snakemake --snakefile " << folder
+                      << "/Snakefile --cores N\n";
+            return 0;
+          }
+
+        // the cases not done yet (all of them but the one asked for, with --case)
+        std::vector<CaseOutcome> outcomes(jobs.size());
+        std::vector<std::size_t> todo;
+        for (std::size_t k = 0; k < jobs.size(); ++k)
+          {
+            if (!o.one_case.empty() && jobs[k].name != o.one_case)
+              continue;
+            if (const auto done = completed_run(jobs[k], parameters[k]))
+              outcomes[k] = *done;
+            else
+              todo.push_back(k);
+          }
+        if (!o.one_case.empty() && todo.empty() &&
+            std::none_of(jobs.begin(), jobs.end(), [&](const CaseJob &j) { return j.name == o.one_case; }))
+          throw InputError(o.file + ": --case " + o.one_case + ": the study has no such case");
+        std::vector<CaseJob>     run_jobs;
+        std::vector<std::string> run_parameters;
+        for (const auto k : todo)
+          run_jobs.push_back(jobs[k]), run_parameters.push_back(parameters[k]);
+        const auto run_start = Clock::now();
+        const auto ran       = run_cases(executable, run_jobs, run_parameters, o.jobs, std::cerr);
+        const double run_phase = std::chrono::duration<double>(Clock::now() - run_start).count();
+        double       cases_wall = 0;
+        for (std::size_t i = 0; i < todo.size(); ++i)
+          outcomes[todo[i]] = ran[i], cases_wall += ran[i].wall_seconds;
+        if (!o.one_case.empty())
+          return 0;
+
+        if (outcomes[0].status != "completed")
+          study.fail("Reference/Settings", "the reference run " + outcomes[0].status + ": " + outcomes[0].reason);
+        const RunData        reference = RunData::read(jobs[0].folder);
+        std::vector<CaseRow> rows;
+        for (std::size_t k = 0; k < jobs.size(); ++k)
+          rows.push_back(row_of(study, *cases[k], jobs[k], outcomes[k], k == 0 ? nullptr : &reference));
+        const StudyReport report(study, std::move(rows));
+        nlohmann::json    timing{{"jobs", o.jobs},
+                              {"cases_run", todo.size()},
+                              {"cases_reused", jobs.size() - todo.size()},
+                              {"cases_wall_seconds", cases_wall},
+                              {"run_phase_seconds", run_phase}};
+        report.write(folder, timing);
+        const bool figures = draw_figures(folder);
+        const double total = std::chrono::duration<double>(Clock::now() - start).count();
+        timing["study_wall_seconds"] = total;
+        report.write(folder, timing);
+        std::cout << "study " << study.name << ": " << jobs.size() << " cases (" << todo.size() << " run, "
+                  << jobs.size() - todo.size() << " already done) in " << total << " s, the cases' own runs "
+                  << cases_wall << " s; wrote " << folder << "/ (cases.csv, study.json"
+                  << (report.best() ? ", best.prm" : "") << (figures ? ", figures" : "") << ")\n";
+        return figures ? 0 : 1;
+      }
+    catch (const InputError &e)
+      {
+        std::cerr << "error: " << e.what() << '\n';
+        return 2;
+      }
+    catch (const std::exception &e)
+      {
+        std::cerr << "error: internal error: study: " << e.what() << '\n';
+        return 4;
+      }
+  }
+} // namespace suturesim::study

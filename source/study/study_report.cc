@@ -1,0 +1,396 @@
+#include <suturesim/core/error.h>
+#include <suturesim/scene/simulation.h>
+#include <suturesim/study/case_metrics.h>
+#include <suturesim/study/convergence.h>
+#include <suturesim/study/pareto.h>
+#include <suturesim/study/study_report.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace suturesim::study
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    std::string
+    number(const double v)
+    {
+      if (!std::isfinite(v))
+        return "";
+      char text[32];
+      std::snprintf(text, sizeof text, "%.10g", v);
+      return text;
+    }
+
+    /// A CSV field, quoted when it holds a separator or a quote.
+    std::string
+    field(const std::string &s)
+    {
+      if (s.find_first_of(",\"\n") == std::string::npos)
+        return s;
+      std::string q = "\"";
+      for (const char c : s)
+        q += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+
+    nlohmann::json
+    json_number(const double v)
+    {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+    }
+
+    void
+    check_written(const std::ofstream &out, const std::string &file)
+    {
+      if (!out.good())
+        throw InputError(file + ": cannot be written");
+    }
+
+    std::size_t
+    index_of(const std::vector<std::string> &names, const std::string &name)
+    {
+      return std::find(names.begin(), names.end(), name) - names.begin();
+    }
+
+    /// The axis paths of the study's cases in order of first appearance.
+    std::vector<std::string>
+    axis_paths(const StudyDefinition &study)
+    {
+      std::vector<std::string> paths;
+      for (const auto &c : study.cases)
+        for (const auto &[path, value] : c.axis_values)
+          if (std::find(paths.begin(), paths.end(), path) == paths.end())
+            paths.push_back(path);
+      return paths;
+    }
+
+    std::string
+    axis_value(const Case &c, const std::string &path)
+    {
+      for (const auto &[p, v] : c.axis_values)
+        if (p == path)
+          return v;
+      return "";
+    }
+  } // namespace
+
+  std::string
+  parameter_unit(const std::string &path)
+  {
+    static std::map<std::string, std::string> units;
+    if (units.empty())
+      {
+        dealii::ParameterHandler prm;
+        scene::Simulation::declare_parameters(prm);
+        std::ostringstream text;
+        prm.print_parameters(text, dealii::ParameterHandler::Text);
+        std::istringstream       lines(text.str());
+        std::vector<std::string> sections;
+        std::string              line, comment;
+        while (std::getline(lines, line))
+          {
+            const auto        start   = line.find_first_not_of(' ');
+            const std::string content = start == std::string::npos ? "" : line.substr(start);
+            if (content.rfind("# ", 0) == 0)
+              comment += " " + content.substr(2);
+            else if (content.rfind("subsection ", 0) == 0)
+              sections.push_back(content.substr(11)), comment.clear();
+            else if (content == "end" && !sections.empty())
+              sections.pop_back(), comment.clear();
+            else if (content.rfind("set ", 0) == 0)
+              {
+                std::string key = content.substr(4, content.find('=') - 4);
+                key.erase(key.find_last_not_of(' ') + 1);
+                std::string full;
+                for (const auto &s : sections)
+                  full += s + "/";
+                const auto unit = comment.find("Unit: ");
+                if (unit != std::string::npos)
+                  {
+                    // "Unit: N/m. Range: ..." -> N/m; a phrase ("as the .geo file defines") is no unit
+                    std::string u = comment.substr(unit + 6, comment.find(". ", unit + 6) - unit - 6);
+                    if (!u.empty() && u.back() == '.')
+                      u.pop_back();
+                    units[full + key] = (u.find(' ') != std::string::npos || u == "none") ? "" : u;
+                  }
+                comment.clear();
+              }
+          }
+      }
+    const auto u = units.find(path);
+    return u == units.end() ? "" : u->second;
+  }
+
+  StudyReport::StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows)
+    : study(study)
+    , rows(std::move(rows))
+  {
+    const auto columns = study.metrics.error_columns();
+    for (auto &row : this->rows)
+      {
+        row.within_tolerance = row.outcome.status == "completed" && !study.objective.tolerances.empty();
+        for (const auto &[name, bound] : study.objective.tolerances)
+          {
+            const double e = row.errors.empty() ? NAN : row.errors[index_of(columns, name)];
+            row.within_tolerance = row.within_tolerance && std::abs(e) <= bound;
+          }
+      }
+  }
+
+  double
+  StudyReport::cost(const CaseRow &row) const
+  {
+    std::size_t k = 0;
+    while (k < cost_columns().size() && cost_columns()[k].first != study.objective.cost)
+      ++k;
+    return row.costs.empty() ? NAN : row.costs[k];
+  }
+
+  double
+  StudyReport::error(const CaseRow &row) const
+  {
+    if (study.objective.error.empty() || row.errors.empty())
+      return NAN;
+    return std::abs(row.errors[index_of(study.metrics.error_columns(), study.objective.error)]);
+  }
+
+  std::optional<std::size_t>
+  StudyReport::best() const
+  {
+    std::vector<TradeOff> cases;
+    for (std::size_t k = 1; k < rows.size(); ++k)
+      cases.push_back({cost(rows[k]), 0.0, rows[k].within_tolerance && std::isfinite(cost(rows[k]))});
+    const auto chosen = cheapest_within(cases, 0.0);
+    if (!chosen)
+      return std::nullopt;
+    return *chosen + 1;
+  }
+
+  nlohmann::json
+  StudyReport::stability() const
+  {
+    const auto &x = study.figures.stability_x, &y = study.figures.stability_y;
+    if (x.empty())
+      return nullptr;
+    nlohmann::json cells = nlohmann::json::array();
+    // the map's rows in the order of the axis
+    std::vector<std::pair<std::string, std::vector<const CaseRow *>>> by_y;
+    for (std::size_t k = 1; k < rows.size(); ++k)
+      {
+        const auto &r     = rows[k];
+        const bool  ran   = r.outcome.status == "completed";
+        const bool  bad   = !study.objective.tolerances.empty() && !r.within_tolerance;
+        // a completed run without a measured metric (a wound that never closed) is inaccurate
+        const std::string state = ran ? (bad ? "inaccurate" : "stable")
+                                  : r.outcome.status == "failed"     ? "diverged"
+                                  : r.outcome.status == "incomplete" ? "inaccurate"
+                                                                     : r.outcome.status;
+        cells.push_back({{"case", r.definition->name}, {"x", axis_value(*r.definition, x)},
+                         {"y", axis_value(*r.definition, y)}, {"state", state}, {"dt", json_number(r.dt)},
+                         {"dt_crit", json_number(r.dt_crit)}});
+        const std::string value = axis_value(*r.definition, y);
+        auto row = std::find_if(by_y.begin(), by_y.end(), [&](const auto &b) { return b.first == value; });
+        if (row == by_y.end())
+          row = by_y.insert(by_y.end(), {value, {}});
+        row->second.push_back(&r);
+      }
+    // per row of the map: the measured boundary in dt against the predicted dt_crit
+    nlohmann::json boundary = nlohmann::json::array();
+    for (const auto &[value, row] : by_y)
+      {
+        double stable = 0, diverged = INFINITY;
+        std::vector<double> crit;
+        for (const auto *r : row)
+          {
+            if (r->outcome.status == "failed")
+              diverged = std::min(diverged, r->dt);
+            else if (r->outcome.status == "completed")
+              stable = std::max(stable, r->dt);
+            if (std::isfinite(r->dt_crit))
+              crit.push_back(r->dt_crit);
+          }
+        std::sort(crit.begin(), crit.end());
+        const double c = crit.empty() ? NAN : crit[crit.size() / 2];
+        boundary.push_back({{"y", value}, {"dt_crit", json_number(c)},
+                            {"largest_stable_dt", stable > 0 ? json_number(stable) : nullptr},
+                            {"smallest_diverged_dt", json_number(diverged)}});
+      }
+    return {{"x", x}, {"y", y}, {"x_unit", parameter_unit(x)}, {"y_unit", parameter_unit(y)}, {"cells", cells},
+            {"boundary", boundary}};
+  }
+
+  nlohmann::json
+  StudyReport::to_json(const nlohmann::json &timing) const
+  {
+    const auto     columns = study.metrics.error_columns();
+    nlohmann::json out{{"name", study.name}, {"study_file", study.file}, {"base_scene", study.base_scene}};
+    out["objective"] = {{"error", study.objective.error}, {"cost", study.objective.cost},
+                        {"tolerances", nlohmann::json::object()}};
+    for (const auto &[name, bound] : study.objective.tolerances)
+      out["objective"]["tolerances"][name] = bound;
+    out["timing"] = timing;
+    out["cases"]  = nlohmann::json::array();
+    std::vector<TradeOff> trade;
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      {
+        const auto    &r = rows[k];
+        nlohmann::json c{{"name", r.definition->name},     {"status", r.outcome.status},
+                         {"reason", r.outcome.reason},     {"reused", r.outcome.reused},
+                         {"settings", r.definition->settings}, {"within_tolerance", r.within_tolerance},
+                         {"dt", json_number(r.dt)},        {"dt_crit", json_number(r.dt_crit)}};
+        for (const auto &[path, value] : r.definition->axis_values)
+          c["axes"][path] = value;
+        for (std::size_t e = 0; e < columns.size(); ++e)
+          c["errors"][columns[e]] = r.errors.empty() ? nullptr : json_number(r.errors[e]);
+        for (std::size_t e = 0; e < cost_columns().size(); ++e)
+          c["costs"][cost_columns()[e].first] = r.costs.empty() ? nullptr : json_number(r.costs[e]);
+        c["cost"]  = json_number(cost(r));
+        c["error"] = json_number(error(r));
+        out["cases"].push_back(c);
+        if (k > 0)
+          trade.push_back({cost(r), error(r),
+                           r.outcome.status == "completed" && std::isfinite(cost(r)) && std::isfinite(error(r))});
+      }
+    out["front"] = nlohmann::json::array();
+    for (const auto k : pareto_front(trade))
+      out["front"].push_back(rows[k + 1].definition->name);
+    const auto chosen = best();
+    out["best"]       = chosen ? nlohmann::json(rows[*chosen].definition->name) : nlohmann::json(nullptr);
+    out["stability"]  = stability();
+    out["convergence"] = convergence();
+    return out;
+  }
+
+  nlohmann::json
+  StudyReport::convergence() const
+  {
+    if (study.figures.convergence_metric.empty())
+      return nullptr;
+    nlohmann::json      table = nlohmann::json::array();
+    std::vector<double> h, f;
+    for (const auto &[name, size] : study.figures.convergence_sizes)
+      for (const auto &r : rows)
+        if (r.definition->name == name)
+          {
+            table.push_back({{"case", name}, {"h", size}, {"value", json_number(r.convergence_value)},
+                             {"status", r.outcome.status}});
+            if (std::isfinite(r.convergence_value))
+              h.push_back(size), f.push_back(r.convergence_value);
+          }
+    nlohmann::json out{{"metric", study.figures.convergence_metric}, {"table", table}};
+    if (h.size() >= 3)
+      {
+        const auto e = estimate_convergence(h, f);
+        out["observed_order"] = json_number(e.order);
+        out["extrapolated"]   = json_number(e.extrapolated);
+        out["gci_fine"]       = json_number(e.gci_fine);
+        out["oscillatory"]    = e.oscillatory;
+        out["settled"]        = e.converged;
+      }
+    return out;
+  }
+
+  void
+  StudyReport::write_cases_csv(const std::string &file) const
+  {
+    std::ofstream out(file);
+    const auto    axes    = axis_paths(study);
+    const auto    columns = study.metrics.error_columns();
+    out << "case,status,reason";
+    for (const auto &a : axes)
+      out << ',' << field(a + " [" + (parameter_unit(a).empty() ? "-" : parameter_unit(a)) + "]");
+    for (const auto &c : columns)
+      out << ',' << field(c + (c == "events.time" ? " error [s]" : " error [1]"));
+    for (const auto &[name, unit] : cost_columns())
+      out << ',' << name << " [" << unit << "]";
+    out << ",dt [s],dt_crit [s],within_tolerance [0|1]\n";
+    for (const auto &r : rows)
+      {
+        out << field(r.definition->name) << ',' << r.outcome.status << ',' << field(r.outcome.reason);
+        for (const auto &a : axes)
+          out << ',' << field(axis_value(*r.definition, a));
+        for (std::size_t e = 0; e < columns.size(); ++e)
+          out << ',' << (r.errors.empty() ? "" : number(r.errors[e]));
+        for (std::size_t e = 0; e < cost_columns().size(); ++e)
+          out << ',' << (r.costs.empty() ? "" : number(r.costs[e]));
+        out << ',' << number(r.dt) << ',' << number(r.dt_crit) << ',' << r.within_tolerance << '\n';
+      }
+    check_written(out, file);
+  }
+
+  void
+  StudyReport::write_best(const std::string &folder) const
+  {
+    const auto chosen = best();
+    if (!chosen)
+      return;
+    const auto   &r = rows[*chosen];
+    std::ifstream in(fs::path(folder) / "cases" / r.definition->name / "parameters.prm");
+    std::ostringstream parameters;
+    parameters << in.rdbuf();
+    const std::string file = (fs::path(folder) / "best.prm").string();
+    std::ofstream     out(file);
+    out << "# The cheapest case of study '" << study.name << "' (" << study.file << ") within every tolerance:\n"
+        << "#   case " << r.definition->name << ", " << study.objective.cost << " = " << number(cost(r)) << " s\n";
+    const auto columns = study.metrics.error_columns();
+    for (const auto &[name, bound] : study.objective.tolerances)
+      out << "#   |" << name << "| = " << number(std::abs(r.errors[index_of(columns, name)])) << " <= " << number(bound)
+          << '\n';
+    out << "# It is " << study.base_scene << " with\n";
+    for (const auto &s : r.definition->settings)
+      out << "#   --set \"" << s << "\"\n";
+    out << "# and reads as a scene by itself: suturesim best.prm (every parameter below).\n\n" << parameters.str();
+    check_written(out, file);
+  }
+
+  void
+  StudyReport::write(const std::string &folder, const nlohmann::json &timing) const
+  {
+    write_cases_csv((fs::path(folder) / "cases.csv").string());
+    const auto    json = to_json(timing);
+    const auto    file = (fs::path(folder) / "study.json").string();
+    std::ofstream out(file);
+    out << json.dump(1) << '\n';
+    check_written(out, file);
+    write_best(folder);
+    if (!json["stability"].is_null())
+      {
+        const auto    name = (fs::path(folder) / "stability.csv").string();
+        std::ofstream csv(name);
+        csv << "case," << field(study.figures.stability_x + " [" + parameter_unit(study.figures.stability_x) + "]")
+            << ',' << field(study.figures.stability_y + " [" + parameter_unit(study.figures.stability_y) + "]")
+            << ",state,dt [s],dt_crit [s]\n";
+        for (const auto &c : json["stability"]["cells"])
+          csv << field(c["case"].get<std::string>()) << ',' << field(c["x"].get<std::string>()) << ','
+              << field(c["y"].get<std::string>()) << ',' << c["state"].get<std::string>() << ','
+              << (c["dt"].is_null() ? "" : number(c["dt"].get<double>())) << ','
+              << (c["dt_crit"].is_null() ? "" : number(c["dt_crit"].get<double>())) << '\n';
+        check_written(csv, name);
+      }
+    if (!json["convergence"].is_null())
+      {
+        const auto    name = (fs::path(folder) / "convergence.csv").string();
+        std::ofstream csv(name);
+        const auto   &c = json["convergence"];
+        csv << "case,h [m]," << field(study.figures.convergence_metric) << ",status\n";
+        for (const auto &row : c["table"])
+          csv << row["case"].get<std::string>() << ',' << number(row["h"].get<double>()) << ','
+              << (row["value"].is_null() ? "" : number(row["value"].get<double>())) << ','
+              << row["status"].get<std::string>() << '\n';
+        if (c.contains("observed_order"))
+          csv << "# observed order p = " << c["observed_order"].dump() << ", Richardson extrapolation "
+              << c["extrapolated"].dump() << ", GCI (fine) " << c["gci_fine"].dump()
+              << (c["oscillatory"].get<bool>() ? " (oscillatory)" : "") << '\n';
+        check_written(csv, name);
+      }
+  }
+} // namespace suturesim::study

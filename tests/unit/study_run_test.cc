@@ -1,0 +1,242 @@
+// `suturesim study` end to end (issue 24): the shipped studies at small size, the
+// stability boundary against dt_crit, reruns that run nothing, the Snakemake export, and
+// the errors a study reports only after its runs.
+#include <suturesim/study/pareto.h>
+
+#include "run_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+using namespace suturesim;
+using namespace suturesim::test_support;
+namespace fs = std::filesystem;
+
+namespace
+{
+  struct StudyRun
+  {
+    int            exit_code = -1;
+    std::string    output;
+    std::string    folder;
+    nlohmann::json study; ///< study.json, when written
+  };
+
+  /// `suturesim study <file> --output <scratch>/<name> <args>`; @p fresh clears the folder.
+  StudyRun
+  run_study(const std::string &name, const std::string &file, const std::string &args, const bool fresh = true)
+  {
+    StudyRun r;
+    r.folder = (scratch_path() / name).string();
+    if (fresh)
+      fs::remove_all(r.folder);
+    const std::string log = r.folder + ".log";
+    const std::string cmd = std::string(suturesim_binary()) + " study '" + file + "' --output '" + r.folder + "' " +
+                            args + " > '" + log + "' 2>&1";
+    const int status = std::system(cmd.c_str());
+    r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream     in(log);
+    std::stringstream s;
+    s << in.rdbuf();
+    r.output = s.str();
+    std::ifstream json(r.folder + "/study.json");
+    if (json)
+      json >> r.study;
+    return r;
+  }
+
+  /// cases.csv as rows of cells, the header first (no quoted commas in these studies'
+  /// numeric columns; the quoted axis values are compared whole).
+  std::vector<std::vector<std::string>>
+  read_csv(const std::string &file)
+  {
+    std::ifstream                         in(file);
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(in, line);)
+      {
+        std::vector<std::string> cells;
+        std::string              cell;
+        bool                     quoted = false;
+        for (const char c : line + ",")
+          if (c == '"')
+            quoted = !quoted;
+          else if (c == ',' && !quoted)
+            cells.push_back(cell), cell.clear();
+          else
+            cell += c;
+        rows.push_back(cells);
+      }
+    return rows;
+  }
+
+  /// The columns of @p rows whose header is not a cost (costs are measured times).
+  std::vector<std::vector<std::string>>
+  without_costs(const std::vector<std::vector<std::string>> &rows)
+  {
+    std::vector<bool> keep;
+    for (const auto &h : rows.at(0))
+      keep.push_back(h.find("time [s]") == std::string::npos && h.find("core_seconds") == std::string::npos &&
+                     h.find("peak_memory") == std::string::npos && h.find("step_time") == std::string::npos);
+    std::vector<std::vector<std::string>> out;
+    for (const auto &row : rows)
+      {
+        out.emplace_back();
+        for (std::size_t k = 0; k < row.size(); ++k)
+          if (keep.at(k))
+            out.back().push_back(row[k]);
+      }
+    return out;
+  }
+
+  std::map<std::string, fs::file_time_type>
+  run_records(const std::string &folder)
+  {
+    std::map<std::string, fs::file_time_type> times;
+    for (const auto &c : fs::directory_iterator(fs::path(folder) / "cases"))
+      times[c.path().filename().string()] = fs::last_write_time(c.path() / "run.json");
+    return times;
+  }
+
+  const std::string small_study = source_path("tests/data/studies/realtime_small.prm");
+} // namespace
+
+TEST(StudyRun, PatchLoadParetoAtSmallSizeWritesTablesFrontAndCharts)
+{
+  // the shipped study, 0.5 s instead of 3 s (the reference: one quasi-static step)
+  const auto r = run_study("study_patch_load", source_path("parameters/studies/patch_load_pareto.prm"),
+                           "--jobs 2 --set \"Time/End time=0.5\"");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char *file : {"cases.csv", "study.json", "pareto.png", "pareto.pdf"})
+    EXPECT_TRUE(fs::exists(fs::path(r.folder) / file)) << file;
+  const auto rows = read_csv(r.folder + "/cases.csv");
+  ASSERT_EQ(rows.size(), 17u); // header, the reference, 15 cases
+  EXPECT_EQ(rows[0][0], "case");
+  EXPECT_NE(std::find(rows[0].begin(), rows[0].end(), "probes.max error [1]"), rows[0].end());
+  EXPECT_NE(std::find(rows[0].begin(), rows[0].end(), "step_time_median [s]"), rows[0].end());
+
+  // the front study.json names is the non-dominated set of its own (cost, error) pairs
+  const auto     &cases = r.study.at("cases");
+  std::vector<std::string> expected;
+  for (std::size_t i = 1; i < cases.size(); ++i)
+    {
+      if (cases[i]["status"] != "completed")
+        continue;
+      bool dominated = false;
+      for (std::size_t j = 1; j < cases.size(); ++j)
+        {
+          const double ci = cases[i]["cost"], ei = cases[i]["error"], cj = cases[j]["cost"], ej = cases[j]["error"];
+          dominated |= cases[j]["status"] == "completed" && cj <= ci && ej <= ei && (cj < ci || ej < ei);
+        }
+      if (!dominated)
+        expected.push_back(cases[i]["name"]);
+    }
+  std::vector<std::string> front = r.study.at("front");
+  std::sort(front.begin(), front.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(front, expected);
+  EXPECT_GE(front.size(), 2u);
+}
+
+TEST(StudyRun, ExplicitStabilityBoundaryLiesWithinFivePercentOfDtCrit)
+{
+  const auto r = run_study("study_stability_explicit", source_path("parameters/studies/stability_explicit.prm"),
+                           "--jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.csv"));
+  EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.png"));
+  const auto &boundary = r.study.at("stability").at("boundary");
+  ASSERT_EQ(boundary.size(), 3u); // every shear modulus of the axis
+  for (const auto &b : boundary)
+    {
+      ASSERT_FALSE(b["largest_stable_dt"].is_null()) << b.dump();
+      ASSERT_FALSE(b["smallest_diverged_dt"].is_null()) << b.dump();
+      const double crit = b["dt_crit"], stable = b["largest_stable_dt"], diverged = b["smallest_diverged_dt"];
+      std::printf("[ stability ] shear modulus %s Pa: stable up to %.4g dt_crit, diverged from %.4g dt_crit\n",
+                  b["y"].get<std::string>().c_str(), stable / crit, diverged / crit);
+      EXPECT_LT(stable, diverged);
+      EXPECT_GE(stable, 0.95 * crit);
+      EXPECT_LE(diverged, 1.05 * crit);
+    }
+  // a diverged case is a row with its status and the guard's reason, not a gap
+  std::size_t diverged = 0;
+  for (const auto &c : r.study.at("cases"))
+    if (c["status"] == "failed")
+      {
+        ++diverged;
+        EXPECT_NE(c["reason"].get<std::string>().find("diverged"), std::string::npos) << c.dump();
+      }
+  EXPECT_GT(diverged, 0u);
+}
+
+TEST(StudyRun, RerunWithNothingChangedRunsNoCase)
+{
+  const auto first = run_study("study_rerun", small_study, "--jobs 2");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_EQ(first.study["timing"]["cases_run"], 5);
+  const auto before = run_records(first.folder);
+  const auto second = run_study("study_rerun", small_study, "--jobs 2", false);
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_EQ(second.study["timing"]["cases_run"], 0);
+  EXPECT_EQ(second.study["timing"]["cases_reused"], 5);
+  EXPECT_EQ(run_records(second.folder), before);
+  EXPECT_EQ(without_costs(read_csv(second.folder + "/cases.csv")), without_costs(read_csv(first.folder + "/cases.csv")));
+  // a setting that changes every case runs them all again
+  const auto third = run_study("study_rerun", small_study, "--jobs 2 --set Realtime/Rate=500", false);
+  ASSERT_EQ(third.exit_code, 0) << third.output;
+  EXPECT_EQ(third.study["timing"]["cases_run"], 5);
+}
+
+TEST(StudyRun, SnakemakeExportGivesTheSameTableAsJobs)
+{
+  const auto jobs = run_study("study_jobs", small_study, "--jobs 2");
+  ASSERT_EQ(jobs.exit_code, 0) << jobs.output;
+  const auto exported = run_study("study_snakemake", small_study, "--export snakemake");
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  ASSERT_TRUE(fs::exists(fs::path(exported.folder) / "Snakefile"));
+  // snakemake from Debian (scripts/install-deps.sh); its own working folder is the study's
+  const std::string cmd = "cd '" + exported.folder + "' && snakemake --snakefile Snakefile --cores 2 > snakemake.log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << exported.folder << "/snakemake.log";
+  const auto snake = read_csv(exported.folder + "/cases.csv");
+  ASSERT_EQ(snake.size(), 6u);
+  EXPECT_EQ(without_costs(snake), without_costs(read_csv(jobs.folder + "/cases.csv")));
+}
+
+TEST(StudyRun, ErrorsFoundAfterTheRunsNameTheStudyLine)
+{
+  const auto dir = scratch_path() / "bad_studies";
+  fs::create_directories(dir);
+  const std::string base = source_path("benchmarks/block_patch_load/block_patch_load.prm");
+  const std::string head = "set Name = bad\nset Base scene = " + base +
+                           "\nsubsection Reference\n  set Settings = Model=realtime, \"Mesh/Geo parameters=h: 0.005, "
+                           "hexahedra: 0\", Time/End time=0.01";
+  const std::string cases = "\nsubsection Cases\n  set Settings = Model=realtime, \"Mesh/Geo parameters=h: 0.005, "
+                            "hexahedra: 0\", Time/End time=0.01\n  set Axes = Realtime/xpbd/Iterations = 2\nend\n";
+  struct Bad
+  {
+    std::string name, text, expected;
+  };
+  const std::vector<Bad> bad{
+    {"no_such_metric", head + "\nend" + cases + "subsection Metrics\n  set Scalars = nonsense\nend\n",
+     "no_such_metric.prm:11: Metrics/Scalars: the reference has no metric 'nonsense'"},
+    {"refused_reference", head + ", Realtime/Integrator=symplectic-euler, Realtime/Rate=10, Realtime/Above stability limit=refuse\nend" + cases,
+     "refused_reference.prm:4: Reference/Settings: the reference run refused: "},
+  };
+  for (const auto &b : bad)
+    {
+      const std::string file = (dir / (b.name + ".prm")).string();
+      std::ofstream(file) << b.text;
+      const auto r = run_study("bad_" + b.name, file, "");
+      std::printf("[ study error ] %s", r.output.substr(r.output.rfind("error: ")).c_str());
+      EXPECT_EQ(r.exit_code, 2) << r.output;
+      EXPECT_NE(r.output.find(b.expected), std::string::npos) << r.output;
+    }
+  // the command line
+  EXPECT_EQ(run_study("bad_jobs", small_study, "--jobs 0").exit_code, 2);
+  EXPECT_NE(run_study("bad_option", small_study, "--nonsense").output.find("unknown"), std::string::npos);
+}
