@@ -42,31 +42,45 @@ def pareto(study, folder):
     fig, ax = plt.subplots(figsize=(10, 5))
     fig.subplots_adjust(right=0.7)
     ok = [c for c in cases if c["status"] == "completed" and c["cost"] and c["error"] is not None]
-    bad = [c for c in cases if c not in ok]
+    # incomplete: the run finished, the error is measured, another metric is missing
+    partial = [c for c in cases if c["status"] == "incomplete" and c["cost"] and c["error"] is not None]
+    bad = [c for c in cases if c not in ok and c not in partial]
     front = sorted((c for c in ok if c["name"] in study["front"]), key=lambda c: c["cost"])
     scale = 1e3 if step_time else 1.0
     ax.scatter([c["cost"] * scale for c in ok], [c["error"] for c in ok], s=28, color="#1f77b4",
                label=f"completed ({len(ok)})", zorder=3)
+    if partial:
+        ax.scatter([c["cost"] * scale for c in partial], [c["error"] for c in partial], s=40,
+                   facecolors="none", edgecolors=COLORS["inaccurate"], linewidths=1.5,
+                   label=f"incomplete ({len(partial)}): another metric missing", zorder=3)
+    key = []
     if front:
         ax.plot([c["cost"] * scale for c in front], [c["error"] for c in front], "-", color="#1f77b4",
                 alpha=0.5, label="Pareto front")
-        # the front's cases numbered on the chart, named in a key beside it
-        for i, c in enumerate(front, 1):
-            ax.annotate(str(i), (c["cost"] * scale, c["error"]), textcoords="offset points",
-                        xytext=(3, 4), fontsize=7, weight="bold")
-        key = "\n".join(f"{i}: {c['name']}" for i, c in enumerate(front, 1))
-        fig.text(0.72, 0.5, "Pareto front\n" + key, fontsize=6, va="center", family="monospace")
-    errors = [c["error"] for c in ok] or [1.0]
+        key.append("Pareto front")
+    # the front's and the other cases numbered on the chart, named in a key beside it
+    numbered = front + partial + bad
+    for i, c in enumerate(numbered, 1):
+        if c in partial:
+            key.append("incomplete") if c is partial[0] else None
+        if c in bad:
+            key.append("not completed") if c is bad[0] else None
+        key.append(f"{i:2d}: {c['name']}" + ("" if c in front else f" ({c['status']})"))
+    errors = [c["error"] for c in ok + partial] or [1.0]
     top = max(errors) * 1.6 if max(errors) > 0 else 1.0
     if bad:
         costs = [(c["cost"] or 0) * scale for c in bad]
         known = [x for x in costs if x > 0] or [1.0]
         xs = [x if x > 0 else min(known) for x in costs]
         ax.scatter(xs, [top] * len(bad), marker="x", s=40, color=COLORS["diverged"],
-                   label=f"failed or diverged ({len(bad)}), no error", zorder=3)
+                   label=f"failed, diverged or no error ({len(bad)})", zorder=3)
         for c, x in zip(bad, xs):
-            ax.annotate(c["name"], (x, top), textcoords="offset points", xytext=(3, -10), fontsize=6,
-                        color=COLORS["diverged"])
+            c["_x"], c["_y"] = x / scale, top
+    for i, c in enumerate(numbered, 1):
+        x, y = (c["_x"], c["_y"]) if c in bad else (c["cost"], c["error"])
+        ax.annotate(str(i), (x * scale, y), textcoords="offset points", xytext=(3, 4), fontsize=7,
+                    weight="bold")
+    fig.text(0.72, 0.5, "\n".join(key), fontsize=6, va="center", family="monospace")
     if step_time:
         for budget, label in ((1.0, "1 ms (1 kHz)"), (0.25, "0.25 ms")):
             ax.axvline(budget, color="grey", ls="--", lw=1)
@@ -80,7 +94,7 @@ def pareto(study, folder):
         ax.scatter([c["cost"] * scale], [c["error"]], s=140, facecolors="none", edgecolors="#2a9d3f",
                    linewidths=1.5, label=f"cheapest within tolerance: {c['name']}", zorder=4)
     ax.set_xscale("log")
-    shown = [c["error"] for c in ok if c["error"] > 0]
+    shown = [c["error"] for c in ok + partial if c["error"] > 0]
     if shown and max(shown) / min(shown) > 20:
         ax.set_yscale("log")
     unit = "ms" if step_time else "s"
@@ -126,8 +140,10 @@ def stability(study, folder):
             x, c = row[0]
             boundary.append((x * c["dt_crit"] / c["dt"] if growing else x * c["dt"] / c["dt_crit"], y))
         if boundary:
-            ax.plot([b[0] for b in boundary], [b[1] for b in boundary], "k--", lw=1.2,
+            ax.plot([b[0] for b in boundary], [b[1] for b in boundary], "k--", lw=1.0,
                     label="predicted: dt = dt_crit")
+            ax.scatter([b[0] for b in boundary], [b[1] for b in boundary], marker="|", s=400,
+                       color="black", zorder=4)
         if min(xs) > 0 and max(xs) / min(xs) > 3:
             ax.set_xscale("log")
         if min(ys) > 0 and max(ys) / min(ys) > 3:
@@ -135,26 +151,33 @@ def stability(study, folder):
     ax.set_xlabel(f"{s['x']} [{s['x_unit'] or '-'}]")
     ax.set_ylabel(f"{s['y']} [{s['y_unit'] or '-'}]")
     ax.set_title(f"study {study['name']}: stability map", fontsize=10)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=5)
     ax.grid(True, which="both", alpha=0.3)
     save(fig, folder, "stability")
 
 
 def convergence(study, folder):
     c = study["convergence"]
-    table = [r for r in c["table"] if r["value"] is not None]
-    if not table:
-        return
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
-    ax.plot([r["h"] for r in table], [r["value"] for r in table], "o-", label=c["metric"])
-    if c.get("extrapolated") is not None:
-        f1 = min(table, key=lambda r: r["h"])["value"]
-        bar = abs(c["gci_fine"] * f1)
-        ax.errorbar([0], [c["extrapolated"]], yerr=[bar], fmt="s", color="#d62728", capsize=4,
-                    label=f"Richardson, p = {c['observed_order']:.2f}, GCI {100 * c['gci_fine']:.2g} %")
+    hmax = 0
+    for k, series in enumerate(c["series"]):
+        table = [r for r in series["table"] if r["value"] is not None]
+        if not table:
+            continue
+        color = f"C{k}"
+        hmax = max(hmax, max(r["h"] for r in table))
+        ax.plot([r["h"] for r in table], [r["value"] for r in table], "o-", color=color,
+                label=f"{series['series']}")
+        if series.get("extrapolated") is not None:
+            f1 = min(table, key=lambda r: r["h"])["value"]
+            bar = abs(series["gci_fine"] * f1)
+            ax.errorbar([0], [series["extrapolated"]], yerr=[bar], fmt="s", color=color, capsize=4,
+                        label=f"{series['series']}: Richardson, p = {series['observed_order']:.2f}, "
+                              f"GCI {100 * series['gci_fine']:.2g} %"
+                              + (" (oscillatory: not asymptotic)" if series.get("oscillatory") else ""))
     ax.set_xlabel("h [m]")
     ax.set_ylabel(c["metric"])
-    ax.set_xlim(left=-0.05 * max(r["h"] for r in table))
+    ax.set_xlim(left=-0.05 * hmax)
     ax.set_title(f"study {study['name']}: convergence", fontsize=10)
     ax.legend(fontsize=7)
     ax.grid(True, alpha=0.3)

@@ -53,7 +53,7 @@ namespace suturesim::io
       {
         const std::string name = entry.path().filename().string();
         const std::string ext  = entry.path().extension().string();
-        if (name == "summary.json" || name == "forces.csv" || name == "parameters.prm" ||
+        if (name == "summary.json" || name == "forces.csv" || name == "parameters.prm" || name == "surface_displacement.json" ||
             ext == ".pvd" || ext == ".vtu" || ext == ".pvtu")
           fs::remove(entry.path());
       }

@@ -1,6 +1,7 @@
 #include <suturesim/collision/volume_penetration.h>
 #include <suturesim/io/polyline_writer.h>
 #include <suturesim/io/simplex_writer.h>
+#include <suturesim/io/surface_field.h>
 #include <suturesim/scene/realtime_record.h>
 
 #include <cmath>
@@ -118,6 +119,12 @@ namespace suturesim::scene
     values[c++] = sys.kinetic_energy();
     values[c++] = sys.elastic_energy(sys.nodes.x);
     recorder.add_row(values);
+    // the suture's largest stretch |x_i+1 - x_i|/l - 1 so far (the accurate path's is its
+    // axial strain: summary.json suture_stretch_max in both)
+    if (world.scene.has_suture())
+      for (auto i = sys.suture.begin; i + 1 < sys.suture.end; ++i)
+        stretch_max =
+          std::max(stretch_max, (sys.nodes.x.col(i + 1) - sys.nodes.x.col(i)).norm() / rw.suture()->link_length() - 1);
   }
 
   void
@@ -200,6 +207,12 @@ namespace suturesim::scene
       }
     if (world.closure)
       world.closure->write(metrics);
+    if (scene.has_suture())
+      {
+        const auto tip             = sys.nodes.x.col(sys.suture.end - 1);
+        metrics["suture_stretch_max"] = stretch_max;
+        metrics["tip_position"]       = {tip[0], tip[1], tip[2]};
+      }
     // no suture node may end inside the tissue, deeper than its radius below the
     // surface, but those the thread carries between two pierce points
     if (scene.has_tissue() && scene.has_suture() && !rw.tissue()->volume_cells().empty())
@@ -227,5 +240,8 @@ namespace suturesim::scene
         for (int d = 0; d < 3; ++d)
           metrics[name + "_displacement_" + std::string(1, char('x' + d))] = u[d];
       }
+    if (scene.has_tissue())
+      io::SurfaceField::of(rw.time(), sys.nodes.reference, sys.nodes.x - sys.nodes.reference, rw.tissue()->surface())
+        .write(recorder.directory() + "/surface_displacement.json");
   }
 } // namespace suturesim::scene

@@ -79,10 +79,11 @@ namespace suturesim::scene
     const rod::Vec3 tip = model.positions()[last];
     for (unsigned d = 0; d < 3; ++d)
       row.push_back(tip[d]);
-    double max_axial = 0, energy = 0;
+    double max_axial = 0, energy = 0, stretch = 0;
     for (const auto &s : states)
       {
         max_axial = std::max(max_axial, std::abs(s.N[0]));
+        stretch   = std::max(stretch, s.Gamma[0]); // the axial strain
         energy += s.energy;
       }
     row.push_back(max_axial);
@@ -98,6 +99,7 @@ namespace suturesim::scene
     metrics["tip_position"]                = {tip[0], tip[1], tip[2]};
     metrics["max_axial_force"]             = std::max(metrics.value("max_axial_force", 0.0), max_axial);
     metrics["final_max_axial_force"]       = max_axial;
+    metrics["suture_stretch_max"]          = std::max(metrics.value("suture_stretch_max", 0.0), stretch);
     metrics["elastic_energy"]              = energy;
     metrics["start_reaction"]              = std::vector<double>(row.begin() + 1, row.begin() + 7);
     metrics["last_reaction"]               = std::vector<double>(row.begin() + 7, row.begin() + 13);

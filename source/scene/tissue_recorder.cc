@@ -1,5 +1,8 @@
+#include <suturesim/io/surface_field.h>
 #include <suturesim/scene/run_summary.h>
 #include <suturesim/scene/tissue_recorder.h>
+
+#include <stdexcept>
 
 namespace suturesim::scene
 {
@@ -56,9 +59,31 @@ namespace suturesim::scene
     any           = true;
   }
 
+  void
+  TissueRecorder::write_surface() const
+  {
+    if (!any)
+      return;
+    tissue::BoundarySurface surface;
+    try
+      {
+        surface = model.boundary_surface(); // collective
+      }
+    catch (const std::invalid_argument &)
+      {
+        return; // a refined mesh: its boundary vertices are not the coarse mesh's (no surface field)
+      }
+    Eigen::Matrix3Xd x;
+    model.surface_positions(surface, x); // collective
+    if (recorder.is_root())
+      io::SurfaceField::of(last_accepted, surface.reference, x - surface.reference, surface.triangles)
+        .write(recorder.directory() + "/surface_displacement.json");
+  }
+
   std::string
   TissueRecorder::keep_last_accepted()
   {
+    write_surface();
     if (any && last_output < last_accepted)
       {
         last_file = model.write_vtu(recorder.directory(), output_index++, last_accepted);
@@ -71,6 +96,7 @@ namespace suturesim::scene
   void
   TissueRecorder::totals(const nlohmann::json &solver)
   {
+    write_surface();
     RunSummary(recorder.summary()).solver(solver);
   }
 } // namespace suturesim::scene

@@ -1,5 +1,6 @@
 #include <suturesim/study/case_metrics.h>
 #include <suturesim/study/curve_metrics.h>
+#include <suturesim/study/surface_error.h>
 
 #include <algorithm>
 #include <array>
@@ -118,37 +119,62 @@ namespace suturesim::study
         }
     }
 
+    /// The columns of curve @p name: e₂, e∞, e_p over the whole overlap, then (aligned on
+    /// events) e₂ per phase.
     void
-    curve_columns(const MetricsSpec &spec, const RunData &run, const RunData &ref, std::vector<double> &out)
+    curve_columns(const MetricsSpec &spec, const std::string &name, const RunData &run, const RunData &ref,
+                  std::vector<double> &out)
     {
-      for (const auto &name : spec.curves)
+      const Curve r = curve(ref, name, "reference"), c = curve(run, name, "case");
+      if (spec.alignment == "time")
         {
-          const Curve r = curve(ref, name, "reference"), c = curve(run, name, "case");
-          if (spec.alignment == "time")
-            {
-              const auto e =
-                guarded([&] { return curve_errors(c, r, std::max(c.front(), r.front()), std::min(c.back(), r.back())); });
-              out.insert(out.end(), {e.relative_l2, e.relative_linf, e.peak});
-              continue;
-            }
-          // over the whole overlap after the warp (past the last event: shifted by its
-          // offset), then phase by phase; NaN where the reference vanishes (a tension
-          // before the thread is in)
-          const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
-          const auto warped = warp_to_events(c, ce, re);
-          const auto e = guarded([&] { return curve_errors(warped, r, std::max(warped.front(), r.front()),
-                                                           std::min(warped.back(), r.back())); });
+          const auto e =
+            guarded([&] { return curve_errors(c, r, std::max(c.front(), r.front()), std::min(c.back(), r.back())); });
           out.insert(out.end(), {e.relative_l2, e.relative_linf, e.peak});
-          for (std::size_t k = 0; k + 1 < re.size(); ++k)
-            out.push_back(guarded([&] { return curve_errors(warped, r, re[k], re[k + 1]); }).relative_l2);
+          return;
         }
-      if (spec.alignment == "events")
+      // over the whole overlap after the warp (past the last event: shifted by its offset),
+      // then phase by phase; NaN where the reference vanishes (a tension before the thread
+      // is in)
+      const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
+      // events at one time in either run (two pierce points taken in one step) bound no
+      // phase: the warp uses the strictly increasing ones, their phases are NaN
+      std::vector<double> cw, rw;
+      std::vector<bool>   bounded(re.size(), false);
+      for (std::size_t k = 0; k < re.size(); ++k)
+        if (cw.empty() || (ce[k] > cw.back() && re[k] > rw.back()))
+          {
+            bounded[k] = !cw.empty() && ce[k - 1] == cw.back() && re[k - 1] == rw.back();
+            cw.push_back(ce[k]), rw.push_back(re[k]);
+          }
+      const Curve warped = cw.size() >= 2 ? warp_to_events(c, cw, rw) : c;
+      const auto  e      = guarded([&] {
+        return curve_errors(warped, r, std::max(warped.front(), r.front()), std::min(warped.back(), r.back()));
+      });
+      out.insert(out.end(), {e.relative_l2, e.relative_linf, e.peak});
+      for (std::size_t k = 0; k + 1 < re.size(); ++k)
+        out.push_back(bounded[k + 1] ? guarded([&] { return curve_errors(warped, r, re[k], re[k + 1]); }).relative_l2
+                                     : nan);
+    }
+
+    /// Appends what @p columns appends, or @p n NaNs when the case lacks the metric (its
+    /// message then goes to @p missing); a metric the reference lacks is thrown on.
+    template <typename F>
+    void
+    measure(std::vector<double> &out, const std::size_t n, std::vector<std::string> &missing, const F &columns)
+    {
+      const std::size_t before = out.size();
+      try
         {
-          const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
-          double     worst = 0;
-          for (std::size_t k = 0; k < ce.size(); ++k)
-            worst = std::max(worst, std::abs(ce[k] - re[k]));
-          out.push_back(worst);
+          columns();
+        }
+      catch (const MissingMetric &e)
+        {
+          if (e.in_reference)
+            throw;
+          out.resize(before);
+          out.insert(out.end(), n, nan);
+          missing.push_back(e.what());
         }
     }
   } // namespace
@@ -169,6 +195,8 @@ namespace suturesim::study
         throw std::runtime_error(folder + "/summary.json: " + e.what());
       }
     read_columns(fs::path(folder) / "forces.csv", data);
+    if (fs::exists(fs::path(folder) / "surface_displacement.json"))
+      data.surface = io::SurfaceField::read((fs::path(folder) / "surface_displacement.json").string());
     return data;
   }
 
@@ -180,9 +208,14 @@ namespace suturesim::study
     std::istringstream    parts("metrics." + path);
     while (std::getline(parts, part, '.'))
       {
-        if (!node->is_object() || !node->contains(part))
+        // objects by key, arrays by index (tip_position.2)
+        if (node->is_array() && !part.empty() && part.find_first_not_of("0123456789") == std::string::npos &&
+            std::stoul(part) < node->size())
+          node = &node->at(std::stoul(part));
+        else if (node->is_object() && node->contains(part))
+          node = &node->at(part);
+        else
           return std::nullopt;
-        node = &node->at(part);
       }
     if (!node->is_number())
       return std::nullopt;
@@ -190,11 +223,11 @@ namespace suturesim::study
   }
 
   std::vector<double>
-  case_errors(const MetricsSpec &spec, const RunData &run, const RunData &reference)
+  case_errors(const MetricsSpec &spec, const RunData &run, const RunData &reference, std::vector<std::string> &missing)
   {
     std::vector<double> out;
     for (const auto &s : spec.scalars)
-      {
+      measure(out, 1, missing, [&] {
         const auto r = reference.metric(s), c = run.metric(s);
         if (!r || !c)
           throw MissingMetric("Metrics/Scalars",
@@ -204,10 +237,11 @@ namespace suturesim::study
         if (*r == 0)
           throw MissingMetric("Metrics/Scalars", "the reference's '" + s + "' is 0: it has no relative error", true);
         out.push_back(relative_error(*c, *r));
-      }
-    double worst = 0;
+      });
+    double            worst          = 0;
+    const std::size_t missing_before = missing.size();
     for (const auto &p : spec.probes)
-      {
+      measure(out, 1, missing, [&] {
         const auto r = probe(reference, p, "reference"), c = probe(run, p, "case");
         double     diff = 0, norm = 0;
         for (int d = 0; d < 3; ++d)
@@ -216,11 +250,44 @@ namespace suturesim::study
           throw MissingMetric("Metrics/Probes", "the reference's probe '" + p + "' does not move", true);
         out.push_back(std::sqrt(diff / norm));
         worst = std::max(worst, out.back());
-      }
+      });
     if (!spec.probes.empty())
-      out.push_back(worst);
-    curve_columns(spec, run, reference, out);
+      out.push_back(missing.size() == missing_before ? worst : nan);
+    const std::size_t phases = spec.alignment == "events" ? spec.events.size() - 1 : 0;
+    for (const auto &c : spec.curves)
+      measure(out, 3 + phases, missing, [&] { curve_columns(spec, c, run, reference, out); });
+    if (spec.alignment == "events")
+      measure(out, 1, missing, [&] {
+        const auto ce = event_times(run, spec.events, "case"), re = event_times(reference, spec.events, "reference");
+        double     worst_time = 0;
+        for (std::size_t k = 0; k < ce.size(); ++k)
+          worst_time = std::max(worst_time, std::abs(ce[k] - re[k]));
+        out.push_back(worst_time);
+      });
+    if (spec.surface)
+      measure(out, 3, missing, [&] {
+        if (!reference.surface || !run.surface)
+          throw MissingMetric("Metrics/Surface",
+                              std::string("the ") + (reference.surface ? "case" : "reference") +
+                                " wrote no surface_displacement.json (a tissue on an unrefined mesh writes it)",
+                              !reference.surface);
+        try
+          {
+            const auto e = surface_errors(*run.surface, *reference.surface);
+            out.insert(out.end(), {e.relative_l2, e.relative_max, e.distance});
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw MissingMetric("Metrics/Surface", e.what(), true);
+          }
+      });
     return out;
+  }
+
+  std::string
+  error_unit(const std::string &column)
+  {
+    return column == "events.time" ? "s" : column == "surface.distance" ? "m" : "1";
   }
 
   const std::vector<std::pair<std::string, std::string>> &

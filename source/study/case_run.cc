@@ -41,7 +41,7 @@ namespace suturesim::study
   }
 
   std::string
-  expected_parameters(const std::string &scene, const std::vector<std::string> &settings)
+  case_parameters(const std::string &scene, const std::vector<std::string> &settings)
   {
     dealii::ParameterHandler prm;
     scene::Simulation::declare_parameters(prm);
@@ -192,7 +192,7 @@ namespace suturesim::study
         o.peak_memory_bytes = j.at("peak_memory_bytes").get<double>();
         o.reused            = true;
         const bool started  = o.status == "completed" || o.status == "failed";
-        if (started && (read_text(dir / "parameters.prm") != parameters || !fs::exists(dir / "summary.json")))
+        if (started && (!fs::exists(dir / "parameters.prm") || !fs::exists(dir / "summary.json")))
           return std::nullopt;
         return o;
       }
@@ -215,7 +215,8 @@ namespace suturesim::study
       const std::size_t left = jobs.size() - done;
       std::string       eta  = "";
       if (done > 0 && left > 0)
-        eta = ", about " + duration(run_time / done * left / std::max<std::size_t>(1, concurrency)) + " left";
+        eta = ", about " + duration(run_time / done * left / std::max<std::size_t>(1, concurrency)) +
+              " left at the mean case time";
       progress << "study: " << done << "/" << jobs.size() << " done, " << running.size() << " running, " << failed
                << " failed" << eta << " (" << event << ", " << duration(std::chrono::duration<double>(Clock::now() - start).count())
                << ")\n"

@@ -105,19 +105,25 @@ namespace suturesim::study
       };
       row.dt      = seconds("dt_s");
       row.dt_crit = seconds("dt_crit_s");
+      for (const auto &[name, bound] : study.objective.limits)
+        row.limit_values.push_back(run.metric(name).value_or(NAN));
       if (outcome.status != "completed")
         return row;
+      std::vector<std::string> missing;
       try
         {
-          row.errors = case_errors(study.metrics, run, reference ? *reference : run);
+          row.errors = case_errors(study.metrics, run, reference ? *reference : run, missing);
         }
       catch (const MissingMetric &e)
         {
-          if (e.in_reference)
-            study.fail(e.key, e.what());
+          study.fail(e.key, e.what());
+        }
+      if (!missing.empty())
+        {
           row.outcome.status = "incomplete";
-          row.outcome.reason = e.what();
-          return row;
+          row.outcome.reason = missing.front() + (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) +
+                                                                         " more)"
+                                                                     : "");
         }
       if (!study.figures.convergence_metric.empty())
         row.convergence_value = run.metric(study.figures.convergence_metric).value_or(NAN);
@@ -146,6 +152,99 @@ namespace suturesim::study
         }
       return true;
     }
+
+    /// Every case (the reference first) as a job in @p folder, with its parameters.
+    struct Plan
+    {
+      std::vector<const Case *> cases;
+      std::vector<CaseJob>      jobs;
+      std::vector<std::string>  parameters;
+    };
+
+    Plan
+    plan(const StudyDefinition &study, const std::string &folder)
+    {
+      Plan p;
+      p.cases.push_back(&study.reference);
+      for (const auto &c : study.cases)
+        p.cases.push_back(&c);
+      for (const auto *c : p.cases)
+        {
+          p.jobs.push_back({c->name, (fs::path(folder) / "cases" / c->name).string(), study.base_scene, c->settings});
+          p.parameters.push_back(case_parameters(study.base_scene, c->settings));
+        }
+      return p;
+    }
+
+    struct Execution
+    {
+      std::vector<CaseOutcome> outcomes;
+      std::size_t              run        = 0;
+      double                   cases_wall = 0; ///< the cases' own wall time, s
+      double                   run_phase  = 0; ///< wall time of running them, s
+    };
+
+    /// Runs the cases not done yet (with --case only that one); the others' outcomes are
+    /// their records.
+    Execution
+    execute(const Plan &p, const Options &o, const std::string &executable)
+    {
+      Execution                e;
+      std::vector<std::size_t> todo;
+      e.outcomes.resize(p.jobs.size());
+      for (std::size_t k = 0; k < p.jobs.size(); ++k)
+        {
+          if (!o.one_case.empty() && p.jobs[k].name != o.one_case)
+            continue;
+          if (const auto done = completed_run(p.jobs[k], p.parameters[k]))
+            e.outcomes[k] = *done;
+          else
+            todo.push_back(k);
+        }
+      if (!o.one_case.empty() &&
+          std::none_of(p.jobs.begin(), p.jobs.end(), [&](const CaseJob &j) { return j.name == o.one_case; }))
+        throw InputError(o.file + ": --case " + o.one_case + ": the study has no such case");
+      std::vector<CaseJob>     jobs;
+      std::vector<std::string> parameters;
+      for (const auto k : todo)
+        jobs.push_back(p.jobs[k]), parameters.push_back(p.parameters[k]);
+      const auto start = Clock::now();
+      const auto ran   = run_cases(executable, jobs, parameters, o.jobs, std::cerr);
+      e.run_phase      = std::chrono::duration<double>(Clock::now() - start).count();
+      for (std::size_t i = 0; i < todo.size(); ++i)
+        e.outcomes[todo[i]] = ran[i], e.cases_wall += ran[i].wall_seconds;
+      e.run = todo.size();
+      return e;
+    }
+
+    /// The metrics of every case, the tables and the figures; the exit code.
+    int
+    report(const StudyDefinition &study, const Plan &p, const Execution &e, const Options &o,
+           const std::string &folder, const Clock::time_point start)
+    {
+      if (e.outcomes[0].status != "completed")
+        study.fail("Reference/Settings", "the reference run " + e.outcomes[0].status + ": " + e.outcomes[0].reason);
+      const RunData        reference = RunData::read(p.jobs[0].folder);
+      std::vector<CaseRow> rows;
+      for (std::size_t k = 0; k < p.jobs.size(); ++k)
+        rows.push_back(row_of(study, *p.cases[k], p.jobs[k], e.outcomes[k], k == 0 ? nullptr : &reference));
+      const StudyReport report(study, std::move(rows));
+      nlohmann::json    timing{{"jobs", o.jobs},
+                            {"cases_run", e.run},
+                            {"cases_reused", p.jobs.size() - e.run},
+                            {"cases_wall_seconds", e.cases_wall},
+                            {"run_phase_seconds", e.run_phase}};
+      report.write(folder, timing);
+      const bool   figures           = draw_figures(folder);
+      const double total             = std::chrono::duration<double>(Clock::now() - start).count();
+      timing["study_wall_seconds"] = total;
+      report.write(folder, timing);
+      std::cout << "study " << study.name << ": " << p.jobs.size() << " cases (" << e.run << " run, "
+                << p.jobs.size() - e.run << " already done) in " << total << " s, the cases' own runs "
+                << e.cases_wall << " s; wrote " << folder << "/ (cases.csv, study.json"
+                << (report.best() ? ", best.prm" : "") << (figures ? ", figures" : "") << ")\n";
+      return figures ? 0 : 1;
+    }
   } // namespace
 
   int
@@ -164,75 +263,16 @@ namespace suturesim::study
         const std::string folder = o.output.empty() ? "output/studies/" + study.name : o.output;
         fs::create_directories(fs::path(folder) / "cases");
         const std::string executable = fs::read_symlink("/proc/self/exe").string();
-
-        std::vector<const Case *> cases{&study.reference};
-        for (const auto &c : study.cases)
-          cases.push_back(&c);
-        std::vector<CaseJob>     jobs;
-        std::vector<std::string> parameters;
-        for (const auto *c : cases)
-          {
-            jobs.push_back({c->name, (fs::path(folder) / "cases" / c->name).string(), study.base_scene, c->settings});
-            parameters.push_back(expected_parameters(study.base_scene, c->settings));
-          }
+        const Plan        p          = plan(study, folder);
         if (!o.export_to.empty())
           {
-            export_snakemake(executable, o.file, folder, jobs, parameters, o.overrides);
+            export_snakemake(executable, o.file, folder, p.jobs, p.parameters, o.overrides);
             std::cout << "study: wrote " << folder << "/Snakefile; run it with snakemake --snakefile " << folder
                       << "/Snakefile --cores N\n";
             return 0;
           }
-
-        // the cases not done yet (all of them but the one asked for, with --case)
-        std::vector<CaseOutcome> outcomes(jobs.size());
-        std::vector<std::size_t> todo;
-        for (std::size_t k = 0; k < jobs.size(); ++k)
-          {
-            if (!o.one_case.empty() && jobs[k].name != o.one_case)
-              continue;
-            if (const auto done = completed_run(jobs[k], parameters[k]))
-              outcomes[k] = *done;
-            else
-              todo.push_back(k);
-          }
-        if (!o.one_case.empty() && todo.empty() &&
-            std::none_of(jobs.begin(), jobs.end(), [&](const CaseJob &j) { return j.name == o.one_case; }))
-          throw InputError(o.file + ": --case " + o.one_case + ": the study has no such case");
-        std::vector<CaseJob>     run_jobs;
-        std::vector<std::string> run_parameters;
-        for (const auto k : todo)
-          run_jobs.push_back(jobs[k]), run_parameters.push_back(parameters[k]);
-        const auto run_start = Clock::now();
-        const auto ran       = run_cases(executable, run_jobs, run_parameters, o.jobs, std::cerr);
-        const double run_phase = std::chrono::duration<double>(Clock::now() - run_start).count();
-        double       cases_wall = 0;
-        for (std::size_t i = 0; i < todo.size(); ++i)
-          outcomes[todo[i]] = ran[i], cases_wall += ran[i].wall_seconds;
-        if (!o.one_case.empty())
-          return 0;
-
-        if (outcomes[0].status != "completed")
-          study.fail("Reference/Settings", "the reference run " + outcomes[0].status + ": " + outcomes[0].reason);
-        const RunData        reference = RunData::read(jobs[0].folder);
-        std::vector<CaseRow> rows;
-        for (std::size_t k = 0; k < jobs.size(); ++k)
-          rows.push_back(row_of(study, *cases[k], jobs[k], outcomes[k], k == 0 ? nullptr : &reference));
-        const StudyReport report(study, std::move(rows));
-        nlohmann::json    timing{{"jobs", o.jobs},
-                              {"cases_run", todo.size()},
-                              {"cases_reused", jobs.size() - todo.size()},
-                              {"cases_wall_seconds", cases_wall},
-                              {"run_phase_seconds", run_phase}};
-        report.write(folder, timing);
-        const bool figures = draw_figures(folder);
-        const double total = std::chrono::duration<double>(Clock::now() - start).count();
-        timing["study_wall_seconds"] = total;
-        report.write(folder, timing);
-        std::cout << "study " << study.name << ": " << jobs.size() << " cases (" << todo.size() << " run, "
-                  << jobs.size() - todo.size() << " already done) in " << total << " s, the cases' own runs "
-                  << cases_wall << " s; wrote " << folder << "/ (cases.csv, study.json"
-                  << (report.best() ? ", best.prm" : "") << (figures ? ", figures" : "") << ")\n";
-        return figures ? 0 : 1;
+        const Execution e = execute(p, o, executable);
+        return o.one_case.empty() ? report(study, p, e, o, folder, start) : 0;
       }
     catch (const InputError &e)
       {

@@ -87,6 +87,9 @@ namespace suturesim::study
       return out;
     }
 
+    /// A bound on a study's size: each case is a run and a folder.
+    constexpr std::size_t max_cases = 10000;
+
     std::string
     file_name_part(const std::string &value)
     {
@@ -125,6 +128,11 @@ namespace suturesim::study
       prm.declare_entry("List", "", Anything(),
                         "Further cases: \"name: Path/Key=value, ...\", separated by semicolons. Unit: none.");
       prm.leave_subsection();
+    }
+
+    void
+    declare_metrics(ParameterHandler &prm)
+    {
       prm.enter_subsection("Metrics");
       prm.declare_entry("Scalars", "", Anything(),
                         "summary.json metrics compared by relative error (v - v_ref)/|v_ref|, separated by "
@@ -135,14 +143,24 @@ namespace suturesim::study
       prm.declare_entry("Curves", "", Anything(),
                         "forces.csv columns (name without unit) compared by relative L2 and L-infinity "
                         "error and peak error (study/curve_metrics.h). Unit: none.");
+      prm.declare_entry("Surface", "false", dealii::Patterns::Bool(),
+                        "Compare the tissue's surface displacement at the end of the run "
+                        "(surface_displacement.json of both runs): relative L2 and max error at the "
+                        "case's surface vertices, and the largest distance between the two surfaces "
+                        "(study/surface_error.h). Unit: none.");
       prm.declare_entry("Curve alignment", "time", dealii::Patterns::Selection("time|events"),
                         "Compare curves at equal time, or phase by phase between the events listed in "
                         "'Alignment events' (each phase mapped onto the reference's). Unit: none.");
       prm.declare_entry("Alignment events", "", Anything(),
                         "Event kinds of summary.json bounding the phases, in the order they happen "
-                        "(e.g. puncture_entry, puncture_exit, on_suture); each matches the next event "
+                        "(e.g. puncture_entry, puncture_exit, onto_suture); each matches the next event "
                         "of its kind. Unit: none.");
       prm.leave_subsection();
+    }
+
+    void
+    declare_objective_and_figures(ParameterHandler &prm)
+    {
       prm.enter_subsection("Objective");
       prm.declare_entry("Error", "", Anything(),
                         "The error metric of the Pareto chart (a cases.csv error column, e.g. "
@@ -156,6 +174,10 @@ namespace suturesim::study
                         "Bounds on |error|: \"metric: bound\" separated by commas (e.g. probes.max: 0.2); "
                         "a case within all of them is adequate (best.prm, the stability map's "
                         "'inaccurate'). Unit: 1 (relative errors).");
+      prm.declare_entry("Limits", "", Anything(),
+                        "Bounds on a case's own summary.json metrics, not on errors: \"metric: bound\" "
+                        "separated by commas (e.g. suture_stretch_max: 0.01); a case beyond one is not "
+                        "adequate (best.prm) and is 'inaccurate' on the stability map. Unit: the metric's.");
       prm.leave_subsection();
       prm.enter_subsection("Figures");
       prm.declare_entry("Stability axes", "", Anything(),
@@ -166,6 +188,10 @@ namespace suturesim::study
                         "'Convergence sizes' (observed order, Richardson extrapolation, GCI). Unit: none.");
       prm.declare_entry("Convergence sizes", "", Anything(),
                         "\"case: h\" separated by commas, h the cases' mesh size. Unit: m.");
+      prm.declare_entry("Convergence series", "", Anything(),
+                        "A parameter path (e.g. Model) whose value in each case's settings names its "
+                        "series: one table, order and extrapolation per series (per model path). "
+                        "Empty: one series. Unit: none.");
       prm.leave_subsection();
     }
 
@@ -182,6 +208,9 @@ namespace suturesim::study
           const std::string path   = unquote(axis.substr(0, equals));
           const auto        values = split(axis.substr(equals + 1), '|');
           scope.require(!path.empty() && !values.empty(), "Axes", "the axis '" + axis + "' has no values");
+          scope.require(cases.size() * values.size() <= max_cases, "Axes",
+                        "the axes give more than " + std::to_string(max_cases) +
+                          " cases (split the study, or use fewer values)");
           std::vector<Case> next;
           for (const auto &c : cases)
             for (const auto &quoted : values)
@@ -247,6 +276,7 @@ namespace suturesim::study
       d.metrics.scalars   = names(prm.get("Scalars"));
       d.metrics.probes    = names(prm.get("Probes"));
       d.metrics.curves    = names(prm.get("Curves"));
+      d.metrics.surface   = prm.get_bool("Surface");
       d.metrics.alignment = prm.get("Curve alignment");
       d.metrics.events    = names(prm.get("Alignment events"));
       prm.leave_subsection();
@@ -259,6 +289,7 @@ namespace suturesim::study
       d.objective.error    = unquote(prm.get("Error"));
       d.objective.cost     = prm.get("Cost");
       d.objective.tolerances = named_numbers(prm.get("Tolerances"), objective, "Tolerances");
+      d.objective.limits     = named_numbers(prm.get("Limits"), objective, "Limits");
       prm.leave_subsection();
       const auto columns = d.metrics.error_columns();
       const auto known   = [&](const std::string &c) {
@@ -273,6 +304,8 @@ namespace suturesim::study
           objective.require(known(name), "Tolerances", "'" + name + "' is not " + choices);
           objective.require(bound > 0, "Tolerances", "the bound of '" + name + "' must be > 0");
         }
+      for (const auto &[name, bound] : d.objective.limits)
+        objective.require(bound > 0, "Limits", "the bound of '" + name + "' must be > 0");
     }
 
     void
@@ -290,12 +323,14 @@ namespace suturesim::study
         d.figures.stability_x = unquote(stability[0]), d.figures.stability_y = unquote(stability[1]);
       d.figures.convergence_metric = unquote(prm.get("Convergence metric"));
       d.figures.convergence_sizes  = named_numbers(prm.get("Convergence sizes"), figures, "Convergence sizes");
+      d.figures.convergence_series = unquote(prm.get("Convergence series"));
       prm.leave_subsection();
       figures.require(d.figures.convergence_metric.empty() || d.figures.convergence_sizes.size() >= 3,
-                      "Convergence sizes", "a convergence table needs three sizes or more");
+                      "Convergence sizes", "a convergence table needs three sizes or more (per series)");
       for (const auto &[name, h] : d.figures.convergence_sizes)
         {
-          figures.require(std::any_of(d.cases.begin(), d.cases.end(), [&](const Case &c) { return c.name == name; }),
+          figures.require(name == "reference" ||
+                            std::any_of(d.cases.begin(), d.cases.end(), [&](const Case &c) { return c.name == name; }),
                           "Convergence sizes", "'" + name + "' is not a case of the study");
           figures.require(h > 0, "Convergence sizes", "the size of '" + name + "' must be > 0 m");
         }
@@ -320,6 +355,8 @@ namespace suturesim::study
       }
     if (alignment == "events")
       out.push_back("events.time");
+    if (surface)
+      out.insert(out.end(), {"surface.l2", "surface.max", "surface.distance"});
     return out;
   }
 
@@ -328,13 +365,15 @@ namespace suturesim::study
   {
     ParameterHandler prm;
     declare(prm);
+    declare_metrics(prm);
+    declare_objective_and_figures(prm);
     const auto           file = ParameterFile::from_file(prm, study_file);
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
     for (const char *key : {"Name", "Base scene", "Reference/Settings", "Cases/Settings", "Cases/Axes", "Cases/List",
-                            "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Alignment events",
-                            "Objective/Error", "Objective/Tolerances", "Figures/Stability axes",
+                            "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
+                            "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
                             "Figures/Convergence metric", "Figures/Convergence sizes"})
       d.lines[key] = file.line_of(key);
     d.name = prm.get("Name");

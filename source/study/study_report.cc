@@ -137,7 +137,11 @@ namespace suturesim::study
     const auto columns = study.metrics.error_columns();
     for (auto &row : this->rows)
       {
-        row.within_tolerance = row.outcome.status == "completed" && !study.objective.tolerances.empty();
+        row.within_tolerance = row.outcome.status == "completed" &&
+                               !(study.objective.tolerances.empty() && study.objective.limits.empty());
+        for (std::size_t k = 0; k < study.objective.limits.size(); ++k)
+          row.within_tolerance = row.within_tolerance && k < row.limit_values.size() &&
+                                 std::abs(row.limit_values[k]) <= study.objective.limits[k].second;
         for (const auto &[name, bound] : study.objective.tolerances)
           {
             const double e = row.errors.empty() ? NAN : row.errors[index_of(columns, name)];
@@ -188,7 +192,8 @@ namespace suturesim::study
       {
         const auto &r     = rows[k];
         const bool  ran   = r.outcome.status == "completed";
-        const bool  bad   = !study.objective.tolerances.empty() && !r.within_tolerance;
+        const bool  bad   = !(study.objective.tolerances.empty() && study.objective.limits.empty()) &&
+                         !r.within_tolerance;
         // a completed run without a measured metric (a wound that never closed) is inaccurate
         const std::string state = ran ? (bad ? "inaccurate" : "stable")
                                   : r.outcome.status == "failed"     ? "diverged"
@@ -237,6 +242,8 @@ namespace suturesim::study
                         {"tolerances", nlohmann::json::object()}};
     for (const auto &[name, bound] : study.objective.tolerances)
       out["objective"]["tolerances"][name] = bound;
+    for (const auto &[name, bound] : study.objective.limits)
+      out["objective"]["limits"][name] = bound;
     out["timing"] = timing;
     out["cases"]  = nlohmann::json::array();
     std::vector<TradeOff> trade;
@@ -253,6 +260,9 @@ namespace suturesim::study
           c["errors"][columns[e]] = r.errors.empty() ? nullptr : json_number(r.errors[e]);
         for (std::size_t e = 0; e < cost_columns().size(); ++e)
           c["costs"][cost_columns()[e].first] = r.costs.empty() ? nullptr : json_number(r.costs[e]);
+        for (std::size_t e = 0; e < study.objective.limits.size(); ++e)
+          c["limits"][study.objective.limits[e].first] =
+            e < r.limit_values.size() ? json_number(r.limit_values[e]) : nullptr;
         c["cost"]  = json_number(cost(r));
         c["error"] = json_number(error(r));
         out["cases"].push_back(c);
@@ -275,26 +285,44 @@ namespace suturesim::study
   {
     if (study.figures.convergence_metric.empty())
       return nullptr;
-    nlohmann::json      table = nlohmann::json::array();
-    std::vector<double> h, f;
+    // one series per value of Figures/Convergence series in the cases (e.g. per model path)
+    const auto series_of = [&](const Case &c) {
+      const std::string &path = study.figures.convergence_series;
+      std::string        value = path.empty() ? "all" : "(base scene)";
+      for (const auto &s : c.settings)
+        if (!path.empty() && s.rfind(path + "=", 0) == 0)
+          value = s.substr(path.size() + 1);
+      return value;
+    };
+    std::vector<std::pair<std::string, nlohmann::json>> series;
     for (const auto &[name, size] : study.figures.convergence_sizes)
       for (const auto &r : rows)
         if (r.definition->name == name)
           {
-            table.push_back({{"case", name}, {"h", size}, {"value", json_number(r.convergence_value)},
-                             {"status", r.outcome.status}});
-            if (std::isfinite(r.convergence_value))
-              h.push_back(size), f.push_back(r.convergence_value);
+            const std::string s  = series_of(*r.definition);
+            auto              it = std::find_if(series.begin(), series.end(), [&](const auto &e) { return e.first == s; });
+            if (it == series.end())
+              it = series.insert(series.end(), {s, {{"series", s}, {"table", nlohmann::json::array()}}});
+            it->second["table"].push_back({{"case", name}, {"h", size}, {"value", json_number(r.convergence_value)},
+                                           {"status", r.outcome.status}});
           }
-    nlohmann::json out{{"metric", study.figures.convergence_metric}, {"table", table}};
-    if (h.size() >= 3)
+    nlohmann::json out{{"metric", study.figures.convergence_metric}, {"series", nlohmann::json::array()}};
+    for (auto &[name, s] : series)
       {
-        const auto e = estimate_convergence(h, f);
-        out["observed_order"] = json_number(e.order);
-        out["extrapolated"]   = json_number(e.extrapolated);
-        out["gci_fine"]       = json_number(e.gci_fine);
-        out["oscillatory"]    = e.oscillatory;
-        out["settled"]        = e.converged;
+        std::vector<double> h, f;
+        for (const auto &row : s["table"])
+          if (!row["value"].is_null())
+            h.push_back(row["h"].get<double>()), f.push_back(row["value"].get<double>());
+        if (h.size() >= 3)
+          {
+            const auto e        = estimate_convergence(h, f);
+            s["observed_order"] = json_number(e.order);
+            s["extrapolated"]   = json_number(e.extrapolated);
+            s["gci_fine"]       = json_number(e.gci_fine);
+            s["oscillatory"]    = e.oscillatory;
+            s["settled"]        = e.converged;
+          }
+        out["series"].push_back(s);
       }
     return out;
   }
@@ -309,9 +337,11 @@ namespace suturesim::study
     for (const auto &a : axes)
       out << ',' << field(a + " [" + (parameter_unit(a).empty() ? "-" : parameter_unit(a)) + "]");
     for (const auto &c : columns)
-      out << ',' << field(c + (c == "events.time" ? " error [s]" : " error [1]"));
+      out << ',' << field(c + " error [" + error_unit(c) + "]");
     for (const auto &[name, unit] : cost_columns())
       out << ',' << name << " [" << unit << "]";
+    for (const auto &[name, bound] : study.objective.limits)
+      out << ',' << field(name + " value [-]");
     out << ",dt [s],dt_crit [s],within_tolerance [0|1]\n";
     for (const auto &r : rows)
       {
@@ -322,6 +352,8 @@ namespace suturesim::study
           out << ',' << (r.errors.empty() ? "" : number(r.errors[e]));
         for (std::size_t e = 0; e < cost_columns().size(); ++e)
           out << ',' << (r.costs.empty() ? "" : number(r.costs[e]));
+        for (std::size_t e = 0; e < study.objective.limits.size(); ++e)
+          out << ',' << (e < r.limit_values.size() ? number(r.limit_values[e]) : "");
         out << ',' << number(r.dt) << ',' << number(r.dt_crit) << ',' << r.within_tolerance << '\n';
       }
     check_written(out, file);
@@ -345,6 +377,9 @@ namespace suturesim::study
     for (const auto &[name, bound] : study.objective.tolerances)
       out << "#   |" << name << "| = " << number(std::abs(r.errors[index_of(columns, name)])) << " <= " << number(bound)
           << '\n';
+    for (std::size_t k = 0; k < study.objective.limits.size(); ++k)
+      out << "#   |" << study.objective.limits[k].first << "| = " << number(std::abs(r.limit_values[k]))
+          << " <= " << number(study.objective.limits[k].second) << " (its own value)\n";
     out << "# It is " << study.base_scene << " with\n";
     for (const auto &s : r.definition->settings)
       out << "#   --set \"" << s << "\"\n";
@@ -381,15 +416,20 @@ namespace suturesim::study
         const auto    name = (fs::path(folder) / "convergence.csv").string();
         std::ofstream csv(name);
         const auto   &c = json["convergence"];
-        csv << "case,h [m]," << field(study.figures.convergence_metric) << ",status\n";
-        for (const auto &row : c["table"])
-          csv << row["case"].get<std::string>() << ',' << number(row["h"].get<double>()) << ','
-              << (row["value"].is_null() ? "" : number(row["value"].get<double>())) << ','
-              << row["status"].get<std::string>() << '\n';
-        if (c.contains("observed_order"))
-          csv << "# observed order p = " << c["observed_order"].dump() << ", Richardson extrapolation "
-              << c["extrapolated"].dump() << ", GCI (fine) " << c["gci_fine"].dump()
-              << (c["oscillatory"].get<bool>() ? " (oscillatory)" : "") << '\n';
+        csv << "series,case,h [m]," << field(study.figures.convergence_metric) << ",status\n";
+        for (const auto &series : c["series"])
+          {
+            const std::string name_of = series["series"];
+            for (const auto &row : series["table"])
+              csv << field(name_of) << ',' << row["case"].get<std::string>() << ','
+                  << number(row["h"].get<double>()) << ','
+                  << (row["value"].is_null() ? "" : number(row["value"].get<double>())) << ','
+                  << row["status"].get<std::string>() << '\n';
+            if (series.contains("observed_order"))
+              csv << "# " << name_of << ": observed order p = " << series["observed_order"].dump()
+                  << ", Richardson extrapolation " << series["extrapolated"].dump() << ", GCI (fine) "
+                  << series["gci_fine"].dump() << (series["oscillatory"].get<bool>() ? " (oscillatory)" : "") << '\n';
+          }
         check_written(csv, name);
       }
   }

@@ -140,7 +140,7 @@ TEST(RealtimeNeedle, PiercePointsPassFromTheNeedleOntoTheSutureInOrder)
   std::vector<std::string> kinds;
   for (const auto &e : run.thread_events)
     kinds.push_back(e.kind);
-  EXPECT_EQ(kinds, (std::vector<std::string>{"on_suture", "on_suture"}));
+  EXPECT_EQ(kinds, (std::vector<std::string>{"onto_suture", "onto_suture"}));
   ASSERT_EQ(run.final_points.size(), 2u);
   EXPECT_TRUE(run.final_points[0].on_suture && run.final_points[1].on_suture);
   EXPECT_TRUE(run.final_points[0].exit);
@@ -160,7 +160,7 @@ TEST(RealtimeNeedle, NodeSlipPointsJumpFromNodeToNodeOntoTheSuture)
       std::vector<std::string> kinds;
       for (const auto &e : run.thread_events)
         kinds.push_back(e.kind);
-      EXPECT_EQ(kinds, (std::vector<std::string>{"on_suture", "on_suture"})) << integrator;
+      EXPECT_EQ(kinds, (std::vector<std::string>{"onto_suture", "onto_suture"})) << integrator;
       ASSERT_EQ(run.final_points.size(), 2u) << integrator;
       EXPECT_TRUE(run.final_points[0].exit) << integrator;
       EXPECT_TRUE(run.order_kept) << integrator;

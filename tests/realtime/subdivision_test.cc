@@ -279,7 +279,7 @@ TEST(SurfaceSubdivision, ANeedlePassSubdividesAtEachTouchAndItsPiercePointsAreTh
   EXPECT_EQ(punctures, 2u); // entry and exit
   // one subdivision at each touch (entry and exit), then both points onto the suture
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "subdivision"), 2);
-  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "on_suture"), 2);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "onto_suture"), 2);
   EXPECT_EQ(most, 2u);
   EXPECT_TRUE(order_kept);
   EXPECT_TRUE(on_vertices);

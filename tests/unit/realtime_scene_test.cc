@@ -176,7 +176,7 @@ TEST(RealtimeScene, NeedlePassPuncturesAtTheThresholdAndRecordsTheForceCurves)
   for (const auto &e : r.summary["events"])
     if (e["kind"] != "touch_entry" && e["kind"] != "touch_exit" && e["kind"] != "release")
       kinds.push_back(e["kind"]);
-  EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit", "on_suture", "on_suture"}));
+  EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit", "onto_suture", "onto_suture"}));
   std::string header;
   read_forces(r, &header);
   for (const char *column : {"needle_force_x [N]", "needle_torque_z [N*m]", "suture_tension_swage [N]",

@@ -67,6 +67,9 @@ TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
     {"unknown_path", header + axes + "Tissue/Nonsense = 1 | 2\nend\n", "unknown_path.prm:4: Cases/Axes: case '1'"},
     {"bad_value", header + axes + "Tissue/Element degree = 1 | seven\nend\n", "Cases/Axes: case 'seven'"},
     {"empty_axis", header + axes + "Time/Step size = \nend\n", ":4: Cases/Axes: the axis 'Time/Step size =' has no values"},
+    {"too_many", header + axes + "Time/Step size = 1|2|3|4|5|6|7|8|9|10; Time/End time = 1|2|3|4|5|6|7|8|9|10; " +
+                   "Tissue/Element degree = 1|2|3|4|5|6|7|8|9|10; Mesh/Elements per edge = 1|2|3|4|5|6|7|8|9|10|11\nend\n",
+     ":4: Cases/Axes: the axes give more than 10000 cases"},
     {"no_cases", header, "Cases/Axes (default): the study has no cases"},
     {"same_name", header + "subsection Cases\n  set List = a: Time/Step size=0.5; a: Time/Step size=0.25\nend\n",
      ":4: Cases/List: two cases are named 'a'"},

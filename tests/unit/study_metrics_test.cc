@@ -3,10 +3,14 @@
 #include <suturesim/study/convergence.h>
 #include <suturesim/study/curve_metrics.h>
 #include <suturesim/study/pareto.h>
+#include <suturesim/study/surface_error.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <random>
 #include <stdexcept>
 
@@ -179,4 +183,88 @@ TEST(StudyConvergence, OscillationAndStagnationAreFlagged)
   EXPECT_FALSE(estimate_convergence({1, 2, 4}, {1.0, 1.0, 1.2}).converged);
   EXPECT_THROW(estimate_convergence({1, 1, 2}, {1, 2, 3}), std::invalid_argument);
   EXPECT_THROW(estimate_convergence({1, 2}, {1, 2}), std::invalid_argument);
+}
+
+namespace
+{
+  /// The unit square z = @p z triangulated n × n, with displacement @p u(X).
+  suturesim::io::SurfaceField
+  square(const int n, const double z, const std::function<Eigen::Vector3d(const Eigen::Vector3d &)> &u)
+  {
+    suturesim::io::SurfaceField s;
+    s.reference.resize(3, (n + 1) * (n + 1));
+    s.displacement.resize(3, (n + 1) * (n + 1));
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i)
+        {
+          const int k            = j * (n + 1) + i;
+          s.reference.col(k)     = Eigen::Vector3d(double(i) / n, double(j) / n, z);
+          s.displacement.col(k)  = u(s.reference.col(k));
+        }
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        {
+          const std::uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+          s.triangles.push_back({{a, b, d}});
+          s.triangles.push_back({{a, d, c}});
+        }
+    return s;
+  }
+} // namespace
+
+TEST(StudySurface, LinearFieldsInterpolateExactlyAndAnOffsetIsMeasured)
+{
+  // a linear reference field on a coarse surface is interpolated exactly at a finer
+  // one's vertices: no error, and the two surfaces coincide
+  const auto linear = [](const Eigen::Vector3d &X) { return Eigen::Vector3d(1 + 2 * X.x(), -X.y(), 0.5 * X.x()); };
+  const auto exact  = surface_errors(square(7, 0, linear), square(3, 0, linear));
+  EXPECT_NEAR(exact.relative_l2, 0, 1e-14);
+  EXPECT_NEAR(exact.relative_max, 0, 1e-14);
+  EXPECT_NEAR(exact.distance, 0, 1e-15);
+
+  // a constant reference u_r = (1, 0, 0) and a candidate u_r + delta: every vertex is
+  // off by |delta|, the lumped areas sum to the square's 1, so e2 = e_max = |delta|;
+  // the candidate 1 mm above the reference's plane: dmax = 1 mm
+  const Eigen::Vector3d delta(0.03, -0.04, 0); // |delta| = 0.05
+  const auto            ref = [](const Eigen::Vector3d &) { return Eigen::Vector3d(1, 0, 0); };
+  const auto            off = surface_errors(square(5, 1e-3, [&](const Eigen::Vector3d &X) -> Eigen::Vector3d { return ref(X) + delta; }),
+                                  square(2, 0, ref));
+  EXPECT_NEAR(off.relative_l2, 0.05, 1e-14);
+  EXPECT_NEAR(off.relative_max, 0.05, 1e-14);
+  EXPECT_NEAR(off.distance, 1e-3, 1e-15);
+
+  // e2 weighs by area, e_max does not: a candidate wrong at one corner vertex only
+  auto corner                = square(4, 0, ref);
+  // |error| 1 at (0, 0), in two triangles of area 1/32: lumped area 2 (1/32)/3 = 1/48
+  corner.displacement.col(0) = Eigen::Vector3d(2, 0, 0);
+  const auto one             = surface_errors(corner, square(4, 0, ref));
+  EXPECT_NEAR(one.relative_max, 1.0, 1e-14);
+  EXPECT_NEAR(one.relative_l2, std::sqrt(1.0 / 48), 1e-14);
+
+  EXPECT_THROW(surface_errors(corner, square(2, 0, [](const Eigen::Vector3d &) { return Eigen::Vector3d::Zero(); })),
+               std::invalid_argument);
+}
+
+TEST(StudySurface, FieldFilesRoundTripAndBadOnesAreNamed)
+{
+  const auto s    = square(2, 0, [](const Eigen::Vector3d &X) { return Eigen::Vector3d(X.x(), 0, 0); });
+  const auto file = std::filesystem::temp_directory_path() / "suturesim_surface_roundtrip.json";
+  s.write(file.string());
+  const auto back = suturesim::io::SurfaceField::read(file.string());
+  EXPECT_EQ(back.triangles, s.triangles);
+  EXPECT_EQ((back.reference - s.reference).norm(), 0);
+  EXPECT_EQ((back.displacement - s.displacement).norm(), 0);
+  std::ofstream(file) << R"({"time": 0, "reference": [[0,0,0]], "displacement": [[0,0,0]], "triangles": [[0,1,2]]})";
+  try
+    {
+      suturesim::io::SurfaceField::read(file.string());
+      ADD_FAILURE() << "an out-of-range vertex was read";
+    }
+  catch (const std::runtime_error &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("suturesim_surface_roundtrip.json: a triangle's vertex 1 is out of range"),
+                std::string::npos)
+        << e.what();
+    }
+  std::filesystem::remove(file);
 }

@@ -180,6 +180,17 @@ TEST(StudyRun, RerunWithNothingChangedRunsNoCase)
   ASSERT_EQ(first.exit_code, 0) << first.output;
   EXPECT_EQ(first.study["timing"]["cases_run"], 5);
   const auto before = run_records(first.folder);
+
+  // best.prm is a scene that reproduces the cheapest adequate case by itself
+  ASSERT_TRUE(first.study["best"].is_string()) << first.study.dump();
+  const std::string best = first.study["best"];
+  const auto        again = run_suturesim("study_rerun_best", "'" + first.folder + "/best.prm'");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  std::ifstream  in(first.folder + "/cases/" + best + "/summary.json");
+  nlohmann::json chosen;
+  in >> chosen;
+  for (const char *metric : {"top_centre_displacement_z", "mid_depth_centre_displacement_z"})
+    EXPECT_EQ(again.summary["metrics"][metric], chosen["metrics"][metric]) << metric;
   const auto second = run_study("study_rerun", small_study, "--jobs 2", false);
   ASSERT_EQ(second.exit_code, 0) << second.output;
   EXPECT_EQ(second.study["timing"]["cases_run"], 0);
@@ -239,4 +250,70 @@ TEST(StudyRun, ErrorsFoundAfterTheRunsNameTheStudyLine)
   // the command line
   EXPECT_EQ(run_study("bad_jobs", small_study, "--jobs 0").exit_code, 2);
   EXPECT_NE(run_study("bad_option", small_study, "--nonsense").output.find("unknown"), std::string::npos);
+}
+
+TEST(StudyRun, XpbdStretchFallsWithIterationsAndRate)
+{
+  // the shipped study at 0.1 s: XPBD never diverges, and its suture stretches less with
+  // more iterations at one rate and with a higher rate at one iteration count (its
+  // constraints' effective stiffness grows with both: Macklin et al. 2016, sec. 3.3)
+  const auto r = run_study("study_stability_xpbd", source_path("parameters/studies/stability_xpbd.prm"),
+                           "--jobs 2 --set \"Time/End time=0.1\"");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.png"));
+  std::map<std::pair<int, int>, double> stretch; // (iterations, rate) -> max stretch
+  for (const auto &c : r.study.at("cases"))
+    {
+      ASSERT_EQ(c["status"], "completed") << c.dump();
+      if (c["name"] == "reference")
+        continue;
+      const int iterations = std::stoi(c["axes"]["Realtime/xpbd/Iterations"].get<std::string>());
+      const int rate       = std::stoi(c["axes"]["Realtime/Rate"].get<std::string>());
+      stretch[{iterations, rate}] = c["limits"]["suture_stretch_max"];
+    }
+  ASSERT_EQ(stretch.size(), 30u);
+  for (const auto &[key, value] : stretch)
+    {
+      const auto more_iterations = stretch.upper_bound({key.first, 1 << 30});
+      if (more_iterations != stretch.end())
+        {
+          EXPECT_LT(stretch.at({more_iterations->first.first, key.second}), value)
+            << key.first << " iterations, " << key.second << " Hz";
+        }
+      const auto faster = stretch.find({key.first, 2 * key.second});
+      if (faster != stretch.end())
+        {
+          EXPECT_LT(faster->second, value) << key.first << " iterations, " << key.second << " Hz";
+        }
+    }
+  // the map: no diverged cell (no dt_crit for XPBD), the over-stretched ones inaccurate
+  for (const auto &cell : r.study.at("stability").at("cells"))
+    EXPECT_NE(cell["state"], "diverged") << cell.dump();
+}
+
+TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
+{
+  const auto r = run_study("study_convergence", source_path("tests/data/studies/convergence_small.prm"), "--jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto &series = r.study.at("convergence").at("series");
+  ASSERT_EQ(series.size(), 1u); // every case is Model=realtime
+  EXPECT_EQ(series[0]["series"], "realtime");
+  EXPECT_EQ(series[0]["table"].size(), 4u);
+  EXPECT_TRUE(series[0]["observed_order"].is_number()) << series.dump();
+  std::ifstream csv(r.folder + "/convergence.csv");
+  std::string   text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("# realtime: observed order p = "), std::string::npos) << text;
+  EXPECT_TRUE(fs::exists(fs::path(r.folder) / "convergence.png"));
+}
+
+TEST(StudyRun, ShippedStudiesValidate)
+{
+  // the stitch studies need the whole 7.5 s scene for their closure metrics (minutes in
+  // the accurate path): here they are read and every case checked against the scene
+  for (const auto &entry : fs::directory_iterator(source_path("parameters/studies")))
+    {
+      const std::string cmd = std::string(suturesim_binary()) + " study '" + entry.path().string() +
+                              "' --validate > /dev/null 2>&1";
+      EXPECT_EQ(std::system(cmd.c_str()), 0) << entry.path();
+    }
 }

@@ -5,7 +5,8 @@
  * forces.csv row (reaction on every Dirichlet boundary, probe displacements), the
  * metrics of the last state (metrics.reaction_force.<boundary>, probes.<name>,
  * <name>_displacement_{x,y,z}), the solver's account into summary.json "steps", and a
- * tissue_*.vtu file when due (Time/Output interval).
+ * tissue_*.vtu file when due (Time/Output interval); at the end (or the last accepted
+ * state of a failed run) the surface displacement (io/surface_field.h).
  */
 
 #include <suturesim/core/time_parameters.h>
@@ -36,6 +37,10 @@ namespace suturesim::scene
     totals(const nlohmann::json &solver) override;
 
   private:
+    /// surface_displacement.json of the last accepted state (collective).
+    void
+    write_surface() const;
+
     tissue::TissueModel  &model;
     const TimeParameters &time;
     io::Recorder         &recorder;

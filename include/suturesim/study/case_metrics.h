@@ -11,11 +11,13 @@
  *   curve c:         e₂, e∞, e_p of study/curve_metrics.h at equal time, or after the
  *                    event warp over [E₀, E_last] with e₂ per phase  (1)
  *   events.time:     max_k |e_k − E_k| over the alignment events (s)
+ *   surface.l2, surface.max, surface.distance: study/surface_error.h (1, 1, m)
  *
  * and the cost columns: the realtime step-time median and 99th percentile (summary.json,
  * s), the run's wall time and processor time (run.json, s), its peak memory (bytes).
  */
 
+#include <suturesim/io/surface_field.h>
 #include <suturesim/study/case_run.h>
 #include <suturesim/study/study_definition.h>
 
@@ -34,6 +36,7 @@ namespace suturesim::study
     nlohmann::json                             summary;
     std::map<std::string, std::vector<double>> columns; ///< forces.csv by name without unit
     std::map<std::string, std::string>         units;   ///< forces.csv units by name
+    std::optional<io::SurfaceField>            surface; ///< surface_displacement.json, if written
 
     /// Reads @p folder's summary.json and forces.csv (the latter may be absent).
     static RunData
@@ -47,8 +50,8 @@ namespace suturesim::study
   /// A metric the reference or a completed case does not produce; key is the study
   /// file's key that asks for it ("Metrics/Scalars", …). Missing in the reference, the
   /// study cannot measure it (an error at that key); missing in a case only, it is that
-  /// case's result (a stitch that never closed has no closure tension): a row without
-  /// errors, drawn as failed.
+  /// case's result (a stitch that never closed has no closure tension): the case's row
+  /// is "incomplete", with the other errors measured and this one empty.
   class MissingMetric : public std::runtime_error
   {
   public:
@@ -61,9 +64,16 @@ namespace suturesim::study
     bool        in_reference;
   };
 
-  /// The error columns of @p run against @p reference, in spec.error_columns() order.
+  /// The error columns of @p run against @p reference, in spec.error_columns() order;
+  /// NaN for what the case lacks, with the reason in @p missing. Throws MissingMetric
+  /// (in_reference) for what the reference lacks.
   std::vector<double>
-  case_errors(const MetricsSpec &spec, const RunData &run, const RunData &reference);
+  case_errors(const MetricsSpec &spec, const RunData &run, const RunData &reference,
+              std::vector<std::string> &missing);
+
+  /// The unit of an error column: s (events.time), m (surface.distance), else 1.
+  std::string
+  error_unit(const std::string &column);
 
   /// The cost columns, their names and units, in cases.csv order.
   const std::vector<std::pair<std::string, std::string>> &

@@ -9,10 +9,12 @@
  * rejected, crashed), the error line, wall time, processor time of the process and its
  * children (user + system, from wait4) and peak resident memory.
  *
- * A case is done when its folder holds run.json of the same parameters (a digest of the
- * parameter file the run writes, every parameter with its value) and, for a run that
- * started, that parameter file and summary.json: a rerun of an unchanged study runs
- * nothing again, and a changed setting runs only the cases it changes.
+ * A case is done when its folder holds run.json of the same parameters (a digest of
+ * every parameter with its value, as the scene file and the case's settings give them)
+ * and, for a run that started, its parameters.prm and summary.json: a rerun of an
+ * unchanged study runs nothing again, and a changed setting runs only the cases it
+ * changes. (The digest is of the parsed parameters, before a scenario fills in what
+ * they imply, e.g. a suture preset's radius: the run's parameters.prm shows those.)
  */
 
 #include <iosfwd>
@@ -44,9 +46,9 @@ namespace suturesim::study
     std::vector<std::string> settings;
   };
 
-  /// The parameters.prm text a run of @p settings over @p scene writes.
+  /// Every parameter of a run of @p settings over @p scene, with its value, as text.
   std::string
-  expected_parameters(const std::string &scene, const std::vector<std::string> &settings);
+  case_parameters(const std::string &scene, const std::vector<std::string> &settings);
 
   /// The recorded outcome if @p job's folder holds a complete run of @p parameters.
   std::optional<CaseOutcome>

@@ -54,12 +54,14 @@ namespace suturesim::study
     std::vector<std::string> scalars; ///< keys of summary.json "metrics" (dotted for nested)
     std::vector<std::string> probes;  ///< probe names: <p>_displacement_{x,y,z}
     std::vector<std::string> curves;  ///< forces.csv columns, by name without unit
+    bool                     surface = false; ///< the surface displacement error (study/surface_error.h)
     std::string              alignment = "time"; ///< "time" or "events"
     std::vector<std::string> events;  ///< event kinds that bound the phases (alignment = events)
 
     /// The error columns these metrics give every case, in cases.csv order: each
     /// scalar by its name; "probe.<p>" and "probes.max"; "<curve>.l2", ".linf", ".peak"
-    /// and, aligned on events, "<curve>.phase<k>.l2" (k = 1 …) and "events.time".
+    /// and, aligned on events, "<curve>.phase<k>.l2" (k = 1 …) and "events.time";
+    /// "surface.l2", "surface.max", "surface.distance".
     std::vector<std::string>
     error_columns() const;
   };
@@ -70,6 +72,8 @@ namespace suturesim::study
     std::string                                  error; ///< a metric column, e.g. "probes.max"
     std::string                                  cost = "step_time_median";
     std::vector<std::pair<std::string, double>> tolerances; ///< metric column: bound on |error|
+    /// summary.json metric of the case itself: bound on |value| (a suture's stretch)
+    std::vector<std::pair<std::string, double>> limits;
   };
 
   struct FiguresSpec
@@ -77,6 +81,7 @@ namespace suturesim::study
     std::string stability_x, stability_y; ///< axis paths of the stability map (empty: none)
     std::string convergence_metric;       ///< a summary metric for the convergence table (empty: none)
     std::vector<std::pair<std::string, double>> convergence_sizes; ///< case name: h (m)
+    std::string convergence_series; ///< a parameter path whose value in a case names its series (e.g. Model)
   };
 
   struct StudyDefinition

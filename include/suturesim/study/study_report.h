@@ -39,6 +39,7 @@ namespace suturesim::study
     std::vector<double> costs;  ///< cost_columns() order; NaN when absent
     double              dt = std::numeric_limits<double>::quiet_NaN(), dt_crit = dt; ///< realtime, s
     double              convergence_value = dt; ///< the convergence metric, if any
+    std::vector<double> limit_values; ///< Objective/Limits' metrics of the case; NaN when absent
     bool                within_tolerance = false;
   };
 
