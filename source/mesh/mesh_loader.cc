@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/core/process.h>
 #include <suturesim/mesh/mesh_loader.h>
 
 #include <deal.II/base/mpi.h>
@@ -8,15 +9,10 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <iomanip>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -234,24 +230,7 @@ namespace suturesim::mesh
           args.insert(args.end(), {"-setnumber", k, value.str()});
         }
       args.insert(args.end(), {"-o", msh, p.file});
-      std::vector<char *> argv;
-      for (auto &a : args)
-        argv.push_back(a.data());
-      argv.push_back(nullptr);
-
-      posix_spawn_file_actions_t actions;
-      posix_spawn_file_actions_init(&actions);
-      posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-      pid_t     pid     = 0;
-      const int started = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-      posix_spawn_file_actions_destroy(&actions);
-      if (started != 0)
-        return -1;
-      int wstatus = 0;
-      if (waitpid(pid, &wstatus, 0) != pid || !WIFEXITED(wstatus))
-        return -1;
-      return WEXITSTATUS(wstatus);
+      return run_process(args, log);
     }
   } // namespace
 

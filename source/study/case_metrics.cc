@@ -32,12 +32,7 @@ namespace suturesim::study
       std::vector<std::string> names;
       std::istringstream       header(line);
       while (std::getline(header, cell, ','))
-        {
-          const auto bracket = cell.find(" [");
-          names.push_back(cell.substr(0, bracket));
-          data.units[names.back()] =
-            bracket == std::string::npos ? "" : cell.substr(bracket + 2, cell.size() - bracket - 3);
-        }
+        names.push_back(cell.substr(0, cell.find(" [")));
       while (std::getline(in, line))
         {
           std::istringstream row(line);
@@ -46,14 +41,22 @@ namespace suturesim::study
         }
     }
 
+    /// "reference" or "case", for messages
+    const char *
+    which(const bool reference)
+    {
+      return reference ? "reference" : "case";
+    }
+
     Curve
-    curve(const RunData &run, const std::string &name, const std::string &which)
+    curve(const RunData &run, const std::string &name, const bool reference)
     {
       const auto y = run.columns.find(name);
       const auto t = run.columns.find("time");
       if (y == run.columns.end() || t == run.columns.end())
-        throw MissingMetric("Metrics/Curves", "the " + which + " has no forces.csv column '" + name + "'",
-                            which == "reference");
+        throw MissingMetric("Metrics/Curves",
+                            std::string("the ") + which(reference) + " has no forces.csv column '" + name + "'",
+                            reference);
       // keep strictly increasing times (a restarted row repeats its time)
       Curve c;
       for (std::size_t k = 0; k < t->second.size() && k < y->second.size(); ++k)
@@ -64,7 +67,7 @@ namespace suturesim::study
 
     /// The times of @p kinds matched in order, each to the next event of its kind.
     std::vector<double>
-    event_times(const RunData &run, const std::vector<std::string> &kinds, const std::string &which)
+    event_times(const RunData &run, const std::vector<std::string> &kinds, const bool reference)
     {
       std::vector<std::pair<double, std::string>> events;
       for (const auto &e : run.summary.value("events", nlohmann::json::array()))
@@ -79,16 +82,16 @@ namespace suturesim::study
             ++next;
           if (next == events.size())
             throw MissingMetric("Metrics/Alignment events",
-                                "the " + which + " has no event '" + kind + "' after " + std::to_string(times.size()) +
-                                  " matched ones",
-                                which == "reference");
+                                std::string("the ") + which(reference) + " has no event '" + kind + "' after " +
+                                  std::to_string(times.size()) + " matched ones",
+                                reference);
           times.push_back(events[next++].first);
         }
       return times;
     }
 
     std::array<double, 3>
-    probe(const RunData &run, const std::string &name, const std::string &which)
+    probe(const RunData &run, const std::string &name, const bool reference)
     {
       std::array<double, 3> u{};
       for (int d = 0; d < 3; ++d)
@@ -96,9 +99,9 @@ namespace suturesim::study
           const auto v = run.metric(name + "_displacement_" + "xyz"[d]);
           if (!v)
             throw MissingMetric("Metrics/Probes",
-                                "the " + which + " has no probe '" + name + "' (metrics." + name + "_displacement_" +
-                                  "xyz"[d] + ")",
-                                which == "reference");
+                                std::string("the ") + which(reference) + " has no probe '" + name + "' (metrics." +
+                                  name + "_displacement_" + "xyz"[d] + ")",
+                                reference);
           u[d] = *v;
         }
       return u;
@@ -119,13 +122,20 @@ namespace suturesim::study
         }
     }
 
+    /// The event times of both runs (aligned on events), or why the case has none.
+    struct Alignment
+    {
+      std::vector<double>          ce, re; ///< the case's and the reference's
+      std::optional<MissingMetric> missing;
+    };
+
     /// The columns of curve @p name: e₂, e∞, e_p over the whole overlap, then (aligned on
-    /// events) e₂ per phase.
+    /// events @p a) e₂ per phase.
     void
     curve_columns(const MetricsSpec &spec, const std::string &name, const RunData &run, const RunData &ref,
-                  std::vector<double> &out)
+                  const Alignment &a, std::vector<double> &out)
     {
-      const Curve r = curve(ref, name, "reference"), c = curve(run, name, "case");
+      const Curve r = curve(ref, name, true), c = curve(run, name, false);
       if (spec.alignment == "time")
         {
           const auto e =
@@ -136,7 +146,9 @@ namespace suturesim::study
       // over the whole overlap after the warp (past the last event: shifted by its offset),
       // then phase by phase; NaN where the reference vanishes (a tension before the thread
       // is in)
-      const auto ce = event_times(run, spec.events, "case"), re = event_times(ref, spec.events, "reference");
+      if (a.missing)
+        throw *a.missing;
+      const auto &ce = a.ce, &re = a.re;
       // events at one time in either run (two pierce points taken in one step) bound no
       // phase: the warp uses the strictly increasing ones, their phases are NaN
       std::vector<double> cw, rw;
@@ -242,7 +254,7 @@ namespace suturesim::study
     const std::size_t missing_before = missing.size();
     for (const auto &p : spec.probes)
       measure(out, 1, missing, [&] {
-        const auto r = probe(reference, p, "reference"), c = probe(run, p, "case");
+        const auto r = probe(reference, p, true), c = probe(run, p, false);
         double     diff = 0, norm = 0;
         for (int d = 0; d < 3; ++d)
           diff += (c[d] - r[d]) * (c[d] - r[d]), norm += r[d] * r[d];
@@ -253,15 +265,31 @@ namespace suturesim::study
       });
     if (!spec.probes.empty())
       out.push_back(missing.size() == missing_before ? worst : nan);
-    const std::size_t phases = spec.alignment == "events" ? spec.events.size() - 1 : 0;
+    // the events are matched once, for every curve and the event-time error
+    const bool aligned = spec.alignment == "events";
+    Alignment  a;
+    if (aligned)
+      try
+        {
+          a.re = event_times(reference, spec.events, true);
+          a.ce = event_times(run, spec.events, false);
+        }
+      catch (const MissingMetric &e)
+        {
+          if (e.in_reference)
+            throw;
+          a.missing = e;
+        }
+    const std::size_t phases = aligned ? spec.events.size() - 1 : 0;
     for (const auto &c : spec.curves)
-      measure(out, 3 + phases, missing, [&] { curve_columns(spec, c, run, reference, out); });
-    if (spec.alignment == "events")
+      measure(out, 3 + phases, missing, [&] { curve_columns(spec, c, run, reference, a, out); });
+    if (aligned)
       measure(out, 1, missing, [&] {
-        const auto ce = event_times(run, spec.events, "case"), re = event_times(reference, spec.events, "reference");
-        double     worst_time = 0;
-        for (std::size_t k = 0; k < ce.size(); ++k)
-          worst_time = std::max(worst_time, std::abs(ce[k] - re[k]));
+        if (a.missing)
+          throw *a.missing;
+        double worst_time = 0;
+        for (std::size_t k = 0; k < a.ce.size(); ++k)
+          worst_time = std::max(worst_time, std::abs(a.ce[k] - a.re[k]));
         out.push_back(worst_time);
       });
     if (spec.surface)

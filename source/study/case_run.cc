@@ -1,5 +1,6 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/parameter_file.h>
+#include <suturesim/core/process.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/study/case_run.h>
 
@@ -7,11 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -22,12 +20,14 @@
 #include <map>
 #include <sstream>
 
-extern char **environ;
-
 namespace suturesim::study
 {
   namespace fs = std::filesystem;
   using Clock  = std::chrono::steady_clock;
+
+  // run.json's record of an outcome (reused is not recorded: it says how this study got it)
+  NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CaseOutcome, status, reason, exit_code, wall_seconds, cpu_seconds,
+                                     peak_memory_bytes)
 
   std::string
   digest(const std::string &text)
@@ -82,12 +82,7 @@ namespace suturesim::study
       j["scene"]             = job.scene;
       j["settings"]          = job.settings;
       j["parameters_digest"] = digest(parameters);
-      j["status"]            = o.status;
-      j["reason"]            = o.reason;
-      j["exit_code"]         = o.exit_code;
-      j["wall_seconds"]      = o.wall_seconds;
-      j["cpu_seconds"]       = o.cpu_seconds;
-      j["peak_memory_bytes"] = o.peak_memory_bytes;
+      j.update(nlohmann::json(o));
       const fs::path file    = fs::path(job.folder) / "run.json";
       std::ofstream  out(file);
       out << j.dump(1) << '\n';
@@ -104,32 +99,15 @@ namespace suturesim::study
       std::vector<std::string> args{executable, job.scene, "--output", job.folder};
       for (const auto &s : job.settings)
         args.insert(args.end(), {"--set", s});
-      std::vector<char *> argv;
-      for (auto &a : args)
-        argv.push_back(a.data());
-      argv.push_back(nullptr);
-
-      std::vector<std::string> env_text;
-      for (char **e = environ; *e; ++e)
-        if (std::strncmp(*e, "OPENBLAS_NUM_THREADS=", 21) != 0 && std::strncmp(*e, "OMP_NUM_THREADS=", 16) != 0)
-          env_text.emplace_back(*e);
-      env_text.insert(env_text.end(), {"OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1"});
-      std::vector<char *> env;
-      for (auto &e : env_text)
-        env.push_back(e.data());
-      env.push_back(nullptr);
-
-      const std::string           log = (fs::path(job.folder) / "log.txt").string();
-      posix_spawn_file_actions_t actions;
-      posix_spawn_file_actions_init(&actions);
-      posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      posix_spawn_file_actions_adddup2(&actions, 1, 2);
-      pid_t     pid = 0;
-      const int rc  = posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), env.data());
-      posix_spawn_file_actions_destroy(&actions);
-      if (rc != 0)
-        throw InputError("study: cannot start '" + executable + "' for case '" + job.name + "': " + std::strerror(rc));
-      return pid;
+      try
+        {
+          return start_process(args, (fs::path(job.folder) / "log.txt").string(),
+                               {"OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1"});
+        }
+      catch (const std::runtime_error &e)
+        {
+          throw InputError("study: case '" + job.name + "': " + e.what());
+        }
     }
 
     CaseOutcome
@@ -183,14 +161,8 @@ namespace suturesim::study
         j = nlohmann::json::parse(read_text(dir / "run.json"));
         if (j.at("parameters_digest").get<std::string>() != digest(parameters))
           return std::nullopt;
-        CaseOutcome o;
-        o.status            = j.at("status").get<std::string>();
-        o.reason            = j.at("reason").get<std::string>();
-        o.exit_code         = j.at("exit_code").get<int>();
-        o.wall_seconds      = j.at("wall_seconds").get<double>();
-        o.cpu_seconds       = j.at("cpu_seconds").get<double>();
-        o.peak_memory_bytes = j.at("peak_memory_bytes").get<double>();
-        o.reused            = true;
+        auto o             = j.get<CaseOutcome>();
+        o.reused           = true;
         const bool started  = o.status == "completed" || o.status == "failed";
         if (started && (!fs::exists(dir / "parameters.prm") || !fs::exists(dir / "summary.json")))
           return std::nullopt;

@@ -1,24 +1,21 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/parameter_file.h>
+#include <suturesim/core/process.h>
 #include <suturesim/study/case_metrics.h>
 #include <suturesim/study/snakemake_export.h>
 #include <suturesim/study/study_command.h>
 #include <suturesim/study/study_report.h>
-
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #ifndef SUTURESIM_PYTHON
 #  define SUTURESIM_PYTHON "/usr/bin/python3"
 #endif
-
-extern char **environ;
 
 namespace suturesim::study
 {
@@ -85,19 +82,19 @@ namespace suturesim::study
 
     /// The row of a case that has run: its metrics against the reference.
     CaseRow
-    row_of(const StudyDefinition &study, const Case &c, const CaseJob &job, const CaseOutcome &outcome,
-           const RunData *reference)
+    row_of(const StudyDefinition &study, const Case &c, const CaseOutcome &outcome, const RunData *data,
+           const RunData &reference)
     {
       CaseRow row;
       row.definition = &c;
       row.outcome    = outcome;
-      if (!fs::exists(fs::path(job.folder) / "summary.json"))
+      if (data == nullptr)
         {
           row.costs = case_costs(RunData{}, outcome);
           return row;
         }
-      const RunData run = RunData::read(job.folder);
-      row.costs         = case_costs(run, outcome);
+      const RunData &run = *data;
+      row.costs          = case_costs(run, outcome);
       const auto &rt    = run.summary.value("realtime", nlohmann::json::object());
       // dt_crit_s is "none" for an unconditionally stable integrator
       const auto seconds = [&](const char *key) {
@@ -112,7 +109,7 @@ namespace suturesim::study
       std::vector<std::string> missing;
       try
         {
-          row.errors = case_errors(study.metrics, run, reference ? *reference : run, missing);
+          row.errors = case_errors(study.metrics, run, reference, missing);
         }
       catch (const MissingMetric &e)
         {
@@ -136,21 +133,11 @@ namespace suturesim::study
     draw_figures(const std::string &folder)
     {
       const std::string script = project_path("postprocess/study_figures.py");
-      std::vector<std::string> args{SUTURESIM_PYTHON, script, folder};
-      std::vector<char *>      argv;
-      for (auto &a : args)
-        argv.push_back(a.data());
-      argv.push_back(nullptr);
-      pid_t     pid = 0;
-      const int rc  = posix_spawn(&pid, args[0].c_str(), nullptr, nullptr, argv.data(), environ);
-      int       status = 0;
-      if (rc != 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        {
-          std::cerr << "error: study: the figures were not drawn (" << args[0] << " " << script << " " << folder
-                    << (rc ? std::string(": ") + std::strerror(rc) : std::string(" failed")) << ")\n";
-          return false;
-        }
-      return true;
+      if (run_process({SUTURESIM_PYTHON, script, folder}) == 0)
+        return true;
+      std::cerr << "error: study: the figures were not drawn (" << SUTURESIM_PYTHON << " " << script << " " << folder
+                << " failed)\n";
+      return false;
     }
 
     /// Every case (the reference first) as a job in @p folder, with its parameters.
@@ -227,7 +214,14 @@ namespace suturesim::study
       const RunData        reference = RunData::read(p.jobs[0].folder);
       std::vector<CaseRow> rows;
       for (std::size_t k = 0; k < p.jobs.size(); ++k)
-        rows.push_back(row_of(study, *p.cases[k], p.jobs[k], e.outcomes[k], k == 0 ? nullptr : &reference));
+        {
+          // the reference is read once; a case without summary.json (refused) has no data
+          std::optional<RunData> own;
+          if (k > 0 && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
+            own = RunData::read(p.jobs[k].folder);
+          const RunData *data = k == 0 ? &reference : own ? &*own : nullptr;
+          rows.push_back(row_of(study, *p.cases[k], e.outcomes[k], data, reference));
+        }
       const StudyReport report(study, std::move(rows));
       nlohmann::json    timing{{"jobs", o.jobs},
                             {"cases_run", e.run},

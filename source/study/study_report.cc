@@ -137,16 +137,18 @@ namespace suturesim::study
     const auto columns = study.metrics.error_columns();
     for (auto &row : this->rows)
       {
-        row.within_tolerance = row.outcome.status == "completed" &&
-                               !(study.objective.tolerances.empty() && study.objective.limits.empty());
+        const bool bounded = !(study.objective.tolerances.empty() && study.objective.limits.empty());
+        if (row.outcome.status != "completed" || !bounded)
+          continue;
+        // a missing value (NaN) makes the ratio NaN: not within
+        double     ratio = 0;
+        const auto worse = [&](const double r) { ratio = std::isnan(r) || std::isnan(ratio) ? NAN : std::max(ratio, r); };
         for (std::size_t k = 0; k < study.objective.limits.size(); ++k)
-          row.within_tolerance = row.within_tolerance && k < row.limit_values.size() &&
-                                 std::abs(row.limit_values[k]) <= study.objective.limits[k].second;
+          worse(k < row.limit_values.size() ? std::abs(row.limit_values[k]) / study.objective.limits[k].second : NAN);
         for (const auto &[name, bound] : study.objective.tolerances)
-          {
-            const double e = row.errors.empty() ? NAN : row.errors[index_of(columns, name)];
-            row.within_tolerance = row.within_tolerance && std::abs(e) <= bound;
-          }
+          worse(row.errors.empty() ? NAN : std::abs(row.errors[index_of(columns, name)]) / bound);
+        row.bound_ratio      = ratio;
+        row.within_tolerance = ratio <= 1;
       }
   }
 
@@ -170,10 +172,12 @@ namespace suturesim::study
   std::optional<std::size_t>
   StudyReport::best() const
   {
+    // the error of "cheapest within tolerance" is the bound ratio, its tolerance 1
     std::vector<TradeOff> cases;
     for (std::size_t k = 1; k < rows.size(); ++k)
-      cases.push_back({cost(rows[k]), 0.0, rows[k].within_tolerance && std::isfinite(cost(rows[k]))});
-    const auto chosen = cheapest_within(cases, 0.0);
+      cases.push_back({cost(rows[k]), rows[k].bound_ratio,
+                       std::isfinite(rows[k].bound_ratio) && std::isfinite(cost(rows[k]))});
+    const auto chosen = cheapest_within(cases, 1.0);
     if (!chosen)
       return std::nullopt;
     return *chosen + 1;

@@ -129,6 +129,26 @@ namespace suturesim::test_support
     return "";
   }
 
+  /// The whole text of @p file ("" if it cannot be read).
+  inline std::string
+  read_text(const std::string &file)
+  {
+    std::ifstream     in(file);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+  /// Runs the shell command @p command with its output into @p log; its exit code (-1 if
+  /// it did not exit), the output in @p output.
+  inline int
+  run_logged(const std::string &command, const std::string &log, std::string &output)
+  {
+    const int status = std::system((command + " > '" + log + "' 2>&1").c_str());
+    output           = read_text(log);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
   /// Runs `[launcher] suturesim args --output <fresh folder>`.
   inline RunResult
   run_suturesim(const std::string &name, const std::string &args,
@@ -138,15 +158,8 @@ namespace suturesim::test_support
     RunResult r;
     r.directory = (scratch_path() / name).string();
     fs::remove_all(r.directory);
-    const std::string log = r.directory + ".log";
-    const std::string cmd = launcher + " " + suturesim_binary() + " " + args + " --output '" +
-                            r.directory + "' > '" + log + "' 2>&1";
-    const int status = std::system(cmd.c_str());
-    r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream      in(log);
-    std::stringstream  s;
-    s << in.rdbuf();
-    r.output = s.str();
+    r.exit_code = run_logged(launcher + " " + suturesim_binary() + " " + args + " --output '" + r.directory + "'",
+                             r.directory + ".log", r.output);
     const fs::path summary = fs::path(r.directory) / "summary.json";
     if (fs::exists(summary))
       {

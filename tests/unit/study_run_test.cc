@@ -36,15 +36,8 @@ namespace
     r.folder = (scratch_path() / name).string();
     if (fresh)
       fs::remove_all(r.folder);
-    const std::string log = r.folder + ".log";
-    const std::string cmd = std::string(suturesim_binary()) + " study '" + file + "' --output '" + r.folder + "' " +
-                            args + " > '" + log + "' 2>&1";
-    const int status = std::system(cmd.c_str());
-    r.exit_code      = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream     in(log);
-    std::stringstream s;
-    s << in.rdbuf();
-    r.output = s.str();
+    r.exit_code = run_logged(std::string(suturesim_binary()) + " study '" + file + "' --output '" + r.folder + "' " + args,
+                             r.folder + ".log", r.output);
     std::ifstream json(r.folder + "/study.json");
     if (json)
       json >> r.study;
@@ -300,8 +293,7 @@ TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
   EXPECT_EQ(series[0]["series"], "realtime");
   EXPECT_EQ(series[0]["table"].size(), 4u);
   EXPECT_TRUE(series[0]["observed_order"].is_number()) << series.dump();
-  std::ifstream csv(r.folder + "/convergence.csv");
-  std::string   text((std::istreambuf_iterator<char>(csv)), std::istreambuf_iterator<char>());
+  const std::string text = read_text(r.folder + "/convergence.csv");
   EXPECT_NE(text.find("# realtime: observed order p = "), std::string::npos) << text;
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "convergence.png"));
 }

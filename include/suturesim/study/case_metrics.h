@@ -35,7 +35,6 @@ namespace suturesim::study
   {
     nlohmann::json                             summary;
     std::map<std::string, std::vector<double>> columns; ///< forces.csv by name without unit
-    std::map<std::string, std::string>         units;   ///< forces.csv units by name
     std::optional<io::SurfaceField>            surface; ///< surface_displacement.json, if written
 
     /// Reads @p folder's summary.json and forces.csv (the latter may be absent).

@@ -40,7 +40,10 @@ namespace suturesim::study
     double              dt = std::numeric_limits<double>::quiet_NaN(), dt_crit = dt; ///< realtime, s
     double              convergence_value = dt; ///< the convergence metric, if any
     std::vector<double> limit_values; ///< Objective/Limits' metrics of the case; NaN when absent
-    bool                within_tolerance = false;
+    /// The largest of |error|/tolerance and |value|/limit over the Objective's bounds:
+    /// ≤ 1 within every one (NaN for a case not completed or a study without bounds).
+    double              bound_ratio = std::numeric_limits<double>::quiet_NaN();
+    bool                within_tolerance = false; ///< bound_ratio ≤ 1
   };
 
   class StudyReport
