@@ -189,6 +189,80 @@ namespace suturesim::study
           missing.push_back(e.what());
         }
     }
+
+    /// (s − s_ref)/|s_ref| of summary metric @p s.
+    double
+    scalar_error(const std::string &s, const RunData &run, const RunData &reference)
+    {
+      const auto r = reference.metric(s), c = run.metric(s);
+      if (!r || !c)
+        throw MissingMetric("Metrics/Scalars",
+                            std::string("the ") + which(!r) + " has no metric '" + s + "' in summary.json", !r);
+      if (*r == 0)
+        throw MissingMetric("Metrics/Scalars", "the reference's '" + s + "' is 0: it has no relative error", true);
+      return relative_error(*c, *r);
+    }
+
+    /// A column per probe, |u − u_ref|/|u_ref|, then their largest (NaN if one is missing).
+    void
+    probe_columns(const MetricsSpec &spec, const RunData &run, const RunData &reference, std::vector<double> &out,
+                  std::vector<std::string> &missing)
+    {
+      double            worst          = 0;
+      const std::size_t missing_before = missing.size();
+      for (const auto &p : spec.probes)
+        measure(out, 1, missing, [&] {
+          const auto r = probe(reference, p, true), c = probe(run, p, false);
+          double     diff = 0, norm = 0;
+          for (int d = 0; d < 3; ++d)
+            diff += (c[d] - r[d]) * (c[d] - r[d]), norm += r[d] * r[d];
+          if (norm == 0)
+            throw MissingMetric("Metrics/Probes", "the reference's probe '" + p + "' does not move", true);
+          out.push_back(std::sqrt(diff / norm));
+          worst = std::max(worst, out.back());
+        });
+      if (!spec.probes.empty())
+        out.push_back(missing.size() == missing_before ? worst : nan);
+    }
+
+    /// The events matched once, for every curve and the event-time error.
+    Alignment
+    align(const MetricsSpec &spec, const RunData &run, const RunData &reference)
+    {
+      Alignment a;
+      if (spec.alignment != "events")
+        return a;
+      try
+        {
+          a.re = event_times(reference, spec.events, true);
+          a.ce = event_times(run, spec.events, false);
+        }
+      catch (const MissingMetric &e)
+        {
+          if (e.in_reference)
+            throw;
+          a.missing = e;
+        }
+      return a;
+    }
+
+    SurfaceErrors
+    surface_error(const RunData &run, const RunData &reference)
+    {
+      if (!reference.surface || !run.surface)
+        throw MissingMetric("Metrics/Surface",
+                            std::string("the ") + which(!reference.surface) +
+                              " wrote no surface_displacement.json (a tissue on an unrefined mesh writes it)",
+                            !reference.surface);
+      try
+        {
+          return surface_errors(*run.surface, *reference.surface);
+        }
+      catch (const std::invalid_argument &e)
+        {
+          throw MissingMetric("Metrics/Surface", e.what(), true);
+        }
+    }
   } // namespace
 
   RunData
@@ -239,51 +313,13 @@ namespace suturesim::study
   {
     std::vector<double> out;
     for (const auto &s : spec.scalars)
-      measure(out, 1, missing, [&] {
-        const auto r = reference.metric(s), c = run.metric(s);
-        if (!r || !c)
-          throw MissingMetric("Metrics/Scalars",
-                              std::string("the ") + (r ? "case" : "reference") + " has no metric '" + s +
-                                "' in summary.json",
-                              !r);
-        if (*r == 0)
-          throw MissingMetric("Metrics/Scalars", "the reference's '" + s + "' is 0: it has no relative error", true);
-        out.push_back(relative_error(*c, *r));
-      });
-    double            worst          = 0;
-    const std::size_t missing_before = missing.size();
-    for (const auto &p : spec.probes)
-      measure(out, 1, missing, [&] {
-        const auto r = probe(reference, p, true), c = probe(run, p, false);
-        double     diff = 0, norm = 0;
-        for (int d = 0; d < 3; ++d)
-          diff += (c[d] - r[d]) * (c[d] - r[d]), norm += r[d] * r[d];
-        if (norm == 0)
-          throw MissingMetric("Metrics/Probes", "the reference's probe '" + p + "' does not move", true);
-        out.push_back(std::sqrt(diff / norm));
-        worst = std::max(worst, out.back());
-      });
-    if (!spec.probes.empty())
-      out.push_back(missing.size() == missing_before ? worst : nan);
-    // the events are matched once, for every curve and the event-time error
-    const bool aligned = spec.alignment == "events";
-    Alignment  a;
-    if (aligned)
-      try
-        {
-          a.re = event_times(reference, spec.events, true);
-          a.ce = event_times(run, spec.events, false);
-        }
-      catch (const MissingMetric &e)
-        {
-          if (e.in_reference)
-            throw;
-          a.missing = e;
-        }
-    const std::size_t phases = aligned ? spec.events.size() - 1 : 0;
+      measure(out, 1, missing, [&] { out.push_back(scalar_error(s, run, reference)); });
+    probe_columns(spec, run, reference, out, missing);
+    const Alignment   a      = align(spec, run, reference);
+    const std::size_t phases = spec.alignment == "events" ? spec.events.size() - 1 : 0;
     for (const auto &c : spec.curves)
       measure(out, 3 + phases, missing, [&] { curve_columns(spec, c, run, reference, a, out); });
-    if (aligned)
+    if (spec.alignment == "events")
       measure(out, 1, missing, [&] {
         if (a.missing)
           throw *a.missing;
@@ -294,20 +330,8 @@ namespace suturesim::study
       });
     if (spec.surface)
       measure(out, 3, missing, [&] {
-        if (!reference.surface || !run.surface)
-          throw MissingMetric("Metrics/Surface",
-                              std::string("the ") + (reference.surface ? "case" : "reference") +
-                                " wrote no surface_displacement.json (a tissue on an unrefined mesh writes it)",
-                              !reference.surface);
-        try
-          {
-            const auto e = surface_errors(*run.surface, *reference.surface);
-            out.insert(out.end(), {e.relative_l2, e.relative_max, e.distance});
-          }
-        catch (const std::invalid_argument &e)
-          {
-            throw MissingMetric("Metrics/Surface", e.what(), true);
-          }
+        const auto e = surface_error(run, reference);
+        out.insert(out.end(), {e.relative_l2, e.relative_max, e.distance});
       });
     return out;
   }
