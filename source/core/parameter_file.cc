@@ -334,6 +334,12 @@ namespace suturesim
     return it == lines.end() ? 0 : it->second;
   }
 
+  bool
+  ParameterFile::given(const std::string &path) const
+  {
+    return line_of(path) > 0 || std::find(overrides.begin(), overrides.end(), path) != overrides.end();
+  }
+
   void
   ParameterFile::fail(const std::string &path, const std::string &problem) const
   {

@@ -341,7 +341,7 @@ namespace suturesim::rod
               for (const auto &[key, value] : values)
                 {
                   const double given = prm.get_double(key);
-                  c.require(scope.parameter_file().line_of("Suture/Cross section/" + key) == 0 ||
+                  c.require(!scope.parameter_file().given("Suture/Cross section/" + key) ||
                               std::abs(given - value) <= 1e-12 * std::abs(value),
                             key,
                             "is set by 'Preset = " + preset + "' to " + Utilities::to_string(value) +

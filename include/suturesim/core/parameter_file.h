@@ -53,6 +53,11 @@ namespace suturesim
     int
     line_of(const std::string &path) const;
 
+    /// Whether "Sub/Sub/Key" is set in the file or by a command-line override (not left
+    /// at its default): what a setting that fixes others (a suture preset) must respect.
+    bool
+    given(const std::string &path) const;
+
     /// Throws InputError "file:line: path: problem" (the line is omitted for defaults,
     /// and "--set" is named for command-line overrides).
     [[noreturn]] void
