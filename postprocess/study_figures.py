@@ -9,7 +9,8 @@ Usage: /usr/bin/python3 postprocess/study_figures.py STUDY_FOLDER
   the top of the chart (they have no error), never dropped; the cheapest case within
   tolerance ringed, the tolerance drawn.
 - stability.png, stability.pdf (when the study names stability axes): each case a cell
-  stable / diverged / inaccurate, with the program's predicted boundary dt = dt_crit.
+  stable / diverged / inaccurate, with the program's predicted boundary dt = dt_crit;
+  one map per value of the study's other axes (its panels), side by side.
 - convergence.png, convergence.pdf (when the study names a convergence metric): the
   metric against h, the Richardson extrapolation with Roache's GCI as its error bar.
 Run by `suturesim study` after the tables; runs by itself on an existing folder.
@@ -36,7 +37,7 @@ def save(fig, folder, stem, tight=True):
 
 
 def pareto(study, folder):
-    cases = study["cases"][1:]
+    cases = [c for c in study["cases"] if not c.get("is_reference")]
     objective = study["objective"]
     step_time = objective["cost"].startswith("step_time")
     fig, ax = plt.subplots(figsize=(10, 5))
@@ -89,10 +90,14 @@ def pareto(study, folder):
     tolerance = objective["tolerances"].get(objective["error"])
     if tolerance:
         ax.axhline(tolerance, color="#2a9d3f", ls=":", lw=1, label=f"tolerance {tolerance:g}")
-    best = [c for c in ok if c["name"] == study.get("best")]
+    # the cheapest adequate case, or one per reference (Reference/Per axis)
+    chosen = study.get("best")
+    chosen = set(chosen.values()) if isinstance(chosen, dict) else {chosen}
+    best = [c for c in ok if c["name"] in chosen]
     for c in best:
         ax.scatter([c["cost"] * scale], [c["error"]], s=140, facecolors="none", edgecolors="#2a9d3f",
-                   linewidths=1.5, label=f"cheapest within tolerance: {c['name']}", zorder=4)
+                   linewidths=1.5, label=f"cheapest within tolerance: {c['name']}"
+                   + (f" ({c['reference']})" if len(chosen) > 1 else ""), zorder=4)
     ax.set_xscale("log")
     shown = [c["error"] for c in ok + partial if c["error"] > 0]
     if shown and max(shown) / min(shown) > 20:
@@ -100,7 +105,9 @@ def pareto(study, folder):
     unit = "ms" if step_time else "s"
     ax.set_xlabel(f"{objective['cost'].replace('_', ' ')} [{unit}]")
     ax.set_ylabel(f"|{objective['error']}| error [1]")
-    ax.set_title(f"study {study['name']}: {len(cases)} cases against the reference", fontsize=10)
+    references = len(study["cases"]) - len(cases)
+    ax.set_title(f"study {study['name']}: {len(cases)} cases against "
+                 + ("the reference" if references == 1 else f"{references} references"), fontsize=10)
     ax.legend(fontsize=7, loc="best")
     ax.grid(True, which="both", alpha=0.3)
     save(fig, folder, "pareto", tight=False)
@@ -113,12 +120,23 @@ def numeric(values):
         return list(values), False
 
 
-def stability(study, folder):
-    s = study["stability"]
-    cells = s["cells"]
+def predicted_boundary(xs, ys, cells):
+    """Per row of a map, the x where dt = dt_crit (dt grows or falls with x)."""
+    boundary = []
+    for y in sorted(set(ys)):
+        row = [(x, c) for x, yy, c in zip(xs, ys, cells) if yy == y and c["dt"] and c["dt_crit"]]
+        if len(row) < 2:
+            continue
+        (x0, c0), (x1, c1) = min(row, key=lambda r: r[0]), max(row, key=lambda r: r[0])
+        growing = c1["dt"] > c0["dt"]
+        x, c = row[0]
+        boundary.append((x * c["dt_crit"] / c["dt"] if growing else x * c["dt"] / c["dt_crit"], y))
+    return boundary
+
+
+def stability_panel(ax, s, cells, title):
     xs, x_num = numeric([c["x"] for c in cells])
     ys, y_num = numeric([c["y"] for c in cells])
-    fig, ax = plt.subplots(figsize=(7.5, 5))
     for state, color in COLORS.items():
         pts = [(x, y) for x, y, c in zip(xs, ys, cells) if c["state"] == state]
         if pts:
@@ -128,17 +146,8 @@ def stability(study, folder):
     if other:
         ax.scatter([p[0] for p in other], [p[1] for p in other], marker="x", s=60, color="black",
                    label="refused or crashed")
-    # predicted boundary: the x where dt = dt_crit, per row (dt grows or falls with x)
     if x_num and y_num:
-        boundary = []
-        for y in sorted(set(ys)):
-            row = [(x, c) for x, yy, c in zip(xs, ys, cells) if yy == y and c["dt"] and c["dt_crit"]]
-            if len(row) < 2:
-                continue
-            (x0, c0), (x1, c1) = min(row, key=lambda r: r[0]), max(row, key=lambda r: r[0])
-            growing = c1["dt"] > c0["dt"]
-            x, c = row[0]
-            boundary.append((x * c["dt_crit"] / c["dt"] if growing else x * c["dt"] / c["dt_crit"], y))
+        boundary = predicted_boundary(xs, ys, cells)
         if boundary:
             ax.plot([b[0] for b in boundary], [b[1] for b in boundary], "k--", lw=1.0,
                     label="predicted: dt = dt_crit")
@@ -150,10 +159,29 @@ def stability(study, folder):
             ax.set_yscale("log")
     ax.set_xlabel(f"{s['x']} [{s['x_unit'] or '-'}]")
     ax.set_ylabel(f"{s['y']} [{s['y_unit'] or '-'}]")
-    ax.set_title(f"study {study['name']}: stability map", fontsize=10)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=5)
+    ax.set_title(title, fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    save(fig, folder, "stability")
+
+
+def stability(study, folder):
+    """One map per panel (the values of the study's other axes), side by side."""
+    s = study["stability"]
+    panels = list(dict.fromkeys(c.get("panel", "") for c in s["cells"]))
+    fig, axes = plt.subplots(1, len(panels), figsize=(2 + 5.5 * len(panels), 5), squeeze=False,
+                             sharey=True)
+    for ax, panel in zip(axes[0], panels):
+        cells = [c for c in s["cells"] if c.get("panel", "") == panel]
+        # "Suture/Cross section/Young's modulus = 1e9" -> "Young's modulus = 1e9"
+        title = ", ".join(part.split("/")[-1] for part in panel.split(", "))
+        stability_panel(ax, s, cells, title)
+    handles = {}
+    for ax in axes[0]:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(label, h)
+    fig.suptitle(f"study {study['name']}: stability map", fontsize=10)
+    fig.legend(handles.values(), handles.keys(), fontsize=7, loc="lower center", ncol=5)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
+    save(fig, folder, "stability", tight=False)
 
 
 def convergence(study, folder):

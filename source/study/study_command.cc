@@ -127,6 +127,17 @@ namespace suturesim::study
       return row;
     }
 
+    /// ", best.prm" or ", N best_<values>.prm" for the summary line ("" when none).
+    std::string
+    best_files(const StudyReport &report)
+    {
+      const auto  chosen = report.best();
+      const auto  count  = std::count_if(chosen.begin(), chosen.end(), [](const auto &k) { return k.has_value(); });
+      if (count == 0)
+        return "";
+      return chosen.size() == 1 ? ", best.prm" : ", " + std::to_string(count) + " best_<values>.prm";
+    }
+
     /// Runs postprocess/study_figures.py on @p folder; false (with the reason on
     /// stderr) when it fails.
     bool
@@ -152,7 +163,8 @@ namespace suturesim::study
     plan(const StudyDefinition &study, const std::string &folder)
     {
       Plan p;
-      p.cases.push_back(&study.reference);
+      for (const auto &r : study.references)
+        p.cases.push_back(&r);
       for (const auto &c : study.cases)
         p.cases.push_back(&c);
       for (const auto *c : p.cases)
@@ -209,18 +221,25 @@ namespace suturesim::study
     report(const StudyDefinition &study, const Plan &p, const Execution &e, const Options &o,
            const std::string &folder, const Clock::time_point start)
     {
-      if (e.outcomes[0].status != "completed")
-        study.fail("Reference/Settings", "the reference run " + e.outcomes[0].status + ": " + e.outcomes[0].reason);
-      const RunData        reference = RunData::read(p.jobs[0].folder);
+      const std::size_t    count = study.references.size();
+      std::vector<RunData> references;
+      for (std::size_t k = 0; k < count; ++k)
+        {
+          if (e.outcomes[k].status != "completed")
+            study.fail("Reference/Settings", "the reference run '" + p.jobs[k].name + "' " + e.outcomes[k].status +
+                                               ": " + e.outcomes[k].reason);
+          references.push_back(RunData::read(p.jobs[k].folder));
+        }
       std::vector<CaseRow> rows;
       for (std::size_t k = 0; k < p.jobs.size(); ++k)
         {
-          // the reference is read once; a case without summary.json (refused) has no data
+          // the references are read once; a case without summary.json (refused) has no data
+          const RunData         &against = references[k < count ? k : p.cases[k]->reference];
           std::optional<RunData> own;
-          if (k > 0 && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
+          if (k >= count && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
             own = RunData::read(p.jobs[k].folder);
-          const RunData *data = k == 0 ? &reference : own ? &*own : nullptr;
-          rows.push_back(row_of(study, *p.cases[k], e.outcomes[k], data, reference));
+          const RunData *data = k < count ? &against : own ? &*own : nullptr;
+          rows.push_back(row_of(study, *p.cases[k], e.outcomes[k], data, against));
         }
       const StudyReport report(study, std::move(rows));
       nlohmann::json    timing{{"jobs", o.jobs},
@@ -236,7 +255,7 @@ namespace suturesim::study
       std::cout << "study " << study.name << ": " << p.jobs.size() << " cases (" << e.run << " run, "
                 << p.jobs.size() - e.run << " already done) in " << total << " s, the cases' own runs "
                 << e.cases_wall << " s; wrote " << folder << "/ (cases.csv, study.json"
-                << (report.best() ? ", best.prm" : "") << (figures ? ", figures" : "") << ")\n";
+                << best_files(report) << (figures ? ", figures" : "") << ")\n";
       return figures ? 0 : 1;
     }
   } // namespace
@@ -251,7 +270,8 @@ namespace suturesim::study
         const StudyDefinition study = StudyDefinition::read(o.file, o.overrides);
         if (o.validate)
           {
-            std::cout << o.file << ": valid, " << study.cases.size() << " cases and the reference\n";
+            std::cout << o.file << ": valid, " << study.cases.size() << " cases and " << study.references.size()
+                      << (study.references.size() == 1 ? " reference\n" : " references\n");
             return 0;
           }
         const std::string folder = o.output.empty() ? "output/studies/" + study.name : o.output;

@@ -9,6 +9,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <optional>
 #include <set>
 
 namespace suturesim::study
@@ -118,6 +120,12 @@ namespace suturesim::study
       prm.declare_entry("Settings", "", Anything(),
                         "Settings of the reference case over the base scene: \"Path/Key=value\", "
                         "separated by commas (a part in double quotes keeps its commas). Unit: none.");
+      prm.declare_entry("Per axis", "", Anything(),
+                        "Parameter paths, separated by semicolons, whose value changes the physics (a "
+                        "modulus, a load) rather than the approximation: one reference per combination "
+                        "of the values the cases give them, each case measured against its own. Every "
+                        "case must set them (an axis of Cases/Axes, or its listed settings). Empty: one "
+                        "reference. Unit: none.");
       prm.leave_subsection();
       prm.enter_subsection("Cases");
       prm.declare_entry("Settings", "", Anything(),
@@ -260,11 +268,61 @@ namespace suturesim::study
         }
     }
 
+    /// The value @p c gives the parameter @p path (its last "path=value" setting), if any.
+    std::optional<std::string>
+    setting_of(const Case &c, const std::string &path)
+    {
+      std::optional<std::string> value;
+      for (const auto &s : c.settings)
+        if (s.size() > path.size() && s.compare(0, path.size() + 1, path + "=") == 0)
+          value = s.substr(path.size() + 1);
+      return value;
+    }
+
+    /// The study's references, after @p settings: one, or one per combination of the
+    /// values the cases give the @p per_axis paths (in order of first appearance), each
+    /// case pointed at its own.
+    void
+    match_references(StudyDefinition &d, const std::vector<std::string> &per_axis,
+                     const std::vector<std::string> &settings, const ParameterScope &scope)
+    {
+      d.references.clear();
+      if (per_axis.empty())
+        d.references.push_back({"reference", settings, {}, 0});
+      std::map<std::vector<std::string>, std::size_t> index;
+      for (auto &c : d.cases)
+        {
+          if (per_axis.empty())
+            break;
+          std::vector<std::string> values;
+          for (const auto &path : per_axis)
+            {
+              const auto v = setting_of(c, path);
+              scope.require(v.has_value(), "Per axis",
+                            "case '" + c.name + "' does not set '" + path + "', so it has no reference");
+              values.push_back(*v);
+            }
+          const auto [entry, added] = index.emplace(values, d.references.size());
+          if (added)
+            {
+              Case r{"reference", settings, {}, d.references.size()};
+              for (std::size_t k = 0; k < values.size(); ++k)
+                {
+                  r.name += "_" + file_name_part(values[k]);
+                  r.settings.push_back(per_axis[k] + "=" + values[k]);
+                  r.axis_values.emplace_back(per_axis[k], values[k]);
+                }
+              d.references.push_back(r);
+            }
+          c.reference = entry->second;
+        }
+    }
+
     std::vector<std::string>
-    names(const std::string &text)
+    names(const std::string &text, const char separator = ',')
     {
       std::vector<std::string> out;
-      for (const auto &s : split(text, ','))
+      for (const auto &s : split(text, separator))
         out.push_back(unquote(s));
       return out;
     }
@@ -329,8 +387,9 @@ namespace suturesim::study
                       "Convergence sizes", "a convergence table needs three sizes or more (per series)");
       for (const auto &[name, h] : d.figures.convergence_sizes)
         {
-          figures.require(name == "reference" ||
-                            std::any_of(d.cases.begin(), d.cases.end(), [&](const Case &c) { return c.name == name; }),
+          const auto named = [&](const Case &c) { return c.name == name; };
+          figures.require(std::any_of(d.references.begin(), d.references.end(), named) ||
+                            std::any_of(d.cases.begin(), d.cases.end(), named),
                           "Convergence sizes", "'" + name + "' is not a case of the study");
           figures.require(h > 0, "Convergence sizes", "the size of '" + name + "' must be > 0 m");
         }
@@ -371,7 +430,7 @@ namespace suturesim::study
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
-    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Cases/Settings", "Cases/Axes", "Cases/List",
+    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
                             "Figures/Convergence metric", "Figures/Convergence sizes"})
@@ -384,10 +443,14 @@ namespace suturesim::study
     d.base_scene = file.resolve(base);
 
     prm.enter_subsection("Reference");
-    d.reference = {"reference", settings(prm.get("Settings")), {}};
-    d.reference.settings.insert(d.reference.settings.end(), extra.begin(), extra.end());
+    const auto reference_settings = settings(prm.get("Settings"));
+    const auto per_axis           = names(prm.get("Per axis"), ';');
     prm.leave_subsection();
-    check(d.reference, d.base_scene, top.subsection("Reference"), "Settings");
+    {
+      Case reference{"reference", reference_settings, {}, 0};
+      reference.settings.insert(reference.settings.end(), extra.begin(), extra.end());
+      check(reference, d.base_scene, top.subsection("Reference"), "Settings");
+    }
 
     prm.enter_subsection("Cases");
     const ParameterScope cases      = top.subsection("Cases");
@@ -399,14 +462,23 @@ namespace suturesim::study
       d.cases.push_back(c);
     prm.leave_subsection();
     cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
+    match_references(d, per_axis, reference_settings, top.subsection("Reference"));
 
-    std::set<std::string> names{"reference"};
+    std::set<std::string> used;
+    for (auto &r : d.references)
+      {
+        r.settings.insert(r.settings.end(), extra.begin(), extra.end());
+        used.insert(r.name);
+        if (!per_axis.empty()) // with its value of each physical axis
+          check(r, d.base_scene, top.subsection("Reference"), "Settings");
+      }
     for (std::size_t k = 0; k < d.cases.size(); ++k)
       {
         d.cases[k].settings.insert(d.cases[k].settings.end(), extra.begin(), extra.end());
         const std::string key = k < from_axes ? "Axes" : "List";
         cases.require(!d.cases[k].name.empty(), key, "a case's name has no letter or digit");
-        cases.require(names.insert(d.cases[k].name).second, key, "two cases are named '" + d.cases[k].name + "'");
+        cases.require(used.insert(d.cases[k].name).second, key,
+                      "two cases are named '" + d.cases[k].name + "'");
         check(d.cases[k], d.base_scene, cases, key);
       }
     read_metrics_and_objective(prm, d, top);

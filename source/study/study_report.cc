@@ -169,18 +169,74 @@ namespace suturesim::study
     return std::abs(row.errors[index_of(study.metrics.error_columns(), study.objective.error)]);
   }
 
-  std::optional<std::size_t>
+  std::vector<std::optional<std::size_t>>
   StudyReport::best() const
   {
-    // the error of "cheapest within tolerance" is the bound ratio, its tolerance 1
-    std::vector<TradeOff> cases;
-    for (std::size_t k = 1; k < rows.size(); ++k)
-      cases.push_back({cost(rows[k]), rows[k].bound_ratio,
-                       std::isfinite(rows[k].bound_ratio) && std::isfinite(cost(rows[k]))});
-    const auto chosen = cheapest_within(cases, 1.0);
-    if (!chosen)
-      return std::nullopt;
-    return *chosen + 1;
+    // per reference; the error of "cheapest within tolerance" is the bound ratio, its tolerance 1
+    std::vector<std::optional<std::size_t>> chosen;
+    for (std::size_t group = 0; group < study.references.size(); ++group)
+      {
+        std::vector<TradeOff>    cases;
+        std::vector<std::size_t> index;
+        for (std::size_t k = study.references.size(); k < rows.size(); ++k)
+          if (rows[k].definition->reference == group)
+            {
+              cases.push_back({cost(rows[k]), rows[k].bound_ratio,
+                               std::isfinite(rows[k].bound_ratio) && std::isfinite(cost(rows[k]))});
+              index.push_back(k);
+            }
+        const auto pick = cheapest_within(cases, 1.0);
+        chosen.push_back(pick ? std::optional<std::size_t>(index[*pick]) : std::nullopt);
+      }
+    return chosen;
+  }
+
+  namespace
+  {
+    /// A stability-map cell's state: stable, diverged, inaccurate (completed beyond a
+    /// bound, or without a measured metric: a wound that never closed), else the status.
+    std::string
+    cell_state(const CaseRow &r, const bool bounded)
+    {
+      if (r.outcome.status == "completed")
+        return bounded && !r.within_tolerance ? "inaccurate" : "stable";
+      if (r.outcome.status == "failed")
+        return "diverged";
+      return r.outcome.status == "incomplete" ? "inaccurate" : r.outcome.status;
+    }
+
+    /// Per row of a map (cases of one panel and one y): the measured boundary in dt
+    /// against the median of the rows' predicted dt_crit.
+    nlohmann::json
+    measured_boundary(const std::vector<const CaseRow *> &row)
+    {
+      double              stable = 0, diverged = INFINITY;
+      std::vector<double> crit;
+      for (const auto *r : row)
+        {
+          if (r->outcome.status == "failed")
+            diverged = std::min(diverged, r->dt);
+          else if (r->outcome.status == "completed")
+            stable = std::max(stable, r->dt);
+          if (std::isfinite(r->dt_crit))
+            crit.push_back(r->dt_crit);
+        }
+      std::sort(crit.begin(), crit.end());
+      return {{"dt_crit", json_number(crit.empty() ? NAN : crit[crit.size() / 2])},
+              {"largest_stable_dt", stable > 0 ? json_number(stable) : nullptr},
+              {"smallest_diverged_dt", json_number(diverged)}};
+    }
+  } // namespace
+
+  std::string
+  StudyReport::panel_of(const Case &c) const
+  {
+    // the axes other than the map's two: one map (panel) per combination of their values
+    std::string panel;
+    for (const auto &[path, value] : c.axis_values)
+      if (path != study.figures.stability_x && path != study.figures.stability_y)
+        panel += (panel.empty() ? "" : ", ") + path + " = " + value;
+    return panel;
   }
 
   nlohmann::json
@@ -189,49 +245,29 @@ namespace suturesim::study
     const auto &x = study.figures.stability_x, &y = study.figures.stability_y;
     if (x.empty())
       return nullptr;
-    nlohmann::json cells = nlohmann::json::array();
-    // the map's rows in the order of the axis
-    std::vector<std::pair<std::string, std::vector<const CaseRow *>>> by_y;
-    for (std::size_t k = 1; k < rows.size(); ++k)
+    const bool     bounded = !(study.objective.tolerances.empty() && study.objective.limits.empty());
+    nlohmann::json cells   = nlohmann::json::array();
+    // the map's rows (panel, y) in the order of the axes
+    std::vector<std::pair<std::pair<std::string, std::string>, std::vector<const CaseRow *>>> rows_of_map;
+    for (std::size_t k = study.references.size(); k < rows.size(); ++k)
       {
         const auto &r     = rows[k];
-        const bool  ran   = r.outcome.status == "completed";
-        const bool  bad   = !(study.objective.tolerances.empty() && study.objective.limits.empty()) &&
-                         !r.within_tolerance;
-        // a completed run without a measured metric (a wound that never closed) is inaccurate
-        const std::string state = ran ? (bad ? "inaccurate" : "stable")
-                                  : r.outcome.status == "failed"     ? "diverged"
-                                  : r.outcome.status == "incomplete" ? "inaccurate"
-                                                                     : r.outcome.status;
-        cells.push_back({{"case", r.definition->name}, {"x", axis_value(*r.definition, x)},
-                         {"y", axis_value(*r.definition, y)}, {"state", state}, {"dt", json_number(r.dt)},
+        const auto  key   = std::make_pair(panel_of(*r.definition), axis_value(*r.definition, y));
+        cells.push_back({{"case", r.definition->name}, {"panel", key.first}, {"x", axis_value(*r.definition, x)},
+                         {"y", key.second}, {"state", cell_state(r, bounded)}, {"dt", json_number(r.dt)},
                          {"dt_crit", json_number(r.dt_crit)}});
-        const std::string value = axis_value(*r.definition, y);
-        auto row = std::find_if(by_y.begin(), by_y.end(), [&](const auto &b) { return b.first == value; });
-        if (row == by_y.end())
-          row = by_y.insert(by_y.end(), {value, {}});
+        auto row = std::find_if(rows_of_map.begin(), rows_of_map.end(), [&](const auto &b) { return b.first == key; });
+        if (row == rows_of_map.end())
+          row = rows_of_map.insert(rows_of_map.end(), {key, {}});
         row->second.push_back(&r);
       }
-    // per row of the map: the measured boundary in dt against the predicted dt_crit
     nlohmann::json boundary = nlohmann::json::array();
-    for (const auto &[value, row] : by_y)
+    for (const auto &[key, row] : rows_of_map)
       {
-        double stable = 0, diverged = INFINITY;
-        std::vector<double> crit;
-        for (const auto *r : row)
-          {
-            if (r->outcome.status == "failed")
-              diverged = std::min(diverged, r->dt);
-            else if (r->outcome.status == "completed")
-              stable = std::max(stable, r->dt);
-            if (std::isfinite(r->dt_crit))
-              crit.push_back(r->dt_crit);
-          }
-        std::sort(crit.begin(), crit.end());
-        const double c = crit.empty() ? NAN : crit[crit.size() / 2];
-        boundary.push_back({{"y", value}, {"dt_crit", json_number(c)},
-                            {"largest_stable_dt", stable > 0 ? json_number(stable) : nullptr},
-                            {"smallest_diverged_dt", json_number(diverged)}});
+        auto b     = measured_boundary(row);
+        b["panel"] = key.first;
+        b["y"]     = key.second;
+        boundary.push_back(b);
       }
     return {{"x", x}, {"y", y}, {"x_unit", parameter_unit(x)}, {"y_unit", parameter_unit(y)}, {"cells", cells},
             {"boundary", boundary}};
@@ -254,7 +290,10 @@ namespace suturesim::study
     for (std::size_t k = 0; k < rows.size(); ++k)
       {
         const auto    &r = rows[k];
+        const bool     is_reference = k < study.references.size();
         nlohmann::json c{{"name", r.definition->name},     {"status", r.outcome.status},
+                         {"is_reference", is_reference},
+                         {"reference", study.references[is_reference ? k : r.definition->reference].name},
                          {"reason", r.outcome.reason},     {"reused", r.outcome.reused},
                          {"settings", r.definition->settings}, {"within_tolerance", r.within_tolerance},
                          {"dt", json_number(r.dt)},        {"dt_crit", json_number(r.dt_crit)}};
@@ -270,15 +309,21 @@ namespace suturesim::study
         c["cost"]  = json_number(cost(r));
         c["error"] = json_number(error(r));
         out["cases"].push_back(c);
-        if (k > 0)
+        if (!is_reference)
           trade.push_back({cost(r), error(r),
                            r.outcome.status == "completed" && std::isfinite(cost(r)) && std::isfinite(error(r))});
       }
     out["front"] = nlohmann::json::array();
     for (const auto k : pareto_front(trade))
-      out["front"].push_back(rows[k + 1].definition->name);
+      out["front"].push_back(rows[k + study.references.size()].definition->name);
+    // the cheapest adequate case: its name, or per reference {reference: name}
     const auto chosen = best();
-    out["best"]       = chosen ? nlohmann::json(rows[*chosen].definition->name) : nlohmann::json(nullptr);
+    const auto name   = [&](const std::optional<std::size_t> &k) {
+      return k ? nlohmann::json(rows[*k].definition->name) : nlohmann::json(nullptr);
+    };
+    out["best"] = chosen.size() == 1 ? name(chosen[0]) : nlohmann::json::object();
+    for (std::size_t g = 0; chosen.size() > 1 && g < chosen.size(); ++g)
+      out["best"][study.references[g].name] = name(chosen[g]);
     out["stability"]  = stability();
     out["convergence"] = convergence();
     return out;
@@ -337,7 +382,7 @@ namespace suturesim::study
     std::ofstream out(file);
     const auto    axes    = axis_paths(study);
     const auto    columns = study.metrics.error_columns();
-    out << "case,status,reason";
+    out << "case,status,reason,reference";
     for (const auto &a : axes)
       out << ',' << field(a + " [" + (parameter_unit(a).empty() ? "-" : parameter_unit(a)) + "]");
     for (const auto &c : columns)
@@ -347,9 +392,11 @@ namespace suturesim::study
     for (const auto &[name, bound] : study.objective.limits)
       out << ',' << field(name + " value [-]");
     out << ",dt [s],dt_crit [s],within_tolerance [0|1]\n";
-    for (const auto &r : rows)
+    for (std::size_t k = 0; k < rows.size(); ++k)
       {
-        out << field(r.definition->name) << ',' << r.outcome.status << ',' << field(r.outcome.reason);
+        const auto &r = rows[k];
+        out << field(r.definition->name) << ',' << r.outcome.status << ',' << field(r.outcome.reason) << ','
+            << study.references[k < study.references.size() ? k : r.definition->reference].name;
         for (const auto &a : axes)
           out << ',' << field(axis_value(*r.definition, a));
         for (std::size_t e = 0; e < columns.size(); ++e)
@@ -363,19 +410,40 @@ namespace suturesim::study
     check_written(out, file);
   }
 
-  void
+  std::vector<std::string>
   StudyReport::write_best(const std::string &folder) const
   {
-    const auto chosen = best();
-    if (!chosen)
-      return;
-    const auto   &r = rows[*chosen];
+    // a best.prm of an earlier run of the study must not outlive a changed choice
+    for (const auto &entry : fs::directory_iterator(folder))
+      {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("best", 0) == 0 && entry.path().extension() == ".prm")
+          fs::remove(entry.path());
+      }
+    std::vector<std::string> written;
+    const auto               chosen = best();
+    for (std::size_t g = 0; g < chosen.size(); ++g)
+      if (chosen[g])
+        {
+          // best.prm, or per reference best_<its values>.prm
+          const auto &reference = study.references[g].name;
+          written.push_back(chosen.size() == 1 ? "best.prm" : "best" + reference.substr(9) + ".prm");
+          write_best(folder, rows[*chosen[g]], written.back(), reference);
+        }
+    return written;
+  }
+
+  void
+  StudyReport::write_best(const std::string &folder, const CaseRow &r, const std::string &name,
+                          const std::string &reference) const
+  {
     std::ifstream in(fs::path(folder) / "cases" / r.definition->name / "parameters.prm");
     std::ostringstream parameters;
     parameters << in.rdbuf();
-    const std::string file = (fs::path(folder) / "best.prm").string();
+    const std::string file = (fs::path(folder) / name).string();
     std::ofstream     out(file);
-    out << "# The cheapest case of study '" << study.name << "' (" << study.file << ") within every tolerance:\n"
+    out << "# The cheapest case of study '" << study.name << "' (" << study.file << ") within every tolerance"
+        << (study.references.size() > 1 ? " against " + reference : std::string()) << ":\n"
         << "#   case " << r.definition->name << ", " << study.objective.cost << " = " << number(cost(r)) << " s\n";
     const auto columns = study.metrics.error_columns();
     for (const auto &[name, bound] : study.objective.tolerances)
@@ -405,11 +473,12 @@ namespace suturesim::study
       {
         const auto    name = (fs::path(folder) / "stability.csv").string();
         std::ofstream csv(name);
-        csv << "case," << field(study.figures.stability_x + " [" + parameter_unit(study.figures.stability_x) + "]")
+        csv << "case,panel," << field(study.figures.stability_x + " [" + parameter_unit(study.figures.stability_x) + "]")
             << ',' << field(study.figures.stability_y + " [" + parameter_unit(study.figures.stability_y) + "]")
             << ",state,dt [s],dt_crit [s]\n";
         for (const auto &c : json["stability"]["cells"])
-          csv << field(c["case"].get<std::string>()) << ',' << field(c["x"].get<std::string>()) << ','
+          csv << field(c["case"].get<std::string>()) << ',' << field(c["panel"].get<std::string>()) << ','
+              << field(c["x"].get<std::string>()) << ','
               << field(c["y"].get<std::string>()) << ',' << c["state"].get<std::string>() << ','
               << (c["dt"].is_null() ? "" : number(c["dt"].get<double>())) << ','
               << (c["dt_crit"].is_null() ? "" : number(c["dt_crit"].get<double>())) << '\n';

@@ -43,7 +43,9 @@ TEST(StudyDefinition, AxesMultiplyAndListedCasesFollow)
   const auto d = study::StudyDefinition::read(source_path("tests/data/studies/cook_small.prm"));
   EXPECT_EQ(d.name, "cook_small");
   EXPECT_EQ(d.base_scene, source_path("tests/data/cook_coarse.prm"));
-  EXPECT_EQ(d.reference.settings,
+  ASSERT_EQ(d.references.size(), 1u);
+  EXPECT_EQ(d.references[0].name, "reference");
+  EXPECT_EQ(d.references[0].settings,
             (std::vector<std::string>{"Tissue/Element degree=2", "Mesh/Elements per edge=8"}));
   ASSERT_EQ(d.cases.size(), 5u);
   const std::vector<std::string> names{"1_0.5", "1_0.25", "2_0.5", "2_0.25", "fine_mesh"};
@@ -53,6 +55,31 @@ TEST(StudyDefinition, AxesMultiplyAndListedCasesFollow)
             (std::vector<std::string>{"Mesh/Elements per edge=2", "Tissue/Element degree=1", "Time/Step size=0.25"}));
   EXPECT_EQ(d.cases[4].settings,
             (std::vector<std::string>{"Mesh/Elements per edge=2", "Mesh/Elements per edge=4"}));
+}
+
+TEST(StudyDefinition, APhysicalAxisGivesEachValueItsOwnReference)
+{
+  const std::string file = (scratch_path() / "studies" / "per_axis.prm").string();
+  std::filesystem::create_directories(scratch_path() / "studies");
+  std::ofstream(file) << header
+                      << "subsection Reference\n  set Settings = Tissue/Element degree=2\n"
+                         "  set Per axis = Time/Step size\nend\n"
+                         "subsection Cases\n  set Axes = Tissue/Element degree = 1 | 2; Time/Step size = 0.5 | 0.25\n"
+                         "  set List = listed: Time/Step size=0.25\nend\n";
+  const auto d = study::StudyDefinition::read(file);
+  ASSERT_EQ(d.references.size(), 2u);
+  EXPECT_EQ(d.references[0].name, "reference_0.5");
+  EXPECT_EQ(d.references[1].name, "reference_0.25");
+  EXPECT_EQ(d.references[1].settings, (std::vector<std::string>{"Tissue/Element degree=2", "Time/Step size=0.25"}));
+  // each case against the reference of its own step size, the listed one too
+  const std::vector<std::pair<std::string, std::size_t>> expected{
+    {"1_0.5", 0}, {"1_0.25", 1}, {"2_0.5", 0}, {"2_0.25", 1}, {"listed", 1}};
+  ASSERT_EQ(d.cases.size(), expected.size());
+  for (std::size_t k = 0; k < expected.size(); ++k)
+    {
+      EXPECT_EQ(d.cases[k].name, expected[k].first);
+      EXPECT_EQ(d.cases[k].reference, expected[k].second) << d.cases[k].name;
+    }
 }
 
 TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
@@ -76,6 +103,9 @@ TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
     {"no_base", "set Name = x\n", "Base scene (default): a study needs a base scene"},
     {"bad_reference", header + "subsection Reference\n  set Settings = Model=nonsense\nend\n",
      ":4: Reference/Settings: case 'reference'"},
+    {"unmatched", header + "subsection Reference\n  set Per axis = Time/Step size\nend\n" +
+                    "subsection Cases\n  set List = a: Time/Step size=0.5; b: Time/End time=2\nend\n",
+     ":4: Reference/Per axis: case 'b' does not set 'Time/Step size', so it has no reference"},
   };
   for (const auto &c : cases)
     {

@@ -27,6 +27,11 @@
  *     set Tolerances = probes.max: 0.2
  *   end
  *
+ * A physical axis (a material's modulus, a load) changes the answer, not only the
+ * approximation: `Reference/Per axis` names such axes, and the study then has one
+ * reference per combination of their values, each case measured against the reference
+ * with its own values (named "reference_<values>"; otherwise the one "reference").
+ *
  * Settings are "Path/Key=value" separated by ",", axes "Path/Key = v1 | v2 | …"
  * separated by ";", listed cases "name: settings" separated by ";"; a part in double
  * quotes keeps its separators (the quotes are dropped). Axis cases are named by their
@@ -46,6 +51,7 @@ namespace suturesim::study
     std::vector<std::string> settings; ///< "Path/Key=value", applied in order
     /// The axis values that made it, by axis path ({} for listed cases).
     std::vector<std::pair<std::string, std::string>> axis_values;
+    std::size_t reference = 0; ///< index of its reference in StudyDefinition::references
   };
 
   /// What is measured of every case against the reference (study/case_metrics.h).
@@ -89,7 +95,8 @@ namespace suturesim::study
     std::string       name;
     std::string       file;       ///< the study file, for messages
     std::string       base_scene; ///< resolved against the study file's folder
-    Case              reference;  ///< named "reference"
+    /// "reference", or one per value combination of Reference/Per axis
+    std::vector<Case> references;
     std::vector<Case> cases;      ///< the product of the axes, then the listed ones
     MetricsSpec       metrics;
     ObjectiveSpec     objective;

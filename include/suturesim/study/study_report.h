@@ -11,9 +11,13 @@
  *   cheapest adequate case, the stability map and the convergence table, for the figures
  *   (postprocess/study_figures.py) and for scripts.
  * - `best.prm`: the cheapest case whose errors are within every tolerance, as a complete
- *   scene (its parameters.prm) headed by the evidence row and the settings that made it.
+ *   scene (its parameters.prm) headed by the evidence row and the settings that made it;
+ *   with a reference per physical value (Reference/Per axis), one per reference,
+ *   `best_<values>.prm`, since what suffices for a stiff suture need not for a soft one.
  * - `stability.csv`: per case of the stability map's two axes, the cell's state (stable,
- *   diverged, inaccurate = completed beyond a tolerance), dt and the predicted dt_crit.
+ *   diverged, inaccurate = completed beyond a tolerance), dt and the predicted dt_crit;
+ *   a study with more axes than the map's two has one map (panel) per combination of the
+ *   others' values, named in the `panel` column.
  * - `convergence.csv`: the convergence metric against h, observed orders, Richardson
  *   extrapolation and Roache's grid-convergence index (study/convergence.h).
  */
@@ -60,13 +64,14 @@ namespace suturesim::study
     nlohmann::json
     to_json(const nlohmann::json &timing) const;
 
-    /// Index into rows of the cheapest case within every tolerance (cost: Objective/Cost).
-    std::optional<std::size_t>
+    /// Per reference (StudyDefinition::references), the index into rows of the cheapest
+    /// case measured against it within every tolerance (cost: Objective/Cost).
+    std::vector<std::optional<std::size_t>>
     best() const;
 
   private:
     const StudyDefinition &study;
-    std::vector<CaseRow>   rows; ///< the reference first
+    std::vector<CaseRow>   rows; ///< the references first
 
     double
     cost(const CaseRow &row) const;
@@ -74,10 +79,18 @@ namespace suturesim::study
     error(const CaseRow &row) const;
     void
     write_cases_csv(const std::string &file) const;
-    void
+    /// Writes best.prm (per reference best_<values>.prm); the names written.
+    std::vector<std::string>
     write_best(const std::string &folder) const;
+    void
+    write_best(const std::string &folder, const CaseRow &row, const std::string &name,
+               const std::string &reference) const;
     nlohmann::json
     stability() const;
+    /// The stability-map panel of a case: the values of its axes other than the map's
+    /// two ("" when it has none).
+    std::string
+    panel_of(const Case &c) const;
     nlohmann::json
     convergence() const;
   };
