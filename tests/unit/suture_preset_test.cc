@@ -39,13 +39,14 @@ namespace
   /// The Suture section parsed from @p body (the inside of "subsection Suture"), with the
   /// values the handler holds afterwards (what parameters.prm records).
   rod::RodParameters
-  parse(const std::string &body, std::map<std::string, double> *recorded = nullptr)
+  parse(const std::string &body, std::map<std::string, double> *recorded = nullptr,
+        const std::vector<std::string> &command_line = {})
   {
     dealii::ParameterHandler prm;
     prm.enter_subsection("Suture");
     rod::RodParameters::declare(prm);
     prm.leave_subsection();
-    const ParameterFile  file(prm, "subsection Suture\n" + body + "end\n", "preset.prm", ".");
+    const ParameterFile  file(prm, "subsection Suture\n" + body + "end\n", "preset.prm", ".", command_line);
     const ParameterScope root(file, "");
     rod::RodParameters   rp;
     prm.enter_subsection("Suture");
@@ -143,4 +144,23 @@ TEST(SuturePreset, AValueThatContradictsThePresetIsAOneLineError)
       ++refused;
     }
   EXPECT_EQ(refused, 4u);
+}
+
+TEST(SuturePreset, ACommandLineValueThatContradictsThePresetIsAnErrorToo)
+{
+  // a study's axis over the modulus is a --set: the preset must not win silently
+  std::string message;
+  try
+    {
+      parse(" set Preset = 3-0 monofilament\n", nullptr, {"Suture/Cross section/Young's modulus=1e9"});
+    }
+  catch (const InputError &e)
+    {
+      message = e.what();
+    }
+  EXPECT_NE(message.find("--set Suture/Cross section/Young's modulus: is set by 'Preset = 3-0 monofilament'"),
+            std::string::npos)
+    << message;
+  // with the preset's own value it is no contradiction
+  EXPECT_NO_THROW(parse(" set Preset = 3-0 monofilament\n", nullptr, {"Suture/Cross section/Young's modulus=3e9"}));
 }
