@@ -180,10 +180,22 @@ namespace suturesim
     std::vector<ModelSection> sections;
     const std::string         common = cut_model_sections(text, name, sections);
     lines                            = locate_keys(common);
-    parse(prm, common);
+    // "Model <path>/Sub/Key=value" on the command line is a setting of that path's model
+    // section: set as if written there, under the plain overrides
+    std::vector<std::string>                         plain;
+    std::vector<std::pair<std::string, std::string>> scoped; // model path, "Sub/Key=value"
     for (const auto &o : command_line)
+      {
+        const auto slash = o.find('/'), eq = o.find('=');
+        if (o.rfind("Model ", 0) == 0 && slash != std::string::npos && slash < eq)
+          scoped.emplace_back(trim(o.substr(6, slash - 6)), o.substr(slash + 1));
+        else
+          plain.push_back(o);
+      }
+    parse(prm, common);
+    for (const auto &o : plain)
       apply_override(prm, o);
-    if (sections.empty())
+    if (sections.empty() && scoped.empty())
       return;
 
     // The path's own settings go over the common ones, and the command line over both:
@@ -195,24 +207,28 @@ namespace suturesim
       }
     catch (const dealii::ExceptionBase &)
       {
-        throw InputError(name + ":" + std::to_string(sections.front().line) +
-                         ": 'subsection Model' sections need a scene with a 'Model' entry");
+        throw InputError(sections.empty() ? "--set \"Model " + scoped.front().first + "/" + scoped.front().second +
+                                              "\": the scene has no 'Model' entry"
+                                          : name + ":" + std::to_string(sections.front().line) +
+                                              ": 'subsection Model' sections need a scene with a 'Model' entry");
       }
+    const auto check_model = [&](const std::string &model, const std::string &where) {
+      try
+        {
+          prm.set("Model", model);
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          prm.set("Model", chosen);
+          std::ostringstream info;
+          e.print_info(info);
+          throw InputError(where + ": no such model path (" + one_line(info.str()) + ")");
+        }
+    };
     for (const auto &section : sections)
-      {
-        try
-          {
-            prm.set("Model", section.name);
-          }
-        catch (const dealii::ExceptionBase &e)
-          {
-            prm.set("Model", chosen);
-            std::ostringstream info;
-            e.print_info(info);
-            throw InputError(name + ":" + std::to_string(section.line) + ": 'subsection Model " +
-                             section.name + "': no such model path (" + one_line(info.str()) + ")");
-          }
-      }
+      check_model(section.name, name + ":" + std::to_string(section.line) + ": 'subsection Model " + section.name + "'");
+    for (const auto &[model, assignment] : scoped)
+      check_model(model, "--set \"Model " + model + "/" + assignment + "\"");
     prm.set("Model", chosen);
     for (const auto &section : sections)
       if (const auto model = section.keys.find("Model"); model != section.keys.end())
@@ -231,6 +247,12 @@ namespace suturesim
           parse(prm, section.text);
           others = true;
         }
+    for (const auto &[model, assignment] : scoped)
+      if (model != chosen)
+        {
+          set_path(prm, assignment);
+          others = true;
+        }
     if (others)
       prm.parse_input_from_string(before.str(), name);
 
@@ -240,9 +262,12 @@ namespace suturesim
           parse(prm, section.text);
           for (const auto &[path, line] : section.keys)
             lines[path] = line;
-          for (const auto &o : command_line)
-            set_path(prm, o);
         }
+    for (const auto &[model, assignment] : scoped)
+      if (model == chosen)
+        apply_override(prm, assignment);
+    for (const auto &o : plain)
+      set_path(prm, o);
   }
 
   void

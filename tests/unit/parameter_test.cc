@@ -1,6 +1,7 @@
 // Parameters: declare → print → parse round trip of the whole scene tree, and the
 // defaults declared through the in-class initialisers parse back to those initialisers
 // (conventions.md §2).
+#include <suturesim/core/error.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/scene/realtime_settings.h>
@@ -297,6 +298,37 @@ TEST(Parameters, ModelSectionIsReadInItsPathOnlyAndTheCommandLineGoesOverIt)
     const ParameterFile file(prm, two_paths, "two.prm", ".", {"Model=b", "Time/Step size=0.01"});
     EXPECT_EQ(times(prm), std::make_pair(2.0, 0.01));
   }
+}
+
+TEST(Parameters, AModelScopedOverrideIsReadInItsPathOnlyUnderThePlainOnes)
+{
+  const auto with = [](const std::vector<std::string> &command_line) {
+    dealii::ParameterHandler prm;
+    declare_two_paths(prm);
+    const ParameterFile file(prm, two_paths, "two.prm", ".", command_line);
+    return times(prm);
+  };
+  // "Model b/..." replaces section b's value in path b, and is not read in path a
+  EXPECT_EQ(with({"Model=b", "Model b/Time/Step size=0.04"}), std::make_pair(2.0, 0.04));
+  EXPECT_EQ(with({"Model b/Time/Step size=0.04"}), std::make_pair(3.0, 0.5));
+  // also for a key its section does not set, and for a path without a section
+  EXPECT_EQ(with({"Model a/Time/Step size=0.3"}), std::make_pair(3.0, 0.3));
+  // a plain override (a case's own setting) goes over it, in either order
+  EXPECT_EQ(with({"Model=b", "Time/Step size=0.01", "Model b/Time/Step size=0.04"}), std::make_pair(2.0, 0.01));
+  // checked in every path: an unknown model path, key or bad value is an error
+  for (const std::string bad : {"Model c/Time/Step size=1", "Model b/Time/Nonsense=1", "Model b/Time/Step size=-1"})
+    {
+      std::string message;
+      try
+        {
+          with({bad});
+        }
+      catch (const InputError &e)
+        {
+          message = e.what();
+        }
+      EXPECT_NE(message.find("--set"), std::string::npos) << bad << ": " << message;
+    }
 }
 
 TEST(Parameters, TheStitchRunsEachPathAtItsOwnResolution)

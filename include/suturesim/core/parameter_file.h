@@ -31,7 +31,10 @@ namespace suturesim
     /// file, and the command line goes over both. Its body is written like the file
     /// itself (subsections and "set" lines); it cannot set Model. The text outside any
     /// model section is common to all paths, so one scene file runs in every path at
-    /// each path's own resolution.
+    /// each path's own resolution. On the command line, "Model <path>/Sub/Key=value" is a
+    /// setting of that section, as if written there: read in that path only, under the
+    /// plain overrides (a study coarsens the accurate reference this way and leaves the
+    /// realtime cases alone; a case's own plain setting still wins).
     ParameterFile(dealii::ParameterHandler       &prm,
                   const std::string              &text,
                   const std::string              &name,
