@@ -2,6 +2,8 @@
 #include <suturesim/scene/accurate_stitch_record.h>
 #include <suturesim/scene/suture_recorder.h>
 
+#include <deal.II/grid/grid_tools.h>
+
 namespace suturesim::scene
 {
   using namespace dealii;
@@ -14,7 +16,7 @@ namespace suturesim::scene
     const auto &scene = stitch.scene;
     summary.begin(scene);
     summary.fe_mesh(stitch.mesh_info.description, stitch.tria.n_global_active_cells(), stitch.model->n_dofs(),
-                    scene.tissue, stitch.surface.triangles.size());
+                    dealii::GridTools::volume(stitch.tria), scene.tissue, stitch.surface.triangles.size());
     if (stitch.suture)
       summary.coupled_suture(stitch.suture->n_elements(), stitch.needle->curve_length() - stitch.geometry.length(),
                              stitch.np.coupling_tolerance);

@@ -58,8 +58,11 @@ namespace suturesim::scene
     if (scene.has_tissue())
       {
         realtime["tissue_model"] = settings.tissue_model;
+        double volume = 0;
+        for (std::size_t t = 0; t < world.tissue_mesh.tetrahedra.size(); ++t)
+          volume += world.tissue_mesh.volume(t);
         summary.simplex_mesh(world.tissue_mesh.description, world.tissue_mesh.vertices.cols(),
-                             world.tissue_mesh.tetrahedra.size(), world.surface.triangles.size());
+                             world.tissue_mesh.tetrahedra.size(), volume, world.surface.triangles.size());
       }
     if (scene.has_suture())
       {

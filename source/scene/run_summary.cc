@@ -1,7 +1,19 @@
 #include <suturesim/scene/run_summary.h>
 
+#include <cmath>
+
 namespace suturesim::scene
 {
+  namespace
+  {
+    /// h = (V/N)^(1/3) (Celik et al. 2008, J. Fluids Eng. 130, 078001, eq. 1), m.
+    double
+    representative_size(const double volume, const double cells)
+    {
+      return cells > 0 ? std::cbrt(volume / cells) : 0.0;
+    }
+  } // namespace
+
   void
   RunSummary::begin(const SceneParameters &scene)
   {
@@ -15,11 +27,13 @@ namespace suturesim::scene
 
   void
   RunSummary::fe_mesh(const std::string &description, const std::uint64_t cells, const std::uint64_t dofs,
-                      const tissue::TissueParameters &tissue, const std::size_t surface_triangles)
+                      const double volume, const tissue::TissueParameters &tissue, const std::size_t surface_triangles)
   {
     json["mesh"] = {{"description", description},
                     {"cells", cells},
                     {"dofs", dofs},
+                    {"volume", volume},
+                    {"representative_size", representative_size(volume, static_cast<double>(cells))},
                     {"element_degree", tissue.degree},
                     {"formulation", tissue.formulation}};
     if (surface_triangles > 0)
@@ -30,11 +44,13 @@ namespace suturesim::scene
 
   void
   RunSummary::simplex_mesh(const std::string &description, const std::size_t vertices, const std::size_t tetrahedra,
-                           const std::size_t surface_triangles)
+                           const double volume, const std::size_t surface_triangles)
   {
     json["mesh"] = {{"description", description},
                     {"vertices", vertices},
                     {"tetrahedra", tetrahedra},
+                    {"volume", volume},
+                    {"representative_size", representative_size(volume, static_cast<double>(tetrahedra))},
                     {"surface_triangles", surface_triangles}};
   }
 

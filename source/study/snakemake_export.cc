@@ -23,11 +23,9 @@ namespace suturesim::study
   void
   export_snakemake(const std::string &executable, const std::string &study_file, const std::string &folder,
                    const std::vector<CaseJob> &jobs, const std::vector<std::string> &parameters,
-                   const std::vector<std::string> &overrides)
+                   const std::vector<std::string> &study_arguments)
   {
-    nlohmann::json settings = nlohmann::json::array();
-    for (const auto &o : overrides)
-      settings.insert(settings.end(), {"--set", o});
+    const nlohmann::json settings = study_arguments;
     const std::string out = fs::absolute(folder).lexically_normal().string();
     const std::string file = (fs::path(folder) / "Snakefile").string();
     std::ofstream     s(file);

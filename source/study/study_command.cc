@@ -26,19 +26,22 @@ namespace suturesim::study
   {
     const char *usage =
       "usage: suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
-      "                       [--case NAME] [--set S/K=V]...\n"
+      "                       [--case NAME] [--only NAME,...] [--set S/K=V]...\n"
       "  --output DIR        the study's folder (default: output/studies/<study name>)\n"
       "  --jobs N            cases run at once on this machine, 1-256 (default 1)\n"
       "  --validate          read and check the study and every case, then exit\n"
       "  --export snakemake  write DIR/Snakefile (run it with snakemake --cores N) and exit\n"
       "  --case NAME         run one case (what the Snakefile's rules do) and exit\n"
+      "  --only NAME,...     only these cases (and the references they are measured against)\n"
       "  --set S/K=V         a setting for every case and the reference, after their own\n"
-      "                      (e.g. --set \"Time/End time=0.2\" for a small run of the study)\n";
+      "                      (e.g. --set \"Time/End time=0.2\" for a small run of the study;\n"
+      "                      --set \"Model accurate/Mesh/Geo parameters=...\" sets the scene's\n"
+      "                      accurate section, under the cases' own settings)\n";
 
     struct Options
     {
       std::string              file, output, export_to, one_case;
-      std::vector<std::string> overrides;
+      std::vector<std::string> overrides, only;
       unsigned    jobs     = 1;
       bool        validate = false;
     };
@@ -57,6 +60,15 @@ namespace suturesim::study
             o.output = args[++i];
           else if (a == "--set" && has_next)
             o.overrides.push_back(args[++i]);
+          else if (a == "--only" && has_next)
+            {
+              std::string name;
+              for (const char c : args[++i] + ",")
+                if (c != ',')
+                  name += c;
+                else if (!name.empty())
+                  o.only.push_back(name), name.clear();
+            }
           else if (a == "--case" && has_next)
             o.one_case = args[++i];
           else if (a == "--export" && has_next && args[i + 1] == "snakemake")
@@ -78,6 +90,51 @@ namespace suturesim::study
       if (o.file.empty())
         throw InputError(std::string("study: no study file\n") + usage);
       return o;
+    }
+
+    /// The arguments that make a study the same study again (the Snakefile's commands).
+    std::vector<std::string>
+    study_arguments(const Options &o)
+    {
+      std::vector<std::string> out;
+      for (const auto &s : o.overrides)
+        out.insert(out.end(), {"--set", s});
+      if (!o.only.empty())
+        {
+          std::string names;
+          for (const auto &n : o.only)
+            names += (names.empty() ? "" : ",") + n;
+          out.insert(out.end(), {"--only", names});
+        }
+      return out;
+    }
+
+    /// @p study restricted to the cases of --only, with the references they are measured
+    /// against (renumbered).
+    void
+    restrict_to(StudyDefinition &study, const Options &o)
+    {
+      if (o.only.empty())
+        return;
+      for (const auto &name : o.only)
+        if (std::none_of(study.cases.begin(), study.cases.end(), [&](const Case &c) { return c.name == name; }))
+          throw InputError(o.file + ": --only " + name + ": the study has no such case");
+      std::vector<Case>        cases, references;
+      std::vector<std::size_t> renumbered(study.references.size(), study.references.size());
+      for (auto c : study.cases)
+        if (std::find(o.only.begin(), o.only.end(), c.name) != o.only.end())
+          {
+            if (renumbered[c.reference] == study.references.size())
+              {
+                renumbered[c.reference] = references.size();
+                references.push_back(study.references[c.reference]);
+                references.back().reference = renumbered[c.reference];
+              }
+            c.reference = renumbered[c.reference];
+            cases.push_back(c);
+          }
+      study.cases      = cases;
+      study.references = references;
     }
 
     /// The row of a case that has run: its metrics against the reference.
@@ -124,6 +181,9 @@ namespace suturesim::study
         }
       if (!study.figures.convergence_metric.empty())
         row.convergence_value = run.metric(study.figures.convergence_metric).value_or(NAN);
+      const auto &mesh = run.summary.value("mesh", nlohmann::json::object());
+      if (mesh.contains("representative_size") && mesh.at("representative_size").is_number())
+        row.mesh_size = mesh.at("representative_size").get<double>();
       return row;
     }
 
@@ -267,7 +327,8 @@ namespace suturesim::study
     try
       {
         const Options         o     = parse(arguments);
-        const StudyDefinition study = StudyDefinition::read(o.file, o.overrides);
+        StudyDefinition       study = StudyDefinition::read(o.file, o.overrides);
+        restrict_to(study, o);
         if (o.validate)
           {
             std::cout << o.file << ": valid, " << study.cases.size() << " cases and " << study.references.size()
@@ -280,7 +341,7 @@ namespace suturesim::study
         const Plan        p          = plan(study, folder);
         if (!o.export_to.empty())
           {
-            export_snakemake(executable, o.file, folder, p.jobs, p.parameters, o.overrides);
+            export_snakemake(executable, o.file, folder, p.jobs, p.parameters, study_arguments(o));
             std::cout << "study: wrote " << folder << "/Snakefile; run it with snakemake --snakefile " << folder
                       << "/Snakefile --cores N\n";
             return 0;

@@ -192,10 +192,13 @@ namespace suturesim::study
                         "Two axis paths of Cases/Axes, \"x; y\", for the stability map (stable, diverged, "
                         "inaccurate, with dt_crit); empty for none. Unit: none.");
       prm.declare_entry("Convergence metric", "", Anything(),
-                        "A summary.json metric tabulated against the mesh size of the cases in "
-                        "'Convergence sizes' (observed order, Richardson extrapolation, GCI). Unit: none.");
+                        "A summary.json metric tabulated against the mesh size h of the cases "
+                        "(observed order, Richardson extrapolation, GCI): each run's representative "
+                        "size (V/N)^(1/3) of its tissue mesh (summary.json mesh.representative_size; "
+                        "Celik et al. 2008), unless 'Convergence sizes' gives them. Unit: none.");
       prm.declare_entry("Convergence sizes", "", Anything(),
-                        "\"case: h\" separated by commas, h the cases' mesh size. Unit: m.");
+                        "\"case: h\" separated by commas, h the cases' mesh size, in place of the "
+                        "measured sizes: only these cases are tabulated. Unit: m.");
       prm.declare_entry("Convergence series", "", Anything(),
                         "A parameter path (e.g. Model) whose value in each case's settings names its "
                         "series: one table, order and extrapolation per series (per model path). "
@@ -383,7 +386,8 @@ namespace suturesim::study
       d.figures.convergence_sizes  = named_numbers(prm.get("Convergence sizes"), figures, "Convergence sizes");
       d.figures.convergence_series = unquote(prm.get("Convergence series"));
       prm.leave_subsection();
-      figures.require(d.figures.convergence_metric.empty() || d.figures.convergence_sizes.size() >= 3,
+      figures.require(d.figures.convergence_metric.empty() || d.figures.convergence_sizes.empty() ||
+                        d.figures.convergence_sizes.size() >= 3,
                       "Convergence sizes", "a convergence table needs three sizes or more (per series)");
       for (const auto &[name, h] : d.figures.convergence_sizes)
         {

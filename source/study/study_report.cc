@@ -343,8 +343,14 @@ namespace suturesim::study
           value = s.substr(path.size() + 1);
       return value;
     };
+    // the sizes the study gives its cases, else every run's own representative size
+    auto sizes = study.figures.convergence_sizes;
+    if (sizes.empty())
+      for (const auto &r : rows)
+        if (std::isfinite(r.mesh_size) && r.mesh_size > 0)
+          sizes.emplace_back(r.definition->name, r.mesh_size);
     std::vector<std::pair<std::string, nlohmann::json>> series;
-    for (const auto &[name, size] : study.figures.convergence_sizes)
+    for (const auto &[name, size] : sizes)
       for (const auto &r : rows)
         if (r.definition->name == name)
           {
@@ -355,12 +361,18 @@ namespace suturesim::study
             it->second["table"].push_back({{"case", name}, {"h", size}, {"value", json_number(r.convergence_value)},
                                            {"status", r.outcome.status}});
           }
-    nlohmann::json out{{"metric", study.figures.convergence_metric}, {"series", nlohmann::json::array()}};
+    nlohmann::json out{{"metric", study.figures.convergence_metric},
+                       {"h", study.figures.convergence_sizes.empty() ? "measured: (V/N)^(1/3)" : "given"},
+                       {"series", nlohmann::json::array()}};
     for (auto &[name, s] : series)
       {
+        // coarse to fine
+        std::stable_sort(s["table"].begin(), s["table"].end(),
+                         [](const auto &a, const auto &b) { return a["h"].template get<double>() > b["h"].template get<double>(); });
+        // one value per size (the first case of a size that two cases share)
         std::vector<double> h, f;
         for (const auto &row : s["table"])
-          if (!row["value"].is_null())
+          if (!row["value"].is_null() && std::find(h.begin(), h.end(), row["h"].get<double>()) == h.end())
             h.push_back(row["h"].get<double>()), f.push_back(row["value"].get<double>());
         if (h.size() >= 3)
           {

@@ -9,7 +9,11 @@
  * main() the wall time.
  *
  *   scene, scene_file, model, bodies        the scene (begin())
- *   mesh                                    the tissue's mesh and discretisation
+ *   mesh                                    the tissue's mesh and discretisation, with
+ *                                           its representative size h = (V/N)^(1/3)
+ *                                           (V its volume, N its cells: Celik et al.
+ *                                           2008, eq. 1), what a convergence study's
+ *                                           order and GCI are computed against
  *   suture                                  the suture's discretisation and section
  *   realtime                                the realtime models and haptic loop
  *   metrics                                 the run's measurements (SI units)
@@ -39,14 +43,16 @@ namespace suturesim::scene
     begin(const SceneParameters &scene);
 
     /// The accurate tissue's mesh: description, cells, DoFs, element degree and
-    /// formulation; @p surface_triangles when the boundary was triangulated (> 0).
+    /// formulation, its representative size from @p volume (m^3);
+    /// @p surface_triangles when the boundary was triangulated (> 0).
     void
-    fe_mesh(const std::string &description, std::uint64_t cells, std::uint64_t dofs,
+    fe_mesh(const std::string &description, std::uint64_t cells, std::uint64_t dofs, double volume,
             const tissue::TissueParameters &tissue, std::size_t surface_triangles = 0);
 
-    /// The realtime tissue's mesh: tetrahedra from gmsh and their boundary.
+    /// The realtime tissue's mesh: tetrahedra from gmsh and their boundary, its
+    /// representative size from @p volume (m^3).
     void
-    simplex_mesh(const std::string &description, std::size_t vertices, std::size_t tetrahedra,
+    simplex_mesh(const std::string &description, std::size_t vertices, std::size_t tetrahedra, double volume,
                  std::size_t surface_triangles);
 
     /// The accurate suture alone: elements, centreline, section stiffnesses.

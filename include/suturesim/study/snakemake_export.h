@@ -20,9 +20,10 @@ namespace suturesim::study
 {
   /// Writes <folder>/Snakefile; @p executable, @p study_file and @p folder are written
   /// as absolute paths so that the workflow runs from any working directory, and
-  /// @p overrides (the study's --set settings) are passed on to every command.
+  /// @p study_arguments (the study's --set and --only options) are passed on to every
+  /// command.
   void
   export_snakemake(const std::string &executable, const std::string &study_file, const std::string &folder,
                    const std::vector<CaseJob> &jobs, const std::vector<std::string> &parameters,
-                   const std::vector<std::string> &overrides);
+                   const std::vector<std::string> &study_arguments);
 } // namespace suturesim::study

@@ -19,7 +19,9 @@
  *   a study with more axes than the map's two has one map (panel) per combination of the
  *   others' values, named in the `panel` column.
  * - `convergence.csv`: the convergence metric against h, observed orders, Richardson
- *   extrapolation and Roache's grid-convergence index (study/convergence.h).
+ *   extrapolation and Roache's grid-convergence index (study/convergence.h); h is each
+ *   run's own representative cell size (V/N)^(1/3) (Celik et al. 2008), or the size the
+ *   study gives the case (Figures/Convergence sizes).
  */
 
 #include <suturesim/study/case_run.h>
@@ -43,6 +45,7 @@ namespace suturesim::study
     std::vector<double> costs;  ///< cost_columns() order; NaN when absent
     double              dt = std::numeric_limits<double>::quiet_NaN(), dt_crit = dt; ///< realtime, s
     double              convergence_value = dt; ///< the convergence metric, if any
+    double              mesh_size = dt; ///< summary.json mesh.representative_size, m
     std::vector<double> limit_values; ///< Objective/Limits' metrics of the case; NaN when absent
     /// The largest of |error|/tolerance and |value|/limit over the Objective's bounds:
     /// ≤ 1 within every one (NaN for a case not completed or a study without bounds).

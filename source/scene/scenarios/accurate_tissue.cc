@@ -11,6 +11,7 @@
 #include <suturesim/tissue/time_integrator.h>
 
 #include <deal.II/distributed/tria.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <iostream>
 
@@ -69,7 +70,8 @@ namespace suturesim::scene
 
           RunSummary summary(recorder.summary());
           summary.begin(scene);
-          summary.fe_mesh(mesh_info.description, tria.n_global_active_cells(), model.n_dofs(), scene.tissue);
+          summary.fe_mesh(mesh_info.description, tria.n_global_active_cells(), model.n_dofs(),
+                          dealii::GridTools::volume(tria), scene.tissue);
           pcout << "suturesim: scene '" << scene.name << "', " << mesh_info.description << ", "
                 << tria.n_global_active_cells() << " cells, " << model.n_dofs() << " DoFs, Q" << scene.tissue.degree
                 << " " << scene.tissue.formulation << ", " << Utilities::MPI::n_mpi_processes(comm)
