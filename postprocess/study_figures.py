@@ -189,7 +189,7 @@ def convergence(study, folder):
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     hmax = 0
     for k, series in enumerate(c["series"]):
-        table = [r for r in series["table"] if r["value"] is not None]
+        table = [r for r in series["table"] if r["value"] is not None and r["h"] is not None]
         if not table:
             continue
         color = f"C{k}"
@@ -202,7 +202,8 @@ def convergence(study, folder):
             ax.errorbar([0], [series["extrapolated"]], yerr=[bar], fmt="s", color=color, capsize=4,
                         label=f"{series['series']}: Richardson, p = {series['observed_order']:.2f}, "
                               f"GCI {100 * series['gci_fine']:.2g} %"
-                              + (" (oscillatory: not asymptotic)" if series.get("oscillatory") else ""))
+                              + (" (oscillatory: not asymptotic)" if series.get("oscillatory") else "")
+                              + (" (diverging: not asymptotic)" if series.get("diverging") else ""))
     ax.set_xlabel("h [m]")
     ax.set_ylabel(c["metric"])
     ax.set_xlim(left=-0.05 * hmax)

@@ -42,6 +42,7 @@ namespace suturesim::study
         p       = next;
       }
     e.converged = settled;
+    e.diverging = std::log(std::abs(e32 / e21)) + std::log((std::pow(r21, p) - s) / (std::pow(r32, p) - s)) < 0;
     const double rp = std::pow(r21, p);
     e.order         = p;
     e.extrapolated  = (rp * f1 - f2) / (rp - 1);

@@ -2,6 +2,7 @@
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/core/process.h>
 #include <suturesim/study/case_metrics.h>
+#include <suturesim/study/reference_series.h>
 #include <suturesim/study/snakemake_export.h>
 #include <suturesim/study/study_command.h>
 #include <suturesim/study/study_report.h>
@@ -198,6 +199,27 @@ namespace suturesim::study
       return chosen.size() == 1 ? ", best.prm" : ", " + std::to_string(count) + " best_<values>.prm";
     }
 
+    /// The extrapolated reference of a Reference/Series; its errors name the study's line.
+    SeriesReference
+    reference_series(const StudyDefinition &study, const std::vector<CaseJob> &jobs, const std::vector<RunData> &runs)
+    {
+      std::vector<std::string> names;
+      for (std::size_t k = 0; k < runs.size(); ++k)
+        names.push_back(jobs[k].name);
+      try
+        {
+          return series_reference(study.metrics, runs, names);
+        }
+      catch (const MissingMetric &e)
+        {
+          study.fail(e.key, e.what());
+        }
+      catch (const std::invalid_argument &e)
+        {
+          study.fail("Reference/Series", e.what());
+        }
+    }
+
     /// Runs postprocess/study_figures.py on @p folder; false (with the reason on
     /// stderr) when it fails.
     bool
@@ -286,22 +308,27 @@ namespace suturesim::study
       for (std::size_t k = 0; k < count; ++k)
         {
           if (e.outcomes[k].status != "completed")
-            study.fail("Reference/Settings", "the reference run '" + p.jobs[k].name + "' " + e.outcomes[k].status +
-                                               ": " + e.outcomes[k].reason);
+            study.fail(study.reference_series ? "Reference/Series" : "Reference/Settings",
+                       "the reference run '" + p.jobs[k].name + "' " + e.outcomes[k].status + ": " +
+                         e.outcomes[k].reason);
           references.push_back(RunData::read(p.jobs[k].folder));
         }
+      // a resolution series: every row against its extrapolation, the series' own too
+      std::optional<SeriesReference> series;
+      if (study.reference_series)
+        series = reference_series(study, p.jobs, references);
       std::vector<CaseRow> rows;
       for (std::size_t k = 0; k < p.jobs.size(); ++k)
         {
           // the references are read once; a case without summary.json (refused) has no data
-          const RunData         &against = references[k < count ? k : p.cases[k]->reference];
+          const RunData &against = series ? series->data : references[k < count ? k : p.cases[k]->reference];
           std::optional<RunData> own;
           if (k >= count && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
             own = RunData::read(p.jobs[k].folder);
-          const RunData *data = k < count ? &against : own ? &*own : nullptr;
+          const RunData *data = k < count ? &references[k] : own ? &*own : nullptr;
           rows.push_back(row_of(study, *p.cases[k], e.outcomes[k], data, against));
         }
-      const StudyReport report(study, std::move(rows));
+      const StudyReport report(study, std::move(rows), series ? series->account : nlohmann::json(nullptr));
       nlohmann::json    timing{{"jobs", o.jobs},
                             {"cases_run", e.run},
                             {"cases_reused", p.jobs.size() - e.run},

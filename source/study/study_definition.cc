@@ -126,6 +126,11 @@ namespace suturesim::study
                         "of the values the cases give them, each case measured against its own. Every "
                         "case must set them (an axis of Cases/Axes, or its listed settings). Empty: one "
                         "reference. Unit: none.");
+      prm.declare_entry("Series", "", Anything(),
+                        "A resolution series in place of one reference: \"name: settings; ...\" (each "
+                        "over 'Settings'), three or more; each scalar and probe is extrapolated to h -> 0 "
+                        "where the series converges monotonically, else the finest run's value is used "
+                        "(study/reference_series.h). Not with 'Per axis'. Unit: none.");
       prm.leave_subsection();
       prm.enter_subsection("Cases");
       prm.declare_entry("Settings", "", Anything(),
@@ -239,13 +244,14 @@ namespace suturesim::study
     }
 
     std::vector<Case>
-    listed(const std::string &text, const std::vector<std::string> &common, const ParameterScope &scope)
+    listed(const std::string &text, const std::vector<std::string> &common, const ParameterScope &scope,
+           const std::string &key = "List")
     {
       std::vector<Case> cases;
       for (const auto &item : split(text, ';'))
         {
           const auto colon = item.find(':');
-          scope.require(colon != std::string::npos && colon > 0, "List", "'" + item + "' is not 'name: settings'");
+          scope.require(colon != std::string::npos && colon > 0, key, "'" + item + "' is not 'name: settings'");
           Case c{file_name_part(unquote(item.substr(0, colon))), common, {}};
           for (const auto &s : settings(item.substr(colon + 1)))
             c.settings.push_back(s);
@@ -319,6 +325,25 @@ namespace suturesim::study
             }
           c.reference = entry->second;
         }
+    }
+
+    /// The references of a resolution series (Reference/Series), every case measured
+    /// against the series as a whole (study/reference_series.h).
+    void
+    series_references(StudyDefinition &d, const std::string &text, const std::vector<std::string> &per_axis,
+                      const std::vector<std::string> &settings, const ParameterScope &scope)
+    {
+      scope.require(per_axis.empty(), "Series", "a resolution series cannot be combined with 'Per axis'");
+      d.references = listed(text, settings, scope, "Series");
+      scope.require(d.references.size() >= 3, "Series", "a resolution series needs three runs or more");
+      for (std::size_t k = 0; k < d.references.size(); ++k)
+        {
+          d.references[k].name      = "reference_" + d.references[k].name;
+          d.references[k].reference = k;
+        }
+      d.reference_series = true;
+      for (auto &c : d.cases)
+        c.reference = d.references.size() - 1;
     }
 
     std::vector<std::string>
@@ -434,7 +459,7 @@ namespace suturesim::study
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
-    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Cases/Settings", "Cases/Axes", "Cases/List",
+    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
                             "Figures/Convergence metric", "Figures/Convergence sizes"})
@@ -449,6 +474,7 @@ namespace suturesim::study
     prm.enter_subsection("Reference");
     const auto reference_settings = settings(prm.get("Settings"));
     const auto per_axis           = names(prm.get("Per axis"), ';');
+    const auto series             = prm.get("Series");
     prm.leave_subsection();
     {
       Case reference{"reference", reference_settings, {}, 0};
@@ -467,13 +493,15 @@ namespace suturesim::study
     prm.leave_subsection();
     cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
     match_references(d, per_axis, reference_settings, top.subsection("Reference"));
+    if (!series.empty())
+      series_references(d, series, per_axis, reference_settings, top.subsection("Reference"));
 
     std::set<std::string> used;
     for (auto &r : d.references)
       {
         r.settings.insert(r.settings.end(), extra.begin(), extra.end());
         used.insert(r.name);
-        if (!per_axis.empty()) // with its value of each physical axis
+        if (d.references.size() > 1) // with its value of each physical axis, or its resolution
           check(r, d.base_scene, top.subsection("Reference"), "Settings");
       }
     for (std::size_t k = 0; k < d.cases.size(); ++k)

@@ -130,9 +130,18 @@ namespace suturesim::study
     return u == units.end() ? "" : u->second;
   }
 
-  StudyReport::StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows)
+  std::string
+  StudyReport::against(const std::size_t k) const
+  {
+    if (study.reference_series)
+      return "series";
+    return study.references[k < study.references.size() ? k : rows[k].definition->reference].name;
+  }
+
+  StudyReport::StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows, nlohmann::json series)
     : study(study)
     , rows(std::move(rows))
+    , series(std::move(series))
   {
     const auto columns = study.metrics.error_columns();
     for (auto &row : this->rows)
@@ -173,8 +182,10 @@ namespace suturesim::study
   StudyReport::best() const
   {
     // per reference; the error of "cheapest within tolerance" is the bound ratio, its tolerance 1
+    // (a resolution series is one reference: its cases point at its finest run)
     std::vector<std::optional<std::size_t>> chosen;
-    for (std::size_t group = 0; group < study.references.size(); ++group)
+    const std::size_t first = study.reference_series ? study.references.size() - 1 : 0;
+    for (std::size_t group = first; group < study.references.size(); ++group)
       {
         std::vector<TradeOff>    cases;
         std::vector<std::size_t> index;
@@ -293,7 +304,7 @@ namespace suturesim::study
         const bool     is_reference = k < study.references.size();
         nlohmann::json c{{"name", r.definition->name},     {"status", r.outcome.status},
                          {"is_reference", is_reference},
-                         {"reference", study.references[is_reference ? k : r.definition->reference].name},
+                         {"reference", against(k)},
                          {"reason", r.outcome.reason},     {"reused", r.outcome.reused},
                          {"settings", r.definition->settings}, {"within_tolerance", r.within_tolerance},
                          {"dt", json_number(r.dt)},        {"dt_crit", json_number(r.dt_crit)}};
@@ -324,6 +335,7 @@ namespace suturesim::study
     out["best"] = chosen.size() == 1 ? name(chosen[0]) : nlohmann::json::object();
     for (std::size_t g = 0; chosen.size() > 1 && g < chosen.size(); ++g)
       out["best"][study.references[g].name] = name(chosen[g]);
+    out["reference_series"] = series;
     out["stability"]  = stability();
     out["convergence"] = convergence();
     return out;
@@ -344,10 +356,11 @@ namespace suturesim::study
       return value;
     };
     // the sizes the study gives its cases, else every run's own representative size
+    // (a run without one, by a suturesim before it was recorded, is listed without h)
     auto sizes = study.figures.convergence_sizes;
     if (sizes.empty())
       for (const auto &r : rows)
-        if (std::isfinite(r.mesh_size) && r.mesh_size > 0)
+        if ((std::isfinite(r.mesh_size) && r.mesh_size > 0) || std::isfinite(r.convergence_value))
           sizes.emplace_back(r.definition->name, r.mesh_size);
     std::vector<std::pair<std::string, nlohmann::json>> series;
     for (const auto &[name, size] : sizes)
@@ -358,7 +371,7 @@ namespace suturesim::study
             auto              it = std::find_if(series.begin(), series.end(), [&](const auto &e) { return e.first == s; });
             if (it == series.end())
               it = series.insert(series.end(), {s, {{"series", s}, {"table", nlohmann::json::array()}}});
-            it->second["table"].push_back({{"case", name}, {"h", size}, {"value", json_number(r.convergence_value)},
+            it->second["table"].push_back({{"case", name}, {"h", json_number(size)}, {"value", json_number(r.convergence_value)},
                                            {"status", r.outcome.status}});
           }
     nlohmann::json out{{"metric", study.figures.convergence_metric},
@@ -367,12 +380,14 @@ namespace suturesim::study
     for (auto &[name, s] : series)
       {
         // coarse to fine
+        const auto h_of = [](const nlohmann::json &row) { return row["h"].is_null() ? 0.0 : row["h"].get<double>(); };
         std::stable_sort(s["table"].begin(), s["table"].end(),
-                         [](const auto &a, const auto &b) { return a["h"].template get<double>() > b["h"].template get<double>(); });
+                         [&](const auto &a, const auto &b) { return h_of(a) > h_of(b); });
         // one value per size (the first case of a size that two cases share)
         std::vector<double> h, f;
         for (const auto &row : s["table"])
-          if (!row["value"].is_null() && std::find(h.begin(), h.end(), row["h"].get<double>()) == h.end())
+          if (!row["value"].is_null() && !row["h"].is_null() &&
+              std::find(h.begin(), h.end(), row["h"].get<double>()) == h.end())
             h.push_back(row["h"].get<double>()), f.push_back(row["value"].get<double>());
         if (h.size() >= 3)
           {
@@ -381,6 +396,7 @@ namespace suturesim::study
             s["extrapolated"]   = json_number(e.extrapolated);
             s["gci_fine"]       = json_number(e.gci_fine);
             s["oscillatory"]    = e.oscillatory;
+            s["diverging"]      = e.diverging;
             s["settled"]        = e.converged;
           }
         out["series"].push_back(s);
@@ -408,7 +424,7 @@ namespace suturesim::study
       {
         const auto &r = rows[k];
         out << field(r.definition->name) << ',' << r.outcome.status << ',' << field(r.outcome.reason) << ','
-            << study.references[k < study.references.size() ? k : r.definition->reference].name;
+            << against(k);
         for (const auto &a : axes)
           out << ',' << field(axis_value(*r.definition, a));
         for (std::size_t e = 0; e < columns.size(); ++e)
@@ -438,8 +454,8 @@ namespace suturesim::study
       if (chosen[g])
         {
           // best.prm, or per reference best_<its values>.prm
-          const auto &reference = study.references[g].name;
-          written.push_back(chosen.size() == 1 ? "best.prm" : "best" + reference.substr(9) + ".prm");
+          const auto reference = study.reference_series ? std::string("the resolution series") : study.references[g].name;
+          written.push_back(chosen.size() == 1 ? "best.prm" : "best" + study.references[g].name.substr(9) + ".prm");
           write_best(folder, rows[*chosen[g]], written.back(), reference);
         }
     return written;
@@ -507,13 +523,14 @@ namespace suturesim::study
             const std::string name_of = series["series"];
             for (const auto &row : series["table"])
               csv << field(name_of) << ',' << row["case"].get<std::string>() << ','
-                  << number(row["h"].get<double>()) << ','
+                  << (row["h"].is_null() ? "" : number(row["h"].get<double>())) << ','
                   << (row["value"].is_null() ? "" : number(row["value"].get<double>())) << ','
                   << row["status"].get<std::string>() << '\n';
             if (series.contains("observed_order"))
               csv << "# " << name_of << ": observed order p = " << series["observed_order"].dump()
                   << ", Richardson extrapolation " << series["extrapolated"].dump() << ", GCI (fine) "
-                  << series["gci_fine"].dump() << (series["oscillatory"].get<bool>() ? " (oscillatory)" : "") << '\n';
+                  << series["gci_fine"].dump() << (series["oscillatory"].get<bool>() ? " (oscillatory)" : "")
+                  << (series["diverging"].get<bool>() ? " (diverging: the differences grow)" : "") << '\n';
           }
         check_written(csv, name);
       }

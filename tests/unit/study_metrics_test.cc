@@ -3,6 +3,7 @@
 #include <suturesim/study/convergence.h>
 #include <suturesim/study/curve_metrics.h>
 #include <suturesim/study/pareto.h>
+#include <suturesim/study/reference_series.h>
 #include <suturesim/study/surface_error.h>
 
 #include <gtest/gtest.h>
@@ -163,6 +164,7 @@ TEST(StudyConvergence, ExactPowerLawsGiveTheirOrderAndLimit)
         const auto e = estimate_convergence(h, f);
         EXPECT_TRUE(e.converged);
         EXPECT_FALSE(e.oscillatory);
+        EXPECT_FALSE(e.diverging);
         EXPECT_NEAR(e.order, p, 1e-9 * p);
         EXPECT_NEAR(e.extrapolated, 3.0, 1e-12);
         // GCI = 1.25 |(f1 - f2)/f1| / (r21^p - 1), r21 = h2/h1 of the two finest
@@ -181,8 +183,68 @@ TEST(StudyConvergence, OscillationAndStagnationAreFlagged)
   EXPECT_GT(osc.order, 0);
   // no change between the two finest: no order
   EXPECT_FALSE(estimate_convergence({1, 2, 4}, {1.0, 1.0, 1.2}).converged);
+  EXPECT_FALSE(osc.diverging);
+  // f = 3 + 0.5/h: the differences grow under refinement (order -1), which |.| in p
+  // would report as order 1 and converging
+  const auto grows = estimate_convergence({1, 2, 4}, {3.5, 3.25, 3.125});
+  EXPECT_TRUE(grows.diverging);
+  EXPECT_FALSE(grows.oscillatory);
+  for (const double p : {1.0, 2.0})
+    EXPECT_FALSE(estimate_convergence({1, 2, 4}, {3 + 0.5, 3 + 0.5 * std::pow(2, p), 3 + 0.5 * std::pow(4, p)}).diverging);
   EXPECT_THROW(estimate_convergence({1, 1, 2}, {1, 2, 3}), std::invalid_argument);
   EXPECT_THROW(estimate_convergence({1, 2}, {1, 2}), std::invalid_argument);
+}
+
+namespace
+{
+  /// A run at mesh size @p h whose scalar "f" and probe "p" (x component) are @p f.
+  RunData
+  run_at(const double h, const double f)
+  {
+    RunData r;
+    r.summary = {{"mesh", {{"representative_size", h}}},
+                 {"metrics", {{"f", f}, {"p_displacement_x", f}, {"p_displacement_y", 0.0}, {"p_displacement_z", 1.0}}}};
+    return r;
+  }
+} // namespace
+
+TEST(StudySeriesReference, AMonotoneSeriesIsExtrapolatedAndAnOscillatingOneIsNot)
+{
+  MetricsSpec spec;
+  spec.scalars = {"f"};
+  spec.probes  = {"p"};
+  // f(h) = 2 - 0.3 h^2 (h in mm-like units), listed fine first: the order and the
+  // limit are exact, and the limit replaces the finest run's values
+  const std::vector<double> h{0.5, 1.0, 2.0};
+  std::vector<RunData>      runs;
+  for (const double x : h)
+    runs.push_back(run_at(x, 2 - 0.3 * x * x));
+  const auto s = series_reference(spec, runs, {"fine", "medium", "coarse"});
+  const auto &f = s.account["metrics"]["f"];
+  EXPECT_EQ(f["used"], "extrapolated");
+  EXPECT_NEAR(f["observed_order"].get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(*s.data.metric("f"), 2.0, 1e-12);
+  EXPECT_NEAR(*s.data.metric("p_displacement_x"), 2.0, 1e-12);
+  EXPECT_EQ(s.account["runs"][0]["name"], "coarse"); // coarse to fine
+  // a constant component is not extrapolated, and stays
+  EXPECT_EQ(s.account["metrics"]["p_displacement_z"]["used"], "finest");
+  EXPECT_EQ(*s.data.metric("p_displacement_z"), 1.0);
+
+  // 1.0, 1.1, 0.9 from coarse to fine: oscillatory, the finest value stands
+  const auto o = series_reference(spec, {run_at(4, 1.0), run_at(2, 1.1), run_at(1, 0.9)}, {"a", "b", "c"});
+  EXPECT_EQ(o.account["metrics"]["f"]["used"], "finest");
+  EXPECT_EQ(o.account["metrics"]["f"]["why"], "oscillatory: no asymptotic range");
+  EXPECT_EQ(*o.data.metric("f"), 0.9);
+
+  // two runs of one size, a run without a size, a metric a run lacks
+  EXPECT_THROW(series_reference(spec, {run_at(1, 1), run_at(1, 2), run_at(2, 3)}, {"a", "b", "c"}),
+               std::invalid_argument);
+  auto no_size = run_at(1, 1);
+  no_size.summary.erase("mesh");
+  EXPECT_THROW(series_reference(spec, {no_size, run_at(2, 1), run_at(4, 1)}, {"a", "b", "c"}), std::invalid_argument);
+  auto no_metric = run_at(1, 1);
+  no_metric.summary["metrics"].erase("f");
+  EXPECT_THROW(series_reference(spec, {no_metric, run_at(2, 1), run_at(4, 1)}, {"a", "b", "c"}), MissingMetric);
 }
 
 namespace

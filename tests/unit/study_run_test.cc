@@ -316,6 +316,33 @@ TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "convergence.png"));
 }
 
+TEST(StudyRun, AResolutionSeriesReferenceIsItsExtrapolation)
+{
+  const auto r = run_study("study_series", source_path("tests/data/studies/series_small.prm"), "--jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto &account = r.study.at("reference_series");
+  ASSERT_EQ(account.at("runs").size(), 3u);
+  const auto &f = account.at("metrics").at("top_centre_displacement_z");
+  // the reference value is the extrapolation where the series is monotone, else the finest run's
+  const std::vector<double> values = f.at("values");
+  const double reference = f["used"] == "extrapolated" ? f["extrapolated"].get<double>() : values.back();
+  std::printf("[ series ] h = %s, sag = %s, used: %s%s\n", f["h"].dump().c_str(), f["values"].dump().c_str(),
+              f["used"].get<std::string>().c_str(), f.contains("why") ? (" (" + f["why"].get<std::string>() + ")").c_str() : "");
+  unsigned checked = 0;
+  for (const auto &c : r.study.at("cases"))
+    {
+      EXPECT_EQ(c["reference"], "series") << c.dump();
+      std::ifstream  in(r.folder + "/cases/" + c["name"].get<std::string>() + "/summary.json");
+      nlohmann::json summary;
+      in >> summary;
+      const double v = summary["metrics"]["top_centre_displacement_z"];
+      EXPECT_NEAR(c["errors"]["top_centre_displacement_z"].get<double>(), (v - reference) / std::abs(reference), 1e-9)
+        << c.dump();
+      ++checked;
+    }
+  EXPECT_EQ(checked, 5u); // the three runs of the series against their own extrapolation, and the two cases
+}
+
 TEST(StudyRun, StitchParetoAtSmallSize)
 {
   // the shipped study with the accurate reference on 3 mm hexahedra and the realtime

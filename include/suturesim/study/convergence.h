@@ -14,7 +14,10 @@
  *                    safety factor 1.25 for three grids).
  *
  * Oscillatory convergence (s < 0) is reported as such: the order is still computed from
- * |ε₃₂/ε₂₁| as Celik et al. do, and flagged.
+ * |ε₃₂/ε₂₁| as Celik et al. do, and flagged. So is divergence: the absolute value in p
+ * hides differences that grow under refinement (|ε₂₁| > |ε₃₂| at equal ratios, an order
+ * below zero), which give a large positive p; the sign of ln|ε₃₂/ε₂₁| + q(p) tells them
+ * apart, and such a series has no asymptotic range either.
  */
 
 #include <vector>
@@ -27,6 +30,7 @@ namespace suturesim::study
     double extrapolated  = 0; ///< f_ext, unit of f
     double gci_fine      = 0; ///< GCI₂₁, 1 (relative)
     bool   oscillatory   = false;
+    bool   diverging     = false; ///< the differences grow under refinement (signed order < 0)
     bool   converged     = true; ///< false when ε₂₁ = 0 or the iteration did not settle
   };
 

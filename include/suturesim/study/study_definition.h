@@ -31,6 +31,8 @@
  * approximation: `Reference/Per axis` names such axes, and the study then has one
  * reference per combination of their values, each case measured against the reference
  * with its own values (named "reference_<values>"; otherwise the one "reference").
+ * `Reference/Series` instead runs the reference at several resolutions and measures
+ * every case against their extrapolation (study/reference_series.h).
  *
  * Settings are "Path/Key=value" separated by ",", axes "Path/Key = v1 | v2 | …"
  * separated by ";", listed cases "name: settings" separated by ";"; a part in double
@@ -95,8 +97,10 @@ namespace suturesim::study
     std::string       name;
     std::string       file;       ///< the study file, for messages
     std::string       base_scene; ///< resolved against the study file's folder
-    /// "reference", or one per value combination of Reference/Per axis
+    /// "reference", or one per value combination of Reference/Per axis, or the runs of
+    /// a resolution series (Reference/Series, "reference_<name>")
     std::vector<Case> references;
+    bool              reference_series = false; ///< the references are one series, every case against all of them
     std::vector<Case> cases;      ///< the product of the axes, then the listed ones
     MetricsSpec       metrics;
     ObjectiveSpec     objective;

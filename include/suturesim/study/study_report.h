@@ -8,7 +8,9 @@
  *   of MetricsSpec::error_columns() and every cost column (study/case_metrics.h), units
  *   in the header; empty cells where a case has no value (a failed case's errors).
  * - `study.json`: the definition, the rows, the Pareto front of (cost, |error|), the
- *   cheapest adequate case, the stability map and the convergence table, for the figures
+ *   cheapest adequate case, the account of a resolution-series reference (per metric:
+ *   sizes, values, order, extrapolation, GCI, which value is used), the stability map
+ *   and the convergence table, for the figures
  *   (postprocess/study_figures.py) and for scripts.
  * - `best.prm`: the cheapest case whose errors are within every tolerance, as a complete
  *   scene (its parameters.prm) headed by the evidence row and the settings that made it;
@@ -56,7 +58,8 @@ namespace suturesim::study
   class StudyReport
   {
   public:
-    StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows);
+    /// @p series: the account of a resolution-series reference (study/reference_series.h), else null.
+    StudyReport(const StudyDefinition &study, std::vector<CaseRow> rows, nlohmann::json series = nullptr);
 
     /// Writes every output above into @p folder; throws InputError naming a file that
     /// cannot be written.
@@ -75,6 +78,11 @@ namespace suturesim::study
   private:
     const StudyDefinition &study;
     std::vector<CaseRow>   rows; ///< the references first
+    nlohmann::json         series;
+
+    /// What row @p k is measured against: its reference's name, or "series".
+    std::string
+    against(std::size_t k) const;
 
     double
     cost(const CaseRow &row) const;
