@@ -167,6 +167,70 @@ namespace suturesim
         }
       return file_name + ": " + text;
     }
+    /// A command-line setting of one model path's section: "Model <path>/Sub/Key=value".
+    struct ModelSetting
+    {
+      std::string model, assignment; ///< the path, "Sub/Key=value"
+    };
+
+    /// Splits @p command_line into plain overrides and settings of a model section
+    /// ("Model <path>/Sub/Key=value": set as if written in that section, under the plain ones).
+    void
+    split_command_line(const std::vector<std::string> &command_line, std::vector<std::string> &plain,
+                       std::vector<ModelSetting> &scoped)
+    {
+      for (const auto &o : command_line)
+        {
+          const auto slash = o.find('/'), eq = o.find('=');
+          if (o.rfind("Model ", 0) == 0 && slash != std::string::npos && slash < eq)
+            scoped.push_back({trim(o.substr(6, slash - 6)), o.substr(slash + 1)});
+          else
+            plain.push_back(o);
+        }
+    }
+
+    /// The scene's Model, after checking that every model section and model-scoped
+    /// setting names a model path and that no section sets Model.
+    std::string
+    chosen_model(dealii::ParameterHandler &prm, const std::string &name, const std::vector<ModelSection> &sections,
+                 const std::vector<ModelSetting> &scoped)
+    {
+      std::string chosen;
+      try
+        {
+          chosen = prm.get("Model");
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          throw InputError(sections.empty() ? "--set \"Model " + scoped.front().model + "/" + scoped.front().assignment +
+                                                "\": the scene has no 'Model' entry"
+                                            : name + ":" + std::to_string(sections.front().line) +
+                                                ": 'subsection Model' sections need a scene with a 'Model' entry");
+        }
+      const auto check_model = [&](const std::string &model, const std::string &where) {
+        try
+          {
+            prm.set("Model", model);
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            prm.set("Model", chosen);
+            std::ostringstream info;
+            e.print_info(info);
+            throw InputError(where + ": no such model path (" + one_line(info.str()) + ")");
+          }
+      };
+      for (const auto &section : sections)
+        check_model(section.name, name + ":" + std::to_string(section.line) + ": 'subsection Model " + section.name + "'");
+      for (const auto &[model, assignment] : scoped)
+        check_model(model, "--set \"Model " + model + "/" + assignment + "\"");
+      prm.set("Model", chosen);
+      for (const auto &section : sections)
+        if (const auto model = section.keys.find("Model"); model != section.keys.end())
+          throw InputError(name + ":" + std::to_string(model->second) +
+                           ": Model cannot be set inside 'subsection Model " + section.name + "'");
+      return chosen;
+    }
   } // namespace
 
   ParameterFile::ParameterFile(dealii::ParameterHandler       &prm,
@@ -180,18 +244,9 @@ namespace suturesim
     std::vector<ModelSection> sections;
     const std::string         common = cut_model_sections(text, name, sections);
     lines                            = locate_keys(common);
-    // "Model <path>/Sub/Key=value" on the command line is a setting of that path's model
-    // section: set as if written there, under the plain overrides
-    std::vector<std::string>                         plain;
-    std::vector<std::pair<std::string, std::string>> scoped; // model path, "Sub/Key=value"
-    for (const auto &o : command_line)
-      {
-        const auto slash = o.find('/'), eq = o.find('=');
-        if (o.rfind("Model ", 0) == 0 && slash != std::string::npos && slash < eq)
-          scoped.emplace_back(trim(o.substr(6, slash - 6)), o.substr(slash + 1));
-        else
-          plain.push_back(o);
-      }
+    std::vector<std::string>  plain;
+    std::vector<ModelSetting> scoped;
+    split_command_line(command_line, plain, scoped);
     parse(prm, common);
     for (const auto &o : plain)
       apply_override(prm, o);
@@ -200,40 +255,7 @@ namespace suturesim
 
     // The path's own settings go over the common ones, and the command line over both:
     // the overrides are set again after the section.
-    std::string chosen;
-    try
-      {
-        chosen = prm.get("Model");
-      }
-    catch (const dealii::ExceptionBase &)
-      {
-        throw InputError(sections.empty() ? "--set \"Model " + scoped.front().first + "/" + scoped.front().second +
-                                              "\": the scene has no 'Model' entry"
-                                          : name + ":" + std::to_string(sections.front().line) +
-                                              ": 'subsection Model' sections need a scene with a 'Model' entry");
-      }
-    const auto check_model = [&](const std::string &model, const std::string &where) {
-      try
-        {
-          prm.set("Model", model);
-        }
-      catch (const dealii::ExceptionBase &e)
-        {
-          prm.set("Model", chosen);
-          std::ostringstream info;
-          e.print_info(info);
-          throw InputError(where + ": no such model path (" + one_line(info.str()) + ")");
-        }
-    };
-    for (const auto &section : sections)
-      check_model(section.name, name + ":" + std::to_string(section.line) + ": 'subsection Model " + section.name + "'");
-    for (const auto &[model, assignment] : scoped)
-      check_model(model, "--set \"Model " + model + "/" + assignment + "\"");
-    prm.set("Model", chosen);
-    for (const auto &section : sections)
-      if (const auto model = section.keys.find("Model"); model != section.keys.end())
-        throw InputError(name + ":" + std::to_string(model->second) +
-                         ": Model cannot be set inside 'subsection Model " + section.name + "'");
+    const std::string chosen = chosen_model(prm, name, sections, scoped);
 
     // Every section is checked in every run (a misspelt key of the accurate section is
     // reported by a realtime run too): the others are parsed on top, then the state

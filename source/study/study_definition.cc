@@ -355,6 +355,60 @@ namespace suturesim::study
       return out;
     }
 
+    /// The references and the cases, each checked against the base scene with @p extra
+    /// (--set) after its own settings; the axis paths of Cases/Axes.
+    std::vector<std::string>
+    read_cases(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top,
+               const std::vector<std::string> &extra)
+    {
+      prm.enter_subsection("Reference");
+      const auto reference_settings = settings(prm.get("Settings"));
+      const auto per_axis           = names(prm.get("Per axis"), ';');
+      const auto series             = prm.get("Series");
+      prm.leave_subsection();
+      {
+        Case reference{"reference", reference_settings, {}, 0};
+        reference.settings.insert(reference.settings.end(), extra.begin(), extra.end());
+        check(reference, d.base_scene, top.subsection("Reference"), "Settings");
+      }
+
+      prm.enter_subsection("Cases");
+      const ParameterScope cases      = top.subsection("Cases");
+      const auto           common     = settings(prm.get("Settings"));
+      const auto           axis_texts = split(prm.get("Axes"), ';');
+      d.cases                         = product(axis_texts, common, cases);
+      const std::size_t from_axes     = d.cases.size();
+      for (auto &c : listed(prm.get("List"), common, cases))
+        d.cases.push_back(c);
+      prm.leave_subsection();
+      cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
+      match_references(d, per_axis, reference_settings, top.subsection("Reference"));
+      if (!series.empty())
+        series_references(d, series, per_axis, reference_settings, top.subsection("Reference"));
+
+      std::set<std::string> used;
+      for (auto &r : d.references)
+        {
+          r.settings.insert(r.settings.end(), extra.begin(), extra.end());
+          used.insert(r.name);
+          if (d.references.size() > 1) // with its value of each physical axis, or its resolution
+            check(r, d.base_scene, top.subsection("Reference"), d.reference_series ? "Series" : "Settings");
+        }
+      for (std::size_t k = 0; k < d.cases.size(); ++k)
+        {
+          d.cases[k].settings.insert(d.cases[k].settings.end(), extra.begin(), extra.end());
+          const std::string key = k < from_axes ? "Axes" : "List";
+          cases.require(!d.cases[k].name.empty(), key, "a case's name has no letter or digit");
+          cases.require(used.insert(d.cases[k].name).second, key,
+                        "two cases are named '" + d.cases[k].name + "'");
+          check(d.cases[k], d.base_scene, cases, key);
+        }
+      std::vector<std::string> axes;
+      for (const auto &a : axis_texts)
+        axes.push_back(unquote(a.substr(0, a.find('='))));
+      return axes;
+    }
+
     void
     read_metrics_and_objective(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top)
     {
@@ -471,52 +525,8 @@ namespace suturesim::study
     top.require(!base.empty(), "Base scene", "a study needs a base scene");
     d.base_scene = file.resolve(base);
 
-    prm.enter_subsection("Reference");
-    const auto reference_settings = settings(prm.get("Settings"));
-    const auto per_axis           = names(prm.get("Per axis"), ';');
-    const auto series             = prm.get("Series");
-    prm.leave_subsection();
-    {
-      Case reference{"reference", reference_settings, {}, 0};
-      reference.settings.insert(reference.settings.end(), extra.begin(), extra.end());
-      check(reference, d.base_scene, top.subsection("Reference"), "Settings");
-    }
-
-    prm.enter_subsection("Cases");
-    const ParameterScope cases      = top.subsection("Cases");
-    const auto           common     = settings(prm.get("Settings"));
-    const auto           axis_texts = split(prm.get("Axes"), ';');
-    d.cases                         = product(axis_texts, common, cases);
-    const std::size_t from_axes     = d.cases.size();
-    for (auto &c : listed(prm.get("List"), common, cases))
-      d.cases.push_back(c);
-    prm.leave_subsection();
-    cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
-    match_references(d, per_axis, reference_settings, top.subsection("Reference"));
-    if (!series.empty())
-      series_references(d, series, per_axis, reference_settings, top.subsection("Reference"));
-
-    std::set<std::string> used;
-    for (auto &r : d.references)
-      {
-        r.settings.insert(r.settings.end(), extra.begin(), extra.end());
-        used.insert(r.name);
-        if (d.references.size() > 1) // with its value of each physical axis, or its resolution
-          check(r, d.base_scene, top.subsection("Reference"), "Settings");
-      }
-    for (std::size_t k = 0; k < d.cases.size(); ++k)
-      {
-        d.cases[k].settings.insert(d.cases[k].settings.end(), extra.begin(), extra.end());
-        const std::string key = k < from_axes ? "Axes" : "List";
-        cases.require(!d.cases[k].name.empty(), key, "a case's name has no letter or digit");
-        cases.require(used.insert(d.cases[k].name).second, key,
-                      "two cases are named '" + d.cases[k].name + "'");
-        check(d.cases[k], d.base_scene, cases, key);
-      }
+    const auto axes = read_cases(prm, d, top, extra);
     read_metrics_and_objective(prm, d, top);
-    std::vector<std::string> axes;
-    for (const auto &a : axis_texts)
-      axes.push_back(unquote(a.substr(0, a.find('='))));
     read_figures(prm, d, axes, top);
     return d;
   }
