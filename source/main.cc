@@ -1,4 +1,5 @@
 // suturesim [--validate] [--output DIR] [--set "Subsection/Key=value"]... [scene.prm]
+#include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
 #include <suturesim/core/version.h>
 #include <suturesim/scene/default_scene.h>
@@ -24,7 +25,8 @@ namespace
     "  --validate    parse and check the scene, then exit (0 when valid)\n"
     "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
     "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
-    "                the file and its 'subsection Model <path>' settings\n"
+    "                the file and its 'subsection Model <path>' settings; --set \"Model\n"
+    "                accurate/Time/Step size=0.01\" sets that section's key instead\n"
     "  --help        this text and every parameter with its unit and range\n"
     "       suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
     "                 runs a study's cases and measures them against its reference (docs/studies.md)\n";
@@ -38,6 +40,7 @@ main(int argc, char **argv)
   if (argc > 1 && std::string(argv[1]) == "study")
     return study::study_command(std::vector<std::string>(argv + 2, argv + argc));
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  limit_blas_threads();
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   bool                     validate = false, help = false;
