@@ -204,7 +204,8 @@ def convergence(study, folder):
                               f"GCI {100 * series['gci_fine']:.2g} %"
                               + (" (oscillatory: not asymptotic)" if series.get("oscillatory") else "")
                               + (" (diverging: not asymptotic)" if series.get("diverging") else ""))
-    ax.set_xlabel("h [m]")
+    measured = str(c.get("h", "")).startswith("measured")
+    ax.set_xlabel("cell size h = (V/N)^(1/3) [m]" if measured else "h [m]")
     ax.set_ylabel(c["metric"])
     ax.set_xlim(left=-0.05 * hmax)
     ax.set_title(f"study {study['name']}: convergence", fontsize=10)
