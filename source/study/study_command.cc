@@ -7,11 +7,13 @@
 #include <suturesim/study/study_command.h>
 #include <suturesim/study/study_report.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <iterator>
 #include <optional>
 
 #ifndef SUTURESIM_PYTHON
@@ -117,13 +119,21 @@ namespace suturesim::study
     {
       if (o.only.empty())
         return;
+      // (a resolution series is one reference: all of its runs stay)
       for (const auto &name : o.only)
         if (std::none_of(study.cases.begin(), study.cases.end(), [&](const Case &c) { return c.name == name; }))
           throw InputError(o.file + ": --only " + name + ": the study has no such case");
-      std::vector<Case>        cases, references;
+      const auto        kept = [&](const Case &c) { return std::find(o.only.begin(), o.only.end(), c.name) != o.only.end(); };
+      std::vector<Case> cases, references;
+      if (study.reference_series)
+        {
+          std::copy_if(study.cases.begin(), study.cases.end(), std::back_inserter(cases), kept);
+          study.cases = cases;
+          return;
+        }
       std::vector<std::size_t> renumbered(study.references.size(), study.references.size());
       for (auto c : study.cases)
-        if (std::find(o.only.begin(), o.only.end(), c.name) != o.only.end())
+        if (kept(c))
           {
             if (renumbered[c.reference] == study.references.size())
               {

@@ -341,6 +341,16 @@ TEST(StudyRun, AResolutionSeriesReferenceIsItsExtrapolation)
       ++checked;
     }
   EXPECT_EQ(checked, 5u); // the three runs of the series against their own extrapolation, and the two cases
+  // both cases are within the 50 % tolerance: one of them is the cheapest (by step time)
+  EXPECT_TRUE(r.study.at("best").is_string()) << r.study.at("best").dump();
+
+  // --only keeps the whole series (it is one reference) and the same measurement
+  const auto one = run_study("study_series_only", source_path("tests/data/studies/series_small.prm"),
+                             "--jobs 2 --only xpbd");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  ASSERT_EQ(one.study.at("cases").size(), 4u);
+  EXPECT_EQ(one.study.at("reference_series").at("runs").size(), 3u);
+  EXPECT_EQ(one.study.at("cases").back().at("errors"), r.study.at("cases").back().at("errors"));
 }
 
 TEST(StudyRun, StitchParetoAtSmallSize)
