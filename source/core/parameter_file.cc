@@ -223,7 +223,12 @@ namespace suturesim
       for (const auto &section : sections)
         check_model(section.name, name + ":" + std::to_string(section.line) + ": 'subsection Model " + section.name + "'");
       for (const auto &[model, assignment] : scoped)
-        check_model(model, "--set \"Model " + model + "/" + assignment + "\"");
+        {
+          const std::string where = "--set \"Model " + model + "/" + assignment + "\"";
+          check_model(model, where);
+          if (trim(assignment.substr(0, assignment.find('='))) == "Model")
+            throw InputError(where + ": Model cannot be set inside a model section");
+        }
       prm.set("Model", chosen);
       for (const auto &section : sections)
         if (const auto model = section.keys.find("Model"); model != section.keys.end())
@@ -371,7 +376,11 @@ namespace suturesim
       }
     for (; entered > 0; --entered)
       prm.leave_subsection();
-    return path;
+    // "Suture / Cross section/E" names the same key as "Suture/Cross section/E" (given())
+    std::string normalised;
+    for (const auto &part : parts)
+      normalised += (normalised.empty() ? "" : "/") + part;
+    return normalised;
   }
 
   int

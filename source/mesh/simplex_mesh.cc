@@ -19,6 +19,15 @@ namespace suturesim::mesh
     return a.cross(b).dot(c) / 6.0;
   }
 
+  double
+  SimplexMesh::total_volume() const
+  {
+    double v = 0;
+    for (std::size_t t = 0; t < tetrahedra.size(); ++t)
+      v += volume(t);
+    return v;
+  }
+
   int
   SimplexMesh::boundary_id(const std::string &name_or_id) const
   {

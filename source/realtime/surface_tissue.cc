@@ -60,9 +60,7 @@ namespace suturesim::realtime
               mean_edge += (X.col(t[k]) - X.col(t[(k + 1) % 3])).norm();
           }
         mean_edge /= 3.0 * surface.triangles.size();
-        double volume = 0;
-        for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-          volume += mesh.volume(t);
+        const double volume = mesh.total_volume();
 
         for (const auto v : surface.vertices)
           node_of_vertex[v] = s.nodes.add(X.col(v), m.density * volume * area[v] / total_area, 0);

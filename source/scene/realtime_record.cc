@@ -58,11 +58,9 @@ namespace suturesim::scene
     if (scene.has_tissue())
       {
         realtime["tissue_model"] = settings.tissue_model;
-        double volume = 0;
-        for (std::size_t t = 0; t < world.tissue_mesh.tetrahedra.size(); ++t)
-          volume += world.tissue_mesh.volume(t);
         summary.simplex_mesh(world.tissue_mesh.description, world.tissue_mesh.vertices.cols(),
-                             world.tissue_mesh.tetrahedra.size(), volume, world.surface.triangles.size());
+                             world.tissue_mesh.tetrahedra.size(), world.tissue_mesh.total_volume(),
+                             world.surface.triangles.size());
       }
     if (scene.has_suture())
       {
@@ -122,12 +120,18 @@ namespace suturesim::scene
     values[c++] = sys.kinetic_energy();
     values[c++] = sys.elastic_energy(sys.nodes.x);
     recorder.add_row(values);
-    // the suture's largest stretch |x_i+1 - x_i|/l - 1 so far (the accurate path's is its
-    // axial strain: summary.json suture_stretch_max in both)
+    // the suture's longest link so far, squared (one vectorised pass per step; the stretch
+    // |x_i+1 - x_i|/l - 1 is formed once, in finish())
     if (world.scene.has_suture())
-      for (auto i = sys.suture.begin; i + 1 < sys.suture.end; ++i)
-        stretch_max =
-          std::max(stretch_max, (sys.nodes.x.col(i + 1) - sys.nodes.x.col(i)).norm() / rw.suture()->link_length() - 1);
+      {
+        const auto n = sys.suture.end - sys.suture.begin;
+        longest_link_squared =
+          std::max(longest_link_squared, (sys.nodes.x.middleCols(sys.suture.begin + 1, n - 1) -
+                                          sys.nodes.x.middleCols(sys.suture.begin, n - 1))
+                                           .colwise()
+                                           .squaredNorm()
+                                           .maxCoeff());
+      }
   }
 
   void
@@ -213,7 +217,7 @@ namespace suturesim::scene
     if (scene.has_suture())
       {
         const auto tip             = sys.nodes.x.col(sys.suture.end - 1);
-        metrics["suture_stretch_max"] = stretch_max;
+        metrics["suture_stretch_max"] = std::max(0.0, std::sqrt(longest_link_squared) / rw.suture()->link_length() - 1);
         metrics["tip_position"]       = {tip[0], tip[1], tip[2]};
       }
     // no suture node may end inside the tissue, deeper than its radius below the
@@ -244,7 +248,9 @@ namespace suturesim::scene
           metrics[name + "_displacement_" + std::string(1, char('x' + d))] = u[d];
       }
     if (scene.has_tissue())
-      io::SurfaceField::of(rw.time(), sys.nodes.reference, sys.nodes.x - sys.nodes.reference, rw.tissue()->surface())
+      io::SurfaceField::of(rw.time(), sys.nodes.reference.leftCols(sys.tissue.end),
+                           sys.nodes.x.leftCols(sys.tissue.end) - sys.nodes.reference.leftCols(sys.tissue.end),
+                           rw.tissue()->surface())
         .write(recorder.directory() + "/surface_displacement.json");
   }
 } // namespace suturesim::scene

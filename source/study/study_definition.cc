@@ -4,6 +4,7 @@
 #include <suturesim/study/study_definition.h>
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <cctype>
@@ -20,13 +21,7 @@ namespace suturesim::study
 
   namespace
   {
-    std::string
-    trim(const std::string &s)
-    {
-      const auto a = s.find_first_not_of(" \t");
-      const auto b = s.find_last_not_of(" \t");
-      return a == std::string::npos ? std::string() : s.substr(a, b - a + 1);
-    }
+    using dealii::Utilities::trim;
 
     /// The non-empty trimmed parts of @p text between @p separator; a separator inside
     /// double quotes does not split (the quotes stay, for unquote()).
@@ -382,8 +377,9 @@ namespace suturesim::study
         d.cases.push_back(c);
       prm.leave_subsection();
       cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
-      match_references(d, per_axis, reference_settings, top.subsection("Reference"));
-      if (!series.empty())
+      if (series.empty())
+        match_references(d, per_axis, reference_settings, top.subsection("Reference"));
+      else
         series_references(d, series, per_axis, reference_settings, top.subsection("Reference"));
 
       std::set<std::string> used;

@@ -142,6 +142,10 @@ namespace suturesim::study
     : study(study)
     , rows(std::move(rows))
     , series(std::move(series))
+    , error_index(index_of(study.metrics.error_columns(), study.objective.error))
+    , cost_index(std::find_if(cost_columns().begin(), cost_columns().end(),
+                              [&](const auto &c) { return c.first == study.objective.cost; }) -
+                 cost_columns().begin())
   {
     const auto columns = study.metrics.error_columns();
     for (auto &row : this->rows)
@@ -164,10 +168,7 @@ namespace suturesim::study
   double
   StudyReport::cost(const CaseRow &row) const
   {
-    std::size_t k = 0;
-    while (k < cost_columns().size() && cost_columns()[k].first != study.objective.cost)
-      ++k;
-    return row.costs.empty() ? NAN : row.costs[k];
+    return row.costs.empty() ? NAN : row.costs[cost_index];
   }
 
   double
@@ -175,7 +176,7 @@ namespace suturesim::study
   {
     if (study.objective.error.empty() || row.errors.empty())
       return NAN;
-    return std::abs(row.errors[index_of(study.metrics.error_columns(), study.objective.error)]);
+    return std::abs(row.errors[error_index]);
   }
 
   std::vector<std::optional<std::size_t>>
@@ -438,7 +439,7 @@ namespace suturesim::study
     check_written(out, file);
   }
 
-  std::vector<std::string>
+  void
   StudyReport::write_best(const std::string &folder) const
   {
     // a best.prm of an earlier run of the study must not outlive a changed choice
@@ -448,17 +449,16 @@ namespace suturesim::study
         if (name.rfind("best", 0) == 0 && entry.path().extension() == ".prm")
           fs::remove(entry.path());
       }
-    std::vector<std::string> written;
     const auto               chosen = best();
     for (std::size_t g = 0; g < chosen.size(); ++g)
       if (chosen[g])
         {
           // best.prm, or per reference best_<its values>.prm
           const auto reference = study.reference_series ? std::string("the resolution series") : study.references[g].name;
-          written.push_back(chosen.size() == 1 ? "best.prm" : "best" + study.references[g].name.substr(9) + ".prm");
-          write_best(folder, rows[*chosen[g]], written.back(), reference);
+          // "reference_1e9" -> best_1e9.prm
+          const std::string name = chosen.size() == 1 ? "best.prm" : "best" + study.references[g].name.substr(std::string("reference").size()) + ".prm";
+          write_best(folder, rows[*chosen[g]], name, reference);
         }
-    return written;
   }
 
   void
@@ -483,7 +483,7 @@ namespace suturesim::study
     out << "# It is " << study.base_scene << " with\n";
     for (const auto &s : r.definition->settings)
       out << "#   --set \"" << s << "\"\n";
-    out << "# and reads as a scene by itself: suturesim best.prm (every parameter below).\n\n" << parameters.str();
+    out << "# and reads as a scene by itself: suturesim " << name << " (every parameter below).\n\n" << parameters.str();
     check_written(out, file);
   }
 

@@ -315,8 +315,10 @@ TEST(Parameters, AModelScopedOverrideIsReadInItsPathOnlyUnderThePlainOnes)
   EXPECT_EQ(with({"Model a/Time/Step size=0.3"}), std::make_pair(3.0, 0.3));
   // a plain override (a case's own setting) goes over it, in either order
   EXPECT_EQ(with({"Model=b", "Time/Step size=0.01", "Model b/Time/Step size=0.04"}), std::make_pair(2.0, 0.01));
+  EXPECT_EQ(with({"Model=b", "Model b/Time/Step size=0.04", "Time/Step size=0.01"}), std::make_pair(2.0, 0.01));
   // checked in every path: an unknown model path, key or bad value is an error
-  for (const std::string bad : {"Model c/Time/Step size=1", "Model b/Time/Nonsense=1", "Model b/Time/Step size=-1"})
+  for (const std::string bad : {"Model c/Time/Step size=1", "Model b/Time/Nonsense=1", "Model b/Time/Step size=-1",
+                                "Model b/Model=a"})
     {
       std::string message;
       try

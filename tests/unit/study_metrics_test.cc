@@ -6,6 +6,8 @@
 #include <suturesim/study/reference_series.h>
 #include <suturesim/study/surface_error.h>
 
+#include "run_scene.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -310,7 +312,7 @@ TEST(StudySurface, LinearFieldsInterpolateExactlyAndAnOffsetIsMeasured)
 TEST(StudySurface, FieldFilesRoundTripAndBadOnesAreNamed)
 {
   const auto s    = square(2, 0, [](const Eigen::Vector3d &X) { return Eigen::Vector3d(X.x(), 0, 0); });
-  const auto file = std::filesystem::temp_directory_path() / "suturesim_surface_roundtrip.json";
+  const auto file = suturesim::test_support::scratch_path() / "surface_roundtrip.json";
   s.write(file.string());
   const auto back = suturesim::io::SurfaceField::read(file.string());
   EXPECT_EQ(back.triangles, s.triangles);
@@ -324,7 +326,7 @@ TEST(StudySurface, FieldFilesRoundTripAndBadOnesAreNamed)
     }
   catch (const std::runtime_error &e)
     {
-      EXPECT_NE(std::string(e.what()).find("suturesim_surface_roundtrip.json: a triangle's vertex 1 is out of range"),
+      EXPECT_NE(std::string(e.what()).find("surface_roundtrip.json: a triangle's vertex 1 is out of range"),
                 std::string::npos)
         << e.what();
     }

@@ -35,6 +35,10 @@ namespace suturesim::mesh
     double
     volume(std::size_t t) const;
 
+    /// The mesh's volume, the sum of its tetrahedra's (m³).
+    double
+    total_volume() const;
+
     /// The boundary id of a boundary given by name or number; -1 if there is none.
     int
     boundary_id(const std::string &name_or_id) const;

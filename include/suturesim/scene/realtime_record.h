@@ -46,7 +46,7 @@ namespace suturesim::scene
     RunSummary          summary;
     std::vector<double> values;
     std::size_t         n_outputs    = 0;
-    double              stretch_max  = 0; ///< the suture's largest stretch so far, 1
+    double              longest_link_squared = 0; ///< the suture's longest link so far, m²
     double              last_written = -1;
   };
 } // namespace suturesim::scene

@@ -79,6 +79,7 @@ namespace suturesim::study
     const StudyDefinition &study;
     std::vector<CaseRow>   rows; ///< the references first
     nlohmann::json         series;
+    std::size_t            error_index, cost_index; ///< Objective/Error's and Objective/Cost's columns
 
     /// What row @p k is measured against: its reference's name, or "series".
     std::string
@@ -90,8 +91,8 @@ namespace suturesim::study
     error(const CaseRow &row) const;
     void
     write_cases_csv(const std::string &file) const;
-    /// Writes best.prm (per reference best_<values>.prm); the names written.
-    std::vector<std::string>
+    /// Writes best.prm (per reference best_<values>.prm).
+    void
     write_best(const std::string &folder) const;
     void
     write_best(const std::string &folder, const CaseRow &row, const std::string &name,
