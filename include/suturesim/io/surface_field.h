@@ -3,10 +3,12 @@
  * @file
  * The tissue's surface displacement at the end of a run, `surface_displacement.json`:
  * the surface triangles with their vertices' material (reference) positions X and
- * displacements u = x − X, in m. Both model paths write it (the accurate one at the FE
- * mesh's boundary vertices, where the nodal values are the FE solution's; the realtime
- * one at its surface nodes), so that a study compares the realtime surface with the FE
- * displacement at the same material points (study/surface_error.h).
+ * displacements u = x − X, in m. The realtime path writes it at its surface nodes, the
+ * accurate tissue scenes (scene/tissue_recorder.h) at the FE mesh's boundary vertices,
+ * where the nodal values are the FE solution's, so that a study compares the realtime
+ * surface with the FE displacement at the same material points (study/surface_error.h).
+ * The accurate stitch does not write it yet: a study of the stitch cannot ask for
+ * Metrics/Surface.
  *
  *   {"time": t, "reference": [[X, Y, Z], …], "displacement": [[ux, uy, uz], …],
  *    "triangles": [[i, j, k], …]}
