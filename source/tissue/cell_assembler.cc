@@ -39,54 +39,112 @@ namespace suturesim::tissue
       K_pu.reinit(n_p, dofs_per_cell);
   }
 
+  void
+  MixedCell::begin_update(const Vector<double> &du)
+  {
+    const unsigned n = du.size();
+    p0               = p;
+    J0               = J;
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        dJ[a] = M_inv_R_p[a];
+        for (unsigned i = 0; i < n; ++i)
+          dJ[a] += G[a * n + i] * du[i];
+      }
+    PressureCoefficients b = R_J;
+    for (unsigned a = 0; a < n_p; ++a)
+      for (unsigned c = 0; c < n_p; ++c)
+        b[a] += K_JJ[a * n_p + c] * dJ[c];
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        dp[a] = 0;
+        for (unsigned c = 0; c < n_p; ++c)
+          dp[a] += M_inv[a * n_p + c] * b[c];
+      }
+  }
+
+  void
+  MixedCell::step(const double alpha)
+  {
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        p[a] = p0[a] + alpha * dp[a];
+        J[a] = J0[a] + alpha * dJ[a];
+      }
+  }
+
   bool
   CellAssembler::mixed_fields(const DoFHandler<3>::active_cell_iterator &cell,
                               const Material                            &material,
-                              std::array<double, 4>                     &p_coef,
+                              const bool                                 from_state,
+                              MixedCell                                 &fields,
                               FullMatrix<double>                        &M_inv,
-                              FullMatrix<double>                        &K_JJ)
+                              FullMatrix<double>                        &K_JJ,
+                              dealii::Vector<double>                    &R_p,
+                              dealii::Vector<double>                    &R_J)
   {
-    const unsigned int n_q    = fe_values.n_quadrature_points;
-    const Point<3>     center = cell->center();
-    const double       h      = cell->diameter();
-    FullMatrix<double> M(n_p, n_p);
-    Vector<double>     JN(n_p);
-    for (unsigned int q = 0; q < n_q; ++q)
+    const unsigned n_q    = fe_values.n_quadrature_points;
+    const Point<3> center = cell->center();
+    const double   h      = cell->diameter();
+    FullMatrix<double>     M(n_p, n_p);
+    dealii::Vector<double> JN(n_p), pN(n_p), NpN(n_p);
+    for (unsigned q = 0; q < n_q; ++q)
       {
         Np_q[q]         = pressure_basis(fe_values.quadrature_point(q), center, h);
         const double dV = fe_values.JxW(q);
-        for (unsigned int a = 0; a < n_p; ++a)
+        for (unsigned a = 0; a < n_p; ++a)
           {
             JN[a] += Np_q[q][a] * J_q[q] * dV;
-            for (unsigned int b = 0; b < n_p; ++b)
+            for (unsigned b = 0; b < n_p; ++b)
               M(a, b) += Np_q[q][a] * Np_q[q][b] * dV;
           }
       }
     M_inv.reinit(n_p, n_p);
     M_inv.invert(M);
-    Vector<double> J_coef(n_p), pN(n_p);
-    M_inv.vmult(J_coef, JN);
+    if (!from_state)
+      for (unsigned a = 0; a < n_p; ++a)
+        {
+          fields.J[a] = 0;
+          for (unsigned b = 0; b < n_p; ++b)
+            fields.J[a] += M_inv(a, b) * JN[b];
+        }
     K_JJ.reinit(n_p, n_p);
-    for (unsigned int q = 0; q < n_q; ++q)
+    for (unsigned q = 0; q < n_q; ++q)
       {
-        double J_tilde = 0;
-        for (unsigned int a = 0; a < n_p; ++a)
-          J_tilde += Np_q[q][a] * J_coef[a];
+        double J_tilde = 0, p_tilde = 0;
+        for (unsigned a = 0; a < n_p; ++a)
+          {
+            J_tilde += Np_q[q][a] * fields.J[a];
+            p_tilde += Np_q[q][a] * fields.p[a];
+          }
         if (!(J_tilde > 0))
           return false;
         const double dV  = fe_values.JxW(q);
         const double dp  = material.volumetric().pressure(J_tilde);
         const double ddp = material.volumetric().pressure_derivative(J_tilde);
-        for (unsigned int a = 0; a < n_p; ++a)
+        for (unsigned a = 0; a < n_p; ++a)
           {
             pN[a] += Np_q[q][a] * dp * dV;
-            for (unsigned int b = 0; b < n_p; ++b)
+            NpN[a] += Np_q[q][a] * (J_q[q] - J_tilde) * dV;
+            R_J[a] += Np_q[q][a] * (dp - p_tilde) * dV;
+            for (unsigned b = 0; b < n_p; ++b)
               K_JJ(a, b) += Np_q[q][a] * ddp * Np_q[q][b] * dV;
           }
       }
-    for (unsigned int a = 0; a < n_p; ++a)
-      for (unsigned int b = 0; b < n_p; ++b)
-        p_coef[a] += M_inv(a, b) * pN[b];
+    if (from_state)
+      {
+        R_p = NpN;
+        return true;
+      }
+    // stationarity: p̃ = M⁻¹ ∫ N Ψ'(J̃), J̃ = M⁻¹ ∫ N J, both constraints exact
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        fields.p[a] = 0;
+        for (unsigned b = 0; b < n_p; ++b)
+          fields.p[a] += M_inv(a, b) * pN[b];
+      }
+    R_p = 0;
+    R_J = 0;
     return true;
   }
 
@@ -97,8 +155,12 @@ namespace suturesim::tissue
                           const Tensor<1, 3>                        &body_acceleration,
                           Vector<double>                            &r,
                           FullMatrix<double>                        *K,
-                          PressureCoefficients                      *pressure)
+                          MixedCell                                 *fields,
+                          const MixedUpdate                          update,
+                          dealii::Vector<double>                    *constraint_force)
   {
+    const bool unknowns = mixed && update == MixedUpdate::newton;
+    Assert(!unknowns || fields != nullptr, ExcMessage("MixedUpdate::newton needs the cell's fields"));
     fe_values.reinit(cell);
     const unsigned int n_q = fe_values.n_quadrature_points;
     r                      = 0;
@@ -122,17 +184,19 @@ namespace suturesim::tissue
           return false;
       }
 
-    // Mixed fields: J̃ = M⁻¹∫N J, p̃ = M⁻¹∫N Ψ'(J̃), K_JJ = ∫N Ψ''(J̃) Nᵀ.
-    std::array<double, 4> p_coef{};
-    FullMatrix<double>    M_inv, K_JJ;
+    // Mixed fields: M⁻¹, K_JJ = ∫N Ψ''(J̃) Nᵀ and either p̃, J̃ from u (exact) or the
+    // constraint residuals at the given p̃, J̃ (newton).
+    MixedCell              local;
+    MixedCell             &mf = fields != nullptr ? *fields : local;
+    FullMatrix<double>     M_inv, K_JJ;
+    dealii::Vector<double> R_p(n_p), R_J(n_p);
     if (mixed)
       {
-        if (!mixed_fields(cell, material, p_coef, M_inv, K_JJ))
+        if (!mixed_fields(cell, material, unknowns, mf, M_inv, K_JJ, R_p, R_J))
           return false;
-        if (pressure != nullptr)
-          *pressure = p_coef;
         K_pu = 0;
       }
+    const PressureCoefficients &p_coef = mf.p;
 
     SymTensor2 S;
     SymTensor4 CC;
@@ -196,21 +260,60 @@ namespace suturesim::tissue
           }
       }
 
-    if (K == nullptr)
-      return true;
-    for (unsigned int i = 0; i < dofs_per_cell; ++i)
-      for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
-        (*K)(i, j) = (*K)(j, i);
-
+    if (K != nullptr)
+      for (unsigned int i = 0; i < dofs_per_cell; ++i)
+        for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
+          (*K)(i, j) = (*K)(j, i);
     if (mixed)
+      condense(mf, unknowns, M_inv, K_JJ, R_p, R_J, r, K, constraint_force);
+    return true;
+  }
+
+  void
+  CellAssembler::condense(MixedCell                    &mf,
+                          const bool                    unknowns,
+                          const FullMatrix<double>     &M_inv,
+                          const FullMatrix<double>     &K_JJ,
+                          const dealii::Vector<double> &R_p,
+                          const dealii::Vector<double> &R_J,
+                          dealii::Vector<double>       &r,
+                          FullMatrix<double>           *K,
+                          dealii::Vector<double>       *constraint_force)
+  {
+    // G = M⁻¹ K_pu; K += Gᵀ K_JJ G.
+    FullMatrix<double> G(n_p, dofs_per_cell);
+    M_inv.mmult(G, K_pu);
+    if (K != nullptr)
       {
-        // K += Gᵀ K_JJ G with G = M⁻¹ K_pu.
-        FullMatrix<double> G(n_p, dofs_per_cell), KG(n_p, dofs_per_cell);
-        M_inv.mmult(G, K_pu);
+        FullMatrix<double> KG(n_p, dofs_per_cell);
         K_JJ.mmult(KG, G);
         G.Tmmult(*K, KG, true);
       }
-    return true;
+    if (!unknowns)
+      return;
+    // r += Gᵀ (R_J + K_JJ M⁻¹ R_p); keep what the recovery of Δp̃, ΔJ̃ needs.
+    dealii::Vector<double> a(n_p), b(n_p), c(dofs_per_cell);
+    M_inv.vmult(a, R_p);
+    K_JJ.vmult(b, a);
+    b += R_J;
+    G.Tvmult(c, b);
+    r += c;
+    if (constraint_force != nullptr)
+      *constraint_force = c;
+    mf.n_p = n_p;
+    mf.G.resize(n_p * dofs_per_cell);
+    for (unsigned x = 0; x < n_p; ++x)
+      {
+        mf.M_inv_R_p[x] = a[x];
+        mf.R_J[x]       = R_J[x];
+        for (unsigned y = 0; y < n_p; ++y)
+          {
+            mf.M_inv[x * n_p + y] = M_inv(x, y);
+            mf.K_JJ[x * n_p + y]  = K_JJ(x, y);
+          }
+        for (unsigned i = 0; i < dofs_per_cell; ++i)
+          mf.G[x * dofs_per_cell + i] = G(x, i);
+      }
   }
 
   void

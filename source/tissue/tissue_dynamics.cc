@@ -74,7 +74,7 @@ namespace suturesim::tissue
     v_ghost = v;
     AffineConstraints<double> none;
     none.close();
-    if (!assemble(t, solution_ghost, false, none, &v_ghost))
+    if (!assemble(t, solution_ghost, false, none, &v_ghost, true))
       return false;
 
     // F_v = M v̇ + a_M M v + R (+ a_K K_t v inside R); F_u = u̇ − v.
@@ -148,7 +148,7 @@ namespace suturesim::tissue
     solution_ghost = u;
     AffineConstraints<double> none;
     none.close();
-    if (!assemble(t, solution_ghost, true, none))
+    if (!assemble(t, solution_ghost, true, none, nullptr, true))
       return false;
     // A = (1 + α a_K) K + (α² + α a_M) M, kept whole for the elimination of the Dirichlet
     // values in the solve, and with the Dirichlet rows and columns of the identity for

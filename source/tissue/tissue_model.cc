@@ -60,7 +60,9 @@ namespace suturesim::tissue
     system_rhs.reinit(locally_owned_dofs, comm);
     full_residual.reinit(locally_owned_dofs, comm);
     solution_ghost.reinit(locally_owned_dofs, locally_relevant_dofs, comm);
-    cell_pressure.assign(tria.n_active_cells(), PressureCoefficients{});
+    constraint_force.reinit(locally_owned_dofs, comm);
+    cell_mixed.assign(tria.n_active_cells(), MixedCell{});
+    pressure_unknowns = parameters.formulation == "mixed" && parameters.mixed_update == "newton";
     {
       // Diagonal of the bounding box (GridTools::diameter is quadratic in the boundary
       // vertices and not implemented for refined distributed meshes).
@@ -83,7 +85,7 @@ namespace suturesim::tissue
         }
       length_scale = std::sqrt(l2);
     }
-    saved_cell_pressure = cell_pressure;
+    saved_cell_mixed = cell_mixed;
 
     make_constraints(0.0, solution_ghost, constraints);
     DynamicSparsityPattern dsp(locally_relevant_dofs);
@@ -177,17 +179,21 @@ namespace suturesim::tissue
                         const Vector                    &u_ghost,
                         const bool                       with_matrix,
                         const AffineConstraints<double> &c,
-                        const Vector                    *velocity_ghost)
+                        const Vector                    *velocity_ghost,
+                        const bool                       exact_mixed)
   {
+    const MixedUpdate update = pressure_unknowns && !exact_mixed ? MixedUpdate::newton : MixedUpdate::exact;
     TimerOutput::Scope scope(timer, with_matrix ? "assemble K and R" : "assemble R");
     if (with_matrix)
       system_matrix = 0;
     system_rhs    = 0;
     full_residual = 0;
+    if (update == MixedUpdate::newton)
+      constraint_force = 0;
 
     const unsigned     n = fe.n_dofs_per_cell();
     FullMatrix<double> K(n, n);
-    dealii::Vector<double> r(n), u_local(n), v_local(n), Kv(n);
+    dealii::Vector<double> r(n), u_local(n), v_local(n), Kv(n), r_c(n);
     std::vector<types::global_dof_index> dofs(n);
     FEFaceValues<3> face_values(mapping, fe, face_quadrature,
                                 update_values | update_JxW_values | update_quadrature_points);
@@ -203,7 +209,7 @@ namespace suturesim::tissue
           const bool need_K = with_matrix || damping;
           if (!cell_assembler->assemble(cell, u_local, material, bc.gravity, r,
                                         need_K ? &K : nullptr,
-                                        &cell_pressure[cell->active_cell_index()]))
+                                        &cell_mixed[cell->active_cell_index()], update, &r_c))
             {
               ++bad_cells;
               continue;
@@ -235,6 +241,8 @@ namespace suturesim::tissue
             embedded->add(cell, u_local, r, with_matrix ? &K : nullptr);
           cell->get_dof_indices(dofs);
           full_residual.add(dofs, r);
+          if (update == MixedUpdate::newton)
+            constraint_force.add(dofs, r_c);
           r *= -1.0;
           if (with_matrix)
             c.distribute_local_to_global(K, r, dofs, system_matrix, system_rhs);
@@ -245,6 +253,8 @@ namespace suturesim::tissue
       system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);
     full_residual.compress(VectorOperation::add);
+    if (update == MixedUpdate::newton)
+      constraint_force.compress(VectorOperation::add);
     return Utilities::MPI::sum(bad_cells, comm) == 0;
   }
 
@@ -276,15 +286,41 @@ namespace suturesim::tissue
   void
   TissueModel::save_state()
   {
-    saved_solution      = solution;
-    saved_cell_pressure = cell_pressure;
+    saved_solution   = solution;
+    saved_cell_mixed = cell_mixed;
   }
 
   void
   TissueModel::restore_state()
   {
-    solution      = saved_solution;
-    cell_pressure = saved_cell_pressure;
+    solution   = saved_solution;
+    cell_mixed = saved_cell_mixed;
+  }
+
+  void
+  TissueModel::begin_mixed_update(const Vector &update)
+  {
+    if (!pressure_unknowns)
+      return;
+    Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    ghost = update;
+    dealii::Vector<double> du(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_values(ghost, du);
+          cell_mixed[cell->active_cell_index()].begin_update(du);
+        }
+  }
+
+  void
+  TissueModel::step_mixed(const double alpha)
+  {
+    if (!pressure_unknowns)
+      return;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        cell_mixed[cell->active_cell_index()].step(alpha);
   }
 
   void

@@ -147,6 +147,7 @@ namespace suturesim::tissue
         du_norm = update.l2_norm();
         du_max  = update.linfty_norm();
         report.increment_norms.push_back(du_norm);
+        begin_mixed_update(update);
 
         // Backtracking on the residual's norm: the tangent is exact where the friction
         // law is smooth, but a point at its stick–slip kink sends full steps round a
@@ -158,6 +159,7 @@ namespace suturesim::tissue
           {
             trial = solution;
             trial.add(alpha, update);
+            step_mixed(alpha);
             const bool ok = state(trial);
             if (ok && (bc_moving || r_norm <= (1 - 1e-4 * alpha) * r_start || k >= np.max_backtracks))
               break;

@@ -36,7 +36,7 @@ namespace suturesim::tissue
     {
     public:
       StressPostprocessor(const Material                          &material,
-                          const std::vector<PressureCoefficients> *pressure)
+                          const std::vector<MixedCell> *pressure)
         : material(material)
         , pressure(pressure)
       {}
@@ -57,7 +57,7 @@ namespace suturesim::tissue
               {
                 const auto  N = pressure_basis(in.evaluation_points[q], cell->center(),
                                               cell->diameter());
-                const auto &c = (*pressure)[cell->active_cell_index()];
+                const auto &c = (*pressure)[cell->active_cell_index()].p;
                 for (unsigned a = 0; a < 4; ++a)
                   p += N[a] * c[a];
               }
@@ -103,7 +103,7 @@ namespace suturesim::tissue
 
     private:
       const Material                          &material;
-      const std::vector<PressureCoefficients> *pressure;
+      const std::vector<MixedCell> *pressure;
     };
   } // namespace
 
@@ -182,7 +182,7 @@ namespace suturesim::tissue
       {
         Vector v_ghost(locally_owned_dofs, locally_relevant_dofs, comm);
         v_ghost = *velocity;
-        assemble(t, solution_ghost, false, none, &v_ghost); // includes a_K K_t v
+        assemble(t, solution_ghost, false, none, &v_ghost, true); // includes a_K K_t v
         Vector inertia(locally_owned_dofs, comm), tmp(locally_owned_dofs, comm);
         tmp = *acceleration;
         tmp.add(rayleigh_mass, *velocity);
@@ -245,7 +245,7 @@ namespace suturesim::tissue
                              std::vector<DataComponentInterpretation::DataComponentInterpretation>(
                                3, DataComponentInterpretation::component_is_part_of_vector));
     const StressPostprocessor stress(material,
-                                     parameters.formulation == "mixed" ? &cell_pressure : nullptr);
+                                     parameters.formulation == "mixed" ? &cell_mixed : nullptr);
     data_out.add_data_vector(ghost, stress);
 
     dealii::Vector<float> material_id(tria.n_active_cells()), rank(tria.n_active_cells());

@@ -86,6 +86,15 @@ namespace suturesim::tissue
                       "Degree of the discontinuous pressure/dilatation of the mixed "
                       "formulation: 0 (mean dilatation), 1, or -1 for element degree - 1 "
                       "(Q2-P1, Q1-P0). Unit: 1. Range: -1-1.");
+    prm.declare_entry("Mixed update",
+                      "newton",
+                      Patterns::Selection("newton|exact"),
+                      "How the mixed formulation's pressure and dilatation follow Newton's "
+                      "iterates in a quasi-static solve: 'newton': as Newton unknowns updated "
+                      "from the linearised constraints (Simo-Taylor-Pister 1985, deal.II "
+                      "step-44); 'exact': recomputed from the displacement at every iterate. "
+                      "Both reach the same solution; implicit dynamics always uses 'exact'. "
+                      "Unit: none.");
     prm.declare_entry("Probes",
                       "",
                       probe_pattern,
@@ -115,6 +124,7 @@ namespace suturesim::tissue
     formulation = prm.get("Formulation");
     const int p = prm.get_integer("Pressure degree");
     pressure_degree = p < 0 ? std::min<unsigned>(degree - 1, 1) : static_cast<unsigned>(p);
+    mixed_update    = prm.get("Mixed update");
 
     // The pattern has validated the text; split it here to keep the order of the file
     // (a std::map would sort the probes and merge duplicates silently).

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 
 using namespace suturesim::tissue;
 using namespace dealii;
@@ -40,6 +41,33 @@ namespace
     bool     mixed;
     unsigned pressure_degree;
   };
+
+  /// One general (non-affine) hexahedron of about 10 mm, each vertex of a cube moved by a
+  /// fixed pattern, with the element and the assembler of @p c.
+  struct OneCell
+  {
+    explicit OneCell(const Case &c)
+      : fe(FE_Q<3>(c.degree), 3)
+      , dofs(tria)
+    {
+      GridGenerator::hyper_cube(tria, 0.0, 0.01);
+      GridTools::transform(
+        [](const Point<3> &p) {
+          return p + 0.001 * Point<3>(std::sin(300 * p[1] + 200 * p[2]),
+                                    std::cos(250 * p[0] + 100 * p[2]),
+                                    std::sin(150 * p[0] + 280 * p[1] + 1));
+        },
+        tria);
+      dofs.distribute_dofs(fe);
+      assembler = std::make_unique<CellAssembler>(mapping, fe, QGauss<3>(c.degree + 1), c.mixed,
+                                                  c.pressure_degree);
+    }
+    Triangulation<3>               tria;
+    FESystem<3>                    fe;
+    DoFHandler<3>                  dofs;
+    MappingQ1<3>                   mapping;
+    std::unique_ptr<CellAssembler> assembler;
+  };
 } // namespace
 
 class CellTangent : public ::testing::TestWithParam<Case>
@@ -47,23 +75,11 @@ class CellTangent : public ::testing::TestWithParam<Case>
 
 TEST_P(CellTangent, MatchesCentralDifferences)
 {
-  const Case c = GetParam();
-  Triangulation<3> tria;
-  GridGenerator::hyper_cube(tria, 0.0, 0.01);
-  // A general (non-affine) cell: move each vertex by a fixed pattern.
-  GridTools::transform(
-    [](const Point<3> &p) {
-      return p + 0.001 * Point<3>(std::sin(300 * p[1] + 200 * p[2]),
-                                std::cos(250 * p[0] + 100 * p[2]),
-                                std::sin(150 * p[0] + 280 * p[1] + 1));
-    },
-    tria);
-  FESystem<3>  fe(FE_Q<3>(c.degree), 3);
-  DoFHandler<3> dofs(tria);
-  dofs.distribute_dofs(fe);
-  MappingQ1<3>  mapping;
-  CellAssembler assembler(mapping, fe, QGauss<3>(c.degree + 1), c.mixed, c.pressure_degree);
-  const Material m = material(0.45);
+  const Case     c = GetParam();
+  OneCell        one(c);
+  const auto    &fe        = one.fe;
+  CellAssembler &assembler = *one.assembler;
+  const Material m         = material(0.45);
 
   const unsigned n = fe.n_dofs_per_cell();
   Vector<double> u(n);
@@ -71,7 +87,7 @@ TEST_P(CellTangent, MatchesCentralDifferences)
     u[i] = 6e-4 * std::sin(0.9 * i + 0.3); // displacement gradients of order 0.1
   const Tensor<1, 3> gravity({0, 0, -9.81});
 
-  const auto         cell = dofs.begin_active();
+  const auto         cell = one.dofs.begin_active();
   Vector<double>     r(n), rp(n), rm(n);
   FullMatrix<double> K(n, n);
   ASSERT_TRUE(assembler.assemble(cell, u, m, gravity, r, &K));
@@ -123,3 +139,100 @@ TEST(CellAssembler, RejectsInvertedIterate)
       u[i] = -0.02;
   EXPECT_FALSE(assembler.assemble(dofs.begin_active(), u, material(0.3), {}, r, nullptr));
 }
+
+// The three-field Newton update (MixedUpdate::newton, cell_assembler.h) against central
+// differences along the update it predicts. From a state whose p̃ and J̃ violate both
+// constraints, the step (Δu, Δp̃, ΔJ̃) with Δp̃, ΔJ̃ recovered by MixedCell::begin_update()
+// must be Newton's step for the uncondensed system: along it the constraint residuals
+// fall as (1 − ε) R_p, (1 − ε) R_J, and the equilibrium part r_u = r − r_c moves as
+// K Δu + r_c (the condensed tangent times Δu plus the constraint force). Each line is
+// one row block of the 3 × 3 system, so a wrong K_pu, K_JJ, M or recovery fails one.
+class MixedNewtonUpdate : public ::testing::TestWithParam<Case>
+{};
+
+TEST_P(MixedNewtonUpdate, IsNewtonsStepOfTheThreeFieldSystem)
+{
+  const Case     c = GetParam();
+  ASSERT_TRUE(c.mixed);
+  OneCell        one(c);
+  const auto    &fe        = one.fe;
+  CellAssembler &assembler = *one.assembler;
+  const Material m         = material(0.49);
+  const auto     cell      = one.dofs.begin_active();
+  const unsigned n    = fe.n_dofs_per_cell();
+  const unsigned n_p  = assembler.n_pressure();
+
+  Vector<double> u(n), du(n);
+  for (unsigned i = 0; i < n; ++i)
+    {
+      u[i]  = 6e-4 * std::sin(0.9 * i + 0.3);
+      du[i] = 2e-4 * std::cos(1.7 * i + 0.2);
+    }
+  // consistent fields at u, then both constraints broken
+  MixedCell fields;
+  Vector<double> r(n), r_c(n), r_exact(n);
+  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r_exact, nullptr, &fields, MixedUpdate::exact));
+  MixedCell consistent = fields;
+  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, nullptr, &consistent, MixedUpdate::newton, &r_c));
+  EXPECT_LE(r_c.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "a consistent state has no constraint force";
+  Vector<double> diff = r;
+  diff -= r_exact;
+  EXPECT_LE(diff.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "both updates agree where the constraints hold";
+
+  for (unsigned a = 0; a < n_p; ++a)
+    {
+      fields.J[a] += (a == 0 ? 3e-3 : 1e-3);
+      fields.p[a] += (a == 0 ? 0.02 : 0.01) * m.bulk_modulus();
+    }
+  FullMatrix<double> K(n, n);
+  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, &K, &fields, MixedUpdate::newton, &r_c));
+  const auto R_p0 = fields.dilatation_residual();
+  const auto R_J0 = fields.pressure_residual();
+  Vector<double> expected_dr(n);
+  K.vmult(expected_dr, du);
+  expected_dr += r_c;
+  fields.begin_update(du);
+
+  // r_u and the constraint residuals at ε along the step
+  const auto at = [&](const double eps, Vector<double> &r_u, PressureCoefficients &R_p, PressureCoefficients &R_J) {
+    MixedCell f = fields;
+    f.step(eps);
+    Vector<double> ue = u, re(n), rce(n);
+    ue.add(eps, du);
+    ASSERT_TRUE(assembler.assemble(cell, ue, m, {}, re, nullptr, &f, MixedUpdate::newton, &rce));
+    r_u = re;
+    r_u -= rce;
+    R_p = f.dilatation_residual();
+    R_J = f.pressure_residual();
+  };
+  const double         h = 1e-4;
+  Vector<double>       rp(n), rm(n);
+  PressureCoefficients Pp, Pm, Jp, Jm;
+  at(h, rp, Pp, Jp);
+  at(-h, rm, Pm, Jm);
+  double err = 0;
+  for (unsigned i = 0; i < n; ++i)
+    err = std::max(err, std::abs((rp[i] - rm[i]) / (2 * h) - expected_dr[i]));
+  EXPECT_LE(err, 1e-6 * expected_dr.linfty_norm()) << "equilibrium row";
+  double P_scale = 0, J_scale = 0;
+  for (unsigned a = 0; a < n_p; ++a)
+    {
+      P_scale = std::max(P_scale, std::abs(R_p0[a]));
+      J_scale = std::max(J_scale, std::abs(R_J0[a]));
+    }
+  ASSERT_GT(P_scale, 0);
+  ASSERT_GT(J_scale, 0);
+  for (unsigned a = 0; a < n_p; ++a)
+    {
+      EXPECT_NEAR((Pp[a] - Pm[a]) / (2 * h), -R_p0[a], 1e-6 * P_scale) << "dilatation row, a = " << a;
+      EXPECT_NEAR((Jp[a] - Jm[a]) / (2 * h), -R_J0[a], 1e-6 * J_scale) << "pressure row, a = " << a;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Elements, MixedNewtonUpdate,
+                         ::testing::Values(Case{2, true, 1}, Case{1, true, 0}, Case{2, true, 0},
+                                           Case{1, true, 1}),
+                         [](const auto &info) {
+                           return "Q" + std::to_string(info.param.degree) + "_P" +
+                                  std::to_string(info.param.pressure_degree);
+                         });

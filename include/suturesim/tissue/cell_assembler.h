@@ -18,6 +18,22 @@
  *   Q2 with k = 1 is the stable step-44 pair; Q1 with k = 0 is the mean-dilatation
  *   element.
  *
+ * The mixed fields enter Newton's method in one of two ways (MixedUpdate):
+ * - exact: p̃ and J̃ are recomputed from u at every iterate as above, so the residual is
+ *   a function of u alone (what an implicit time integrator needs). Its Newton
+ *   iteration carries the whole nonlinearity of κ (J(u) − 1) with κ/μ up to 10⁴.
+ * - newton: p̃ and J̃ are Newton unknowns, as in Simo, Taylor & Pister (1985) and step-44.
+ *   With R_p = ∫ N (J − J̃) dV and R_J = ∫ N (Ψ'_vol(J̃) − p̃) dV, the linearised
+ *   three-field system
+ *      [K_uu  K_puᵀ  0   ] [Δu]     [r_u]
+ *      [K_pu  0     −M   ] [Δp] = − [R_p]
+ *      [0    −M     K_JJ ] [ΔJ]     [R_J]
+ *   is condensed on the cell: ΔJ = M⁻¹ R_p + G Δu, Δp = M⁻¹ (R_J + K_JJ ΔJ), and
+ *      (K_uu + Gᵀ K_JJ G) Δu = −(r_u + Gᵀ (R_J + K_JJ M⁻¹ R_p)),
+ *   the same tangent as the exact variant, with the constraint residuals added. p̃ and
+ *   J̃ then move with the linearised constraints instead of jumping with κ (J(u) − 1).
+ *   At a state where R_p = R_J = 0 both variants give the same residual.
+ *
  * Verified against central finite differences of the residual in
  * tests/unit/cell_assembler_test.cc.
  */
@@ -38,6 +54,52 @@ namespace suturesim::tissue
   /// Pressure/dilatation coefficients of one cell (mixed formulation), basis as above.
   using PressureCoefficients = std::array<double, 4>;
 
+  /// How the mixed fields follow Newton's iterates (see the file's description).
+  enum class MixedUpdate
+  {
+    exact,  ///< p̃(u), J̃(u) recomputed at every iterate
+    newton, ///< p̃, J̃ Newton unknowns, condensed per cell
+  };
+
+  /// The mixed fields of one cell: p̃ (Pa) and J̃ (1) as coefficients of the P_k basis,
+  /// and what the last assembly with MixedUpdate::newton left for recovering their
+  /// Newton increments from the cell's displacement increment.
+  struct MixedCell
+  {
+    PressureCoefficients p{};            ///< Pa
+    PressureCoefficients J{{1, 0, 0, 0}}; ///< 1 (J̃ = 1: the reference state)
+
+    /// From the cell's displacement increment @p du (local DoF order): ΔJ = M⁻¹ R_p +
+    /// G Δu and Δp = M⁻¹ (R_J + K_JJ ΔJ), remembering the current p̃, J̃ as the base of
+    /// step().
+    void
+    begin_update(const dealii::Vector<double> &du);
+
+    /// p̃ = p̃₀ + α Δp, J̃ = J̃₀ + α ΔJ (a Newton step scaled by a line search).
+    void
+    step(double alpha);
+
+    /// The constraint residuals of the last assembly with MixedUpdate::newton: M⁻¹ R_p
+    /// (1; J̃'s coefficients minus those of J's projection) and R_J (N·m = Pa·m³).
+    const PressureCoefficients &
+    dilatation_residual() const
+    {
+      return M_inv_R_p;
+    }
+    const PressureCoefficients &
+    pressure_residual() const
+    {
+      return R_J;
+    }
+
+  private:
+    friend class CellAssembler;
+    unsigned              n_p = 0;
+    PressureCoefficients  M_inv_R_p{}, R_J{}, p0{}, J0{}, dp{}, dJ{};
+    std::array<double, 16> M_inv{}, K_JJ{}; ///< row-major n_p × n_p
+    std::vector<double>    G;               ///< row-major n_p × dofs per cell
+  };
+
   /// The P_k basis {1, (X − X_c)/h} of the mixed fields at reference point @p X.
   std::array<double, 4>
   pressure_basis(const dealii::Point<3> &X, const dealii::Point<3> &center, double h);
@@ -53,9 +115,13 @@ namespace suturesim::tissue
                   unsigned int                       pressure_degree);
 
     /// Residual r = f_int − ∫ ρ b N dV of the cell at local displacements @p u and, if
-    /// @p K is given, its derivative. Writes the mixed pressure coefficients to
-    /// @p pressure if given. Returns false (and leaves r, K undefined) when J ≤ 0 at a
-    /// quadrature point: the caller treats this as a failed iterate.
+    /// @p K is given, its tangent. Mixed formulation: with MixedUpdate::exact, p̃ and J̃
+    /// are computed from u and written to @p fields if given; with MixedUpdate::newton,
+    /// they are read from @p fields (required), r is the condensed residual and
+    /// @p constraint_force, if given, receives its part Gᵀ (R_J + K_JJ M⁻¹ R_p), which
+    /// vanishes when the constraints hold. Returns false (and leaves the outputs
+    /// undefined) when J or J̃ ≤ 0 at a quadrature point: the caller treats this as a
+    /// failed iterate.
     bool
     assemble(const dealii::DoFHandler<3>::active_cell_iterator &cell,
              const dealii::Vector<double>                      &u,
@@ -63,7 +129,9 @@ namespace suturesim::tissue
              const dealii::Tensor<1, 3>                        &body_acceleration,
              dealii::Vector<double>                            &r,
              dealii::FullMatrix<double>                        *K,
-             PressureCoefficients                              *pressure = nullptr);
+             MixedCell                                         *fields           = nullptr,
+             MixedUpdate                                        update           = MixedUpdate::exact,
+             dealii::Vector<double>                            *constraint_force = nullptr);
 
     /// Consistent mass matrix ρ ∫ N_i N_j δ_{c_i c_j} dV.
     void
@@ -84,15 +152,32 @@ namespace suturesim::tissue
     }
 
   private:
-    /// The condensed mixed fields of the cell (fe_values reinitialised on it, J_q
-    /// filled): p̃'s coefficients @p p_coef, M⁻¹ and K_JJ (see the file's description).
-    /// Returns false when J̃ ≤ 0 at a quadrature point.
+    /// The mixed fields of the cell (fe_values reinitialised on it, J_q filled): M⁻¹ and
+    /// K_JJ; with @p from_state, the constraint residuals R_p, R_J at the fields' p̃, J̃;
+    /// otherwise p̃ and J̃ computed from u into @p fields (R_p = R_J = 0). Returns false
+    /// when J̃ ≤ 0 at a quadrature point.
     bool
     mixed_fields(const dealii::DoFHandler<3>::active_cell_iterator &cell,
                  const Material                                    &material,
-                 std::array<double, 4>                             &p_coef,
+                 bool                                               from_state,
+                 MixedCell                                         &fields,
                  dealii::FullMatrix<double>                        &M_inv,
-                 dealii::FullMatrix<double>                        &K_JJ);
+                 dealii::FullMatrix<double>                        &K_JJ,
+                 dealii::Vector<double>                            &R_p,
+                 dealii::Vector<double>                            &R_J);
+
+    /// Adds Gᵀ K_JJ G to @p K and, with @p unknowns, the constraint part of the
+    /// residual, storing in @p fields what MixedCell::begin_update() needs.
+    void
+    condense(MixedCell                    &fields,
+             bool                          unknowns,
+             const dealii::FullMatrix<double> &M_inv,
+             const dealii::FullMatrix<double> &K_JJ,
+             const dealii::Vector<double> &R_p,
+             const dealii::Vector<double> &R_J,
+             dealii::Vector<double>       &r,
+             dealii::FullMatrix<double>   *K,
+             dealii::Vector<double>       *constraint_force);
 
     dealii::FEValues<3>  fe_values;
     const bool           mixed;

@@ -226,17 +226,32 @@ namespace suturesim::tissue
     make_constraints(double t, const Vector &u_ghost, dealii::AffineConstraints<double> &c) const;
 
     /// Assembles −R into system_rhs (and K into system_matrix if @p with_matrix) at
-    /// @p u_ghost. With @p velocity, adds Rayleigh damping. Returns false if any cell
+    /// @p u_ghost. With @p velocity, adds Rayleigh damping. The mixed fields are Newton
+    /// unknowns (cell_assembler.h) when the parameters ask for it, unless @p exact_mixed
+    /// (the dynamics, whose residual must be a function of u). Returns false if any cell
     /// inverted (collective).
     bool
     assemble(double                                   t,
              const Vector                            &u_ghost,
              bool                                     with_matrix,
              const dealii::AffineConstraints<double> &c,
-             const Vector                            *velocity_ghost = nullptr);
+             const Vector                            *velocity_ghost = nullptr,
+             bool                                     exact_mixed    = false);
 
+    /// The residual's norm over the free DoFs, N. With the mixed fields as Newton
+    /// unknowns, sqrt(|r_u|² + |r_c|²) of the equilibrium part r_u and the constraint
+    /// part r_c = Gᵀ (R_J + K_JJ M⁻¹ R_p) of the condensed residual, so that a state
+    /// whose constraints do not hold is not taken for converged.
     double
     free_residual_norm() const;
+
+    /// Newton update of the mixed fields that are Newton unknowns (no-op otherwise):
+    /// begin_mixed_update() recovers every cell's Δp̃, ΔJ̃ from the displacement update
+    /// @p update (constraints distributed), step_mixed(α) sets p̃₀ + α Δp̃, J̃₀ + α ΔJ̃.
+    void
+    begin_mixed_update(const Vector &update);
+    void
+    step_mixed(double alpha);
 
     /// Whether the state is on its boundary values, to round-off, given the largest
     /// |g − u| over the Dirichlet DoFs @p gap.
@@ -300,8 +315,10 @@ namespace suturesim::tissue
     dealii::AffineConstraints<double>       constraints;
     std::vector<dealii::types::global_dof_index> owned_dirichlet;
     dealii::PETScWrappers::MPI::SparseMatrix system_matrix, mass_matrix, jacobian_full;
-    Vector solution, solution_ghost, saved_solution, system_rhs, full_residual;
-    std::vector<PressureCoefficients> cell_pressure, saved_cell_pressure;
+    Vector solution, solution_ghost, saved_solution, system_rhs, full_residual, constraint_force;
+    /// p̃, J̃ of every cell (active cell index); Newton unknowns when pressure_unknowns
+    std::vector<MixedCell> cell_mixed, saved_cell_mixed;
+    bool                   pressure_unknowns = false;
 
     /// Per Dirichlet boundary: locally owned DoFs on it with their component.
     std::vector<std::vector<std::pair<dealii::types::global_dof_index, unsigned>>> reaction_dofs;

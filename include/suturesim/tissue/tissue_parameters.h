@@ -44,6 +44,8 @@ namespace suturesim::tissue
     unsigned         degree          = 2;
     std::string      formulation     = "mixed";
     unsigned         pressure_degree = 1;
+    /// "newton" or "exact" (cell_assembler.h, MixedUpdate)
+    std::string      mixed_update    = "newton";
     NewtonParameters newton;
     LinearSolver::Parameters linear;
     std::vector<std::pair<std::string, dealii::Point<3>>> probes;
@@ -55,8 +57,8 @@ namespace suturesim::tissue
     };
     std::vector<RegionModuli> region_moduli;
 
-    /// Declares "Element degree", "Formulation", "Pressure degree", "Probes", "Region
-    /// moduli" and the
+    /// Declares "Element degree", "Formulation", "Pressure degree", "Mixed update",
+    /// "Probes", "Region moduli" and the
     /// subsections "Newton" and "Linear solver" into the current subsection.
     static void
     declare(dealii::ParameterHandler &prm);
