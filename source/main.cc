@@ -7,6 +7,7 @@
 #include <suturesim/study/study_command.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/multithread_info.h>
 
 #include <chrono>
 #include <filesystem>
@@ -20,13 +21,17 @@ namespace
 {
   const char *usage =
     "usage: suturesim [--validate] [--output DIR] [--set \"Subsection/Key=value\"]... "
-    "[scene.prm]\n"
+    "[--threads N] [scene.prm]\n"
     "  scene.prm     deal.II parameter file; without it the embedded default scene runs\n"
     "  --validate    parse and check the scene, then exit (0 when valid)\n"
     "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
     "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
     "                the file and its 'subsection Model <path>' settings; --set \"Model\n"
     "                accurate/Time/Step size=0.01\" sets that section's key instead\n"
+    "  --threads N   threads per process for the accurate path's assembly (default 1;\n"
+    "                0: the cores shared among the MPI processes). Results differ from\n"
+    "                one thread's at round-off (deal.II's cell-similarity shortcut is off\n"
+    "                with threads), not between thread counts above one\n"
     "  --help        this text and every parameter with its unit and range\n"
     "       suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
     "                 runs a study's cases and measures them against its reference (docs/studies.md)\n";
@@ -39,6 +44,7 @@ main(int argc, char **argv)
   // A study starts its cases as processes of their own: it is not an MPI process itself.
   if (argc > 1 && std::string(argv[1]) == "study")
     return study::study_command(std::vector<std::string>(argv + 2, argv + argc));
+  // One thread per process unless --threads asks for more (below).
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   limit_blas_threads();
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
@@ -55,6 +61,20 @@ main(int argc, char **argv)
         help = true;
       else if ((a == "--output" || a == "--set") && i + 1 < argc)
         (a == "--output" ? output : (overrides.emplace_back(), overrides.back())) = argv[++i];
+      else if (a == "--threads" && i + 1 < argc)
+        {
+          const std::string n = argv[++i];
+          if (n.empty() || n.size() > 4 || n.find_first_not_of("0123456789") != std::string::npos)
+            {
+              if (root)
+                std::cerr << "error: --threads " << n << ": expected a whole number 0-9999\n";
+              return 2;
+            }
+          // deal.II caps it at the cores and at DEAL_II_NUM_THREADS; 0: the node's cores
+          // shared among its MPI processes
+          const unsigned threads = std::stoul(n);
+          dealii::MultithreadInfo::set_thread_limit(threads == 0 ? dealii::numbers::invalid_unsigned_int : threads);
+        }
       else if (a.rfind("--", 0) == 0)
         {
           if (root)

@@ -3,6 +3,7 @@
 #include <suturesim/io/recorder.h>
 
 #include <deal.II/base/data_out_base.h>
+#include <deal.II/base/multithread_info.h>
 
 #include <filesystem>
 #include <iomanip>
@@ -42,6 +43,8 @@ namespace suturesim::io
     json["version"] = version_string;
     json["commit"]  = git_commit;
     json["mpi_processes"] = dealii::Utilities::MPI::n_mpi_processes(comm);
+    // threads per process for the accurate path's assembly (main.cc)
+    json["threads"] = dealii::MultithreadInfo::n_threads();
   }
 
   void

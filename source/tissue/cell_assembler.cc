@@ -73,6 +73,14 @@ namespace suturesim::tissue
       }
   }
 
+  CellAssembler::CellAssembler(const CellAssembler &other)
+    : CellAssembler(other.fe_values.get_mapping(),
+                    other.fe_values.get_fe(),
+                    other.fe_values.get_quadrature(),
+                    other.mixed,
+                    other.n_p == 1 ? 0 : 1)
+  {}
+
   bool
   CellAssembler::mixed_fields(const DoFHandler<3>::active_cell_iterator &cell,
                               const Material                            &material,

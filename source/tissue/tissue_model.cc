@@ -1,6 +1,6 @@
 /**
- * The tissue model's degrees of freedom, constraints, assembly and state. The Newton
- * solve is in tissue_newton.cc (and, with a condensed body, tissue_model_coupled.cc), the
+ * The tissue model's degrees of freedom, constraints and state. The assembly is in
+ * tissue_assembly.cc, the Newton solve in tissue_newton.cc (and, with a condensed body, tissue_model_coupled.cc), the
  * output in tissue_output.cc, the dynamics in tissue_dynamics.cc, the parameters in
  * tissue_parameters.cc.
  */
@@ -172,90 +172,6 @@ namespace suturesim::tissue
       }
     c.close();
     return Utilities::MPI::max(gap, comm);
-  }
-
-  bool
-  TissueModel::assemble(const double                     t,
-                        const Vector                    &u_ghost,
-                        const bool                       with_matrix,
-                        const AffineConstraints<double> &c,
-                        const Vector                    *velocity_ghost,
-                        const bool                       exact_mixed)
-  {
-    const MixedUpdate update = pressure_unknowns && !exact_mixed ? MixedUpdate::newton : MixedUpdate::exact;
-    TimerOutput::Scope scope(timer, with_matrix ? "assemble K and R" : "assemble R");
-    if (with_matrix)
-      system_matrix = 0;
-    system_rhs    = 0;
-    full_residual = 0;
-    if (update == MixedUpdate::newton)
-      constraint_force = 0;
-
-    const unsigned     n = fe.n_dofs_per_cell();
-    FullMatrix<double> K(n, n);
-    dealii::Vector<double> r(n), u_local(n), v_local(n), Kv(n), r_c(n);
-    std::vector<types::global_dof_index> dofs(n);
-    FEFaceValues<3> face_values(mapping, fe, face_quadrature,
-                                update_values | update_JxW_values | update_quadrature_points);
-    dealii::Vector<double> traction(3);
-    const Function<3>     &traction_function = bc.traction(t); // set the time once
-    const bool damping = velocity_ghost != nullptr && rayleigh_stiffness > 0;
-
-    unsigned bad_cells = 0;
-    for (const auto &cell : dof_handler.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          cell->get_dof_values(u_ghost, u_local);
-          const bool need_K = with_matrix || damping;
-          if (!cell_assembler->assemble(cell, u_local, material, bc.gravity, r,
-                                        need_K ? &K : nullptr,
-                                        &cell_mixed[cell->active_cell_index()], update, &r_c))
-            {
-              ++bad_cells;
-              continue;
-            }
-          if (damping)
-            {
-              cell->get_dof_values(*velocity_ghost, v_local);
-              K.vmult(Kv, v_local);
-              r.add(rayleigh_stiffness, Kv);
-            }
-          if (!bc.traction_boundaries.empty())
-            for (const auto f : cell->face_indices())
-              if (cell->face(f)->at_boundary() &&
-                  bc.traction_boundaries.count(cell->face(f)->boundary_id()))
-                {
-                  face_values.reinit(cell, f);
-                  for (unsigned q = 0; q < face_values.n_quadrature_points; ++q)
-                    {
-                      traction_function.vector_value(face_values.quadrature_point(q), traction);
-                      for (unsigned i = 0; i < n; ++i)
-                        {
-                          const unsigned comp = fe.system_to_component_index(i).first;
-                          r[i] -= face_values.shape_value(i, q) * traction[comp] *
-                                  face_values.JxW(q);
-                        }
-                    }
-                }
-          if (point_loads != nullptr)
-            embedded->add(cell, u_local, r, with_matrix ? &K : nullptr);
-          cell->get_dof_indices(dofs);
-          full_residual.add(dofs, r);
-          if (update == MixedUpdate::newton)
-            constraint_force.add(dofs, r_c);
-          r *= -1.0;
-          if (with_matrix)
-            c.distribute_local_to_global(K, r, dofs, system_matrix, system_rhs);
-          else
-            c.distribute_local_to_global(r, dofs, system_rhs);
-        }
-    if (with_matrix)
-      system_matrix.compress(VectorOperation::add);
-    system_rhs.compress(VectorOperation::add);
-    full_residual.compress(VectorOperation::add);
-    if (update == MixedUpdate::newton)
-      constraint_force.compress(VectorOperation::add);
-    return Utilities::MPI::sum(bad_cells, comm) == 0;
   }
 
   void

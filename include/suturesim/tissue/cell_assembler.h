@@ -114,6 +114,10 @@ namespace suturesim::tissue
                   bool                               mixed,
                   unsigned int                       pressure_degree);
 
+    /// A fresh assembler for the same element (one per thread of a parallel assembly:
+    /// the scratch below is not shared).
+    CellAssembler(const CellAssembler &other);
+
     /// Residual r = f_int − ∫ ρ b N dV of the cell at local displacements @p u and, if
     /// @p K is given, its tangent. Mixed formulation: with MixedUpdate::exact, p̃ and J̃
     /// are computed from u and written to @p fields if given; with MixedUpdate::newton,

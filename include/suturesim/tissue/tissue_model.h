@@ -8,7 +8,8 @@
  * the measurements written per step: reaction forces on every Dirichlet boundary,
  * displacements at probe points, and the VTU fields.
  *
- * Implemented in tissue_model.cc (DoFs, constraints, assembly, state), tissue_newton.cc
+ * Implemented in tissue_model.cc (DoFs, constraints, state), tissue_assembly.cc (the
+ * assembly, over the threads of the process), tissue_newton.cc
  * (solve_static()), tissue_model_coupled.cc (solve_coupled()), tissue_output.cc
  * (reactions, probes, VTU) and tissue_dynamics.cc (mass, damping, the residual and
  * Jacobian of the dynamics); the parameters are in tissue_parameters.h.
@@ -237,6 +238,14 @@ namespace suturesim::tissue
              const dealii::AffineConstraints<double> &c,
              const Vector                            *velocity_ghost = nullptr,
              bool                                     exact_mixed    = false);
+
+    /// Subtracts the reference traction's share ∫ N t₀ dA over @p cell's loaded boundary
+    /// faces from the cell residual @p r (reentrant: @p face_values is the caller's).
+    void
+    add_traction(const dealii::DoFHandler<3>::active_cell_iterator &cell,
+                 const dealii::Function<3>                         &traction,
+                 dealii::FEFaceValues<3>                           &face_values,
+                 dealii::Vector<double>                            &r) const;
 
     /// The residual's norm over the free DoFs, N. With the mixed fields as Newton
     /// unknowns, sqrt(|r_u|² + |r_c|²) of the equilibrium part r_u and the constraint
