@@ -10,6 +10,7 @@
 #include <deal.II/base/multithread_info.h>
 
 #include <chrono>
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -28,14 +29,28 @@ namespace
     "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
     "                the file and its 'subsection Model <path>' settings; --set \"Model\n"
     "                accurate/Time/Step size=0.01\" sets that section's key instead\n"
-    "  --threads N   threads per process for the accurate path's assembly (default 1;\n"
-    "                0: the cores shared among the MPI processes). Results differ from\n"
-    "                one thread's at round-off (deal.II's cell-similarity shortcut is off\n"
-    "                with threads), not between thread counts above one\n"
+    "  --threads N   threads per process for the accurate path's assembly (default 1; at\n"
+    "                most the node's cores shared among its MPI processes, 0: all of that\n"
+    "                share). Results differ from one thread's at round-off (deal.II's\n"
+    "                cell-similarity shortcut is off with threads), not between counts above one\n"
     "  --help        this text and every parameter with its unit and range\n"
     "       suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
     "                 runs a study's cases and measures them against its reference (docs/studies.md)\n";
-}
+
+  /// The threads per process for --threads @p asked: at most the node's cores shared
+  /// among this node's MPI processes, all of that share for 0, at least one. deal.II's
+  /// set_thread_limit() then also honours DEAL_II_NUM_THREADS.
+  unsigned
+  assembly_threads(const unsigned asked)
+  {
+    MPI_Comm node;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+    const unsigned on_node = dealii::Utilities::MPI::n_mpi_processes(node);
+    MPI_Comm_free(&node);
+    const unsigned share = std::max(1u, dealii::MultithreadInfo::n_cores() / on_node);
+    return asked == 0 ? share : std::min(asked, share);
+  }
+} // namespace
 
 int
 main(int argc, char **argv)
@@ -70,10 +85,7 @@ main(int argc, char **argv)
                 std::cerr << "error: --threads " << n << ": expected a whole number 0-9999\n";
               return 2;
             }
-          // deal.II caps it at the cores and at DEAL_II_NUM_THREADS; 0: the node's cores
-          // shared among its MPI processes
-          const unsigned threads = std::stoul(n);
-          dealii::MultithreadInfo::set_thread_limit(threads == 0 ? dealii::numbers::invalid_unsigned_int : threads);
+          dealii::MultithreadInfo::set_thread_limit(assembly_threads(std::stoul(n)));
         }
       else if (a.rfind("--", 0) == 0)
         {

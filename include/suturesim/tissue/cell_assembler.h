@@ -80,7 +80,7 @@ namespace suturesim::tissue
     step(double alpha);
 
     /// The constraint residuals of the last assembly with MixedUpdate::newton: M⁻¹ R_p
-    /// (1; J̃'s coefficients minus those of J's projection) and R_J (N·m = Pa·m³).
+    /// (1; the coefficients of J's projection minus J̃'s) and R_J (N·m = Pa·m³).
     const PressureCoefficients &
     dilatation_residual() const
     {
