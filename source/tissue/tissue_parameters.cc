@@ -37,7 +37,9 @@ namespace suturesim::tissue
                       Patterns::Bool(),
                       "Slack line search on the energy's directional derivative "
                       "R(u + a du).du: accept when it is at most 0.9 of its value at a = 0 "
-                      "(Crisfield 1991, FEBio), else interpolate. Unit: none.");
+                      "(Crisfield 1991, FEBio), else interpolate. Not used by the mixed "
+                      "formulation's 'Mixed update = newton', which takes full steps (a "
+                      "saddle point has no energy to search). Unit: none.");
     prm.declare_entry("Max backtracks",
                       std::to_string(d.max_backtracks),
                       Patterns::Integer(0, 30),
