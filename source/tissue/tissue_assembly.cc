@@ -39,6 +39,8 @@ namespace suturesim::tissue
         , r(n)
         , r_c(n)
         , u(n)
+        , v(n)
+        , Kv(n)
         , dofs(n)
       {}
       bool                                ok = false;
@@ -47,7 +49,8 @@ namespace suturesim::tissue
       // loads, and negates r for the right-hand side
       mutable FullMatrix<double>           K;
       mutable dealii::Vector<double>       r;
-      dealii::Vector<double>               r_c, u;
+      dealii::Vector<double>               r_c, u, v, Kv; ///< v, Kv: Rayleigh damping's
+
       std::vector<types::global_dof_index> dofs;
     };
 
@@ -110,10 +113,9 @@ namespace suturesim::tissue
         return;
       if (damping)
         {
-          dealii::Vector<double> v(n), Kv(n);
-          gather(v_val, locally_relevant_dofs, out.dofs, v);
-          out.K.vmult(Kv, v);
-          out.r.add(rayleigh_stiffness, Kv);
+          gather(v_val, locally_relevant_dofs, out.dofs, out.v);
+          out.K.vmult(out.Kv, out.v);
+          out.r.add(rayleigh_stiffness, out.Kv);
         }
       add_traction(cell, traction_function, scratch.face_values, out.r);
     };

@@ -19,17 +19,6 @@ namespace
   // of 2 mm, 20 ms steps)
   const std::string coarse_pass = "'" + source_path("parameters/needle_pass.prm") + "' --set Model=accurate";
 
-  std::size_t
-  column(const std::string &header, const std::string &name)
-  {
-    std::stringstream list(header);
-    std::size_t       k = 0;
-    for (std::string entry; std::getline(list, entry, ','); ++k)
-      if (entry.rfind(name, 0) == 0)
-        return k;
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  }
 } // namespace
 
 TEST(AccurateNeedle, CoarseNeedlePassPuncturesAtTheThresholdAsStored)

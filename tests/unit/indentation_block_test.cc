@@ -19,23 +19,9 @@ namespace
   std::vector<double>
   top_displacement(const RunResult &r)
   {
-    std::string header;
-    const auto  rows = read_forces(r, &header);
-    std::size_t column = 0, k = 0;
-    for (std::size_t start = 0, end;; start = end + 1, ++k)
-      {
-        end = header.find(',', start);
-        if (header.substr(start, end - start).rfind("top_centre_displacement_y", 0) == 0)
-          {
-            column = k;
-            break;
-          }
-        if (end == std::string::npos)
-          {
-            ADD_FAILURE() << "no top_centre_displacement_y in forces.csv: " << header;
-            return {};
-          }
-      }
+    std::string       header;
+    const auto        rows   = read_forces(r, &header);
+    const std::size_t column = suturesim::test_support::column(header, "top_centre_displacement_y");
     std::vector<double> u;
     for (std::size_t i = 1; i < rows.size(); ++i)
       u.push_back(rows[i].at(column));

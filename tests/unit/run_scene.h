@@ -1,5 +1,6 @@
 #pragma once
 // Runs the suturesim command as a user would and reads back what it wrote.
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
@@ -96,6 +97,20 @@ namespace suturesim::test_support
         rows.push_back(v);
       }
     return rows;
+  }
+
+  /// The index of the first column of a forces.csv @p header whose name starts with
+  /// @p name (names carry their unit, "x [m]"); a test failure if there is none.
+  inline std::size_t
+  column(const std::string &header, const std::string &name)
+  {
+    std::stringstream list(header);
+    std::size_t       k = 0;
+    for (std::string entry; std::getline(list, entry, ','); ++k)
+      if (entry.rfind(name, 0) == 0)
+        return k;
+    ADD_FAILURE() << "no column " << name;
+    return 0;
   }
 
   /// The value of "Sub/Sub/Key" in the run's parameters.prm (every value the run used);

@@ -30,17 +30,6 @@ namespace
     return rows[best];
   }
 
-  std::size_t
-  column(const std::string &header, const std::string &name)
-  {
-    std::stringstream list(header);
-    std::size_t       k = 0;
-    for (std::string entry; std::getline(list, entry, ','); ++k)
-      if (entry.rfind(name, 0) == 0)
-        return k;
-    ADD_FAILURE() << "no column " << name;
-    return 0;
-  }
 } // namespace
 
 TEST(VtuOutput, AccurateTissueFilesHoldTheDocumentedFieldsOnTheReferenceMesh)
