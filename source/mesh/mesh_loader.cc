@@ -74,10 +74,11 @@ namespace suturesim::mesh
                       "0",
                       Patterns::Integer(0, 10),
                       "Uniform refinements of the coarse mesh. Unit: 1. Range: 0-10.");
+    LocalRefinement::declare(prm);
   }
 
   void
-  MeshParameters::parse(const ParameterHandler &prm, const ParameterScope &scope)
+  MeshParameters::parse(ParameterHandler &prm, const ParameterScope &scope)
   {
     source              = prm.get("Source");
     generator_name      = prm.get("Generator");
@@ -88,6 +89,7 @@ namespace suturesim::mesh
     global_refinements  = prm.get_integer("Global refinements");
     scope.require(scale > 0, "Scale", "must be > 0");
     scope.require(thickness > 0, "Thickness", "must be > 0 m");
+    local.parse(prm, scope);
 
     geo_parameters.clear();
     const auto map = Patterns::Tools::Convert<std::map<std::string, double>>::to_value(
@@ -259,7 +261,8 @@ namespace suturesim::mesh
   MeshInfo
   create_mesh(const MeshParameters                            &p,
               const std::string                               &work_directory,
-              parallel::distributed::Triangulation<3>          &tria)
+              parallel::distributed::Triangulation<3>          &tria,
+              const std::vector<Point<3>>                      &needle_path)
   {
     MeshInfo info;
     // The coarse mesh is built serially (identical on every rank) and handed to p4est,
@@ -333,6 +336,7 @@ namespace suturesim::mesh
 
     tria.copy_triangulation(coarse);
     tria.refine_global(p.global_refinements);
+    p.local.apply(info, needle_path, tria);
     return info;
   }
 } // namespace suturesim::mesh

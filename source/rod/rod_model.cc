@@ -136,13 +136,13 @@ namespace suturesim::rod
   }
 
   void
-  RodModel::assemble(System &s, const NodalTerms *extra, const bool with_jacobian)
+  RodModel::assemble(System &s, const NodalTerms *extra, const bool with_jacobian, const unsigned parts)
   {
     const std::size_t n = n_nodes();
     s.reset(n, with_jacobian);
     Vec12 g;
     Mat12 H;
-    for (std::size_t k = 0; k < n_elements(); ++k)
+    for (std::size_t k = 0; k < n_elements() && (parts & elastic_part); ++k)
       {
         if (with_jacobian)
           {
@@ -157,6 +157,38 @@ namespace suturesim::rod
       for (std::size_t i = 0; i < n; ++i)
         s.J.diagonal(i).block<3, 3>(3, 3) -= 0.5 * skew(s.r.segment<3>(6 * i + 3));
 
+    if (parts & self_contact_part)
+      add_self_contact(s, with_jacobian);
+    for (std::size_t i = 0; i < n && (parts & applied_part); ++i)
+      {
+        s.r.segment<3>(6 * i) -= force[i];
+        s.r.segment<3>(6 * i + 3) -= moment[i];
+      }
+    if (element_terms && element_list && (parts & element_terms_part))
+      for (const std::size_t k : *element_list)
+        {
+          Vec12 r = Vec12::Zero();
+          Mat12 J = Mat12::Zero();
+          (*element_terms)(k, r, with_jacobian ? &J : nullptr);
+          s.r.segment<12>(6 * k) += r;
+          if (with_jacobian)
+            s.J.add_pair(k, J);
+        }
+    if (extra && (parts & nodal_part))
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          Vec6 r = Vec6::Zero();
+          Mat6 J = Mat6::Zero();
+          (*extra)(i, pos[i], rot[i], r, J);
+          s.r.segment<6>(6 * i) += r;
+          if (with_jacobian)
+            s.J.diagonal(i) += J;
+        }
+  }
+
+  void
+  RodModel::add_self_contact(System &s, const bool with_jacobian)
+  {
     std::fill(contact_force.begin(), contact_force.end(), 0.0);
     for (const auto &c : self_contact.update(pos))
       {
@@ -204,32 +236,6 @@ namespace suturesim::rod
                 s.add_translational(node[i], node[j], H.block<3, 3>(3 * i, 3 * j));
           }
       }
-
-    for (std::size_t i = 0; i < n; ++i)
-      {
-        s.r.segment<3>(6 * i) -= force[i];
-        s.r.segment<3>(6 * i + 3) -= moment[i];
-      }
-    if (element_terms && element_list)
-      for (const std::size_t k : *element_list)
-        {
-          Vec12 r = Vec12::Zero();
-          Mat12 J = Mat12::Zero();
-          (*element_terms)(k, r, with_jacobian ? &J : nullptr);
-          s.r.segment<12>(6 * k) += r;
-          if (with_jacobian)
-            s.J.add_pair(k, J);
-        }
-    if (extra)
-      for (std::size_t i = 0; i < n; ++i)
-        {
-          Vec6 r = Vec6::Zero();
-          Mat6 J = Mat6::Zero();
-          (*extra)(i, pos[i], rot[i], r, J);
-          s.r.segment<6>(6 * i) += r;
-          if (with_jacobian)
-            s.J.diagonal(i) += J;
-        }
   }
 
   void
@@ -303,6 +309,24 @@ namespace suturesim::rod
     return s.r;
   }
 
+  ResidualParts
+  RodModel::residual_parts(const std::vector<const NodalTerms *> &nodal)
+  {
+    const auto part = [&](const NodalTerms *extra, const unsigned mask) {
+      System s;
+      assemble(s, extra, false, mask);
+      return s.r;
+    };
+    ResidualParts parts;
+    parts.elastic       = part(nullptr, elastic_part);
+    parts.self_contact  = part(nullptr, self_contact_part);
+    parts.applied       = part(nullptr, applied_part);
+    parts.element_terms = part(nullptr, element_terms_part);
+    for (const NodalTerms *terms : nodal)
+      parts.nodal.push_back(part(terms, nodal_part));
+    return parts;
+  }
+
   Eigen::MatrixXd
   RodModel::dense_jacobian(const NodalTerms *extra)
   {
@@ -340,16 +364,111 @@ namespace suturesim::rod
     return states;
   }
 
+  double
+  RodModel::free_norm(const Eigen::VectorXd &r) const
+  {
+    double sum = 0;
+    for (Eigen::Index k = 0; k < r.size(); ++k)
+      if (!fixed[k / 6][k % 6])
+        sum += r[k] * r[k];
+    return std::sqrt(sum);
+  }
+
+  double
+  RodModel::capped_step(const Eigen::VectorXd &delta, const NewtonParameters &prm) const
+  {
+    // a quasi-static free end swings far on the first, large correction of a stiffly
+    // held node: the step is capped in length and turn
+    double step = 1;
+    for (std::size_t i = 0; i < n_nodes(); ++i)
+      {
+        const double moved  = delta.segment<3>(6 * i).norm();
+        const double turned = delta.segment<3>(6 * i + 3).norm();
+        if (prm.max_displacement > 0 && step * moved > prm.max_displacement)
+          step = prm.max_displacement / moved;
+        if (prm.max_rotation > 0 && step * turned > prm.max_rotation)
+          step = prm.max_rotation / turned;
+      }
+    return step;
+  }
+
+  bool
+  RodModel::take_full_step(System &s, const Eigen::VectorXd &delta, double step, const NodalTerms *extra)
+  {
+    // the assembly at the new state serves the next iteration, so no trial residual is
+    // evaluated; a step that would turn an element by π or more is halved
+    const auto x0 = pos;
+    const auto q0 = rot;
+    for (unsigned k = 0; k <= 10; ++k, step *= 0.5)
+      {
+        update(delta, step);
+        try
+          {
+            assemble(s, extra, true);
+            return true;
+          }
+        catch (const std::domain_error &)
+          {
+            pos = x0;
+            rot = q0;
+          }
+      }
+    return false;
+  }
+
+  double
+  RodModel::line_search(const System &s, const Eigen::VectorXd &delta, const unsigned trials, const double start,
+                        const NodalTerms *extra)
+  {
+    // On the slope of the energy along the direction, s(α) = δ·r(x ⊕ αδ) (the energy
+    // line search of FEBio and of Bathe's text): the full step is taken unless it
+    // overshoots the minimum along δ by much, in which case α is moved to the secant
+    // root of s. A residual-norm search would stall here: the stiff axial modes make
+    // ‖r‖ grow at first order in the rotations of a linearised step even when Newton
+    // converges. Returns the step, or infinity when every trial fails.
+    const auto x0       = pos;
+    const auto q0       = rot;
+    const auto slope_at = [&](const double a, double &trial_norm) {
+      update(delta, a);
+      double slope;
+      try
+        {
+          const Eigen::VectorXd r = residual(extra);
+          trial_norm              = free_norm(r);
+          slope                   = 0;
+          for (Eigen::Index k = 0; k < r.size(); ++k)
+            if (!fixed[k / 6][k % 6])
+              slope += delta[k] * r[k];
+        }
+      catch (const std::domain_error &)
+        {
+          trial_norm = slope = std::numeric_limits<double>::infinity();
+        }
+      pos = x0;
+      rot = q0;
+      return slope;
+    };
+    const double s0        = delta.dot(s.r);
+    double       best_step = start, trial_norm;
+    double       slope     = slope_at(start, trial_norm);
+    for (unsigned k = 0; k < 10 && !std::isfinite(trial_norm); ++k)
+      slope = slope_at(best_step *= 0.5, trial_norm);
+    for (unsigned ls = 0; ls < trials && s0 < 0 && !(std::abs(slope) <= 0.9 * std::abs(s0)); ++ls)
+      {
+        const double a = std::isfinite(slope) ? best_step * s0 / (s0 - slope) : 0.5 * best_step;
+        best_step = std::clamp(std::isfinite(a) && a > 0 ? a : 0.5 * best_step, 0.05 * best_step, best_step);
+        slope     = slope_at(best_step, trial_norm);
+      }
+    return std::isfinite(trial_norm) ? best_step : std::numeric_limits<double>::infinity();
+  }
+
   NewtonResult
   RodModel::solve(const NewtonParameters &prm, const NodalTerms *extra)
   {
     NewtonResult result;
-    const auto   free_norm = [&](const Eigen::VectorXd &r) {
-      double sum = 0;
-      for (Eigen::Index k = 0; k < r.size(); ++k)
-        if (!fixed[k / 6][k % 6])
-          sum += r[k] * r[k];
-      return std::sqrt(sum);
+    const auto   observe = [&](const double norm, const Eigen::VectorXd *delta, const double step) {
+      if (prm.observer)
+        prm.observer(NewtonIterate{result.iterations, norm, delta, step});
     };
     try
       {
@@ -362,16 +481,20 @@ namespace suturesim::rod
         // absolute floor: round-off of the largest section force
         const double floor = std::max(1e-13 * stiffness.force.maxCoeff(), prm.absolute_floor);
         const double scale = std::max({norm, std::sqrt(load), floor});
+        double       least = norm; // for NewtonParameters::stall_window
+        unsigned     since = 0;
         for (result.iterations = 0;; ++result.iterations)
           {
             result.residual = norm;
             if (norm <= prm.tolerance * scale || norm <= floor)
               {
+                observe(norm, nullptr, 0);
                 result.converged = true;
                 return result;
               }
             if (result.iterations == prm.max_iterations)
               {
+                observe(norm, nullptr, 0);
                 result.reason = "no convergence in " + std::to_string(prm.max_iterations) +
                                 " iterations (residual " + std::to_string(norm) + " N)";
                 return result;
@@ -382,99 +505,46 @@ namespace suturesim::rod
                 result.reason = "linear solve produced NaN";
                 return result;
               }
-            if (prm.line_search_steps == 0)
+            // a stall of full steps: the line search from here on
+            if (prm.line_search_steps == 0 && prm.stall_window > 0 && result.line_search_from == 0)
               {
-                // full steps: the assembly at the new state serves the next iteration,
-                // so no trial residual is evaluated; a step that would turn an element
-                // by π or more is halved
-                const auto x0        = pos;
-                const auto q0        = rot;
-                bool       assembled = false;
-                double     step      = 1;
-                // the step capped in length and turn (a quasi-static free end swings
-                // far on the first, large correction of a stiffly held node)
-                for (std::size_t i = 0; i < n_nodes(); ++i)
+                if (norm < 0.99 * least)
                   {
-                    const double moved  = delta.segment<3>(6 * i).norm();
-                    const double turned = delta.segment<3>(6 * i + 3).norm();
-                    if (prm.max_displacement > 0 && step * moved > prm.max_displacement)
-                      step = prm.max_displacement / moved;
-                    if (prm.max_rotation > 0 && step * turned > prm.max_rotation)
-                      step = prm.max_rotation / turned;
+                    least = norm;
+                    since = 0;
                   }
-                for (unsigned k = 0; k <= 10 && !assembled; ++k, step *= 0.5)
-                  {
-                    update(delta, step);
-                    try
-                      {
-                        assemble(s, extra, true);
-                        assembled = true;
-                      }
-                    catch (const std::domain_error &)
-                      {
-                        pos = x0;
-                        rot = q0;
-                      }
-                  }
-                if (!assembled)
+                else if (++since >= prm.stall_window)
+                  result.line_search_from = result.iterations;
+              }
+            if (prm.line_search_steps == 0 && result.line_search_from == 0)
+              {
+                const double step = capped_step(delta, prm);
+                observe(norm, &delta, step);
+                if (!take_full_step(s, delta, step, extra))
                   {
                     result.reason = "every step length turned an element by pi or more";
                     return result;
                   }
-                norm = free_norm(s.r);
-                continue;
               }
-            // Line search on the slope of the energy along the direction, s(α) =
-            // δ·r(x ⊕ αδ) (the energy line search of FEBio and of Bathe's text): the
-            // full step is taken unless it overshoots the minimum along δ by much, in
-            // which case α is moved to the secant root of s. A residual-norm search would
-            // stall here: the stiff axial modes make ‖r‖ grow at first order in the
-            // rotations of a linearised step even when Newton converges.
-            const auto x0       = pos;
-            const auto q0       = rot;
-            const auto slope_at = [&](const double a, double &trial_norm) {
-              update(delta, a);
-              double slope;
-              try
-                {
-                  const Eigen::VectorXd r = residual(extra);
-                  trial_norm              = free_norm(r);
-                  slope                   = 0;
-                  for (Eigen::Index k = 0; k < r.size(); ++k)
-                    if (!fixed[k / 6][k % 6])
-                      slope += delta[k] * r[k];
-                }
-              catch (const std::domain_error &)
-                {
-                  trial_norm = slope = std::numeric_limits<double>::infinity();
-                }
-              pos = x0;
-              rot = q0;
-              return slope;
-            };
-            double s0 = 0;
-            for (Eigen::Index k = 0; k < s.r.size(); ++k)
-              s0 += delta[k] * s.r[k];
-            double best_step = 1, trial_norm;
-            double slope     = slope_at(1, trial_norm);
-            for (unsigned k = 0; k < 10 && !std::isfinite(trial_norm); ++k)
-              slope = slope_at(best_step *= 0.5, trial_norm);
-            for (unsigned ls = 0; ls < prm.line_search_steps && s0 < 0 &&
-                                  !(std::abs(slope) <= 0.9 * std::abs(s0));
-                 ++ls)
+            else
               {
-                const double a = std::isfinite(slope) ? best_step * s0 / (s0 - slope) : 0.5 * best_step;
-                best_step      = std::clamp(std::isfinite(a) && a > 0 ? a : 0.5 * best_step,
-                                            0.05 * best_step, best_step);
-                slope          = slope_at(best_step, trial_norm);
+                const double step = prm.line_search_steps > 0 ? line_search(s, delta, prm.line_search_steps, 1, extra)
+                                                              : line_search(s, delta, 4, capped_step(delta, prm), extra);
+                if (!std::isfinite(step))
+                  {
+                    result.reason = "every line-search trial failed";
+                    return result;
+                  }
+                observe(norm, &delta, step);
+                update(delta, step);
+                assemble(s, extra, true);
               }
-            if (!std::isfinite(trial_norm))
+            if (prm.follow && prm.follow())
               {
-                result.reason = "every line-search trial failed";
-                return result;
+                assemble(s, extra, true);
+                least = free_norm(s.r);
+                since = 0;
               }
-            update(delta, best_step);
-            assemble(s, extra, true);
             norm = free_norm(s.r);
           }
       }

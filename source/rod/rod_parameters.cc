@@ -253,6 +253,20 @@ namespace suturesim::rod
                       "load. Unit: 1. Range: (0, 1).");
     prm.declare_entry("Line search steps", std::to_string(d.newton.line_search_steps), Patterns::Integer(0, 50),
                       "Energy line-search trials per iteration; 0 takes full Newton steps. Unit: 1. Range: 0-50.");
+    prm.declare_entry("Stall window", std::to_string(d.newton.stall_window), Patterns::Integer(0, 1000),
+                      "Full steps (Line search steps = 0): after this many iterations in a row "
+                      "without the residual falling below 0.99 of its least value so far, the "
+                      "solve goes on with the energy line search (4 trials a step, from the "
+                      "capped step). Full steps cycle where a pierce point's slip reverses "
+                      "across its stick band (docs/interrupted_stitch.md). 0: never. Unit: 1. "
+                      "Range: 0-1000.");
+    prm.declare_entry("Trace failures", "false", Patterns::Bool(),
+                      "Accurate path with tissue and suture: every iteration of each suture "
+                      "solve that fails goes to suture_newton_trace.csv in the output folder, "
+                      "its residual split by contribution (elements, self-contact, applied "
+                      "loads, pierce-point ties, stabilization, tissue contact), the step "
+                      "taken, and the node with the largest residual (diagnostics: "
+                      "docs/interrupted_stitch.md). Unit: none.");
     prm.leave_subsection();
     prm.declare_entry("Damping", "0", Patterns::Double(0),
                       "Mass-proportional damping c of the dynamics (force c m v, moment c J "
@@ -408,6 +422,8 @@ namespace suturesim::rod
     newton.max_iterations    = prm.get_integer("Max iterations");
     newton.tolerance         = prm.get_double("Tolerance");
     newton.line_search_steps = prm.get_integer("Line search steps");
+    newton.stall_window      = prm.get_integer("Stall window");
+    trace_failures           = prm.get_bool("Trace failures");
     prm.leave_subsection();
     scope.subsection("Newton").require(newton.tolerance > 0, "Tolerance", "must be > 0");
     damping       = prm.get_double("Damping");

@@ -1,7 +1,10 @@
 #include <suturesim/core/error.h>
 #include <suturesim/scene/accurate_stitch.h>
 
+#include <deal.II/base/mpi.h>
+
 #include <algorithm>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
@@ -19,7 +22,7 @@ namespace suturesim::scene
   {
     {
       TimerOutput::Scope section(timer, "mesh");
-      mesh_info = mesh::create_mesh(scene.mesh, directory, tria);
+      mesh_info = mesh::create_mesh(scene.mesh, directory, tria, needle_path());
     }
     scene.boundary_conditions.resolve(mesh_info);
     // the closure's gap probes join the tissue's own (after them)
@@ -60,7 +63,7 @@ namespace suturesim::scene
     // floor 5e-5 N), and its iterations cost little.
     force_floor = 0.01 * np.transverse_stiffness * np.coupling_tolerance;
     if (suture)
-      tune_suture_newton();
+      tune_suture_newton(directory);
     // the suture, solved with the tissue in one Newton iteration
     if (suture)
       body.emplace(*suture, suture_newton, *needle, contact ? &*contact : nullptr, loads,
@@ -72,6 +75,25 @@ namespace suturesim::scene
       parts.push_back(&*faces);
     both.emplace(parts);
     coupled = parts.empty() ? nullptr : parts.size() == 1 ? parts.front() : &*both;
+  }
+
+  std::vector<Point<3>>
+  AccurateStitch::needle_path() const
+  {
+    // the arc the tip follows from the entry to the exit point (a pass turns the needle
+    // about its own arc centre, so its body follows the same arc)
+    std::vector<Point<3>> arc;
+    if (np.motion != "pass")
+      return arc;
+    const auto     pass = np.planned_pass();
+    constexpr unsigned samples = 64;
+    for (unsigned k = 0; k <= samples; ++k)
+      {
+        const double t = pass.t_tip_entry + (pass.t_tip_exit - pass.t_tip_entry) * k / samples;
+        const auto   x = geometry.tip(path.pose(t));
+        arc.emplace_back(x[0], x[1], x[2]);
+      }
+    return arc;
   }
 
   void
@@ -116,18 +138,33 @@ namespace suturesim::scene
                       surface.reference, surface.triangles, surface.ids, a, b);
       }
     // the terms the pass adds at the suture's nodes: the drag and the contact
-    node_terms = [this](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &, rod::Vec6 &r, rod::Mat6 &J) {
+    drag_terms = [this](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &, rod::Vec6 &r, rod::Mat6 &J) {
       if (drag)
         drag->add(i, xi, r, J);
+    };
+    contact_terms = [this](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &, rod::Vec6 &r,
+                           rod::Mat6 &J) {
       if (contact)
         contact->add_node_terms(i, xi, r, J);
+    };
+    node_terms = [this](const std::size_t i, const rod::Vec3 &xi, const rod::Quat &q, rod::Vec6 &r, rod::Mat6 &J) {
+      drag_terms(i, xi, q, r, J);
+      contact_terms(i, xi, q, r, J);
     };
   }
 
   void
-  AccurateStitch::tune_suture_newton()
+  AccurateStitch::tune_suture_newton(const std::string &directory)
   {
     suture_newton                = scene.suture.newton;
+    if (scene.suture.trace_failures && Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      {
+        trace.emplace(std::vector<std::pair<std::string, const rod::NodalTerms *>>{{"stabilization", &drag_terms},
+                                                                                  {"contact", &contact_terms}},
+                      (std::filesystem::path(directory) / "suture_newton_trace.csv").string(),
+                      [this] { return body->point_states(); });
+        suture_newton.observer = [this](const rod::NewtonIterate &iterate) { trace->record(*suture, iterate); };
+      }
     suture_newton.absolute_floor = std::max(suture_newton.absolute_floor, 0.1 * force_floor);
     // the suture's equilibrium under each tissue iterate: slack thread crawls at the
     // step cap below (measured: up to a hundred iterations at the tightening), and an
@@ -173,8 +210,29 @@ namespace suturesim::scene
         const bool r = end.fixes_rotation();
         suture->constrain(last, {{true, true, true, r, r, r}});
       }
-    const double motion = closure ? closure->motion_time(t) : t;
-    suture->set_node(last, end.position(std::max(motion, end.grasp_time), grasped_at), suture->rotations()[last]);
+    const double    motion = closure ? closure->motion_time(t) : t;
+    const rod::Vec3 to     = end.position(std::max(motion, end.grasp_time), grasped_at);
+    // The grasper carries the slack thread between it and the last pierce point along
+    // as a predictor, the move growing linearly with the arc length to it: moved alone,
+    // the end node of a thread drawn at 60 mm/s stretched its element to several times
+    // its length, and the suture's Newton iteration, its directions turning the slack
+    // thread by thousands of radians, crawled at the step cap for 500 iterations
+    // (docs/interrupted_stitch.md). The solve then starts from a thread of about its
+    // own length.
+    const rod::Vec3                d        = to - suture->positions()[last];
+    const std::vector<std::size_t> carriers = needle->thread_elements();
+    const std::size_t              from     = carriers.empty() ? 0 : carriers.back() + 1;
+    const auto                    &refs     = suture->references();
+    double                         span     = 0;
+    for (std::size_t k = from; k < last; ++k)
+      span += refs[k].length;
+    double along = 0;
+    for (std::size_t i = from + 1; i < last && span > 0; ++i)
+      {
+        along += refs[i - 1].length;
+        suture->set_node(i, suture->positions()[i] + along / span * d, suture->rotations()[i]);
+      }
+    suture->set_node(last, to, suture->rotations()[last]);
   }
 
   std::vector<Point<3>>
@@ -270,7 +328,11 @@ namespace suturesim::scene
     // points (the elements carrying the thread's pierce points follow within it).
     solve_rounds(tn);
     if (!report.converged)
-      return {StepAttempt::Outcome::failed, report.failure};
+      {
+        if (trace && report.failure.find("suture: ") != std::string::npos)
+          trace->write(tn, dt);
+        return {StepAttempt::Outcome::failed, report.failure};
+      }
     // land the puncture within 4 % above the threshold: a step that overshoots is cut
     if (needle->touch_force(positions()) > 1.04 * np.puncture.threshold)
       return {StepAttempt::Outcome::too_long, ""};

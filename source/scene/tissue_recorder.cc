@@ -64,15 +64,7 @@ namespace suturesim::scene
   {
     if (!any)
       return;
-    tissue::BoundarySurface surface;
-    try
-      {
-        surface = model.boundary_surface(); // collective
-      }
-    catch (const std::invalid_argument &)
-      {
-        return; // a refined mesh: its boundary vertices are not the coarse mesh's (no surface field)
-      }
+    const tissue::BoundarySurface surface = model.boundary_surface(); // collective
     Eigen::Matrix3Xd x;
     model.surface_positions(surface, x); // collective
     if (recorder.is_root())

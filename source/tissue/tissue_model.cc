@@ -148,6 +148,9 @@ namespace suturesim::tissue
   {
     c.clear();
     c.reinit(locally_relevant_dofs);
+    // a locally refined mesh: the hanging nodes follow their coarse neighbours (before
+    // the boundary values, which then skip a constrained node)
+    DoFTools::make_hanging_node_constraints(dof_handler, c);
     double gap = 0;
     for (const auto &d : bc.dirichlet)
       {

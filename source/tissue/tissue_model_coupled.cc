@@ -106,6 +106,15 @@ namespace suturesim::tissue
               report.linear_iterations += solver->statistics().iterations;
               if (m > 0)
                 {
+                  // the points read the cells' DoFs, hanging ones among them on a locally
+                  // refined mesh: z0 takes its constrained values (the boundary's
+                  // motion too), each column of Z the homogeneous ones, P z (a solve
+                  // leaves a constrained row at its right-hand side's value, not at the
+                  // interpolation of its parents); distribute(z) = P z + g
+                  constraints.distribute(update);
+                  rhs = 0;
+                  constraints.distribute(rhs);
+                  const Vector g        = rhs;
                   ghost                 = update;
                   const auto z0_at      = point_values(ghost, false);
                   for (std::size_t j = 0; j < m; ++j)
@@ -122,6 +131,8 @@ namespace suturesim::tissue
                         Vector &z = Z[3 * j + d];
                         z         = 0;
                         solver->solve(system_matrix, z, rhs, 0, 1e-14);
+                        constraints.distribute(z);
+                        z.add(-1, g);
                         ghost          = z;
                         const auto zat = point_values(ghost, false);
                         for (std::size_t i = 0; i < m; ++i)

@@ -15,12 +15,8 @@ namespace suturesim::tissue
   BoundarySurface
   TissueModel::boundary_surface() const
   {
-    if (tria.n_global_levels() > 1)
-      throw std::invalid_argument("the tissue's boundary surface needs an unrefined mesh");
-    // every rank lists the boundary faces of its cells: vertex ids, corner positions
-    // and DoFs, and whether corners 0, 1, 3, 2 go round it inward (flat arrays: what
-    // MPI gathers)
-    std::vector<unsigned>                vertex;
+    // every rank lists the boundary faces of its cells: corner positions and DoFs, and
+    // whether corners 0, 1, 3, 2 go round it inward (flat arrays: what MPI gathers)
     std::vector<double>                  corner;
     std::vector<types::global_dof_index> dof;
     std::vector<int>                     flip, id;
@@ -31,14 +27,11 @@ namespace suturesim::tissue
             {
               const auto face = cell->face(f);
               for (unsigned v = 0; v < 4; ++v)
-                {
-                  vertex.push_back(face->vertex_index(v));
-                  for (unsigned c = 0; c < 3; ++c)
-                    {
-                      corner.push_back(face->vertex(v)[c]);
-                      dof.push_back(face->vertex_dof_index(v, c));
-                    }
-                }
+                for (unsigned c = 0; c < 3; ++c)
+                  {
+                    corner.push_back(face->vertex(v)[c]);
+                    dof.push_back(face->vertex_dof_index(v, c));
+                  }
               const Tensor<1, 3> n = cross_product_3d(face->vertex(1) - face->vertex(0),
                                                       face->vertex(3) - face->vertex(0));
               flip.push_back(n * (face->center() - cell->center()) < 0);
@@ -46,41 +39,38 @@ namespace suturesim::tissue
             }
     struct Face
     {
-      std::array<unsigned, 4>                                vertex;
       std::array<Point<3>, 4>                                X;
       std::array<std::array<types::global_dof_index, 3>, 4> dofs;
       bool                                                   flip;
       types::boundary_id                                     id;
     };
     std::vector<Face> all;
-    const auto        vertices = Utilities::MPI::all_gather(comm, vertex);
     const auto        corners  = Utilities::MPI::all_gather(comm, corner);
     const auto        dofs     = Utilities::MPI::all_gather(comm, dof);
     const auto        flips    = Utilities::MPI::all_gather(comm, flip);
     const auto        ids      = Utilities::MPI::all_gather(comm, id);
-    for (std::size_t r = 0; r < vertices.size(); ++r)
+    for (std::size_t r = 0; r < flips.size(); ++r)
       for (std::size_t f = 0; f < flips[r].size(); ++f)
         {
           Face g;
           for (unsigned v = 0; v < 4; ++v)
-            {
-              g.vertex[v] = vertices[r][4 * f + v];
-              for (unsigned c = 0; c < 3; ++c)
-                {
-                  g.X[v][c]    = corners[r][12 * f + 3 * v + c];
-                  g.dofs[v][c] = dofs[r][12 * f + 3 * v + c];
-                }
-            }
+            for (unsigned c = 0; c < 3; ++c)
+              {
+                g.X[v][c]    = corners[r][12 * f + 3 * v + c];
+                g.dofs[v][c] = dofs[r][12 * f + 3 * v + c];
+              }
           g.flip = flips[r][f];
           g.id   = static_cast<types::boundary_id>(ids[r][f]);
           all.push_back(g);
         }
 
     BoundarySurface           s;
-    std::map<unsigned, std::uint32_t> index;
+    // vertices by their first DoF, which every rank numbers alike (vertex numbers of a
+    // refined distributed mesh are each rank's own)
+    std::map<types::global_dof_index, std::uint32_t> index;
     std::vector<Point<3>>     X;
     const auto                node = [&](const Face &g, const unsigned v) {
-      const auto [it, added] = index.try_emplace(g.vertex[v], static_cast<std::uint32_t>(X.size()));
+      const auto [it, added] = index.try_emplace(g.dofs[v][0], static_cast<std::uint32_t>(X.size()));
       if (added)
         {
           X.push_back(g.X[v]);

@@ -57,7 +57,87 @@ TEST(AccurateNeedle, CoarseNeedlePassPuncturesAtTheThresholdAsStored)
   EXPECT_GT(with_two, 0u);
 }
 
+namespace
+{
+  /// The suture pass below on the scene's mesh with @p mesh_settings added (--set
+  /// options), run into folder @p name; each coupled step's residuals contract by
+  /// @p contraction or better.
+  void
+  expect_suture_pass_balances_as_one_body(const std::string &name, const std::string &mesh_settings,
+                                          double contraction);
+} // namespace
+
 TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheirFriction)
+{
+  expect_suture_pass_balances_as_one_body("needle_pass_accurate_suture", "", 1e-2);
+}
+
+TEST(AccurateNeedle, SuturePassOnAMeshRefinedAlongTheNeedlePathBalancesAsOneBody)
+{
+  // The same pass on the 2 mm hexahedra refined once within 1 mm of the needle's planned
+  // arc (Mesh/Local refinement): the puncture, pierce and contact points are located in
+  // the fine cells, next to hanging nodes, and everything asserted on the uniform mesh
+  // holds there too: the punctures and the points' hand-over to the suture, thread
+  // order, Coulomb's law in slip, the needle's force balanced by the bottom's reaction
+  // to 1e-4 N in the pull (a point force lost at a hanging node would break it), and
+  // the coupled iteration's contraction. In slip that contraction is linear and set by
+  // the tissue's compliance at the points, which the fine cells raise: the whole pad
+  // refined once (`--set "Mesh/Global refinements=1"`, no hanging nodes) contracts by
+  // 0.0057–0.0187 on its first iteration (measured), the 2 mm pad by 1e-2 or better, so
+  // the bound here is 2.5e-2. (A condensed tangent that misread the hanging DoFs
+  // converges linearly where it should be quadratic: Condensation.*LocallyRefined*.)
+  expect_suture_pass_balances_as_one_body("needle_pass_accurate_suture_refined",
+                                          " --set 'Mesh/Local refinement/Levels=1'"
+                                          " --set 'Mesh/Local refinement/Near needle path=true'"
+                                          " --set 'Mesh/Local refinement/Distance=0.001'",
+                                          2.5e-2);
+}
+
+TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
+{
+  // The suture pass above (tissue, needle, Cosserat suture through the pierce points, to
+  // 0.4 s into the pull) serial and on two MPI processes: the tissue is partitioned, the
+  // suture and the needle are replicated on both. Every forces.csv column of every row
+  // agrees to 1e-7 of the column's largest value plus 1e-11 (its SI unit): the solves
+  // stop at 5e-7 N on forces of about 1 N, and a partition changes only the order of
+  // sums. Measured 2026-11-27: at most 9.0e-13 N apart, 6.2e-9 of the column on columns
+  // above 1e-8 (the bottom's reaction). The same rows: no step is halved differently.
+  const std::string args = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
+                                         " --set 'Time/Output interval=0.5'";
+  const auto        serial   = run_suturesim("needle_pass_suture_np1", args);
+  const auto        parallel = run_suturesim("needle_pass_suture_np2", args, mpi_launcher(2));
+  ASSERT_EQ(serial.exit_code, 0) << serial.output;
+  ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
+  std::string h1, h2;
+  const auto  a = read_forces(serial, &h1), b = read_forces(parallel, &h2);
+  ASSERT_EQ(h1, h2);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GT(a.size(), 50u);
+  std::vector<std::string> names;
+  std::stringstream        list(h1);
+  for (std::string name; std::getline(list, name, ',');)
+    names.push_back(name);
+  double worst = 0;
+  for (std::size_t j = 0; j < a.front().size(); ++j)
+    {
+      double scale = 0;
+      for (const auto &row : a)
+        scale = std::max(scale, std::abs(row[j]));
+      for (std::size_t k = 0; k < a.size(); ++k)
+        {
+          EXPECT_NEAR(b[k][j], a[k][j], 1e-7 * scale + 1e-11) << names[j] << ", t = " << a[k][0];
+          worst = std::max(worst, std::abs(b[k][j] - a[k][j]));
+        }
+    }
+  std::printf("[ mpi ] %zu rows, %zu columns: largest difference %.2e (SI units)\n", a.size(), names.size(), worst);
+  EXPECT_EQ(parallel.summary["mpi_processes"].get<int>(), 2);
+}
+
+namespace
+{
+void
+expect_suture_pass_balances_as_one_body(const std::string &name, const std::string &mesh_settings,
+                                        const double contraction)
 {
   // The same pass with the suture (60 elements of 1 mm, clamped at the swage) to 0.4 s
   // into the pull (40 ms steps): both pierce points pass from the needle onto the suture
@@ -70,10 +150,10 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
   // A gap probe pair across the incision (0.4 mm apart at rest, away from the pass)
   // checks the accurate path's closure measurement: the gap of the undeformed pad, then
   // one gap per row.
-  const auto r = run_suturesim("needle_pass_accurate_suture",
-                               coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
-                                             " --set 'Time/Output interval=0.5'"
-                                             " --set 'Closure/Gap probes=mid: -0.0002, 0, 0.006, 0.0002, 0, 0.006'");
+  const auto r = run_suturesim(name, coarse_pass + mesh_settings +
+                                       " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
+                                       " --set 'Time/Output interval=0.5'"
+                                       " --set 'Closure/Gap probes=mid: -0.0002, 0, 0.006, 0.0002, 0, 0.006'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NEAR(r.summary["metrics"]["initial_gap"].get<double>(), 4e-4, 1e-12);
   EXPECT_TRUE(r.summary["metrics"]["closure_tension"].is_null()); // nothing draws it shut
@@ -144,9 +224,10 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
   // one record per accepted step (rows and steps alike). A step with a point on the
   // suture is one Newton iteration of tissue and suture together, the suture condensed
   // onto the tissue's points (coupling/accurate/condensed_suture.h): it iterates (the
-  // pull moves the thread), each residual at most 1e-2 of the one before (measured
-  // 4.1e-4, 1.3e-6, 2.0e-8 N: in slip the contraction is linear, about 2e-3 an
-  // iteration, CoupledNewtonContractsLinearly... above) or below the floor both bodies
+  // pull moves the thread), each residual at most `contraction` (1e-2 on the scene's
+  // mesh) of the one before (measured 4.1e-4, 1.3e-6, 2.0e-8 N: in slip the
+  // contraction is linear, about 2e-3 an iteration, CoupledNewtonContractsLinearly...
+  // above) or below the floor both bodies
   // are solved to, 0.01 k⊥ × coupling tolerance = 5e-7 N (the suture's equilibrium
   // under each tissue iterate is solved to that floor, and its error is what is left of
   // the residual there, measured 1e-8 to 1e-7 N). The partitioned rounds this replaced
@@ -163,16 +244,17 @@ TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheir
         for (std::size_t i = 1; i < norms.size(); ++i)
           {
             const double before = norms[i - 1], now = norms[i];
-            EXPECT_LE(now, std::max(1e-2 * before, floor)) << "t = " << rows[k][0] << ", iteration " << i;
-            contractions += now <= 1e-2 * before;
+            EXPECT_LE(now, std::max(contraction * before, floor)) << "t = " << rows[k][0] << ", iteration " << i;
+            contractions += now <= contraction * before;
           }
         EXPECT_LE(norms.back().get<double>(), floor) << "t = " << rows[k][0];
         EXPECT_LE(steps[k]["newton_iterations"].get<int>(), 6) << "t = " << rows[k][0];
         ++coupled;
       }
   EXPECT_GT(coupled, 10u);
-  EXPECT_GE(contractions, coupled); // at least one contraction by 100 a step
+  EXPECT_GE(contractions, coupled); // at least one such contraction a step
 }
+} // namespace
 
 namespace
 {
@@ -353,10 +435,16 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // Newton unknowns (cell_assembler.h): the exact update's run gave 8.744570884462 N,
   // 10.9362909786647 N and 4.548893241301531e-05 m, differences of 3.3e-11, 1.0e-10 and
   // 2.2e-9 relative, the Newton tolerance's size (two iterations of one solve converge
-  // to different points inside it).
-  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.744570884751576, 1e-12 * 8.744570884751576);
-  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.93629097751728, 1e-12 * 10.93629097751728);
-  EXPECT_NEAR(m["closure_time"].get<double>(), 6.609375, 1e-9);
-  EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.849375, 1e-9);
-  EXPECT_NEAR(m["final_gap"].get<double>(), 4.5488932312349144e-05, 1e-9 * 4.5488932312349144e-05);
+  // to different points inside it). Re-stored 2026-11-27 when the suture's solve gained
+  // its stall window, carriers that follow within it and the grasped thread's predictor
+  // (issue 25; docs/interrupted_stitch.md): 34 step halvings became 17, and the
+  // path through them moved the closure tension from 8.744570884751576 N to the value
+  // below (+1.0 %), the tie-off tension from 10.93629097751728 N (−0.3 %). That is the
+  // stitch's sensitivity to its load path (friction remembers it), which those numbers
+  // bound: 8.66–8.86 N over the four solver variants measured.
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.829873215351013, 1e-12 * 8.829873215351013);
+  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.907273288614531, 1e-12 * 10.907273288614531);
+  EXPECT_NEAR(m["closure_time"].get<double>(), 6.616875, 1e-9);
+  EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.846875, 1e-9);
+  EXPECT_NEAR(m["final_gap"].get<double>(), 4.671034618334373e-05, 1e-9 * 4.671034618334373e-05);
 }

@@ -12,6 +12,7 @@
 #include <deal.II/distributed/tria.h>
 #include <deal.II/grid/grid_generator.h>
 
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -22,8 +23,10 @@ namespace suturesim::test_support
   struct BlockModel
   {
     /// @p tissue: the body of the Tissue subsection (Element degree, Newton, Material,
-    /// Boundary conditions); the box from the origin to @p upper with @p cells.
-    BlockModel(const std::string &tissue, const dealii::Point<3> &upper, const std::vector<unsigned> &cells)
+    /// Boundary conditions); the box from the origin to @p upper with @p cells, then
+    /// @p refine (a locally refined mesh: hanging nodes) before the model is set up.
+    BlockModel(const std::string &tissue, const dealii::Point<3> &upper, const std::vector<unsigned> &cells,
+               const std::function<void(dealii::parallel::distributed::Triangulation<3> &)> &refine = {})
       : tria(MPI_COMM_WORLD)
       , timer(MPI_COMM_WORLD, std::cout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
     {
@@ -42,6 +45,8 @@ namespace suturesim::test_support
       prm.leave_subsection();
 
       dealii::GridGenerator::subdivided_hyper_rectangle(tria, cells, dealii::Point<3>(), upper, true);
+      if (refine)
+        refine(tria);
       mesh::MeshInfo info;
       info.boundary_names = {{0, "x0"}, {1, "x1"}, {2, "y0"}, {3, "y1"}, {4, "bottom"}, {5, "top"}};
       bc.resolve(info);

@@ -2,12 +2,18 @@
 // through the gmsh API) and mesh/mesh_loader.h (the accurate path's hexahedra, through
 // deal.II's GridIn; a .geo meshed by the gmsh CLI first): node and element counts,
 // physical groups as tags, names and boundary ids, and a one-line InputError naming the
-// file for what they cannot read.
+// file for what they cannot read. And the accurate path's local refinement from the
+// scene (mesh/local_refinement.h): on meshes/block.geo (hexahedra of 5 mm) the cells near
+// the named faces and near a needle path are refined Levels times and the far ones not
+// at all; bad settings are a one-line error naming the parameter. That the tissue stays
+// correct on such a mesh (hanging nodes, embedded points) is tested where it is solved:
+// Condensation.*LocallyRefined* and AccurateNeedle.*Refined*.
 #include "run_scene.h"
 
 #include <suturesim/core/error.h>
 #include <suturesim/mesh/gmsh_reader.h>
 #include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/scene/simulation.h>
 
 #include <deal.II/distributed/tria.h>
 
@@ -18,6 +24,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <string>
 
 using namespace suturesim;
 namespace fs = std::filesystem;
@@ -51,6 +59,34 @@ namespace
     p.geo_parameters = std::move(geo);
     return p;
   }
+
+  struct RefinedBlock
+  {
+    /// meshes/block.geo (40 x 40 x 10 mm, hexahedra of 5 mm) with @p local as the body of
+    /// Mesh/Local refinement, created along @p path.
+    RefinedBlock(const std::string &local, const std::vector<dealii::Point<3>> &path = {})
+      : tria(MPI_COMM_WORLD)
+    {
+      dealii::ParameterHandler prm;
+      scene::Simulation::declare_parameters(prm);
+      const std::string text = "subsection Mesh\n set Source = gmsh\n set File = " +
+                               test_support::source_path("meshes/block.geo") +
+                               "\n set Geo parameters = h: 0.005, hexahedra: 1\n subsection Local refinement\n" + local +
+                               " end\nend\n";
+      file.emplace(prm, text, "refined.prm", ".");
+      prm.enter_subsection("Mesh");
+      parameters.parse(prm, ParameterScope(*file, "Mesh"));
+      prm.leave_subsection();
+      const auto dir = test_support::scratch_path() / "local_refinement";
+      std::filesystem::create_directories(dir);
+      info = mesh::create_mesh(parameters, dir.string(), tria, path);
+    }
+
+    std::optional<ParameterFile>                    file;
+    mesh::MeshParameters                            parameters;
+    dealii::parallel::distributed::Triangulation<3>         tria;
+    mesh::MeshInfo                                  info;
+  };
 
   /// The message of the InputError @p f throws ("" if it throws none).
   template <typename F>
@@ -269,4 +305,63 @@ TEST(GmshReader, MalformedInputIsOneLineNamingTheFile)
   // the realtime path's reader refuses hexahedra, naming the .geo switch
   expect_one_line(input_error([&] { mesh::read_simplex_mesh(gmsh_source(hex), dir); }), hex, "needs tetrahedra");
   EXPECT_EQ(checked, 5u);
+}
+
+TEST(LocalRefinement, RefinesTheCellsNearANamedFaceLevelsTimesAndNoOthers)
+{
+  // the top face (z = 10 mm), two levels within 1 mm: the top layer of 5 mm cells is
+  // halved, then the upper half of that again; the bottom layer is left alone
+  const RefinedBlock block(" set Levels = 2\n set Near boundaries = top\n set Distance = 0.001\n");
+  unsigned           top = 0, bottom = 0;
+  for (const auto &cell : block.tria.active_cell_iterators())
+    {
+      const double z = cell->center()[2];
+      if (z > 0.0075)
+        {
+          EXPECT_EQ(cell->level(), 2) << cell->center();
+          ++top;
+        }
+      if (z < 0.005)
+        {
+          EXPECT_EQ(cell->level(), 0) << cell->center();
+          ++bottom;
+        }
+    }
+  // 8 x 8 coarse columns: 64 bottom cells, 32 cells of 1.25 mm in the upper 2.5 mm of
+  // each column, 4 of 2.5 mm below them
+  EXPECT_EQ(bottom, 64u);
+  EXPECT_EQ(top, 64u * 32u);
+  EXPECT_EQ(block.tria.n_global_active_cells(), 64u + 64u * 4u + 64u * 32u);
+}
+
+TEST(LocalRefinement, RefinesAlongTheNeedlePathOnly)
+{
+  // a path along x at y = 0 on the plane between the two layers (z = 5 mm), from −12 to
+  // 12 mm: the cells within half their diameter (4.33 mm) of it are the two layers of
+  // the six columns either side of y = 0 it spans (centres 3.5 mm away); the next cells
+  // out (centres 7.9 mm away, or 6.5 mm past the path's ends) are left alone
+  const std::vector<dealii::Point<3>> path{dealii::Point<3>(-0.012, 0, 0.005), dealii::Point<3>(0.012, 0, 0.005)};
+  const RefinedBlock          block(" set Levels = 1\n set Near needle path = true\n set Distance = 0\n", path);
+  for (const auto &cell : block.tria.active_cell_iterators())
+    {
+      const dealii::Point<3> &c = cell->center();
+      EXPECT_EQ(cell->level(), std::abs(c[1]) < 0.005 && std::abs(c[0]) < 0.015 ? 1 : 0) << c;
+    }
+  EXPECT_EQ(block.tria.n_global_active_cells(), 128u - 24u + 24u * 8u);
+}
+
+TEST(LocalRefinement, BadSettingsNameTheParameter)
+{
+  // an unknown face, refinement with nothing to refine near, a needle path in a scene
+  // without a pass
+  EXPECT_NE(input_error([] { RefinedBlock(" set Levels = 1\n set Near boundaries = wound\n"); })
+              .find("Mesh/Local refinement/Near boundaries"),
+            std::string::npos);
+  EXPECT_NE(input_error([] { RefinedBlock(" set Levels = 1\n"); }).find("Mesh/Local refinement/Levels"),
+            std::string::npos);
+  EXPECT_NE(input_error([] { RefinedBlock(" set Levels = 1\n set Near needle path = true\n"); })
+              .find("Mesh/Local refinement/Near needle path"),
+            std::string::npos);
+  // no refinement asked: the coarse mesh as it is
+  EXPECT_EQ(RefinedBlock(" set Near boundaries = top\n").tria.n_global_active_cells(), 128u);
 }

@@ -9,11 +9,13 @@
  */
 
 #include <suturesim/core/parameter_file.h>
+#include <suturesim/mesh/local_refinement.h>
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/tria.h>
 
 #include <map>
+#include <vector>
 #include <string>
 
 namespace suturesim::mesh
@@ -29,12 +31,13 @@ namespace suturesim::mesh
     double                        thickness         = 1e-3;
     double                        scale             = 1.0;
     unsigned                      global_refinements = 0;
+    LocalRefinement               local;
 
     static void
     declare(dealii::ParameterHandler &prm);
     /// Resolves the mesh file against the scene file; a missing file is an InputError.
     void
-    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   struct MeshInfo
@@ -60,12 +63,14 @@ namespace suturesim::mesh
   std::string
   mesh_file(const MeshParameters &parameters, const std::string &work_directory);
 
-  /// Builds the coarse mesh into @p tria (refined globally as asked), running gmsh into
+  /// Builds the coarse mesh into @p tria (refined globally, then locally near the
+  /// features of Local refinement, @p needle_path among them), running gmsh into
   /// @p work_directory when the source is a .geo. Checks every cell for a positive
   /// Jacobian determinant; an inverted or degenerate cell is an InputError naming the
   /// file and the cell.
   MeshInfo
   create_mesh(const MeshParameters                         &parameters,
               const std::string                            &work_directory,
-              dealii::parallel::distributed::Triangulation<3> &tria);
+              dealii::parallel::distributed::Triangulation<3> &tria,
+              const std::vector<dealii::Point<3>>             &needle_path = {});
 } // namespace suturesim::mesh

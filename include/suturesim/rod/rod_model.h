@@ -56,6 +56,17 @@ namespace suturesim::rod
   /// Elements that @ref ElementTerms acts on (the others are skipped).
   using ElementList = std::vector<std::size_t>;
 
+  /// One Newton iteration as NewtonParameters::observer sees it, in the state x_k it
+  /// starts from: the free residual's norm there and the correction it takes (nullptr
+  /// and 0 on the last call, at the state the solve stops in).
+  struct NewtonIterate
+  {
+    unsigned               iteration = 0;
+    double                 residual  = 0;
+    const Eigen::VectorXd *delta     = nullptr;
+    double                 step      = 0; ///< the fraction of delta taken
+  };
+
   struct NewtonParameters
   {
     unsigned max_iterations    = 50;
@@ -71,6 +82,30 @@ namespace suturesim::rod
     /// iteration; a longer correction is scaled down (0 = no cap).
     double max_displacement = 0;
     double max_rotation     = 0;
+    /// Full steps only: after this many iterations in a row without the residual
+    /// falling below 0.99 of its least value so far, the solve goes on with the energy
+    /// line search (line_search(), 4 trials, from the capped step). Full steps cycle
+    /// where a pierce point's slip reverses across its narrow stick band, the slip's
+    /// tangent (zero along the thread) blind to the stick spring; the line search lands
+    /// in the band (docs/interrupted_stitch.md). 0: never.
+    unsigned stall_window = 20;
+    /// Called at every iteration (diagnostics: why a solve stalls); may read the rod.
+    std::function<void(const NewtonIterate &)> observer;
+    /// Called after every step: terms whose active set moves with the state (the pierce
+    /// points' carrier elements) update it there and return true; the solve then
+    /// assembles again at the same state and restarts its stall window.
+    std::function<bool()> follow;
+  };
+
+  /// The residual split by what contributes it (6 per node, constrained components
+  /// included): their sum is residual() with the same terms.
+  struct ResidualParts
+  {
+    Eigen::VectorXd              elastic;       ///< the elements' internal forces
+    Eigen::VectorXd              self_contact;  ///< the rod against itself
+    Eigen::VectorXd              applied;       ///< minus the nodal forces and moments
+    Eigen::VectorXd              element_terms; ///< set_element_terms()'s (pierce points)
+    std::vector<Eigen::VectorXd> nodal;         ///< each of the NodalTerms given
   };
 
   struct NewtonResult
@@ -79,6 +114,9 @@ namespace suturesim::rod
     unsigned iterations = 0;
     double   residual   = 0;
     std::string reason;
+    /// The iteration from which the energy line search took over (NewtonParameters::
+    /// stall_window; 0: it did not).
+    unsigned line_search_from = 0;
   };
 
   class RodModel
@@ -182,6 +220,10 @@ namespace suturesim::rod
     Eigen::VectorXd
     residual(const NodalTerms *extra = nullptr);
 
+    /// residual() split by contribution, with each of @p nodal as a part of its own.
+    ResidualParts
+    residual_parts(const std::vector<const NodalTerms *> &nodal);
+
     /// The Jacobian of residual() as a dense matrix (for tests; O(N²) memory).
     Eigen::MatrixXd
     dense_jacobian(const NodalTerms *extra = nullptr);
@@ -234,14 +276,42 @@ namespace suturesim::rod
       ~Workspace();
       std::unique_ptr<System> system;
     };
+    /// What assemble() adds (a bit mask; residual_parts() takes them one by one).
+    enum Part : unsigned
+    {
+      elastic_part       = 1,
+      self_contact_part  = 2,
+      applied_part       = 4,
+      element_terms_part = 8,
+      nodal_part         = 16,
+      all_parts          = 31
+    };
     void
-    assemble(System &system, const NodalTerms *extra, bool with_jacobian);
+    assemble(System &system, const NodalTerms *extra, bool with_jacobian, unsigned parts = all_parts);
+    /// The self-contact's residual and Jacobian (the contacts found at the current state).
+    void
+    add_self_contact(System &system, bool with_jacobian);
     Eigen::VectorXd
     solve_linear(System &system) const;
     /// Factorises the assembled Jacobian of @p system (constrained rows and columns set
     /// to the identity): block LU, or sparse LU when contact couples distant nodes.
     void
     factorize(System &system) const;
+    /// The norm of @p r over the free components.
+    double
+    free_norm(const Eigen::VectorXd &r) const;
+    /// The fraction of @p delta NewtonParameters' caps on displacement and turn allow.
+    double
+    capped_step(const Eigen::VectorXd &delta, const NewtonParameters &parameters) const;
+    /// Takes @p step of @p delta (halved while an element would turn by π) and
+    /// assembles at the new state; false when no halving helps (state unchanged).
+    bool
+    take_full_step(System &system, const Eigen::VectorXd &delta, double step, const NodalTerms *extra);
+    /// The energy line search's step along @p delta, at most @p start, in at most
+    /// @p trials secant moves (infinity when every trial fails).
+    double
+    line_search(const System &system, const Eigen::VectorXd &delta, unsigned trials, double start,
+                const NodalTerms *extra);
     /// J⁻¹ @p b with the factorisation of @p system (constrained entries of b ignored).
     Eigen::VectorXd
     substitute(System &system, Eigen::VectorXd b) const;

@@ -79,6 +79,8 @@ namespace suturesim::rod
 
     ContactParameters contact;
     NewtonParameters  newton;
+    /// accurate stitch: each failed suture solve's iterations to suture_newton_trace.csv
+    bool              trace_failures = false;
     double            damping = 0; ///< mass-proportional, 1/s
     double            stabilization = 0; ///< viscous drag per unit length, quasi-static pass, N s/m²
     /// Contact of the suture's nodes with the tissue's surface (accurate path with the

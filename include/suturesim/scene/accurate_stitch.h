@@ -33,6 +33,7 @@
 #include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/rod/viscous_drag.h>
 #include <suturesim/scene/scene_parameters.h>
+#include <suturesim/scene/suture_newton_trace.h>
 #include <suturesim/tissue/condensed_bodies.h>
 #include <suturesim/tissue/point_load_list.h>
 
@@ -102,13 +103,18 @@ namespace suturesim::scene
     positions() const;
 
   private:
+    /// The needle's planned path through the tissue (Motion = pass; else empty), for
+    /// Mesh/Local refinement.
+    std::vector<dealii::Point<3>>
+    needle_path() const;
     void
     build_suture();
     void
     build_contacts();
-    /// The suture's Newton settings under the coupled solve.
+    /// The suture's Newton settings under the coupled solve (and its trace into
+    /// @p directory when asked for).
     void
-    tune_suture_newton();
+    tune_suture_newton(const std::string &directory);
     /// The point loads on the tissue: the needle's touch and pierce points first (the
     /// needle numbers them from 0), then the contacts.
     void
@@ -135,7 +141,8 @@ namespace suturesim::scene
     rod::NewtonParameters                    suture_newton;
     tissue::PointLoadList                    loads;
     std::optional<rod::ViscousDrag>          drag;
-    rod::NodalTerms                          node_terms;
+    rod::NodalTerms                          node_terms, drag_terms, contact_terms;
+    std::optional<SutureNewtonTrace>         trace;
     std::optional<coupling::CondensedSuture> body;
     std::vector<tissue::CondensedBody *>     parts;
     std::optional<tissue::CondensedBodies>   both;

@@ -131,8 +131,9 @@ namespace suturesim::tissue
     dealii::Point<3>
     point_position(std::size_t k) const;
 
-    /// The boundary as triangles (collective). Needs an unrefined mesh (vertex numbers
-    /// then agree across ranks).
+    /// The boundary as triangles (collective), its vertices the boundary faces' corners
+    /// (on a locally refined mesh hanging ones among them; the triangles then meet at
+    /// T-junctions, without gaps since a hanging node stays on its coarse edge).
     BoundarySurface
     boundary_surface() const;
 

@@ -104,6 +104,31 @@ namespace suturesim::coupling
     return indices;
   }
 
+  std::vector<TissueNeedle::ThreadPointState>
+  TissueNeedle::thread_point_states(const std::vector<Point<3>> &x) const
+  {
+    const std::size_t             offset = touch_index() == 0 ? 1 : 0;
+    std::vector<ThreadPointState> states;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      if (on_thread(pierce[j]))
+        {
+          const auto [e, xi] = thread.element(pierce[j].carrier - needle.length());
+          const Offset     o = across_element(e, eigen(x[offset + j]), thread.segment(e), xi);
+          FrictionResult   r;
+          ThreadPointState s;
+          pierce_force(pierce[j], o, &r, &s.normal);
+          s.point    = offset + j;
+          s.element  = e;
+          s.u        = o.u;
+          s.slip     = o.zeta - pierce[j].anchor;
+          s.slipping = r.slipping;
+          s.friction = r.force;
+          s.across   = o.across.norm();
+          states.push_back(s);
+        }
+    return states;
+  }
+
   void
   TissueNeedle::thread_terms(const std::vector<Point<3>> &x, const std::size_t element,
                              Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> *jacobian) const

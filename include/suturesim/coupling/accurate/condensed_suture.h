@@ -49,6 +49,14 @@ namespace suturesim::coupling
     Eigen::VectorXd
     residual();
 
+    /// The pierce points on the thread as the suture's terms see them now (the tissue's
+    /// points where equilibrate() holds them; diagnostics).
+    std::vector<TissueNeedle::ThreadPointState>
+    point_states() const
+    {
+      return needle.thread_point_states(seen);
+    }
+
     /// Suture Newton iterations of the last equilibrate().
     unsigned
     last_iterations() const

@@ -54,9 +54,10 @@
  * step would otherwise hold the point on its anchor element's curve extended, and a solve
  * can then meet the tie with that curve turned through the point millimetres away from
  * the thread (seen at the stitch's tightening: the thread left its hole by 3 mm). The
- * carrier is fixed within a suture solve and follows the thread between them
- * (follow_thread(); coupling/accurate/condensed_suture.h repeats the suture's solve
- * until the carriers stay), as contact active sets do.
+ * carrier is fixed within a Newton step of the suture's solve and follows the thread
+ * after each step (follow_thread(), through rod::NewtonParameters::follow;
+ * coupling/accurate/condensed_suture.h also repeats the solve until the carriers stay),
+ * as contact active sets do.
  */
 
 #include <suturesim/coupling/accurate/thread_curve.h>
@@ -91,8 +92,8 @@ namespace suturesim::coupling
     double               anchor = 0;
     /// On the thread: the thread coordinate whose element carries the point (its last
     /// projection), m. The tie and the friction are measured on that element's curve,
-    /// which is fixed within a suture solve and follows the point between them
-    /// (TissueNeedle::follow_thread()).
+    /// which is fixed within a Newton step of the suture's solve and follows the point
+    /// after it (TissueNeedle::follow_thread()).
     double               carrier = 0;
     bool                 exit   = false;
     dealii::Tensor<1, 3> multiplier; ///< λ, N (zero with penalty enforcement)
@@ -211,6 +212,22 @@ namespace suturesim::coupling
     /// tissue to the suture), in thread order.
     std::vector<std::size_t>
     thread_points() const;
+    /// A pierce point on the thread as thread_terms() sees it (diagnostics: why a suture
+    /// solve stalls, scene/suture_newton_trace.h).
+    struct ThreadPointState
+    {
+      std::size_t point   = 0; ///< index among points()
+      std::size_t element = 0; ///< the carrier element
+      double      u       = 0; ///< the projection's Hermite parameter (beyond [0, 1]: past a node)
+      double      slip    = 0; ///< ζ − ζ_a, m
+      bool        slipping = false;
+      double      normal = 0, friction = 0; ///< N and the friction along the thread, N
+      double      across = 0;               ///< |x − c(u)| across the curve, m
+    };
+    /// Each pierce point on the thread with the tissue points at @p x (one per points())
+    /// and the thread where it is.
+    std::vector<ThreadPointState>
+    thread_point_states(const std::vector<dealii::Point<3>> &x) const;
     /// Per suture node: whether it lies in a stitch's tract, between an exit pierce point
     /// and the next entry point along the thread (within one element either side),
     /// where the thread is meant to run inside the tissue.
