@@ -27,6 +27,16 @@ namespace suturesim::coupling
     element_terms = [this](const std::size_t e, Eigen::Matrix<double, 12, 1> &r, Eigen::Matrix<double, 12, 12> *J) {
       needle.thread_terms(seen, e, r, J);
     };
+    // the carriers also follow within a solve: a thread drawn through its holes by more
+    // than an element in one step would otherwise hold each point on its old element's
+    // curve extended past the projection's bound (u = 2), where the tie means nothing
+    // (seen at the stitch's grasp, docs/interrupted_stitch.md)
+    newton.follow = [this] {
+      if (!needle.follow_thread(seen))
+        return false;
+      elements = needle.thread_elements();
+      return true;
+    };
   }
 
   CondensedSuture::Attached::Attached(CondensedSuture &b)
@@ -84,21 +94,10 @@ namespace suturesim::coupling
     hold(x);
     rod::NewtonResult result;
     iterations = 0;
-    // the carriers also follow within a solve: a thread drawn through its holes by more
-    // than an element in one step would otherwise hold each point on its old element's
-    // curve extended past the projection's bound (u = 2), where the tie means nothing
-    // (seen at the stitch's grasp, docs/interrupted_stitch.md)
-    rod::NewtonParameters following = newton;
-    following.follow                = [this] {
-      if (!needle.follow_thread(seen))
-        return false;
-      elements = needle.thread_elements();
-      return true;
-    };
     for (unsigned round = 0; round < 5; ++round)
       {
         const Attached attached(*this);
-        result = suture.solve(following, terms);
+        result = suture.solve(newton, terms);
         iterations += result.iterations;
         if (!result.converged || !needle.follow_thread(seen))
           break;
