@@ -6,20 +6,20 @@ namespace suturesim::coupling
 {
   FrictionResult
   coulomb_friction(const FrictionParameters &p, const double zeta, const double anchor,
-                   const double normal)
+                   const double normal, const FrictionBranch *branch)
   {
     FrictionResult r;
     const double   capacity = friction_limit(p, normal);
     const double   gap      = zeta - anchor;
     const double   trial    = -p.stiffness * gap;
-    if (std::abs(trial) <= capacity)
+    if (branch ? !branch->slipping : std::abs(trial) <= capacity)
       {
         r.force      = trial;
         r.derivative = -p.stiffness;
         r.anchor     = anchor;
         return r;
       }
-    const double sign = gap > 0 ? 1.0 : -1.0;
+    const double sign = branch ? branch->sign : gap > 0 ? 1.0 : -1.0;
     r.force           = -sign * capacity;
     r.derivative      = 0;
     r.anchor          = p.stiffness > 0 ? zeta - sign * capacity / p.stiffness : zeta;

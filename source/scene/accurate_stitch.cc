@@ -53,6 +53,9 @@ namespace suturesim::scene
     if (scene.bodies == "tissue and suture")
       build_suture();
     build_contacts();
+    model->expect_symmetric_tangent(needle->symmetric_tangent(),
+                                    "the pierce points' friction on the thread (Pierce points/Friction "
+                                    "coefficient > 0) or Lagrange tie");
     // The tissue is solved to a hundredth of the force a pierce tie carries at the
     // coupling tolerance: finer residuals move no point measurably, and a solve that
     // starts near equilibrium would otherwise chase its relative tolerance for half a

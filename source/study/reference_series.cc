@@ -66,11 +66,18 @@ namespace suturesim::study
   } // namespace
 
   SeriesReference
-  series_reference(const MetricsSpec &spec, const std::vector<RunData> &runs, const std::vector<std::string> &names)
+  series_reference(const MetricsSpec &spec, const std::vector<RunData> &runs, const std::vector<std::string> &names,
+                   const std::vector<std::pair<std::string, double>> &sizes)
   {
     std::vector<double> size;
     for (std::size_t k = 0; k < runs.size(); ++k)
       {
+        const auto given = std::find_if(sizes.begin(), sizes.end(), [&](const auto &s) { return s.first == names[k]; });
+        if (given != sizes.end())
+          {
+            size.push_back(given->second);
+            continue;
+          }
         const auto &mesh = runs[k].summary.value("mesh", nlohmann::json::object());
         if (!mesh.contains("representative_size") || !(mesh.at("representative_size").get<double>() > 0))
           throw std::invalid_argument("the run '" + names[k] + "' records no mesh size (summary.json "

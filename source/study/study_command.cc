@@ -218,7 +218,7 @@ namespace suturesim::study
         names.push_back(jobs[k].name);
       try
         {
-          return series_reference(study.metrics, runs, names);
+          return series_reference(study.metrics, runs, names, study.figures.convergence_sizes);
         }
       catch (const MissingMetric &e)
         {

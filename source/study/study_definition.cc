@@ -198,7 +198,9 @@ namespace suturesim::study
                         "Celik et al. 2008), unless 'Convergence sizes' gives them. Unit: none.");
       prm.declare_entry("Convergence sizes", "", Anything(),
                         "\"case: h\" separated by commas, h the cases' mesh size, in place of the "
-                        "measured sizes: only these cases are tabulated. Unit: m.");
+                        "measured sizes: only these cases are tabulated. The runs of a Reference/Series "
+                        "(named reference_<name>) take their sizes from here too, e.g. the refined "
+                        "cells' size of a locally refined series. Unit: m.");
       prm.declare_entry("Convergence series", "", Anything(),
                         "A parameter path (e.g. Model) whose value in each case's settings names its "
                         "series: one table, order and extrapolation per series (per model path). "

@@ -30,10 +30,11 @@ namespace suturesim::tissue
                       "(symmetric tangents) or 'gmres' (any) with the preconditioner below.");
     prm.declare_entry("Factorization",
                       d.factorization,
-                      dealii::Patterns::Selection("cholesky|lu"),
-                      "Factorization of 'direct': 'cholesky' (LDL^T, half the work; the "
-                      "hyperelastic tangent is symmetric) or 'lu' (any matrix, e.g. with "
-                      "friction coupling).");
+                      dealii::Patterns::Selection("auto|cholesky|lu"),
+                      "Factorization of 'direct': 'auto' (Cholesky while the tangent is "
+                      "symmetric, LU when a coupling makes it not: friction at pierce "
+                      "points), 'cholesky' (LDL^T, half the work; symmetric tangents only) "
+                      "or 'lu' (any matrix). Unit: none.");
     prm.declare_entry("Preconditioner",
                       d.preconditioner,
                       dealii::Patterns::Selection("gamg|boomeramg|jacobi"),
@@ -67,6 +68,39 @@ namespace suturesim::tissue
     max_iterations = prm.get_integer("Max iterations");
     petsc_options  = prm.get("PETSc options");
     scope.require(tolerance > 0, "Relative tolerance", "must be > 0");
+    this->scope = std::make_shared<const ParameterScope>(scope);
+  }
+
+  namespace
+  {
+    /// MUMPS's Cholesky (LDL^T) or LU on @p pc.
+    void
+    set_factorization(PC pc, const bool cholesky)
+    {
+      check(PCSetType(pc, cholesky ? PCCHOLESKY : PCLU), "PCSetType");
+      check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+    }
+  } // namespace
+
+  void
+  LinearSolver::set_symmetric(const bool yes, const std::string &why)
+  {
+    if (yes == symmetric)
+      return;
+    if (!yes && prm.scope)
+      {
+        const std::string problem = "needs a symmetric tangent, and " + why + " makes it non-symmetric";
+        prm.scope->require(prm.method != "cg", "Method", "cg " + problem + ": use gmres");
+        prm.scope->require(prm.method != "direct" || prm.factorization != "cholesky", "Factorization",
+                           "cholesky " + problem + ": use auto or lu");
+      }
+    symmetric = yes;
+    if (prm.method == "direct" && prm.factorization == "auto")
+      {
+        PC pc;
+        check(KSPGetPC(ksp, &pc), "KSPGetPC");
+        set_factorization(pc, symmetric);
+      }
   }
 
   LinearSolver::LinearSolver(const Parameters &parameters, MPI_Comm comm)
@@ -80,8 +114,7 @@ namespace suturesim::tissue
     if (prm.method == "direct")
       {
         check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-        check(PCSetType(pc, prm.factorization == "lu" ? PCLU : PCCHOLESKY), "PCSetType");
-        check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
+        set_factorization(pc, prm.factorization != "lu");
       }
     else
       {

@@ -27,4 +27,13 @@ namespace suturesim::tissue
     const std::size_t part = std::distance(first.begin(), std::upper_bound(first.begin(), first.end() - 1, k)) - 1;
     list[part]->force(k - first[part], x, f, df_dx);
   }
+
+  bool
+  PointLoadList::symmetric_tangent() const
+  {
+    for (const PointLoads *part : list)
+      if (!part->symmetric_tangent())
+        return false;
+    return true;
+  }
 } // namespace suturesim::tissue

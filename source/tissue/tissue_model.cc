@@ -178,9 +178,16 @@ namespace suturesim::tissue
   }
 
   void
+  TissueModel::expect_symmetric_tangent(const bool symmetric, const std::string &why)
+  {
+    solver->set_symmetric(symmetric, why);
+  }
+
+  void
   TissueModel::set_point_loads(const PointLoads *loads)
   {
     point_loads = loads;
+    solver->set_symmetric(!loads || loads->symmetric_tangent(), "a point load's tangent");
     if (!loads)
       return;
     if (!embedded)

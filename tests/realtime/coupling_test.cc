@@ -40,6 +40,36 @@ TEST(CoulombFriction, SticksBelowMuNSlipsAboveAndFreeAtZeroMu)
   EXPECT_TRUE(free.slipping);
 }
 
+TEST(CoulombFriction, AHeldBranchGivesOneSidedSlopesAtTheStickSlipKink)
+{
+  // At the kink |k_t (ζ − ζ_a)| = μN a central difference straddles both branches and
+  // returns the mean of their slopes, −k_t/2, a derivative of neither. Held on the base
+  // state's branch, the same difference is that branch's slope: −k_t in stick, 0 in slip.
+  const FrictionParameters p{0.3, 1000, 0};
+  const double             N = 2, h = 1e-7;
+  const auto slope = [&](const double zeta, const FrictionBranch *branch) {
+    return (coulomb_friction(p, zeta + h, 0, N, branch).force - coulomb_friction(p, zeta - h, 0, N, branch).force) /
+           (2 * h);
+  };
+  const double kink = 0.0006; // μN/k_t
+  EXPECT_NEAR(slope(kink, nullptr), -500, 1e-3);
+  for (const double zeta : {kink - 1e-9, kink + 1e-9, -kink - 1e-9})
+    {
+      const FrictionResult base   = coulomb_friction(p, zeta, 0, N);
+      const FrictionBranch branch = FrictionBranch::of(base, zeta);
+      EXPECT_EQ(branch.slipping, std::abs(zeta) > kink);
+      EXPECT_NEAR(slope(zeta, &branch), base.derivative, 1e-3) << zeta;
+      // on its own branch the held law is the law
+      EXPECT_DOUBLE_EQ(coulomb_friction(p, zeta, 0, N, &branch).force, base.force);
+    }
+  // a held slip keeps its direction: f = −sign μN even where the gap has reversed
+  const FrictionBranch forward{true, 1};
+  EXPECT_DOUBLE_EQ(coulomb_friction(p, -0.001, 0, N, &forward).force, -0.6);
+  // a held stick stays elastic beyond μN
+  const FrictionBranch stick{false, 1};
+  EXPECT_DOUBLE_EQ(coulomb_friction(p, 0.002, 0, N, &stick).force, -2.0);
+}
+
 TEST(CoulombFriction, SmoothedNormalForceIsExactFarFromZeroAndSmoothAtIt)
 {
   const double grip = 0.05, eps = 0.005;

@@ -104,6 +104,26 @@ TEST(InputErrors, UnwritableOutputFolder)
   EXPECT_NE(out.find("error: --output " + blocked + ": cannot write"), std::string::npos) << out;
 }
 
+TEST(InputErrors, CholeskyRefusesTheFrictionalCoupledTangent)
+{
+  // The pierce points' friction on the thread makes the coupled tangent non-symmetric
+  // (TissueNeedle::symmetric_tangent()), and MUMPS's Cholesky would factorise the mirror
+  // of one triangle instead (tissue/linear_solver.h): forced, it is refused at setup.
+  const std::string pass = "'" + source_path("parameters/needle_pass.prm") +
+                           "' --set Model=accurate --set 'Tissue/Linear solver/Factorization=cholesky'";
+  const auto        r    = run_suturesim("cholesky_friction", pass);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(r.has_summary);
+  const std::string lines = error_lines(r.output);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), '\n'), 1) << "not one line:\n" << lines;
+  EXPECT_NE(lines.find("Tissue/Linear solver/Factorization"), std::string::npos) << lines;
+  EXPECT_NE(lines.find("cholesky needs a symmetric tangent"), std::string::npos) << lines;
+  // without friction the tangent is symmetric and Cholesky is taken
+  const auto ok = run_suturesim("cholesky_frictionless", pass + " --set 'Pierce points/Friction coefficient=0'"
+                                                                " --set 'Time/End time=0.04'");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
 TEST(InputErrors, UnknownOverride)
 {
   const auto r = run_suturesim("bad_override", source_path("tests/data/cook_coarse.prm") +

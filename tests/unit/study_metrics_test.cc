@@ -247,6 +247,20 @@ TEST(StudySeriesReference, AMonotoneSeriesIsExtrapolatedAndAnOscillatingOneIsNot
   auto no_metric = run_at(1, 1);
   no_metric.summary["metrics"].erase("f");
   EXPECT_THROW(series_reference(spec, {no_metric, run_at(2, 1), run_at(4, 1)}, {"a", "b", "c"}), MissingMetric);
+
+  // given sizes replace the measured ones (a locally refined series: the whole mesh's
+  // size changes by less than the refined cells'): the same values measured at 1.0,
+  // 0.8, 0.7 give another order; at the given 2, 1, 0.5 the exact one, and a run
+  // without a size of its own is fine when given one
+  std::vector<RunData> local{run_at(1.0, 2 - 0.3 * 4), run_at(0.8, 2 - 0.3 * 1), run_at(0.7, 2 - 0.3 * 0.25)};
+  local[2].summary.erase("mesh");
+  const auto g = series_reference(spec, local, {"L0", "L1", "L2"}, {{"L0", 2.0}, {"L1", 1.0}, {"L2", 0.5}});
+  EXPECT_NEAR(g.account["metrics"]["f"]["observed_order"].get<double>(), 2.0, 1e-9);
+  EXPECT_NEAR(*g.data.metric("f"), 2.0, 1e-12);
+  EXPECT_EQ(g.account["runs"][2]["h"], 0.5);
+  local[2] = run_at(0.7, 2 - 0.3 * 0.25);
+  const auto measured = series_reference(spec, local, {"L0", "L1", "L2"});
+  EXPECT_GT(std::abs(measured.account["metrics"]["f"]["observed_order"].get<double>() - 2.0), 0.5);
 }
 
 namespace

@@ -66,10 +66,33 @@ namespace suturesim::coupling
     bool   slipping   = false;
   };
 
+  /// One branch of the law: stick, or slip in the direction sign(ζ − ζ_a) = @p sign.
+  struct FrictionBranch
+  {
+    bool   slipping = false;
+    double sign     = 1;
+
+    /// The branch that the return mapping chose for @p r at gap ζ − ζ_a = @p gap.
+    static FrictionBranch
+    of(const FrictionResult &r, const double gap)
+    {
+      return {r.slipping, gap >= 0 ? 1.0 : -1.0};
+    }
+  };
+
   /// The return mapping at thread coordinate @p zeta, anchor @p anchor (last converged)
   /// and normal force @p normal (N ≥ 0).
+  ///
+  /// With @p branch, the law is evaluated on that branch whatever |trial| is: stick
+  /// f = −k_t (ζ − ζ_a), or slip f = −sign μ N. Finite-difference tangents take it from
+  /// their base state. Differences across the kink |trial| = μ N would average the
+  /// slopes of both branches (−k_t and 0), and that average is not a derivative of the
+  /// law on either side. A one-sided difference on the base state's branch is an element
+  /// of the law's generalised (Clarke) Jacobian, the tangent of a semismooth Newton
+  /// method (Qi & Sun 1993; for frictional contact: Alart & Curnier 1991).
   FrictionResult
-  coulomb_friction(const FrictionParameters &p, double zeta, double anchor, double normal);
+  coulomb_friction(const FrictionParameters &p, double zeta, double anchor, double normal,
+                   const FrictionBranch *branch = nullptr);
 
   struct NormalForce
   {

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace suturesim::study
@@ -30,9 +31,13 @@ namespace suturesim::study
     nlohmann::json account; ///< per metric: h, values, order, extrapolated, gci_fine, used, why
   };
 
-  /// The reference of the series @p runs named @p names (any order of size). Throws
-  /// MissingMetric (in_reference) for a metric a run lacks, std::invalid_argument naming
-  /// the run for one without a mesh size.
+  /// The reference of the series @p runs named @p names (any order of size). A run's
+  /// size h is its summary.json mesh.representative_size, or its entry in @p sizes (name:
+  /// h, m; Figures/Convergence sizes) where given: a locally refined series halves its
+  /// cells only where it refines, and its ratio there is 2 while the whole mesh's
+  /// (V/N)^(1/3) changes by less. Throws MissingMetric (in_reference) for a metric a run
+  /// lacks, std::invalid_argument naming the run for one without a mesh size.
   SeriesReference
-  series_reference(const MetricsSpec &spec, const std::vector<RunData> &runs, const std::vector<std::string> &names);
+  series_reference(const MetricsSpec &spec, const std::vector<RunData> &runs, const std::vector<std::string> &names,
+                   const std::vector<std::pair<std::string, double>> &sizes = {});
 } // namespace suturesim::study

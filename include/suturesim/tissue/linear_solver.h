@@ -3,8 +3,12 @@
  * @file
  * The linear solve of a Newton iteration, configured on PETSc's KSP directly so that
  * every PETSc option stays reachable:
- *  - "direct": Cholesky (symmetric tangents, the default) or LU by MUMPS (parallel and
- *    serial alike). The default method: the tangents of nearly
+ *  - "direct": Cholesky (symmetric tangents) or LU by MUMPS (parallel and serial alike),
+ *    by default chosen from the tangent's symmetry (set_symmetric()): MUMPS's symmetric
+ *    mode reads one triangle of the matrix, so a non-symmetric tangent factorised by
+ *    Cholesky is silently a different matrix and Newton's direction is wrong (measured:
+ *    docs/interrupted_stitch.md, "The coupled Newton's stall on a refined mesh"). The
+ *    default method: the tangents of nearly
  *    incompressible tissue and, later, of penalty coupling are ill-conditioned, and at the
  *    sizes of suturing scenes (≤ 1e5 DoFs) a factorisation on 2 cores is as fast as a
  *    Krylov solve while never failing to converge (see README, Performance).
@@ -20,6 +24,7 @@
 
 #include <petscksp.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,11 +36,13 @@ namespace suturesim::tissue
     struct Parameters
     {
       std::string method          = "direct";
-      std::string factorization   = "cholesky";
+      std::string factorization   = "auto";
       std::string preconditioner  = "gamg";
       double      tolerance       = 1e-10;
       unsigned    max_iterations  = 2000;
       std::string petsc_options   = "";
+      /// Where these were read, for errors that name their entry.
+      std::shared_ptr<const ParameterScope> scope;
 
       static void
       declare(dealii::ParameterHandler &prm);
@@ -61,6 +68,13 @@ namespace suturesim::tissue
     /// entries filled (orthonormalised here).
     void
     set_near_null_space(std::vector<dealii::PETScWrappers::MPI::Vector> modes);
+
+    /// Whether the matrices solve() will get are symmetric (the default: a
+    /// hyperelastic tangent is). Factorization 'auto' then takes Cholesky, else LU;
+    /// 'cholesky' and the method 'cg' refuse a non-symmetric one with an InputError
+    /// naming their entry, @p why saying what makes it so.
+    void
+    set_symmetric(bool symmetric, const std::string &why = "");
 
     /// Solves A x = b; throws SolverError when the Krylov method does not converge.
     /// @p relative_tolerance overrides the parameter when > 0 (IDA); a Krylov method
@@ -91,5 +105,6 @@ namespace suturesim::tissue
     KSP                                              ksp = nullptr;
     std::vector<dealii::PETScWrappers::MPI::Vector>  null_space_modes;
     Statistics                                       stats;
+    bool                                             symmetric = true;
   };
 } // namespace suturesim::tissue

@@ -35,6 +35,9 @@ namespace suturesim::tissue
     void
     force(std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
           dealii::Tensor<2, 3> &df_dx) const override;
+    /// Symmetric when every part's is.
+    bool
+    symmetric_tangent() const override;
 
   private:
     std::vector<const PointLoads *> list;

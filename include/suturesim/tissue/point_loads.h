@@ -40,6 +40,14 @@ namespace suturesim::tissue
     virtual void
     force(std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
           dealii::Tensor<2, 3> &df_dx) const = 0;
+
+    /// Whether every ∂f/∂x of force() is symmetric, so that the tissue's tangent stays
+    /// symmetric and a Cholesky factorisation solves it (tissue/linear_solver.h).
+    virtual bool
+    symmetric_tangent() const
+    {
+      return true;
+    }
   };
 
   class EmbeddedPoints

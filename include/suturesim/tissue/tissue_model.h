@@ -127,6 +127,12 @@ namespace suturesim::tissue
     void
     set_point_loads(const PointLoads *loads);
 
+    /// Tells the linear solver whether the tangent will be symmetric
+    /// (LinearSolver::set_symmetric(); @p why names the cause when it is not), before any
+    /// point load exists: a setting that cannot solve it fails at setup, not mid-run.
+    void
+    expect_symmetric_tangent(bool symmetric, const std::string &why);
+
     /// Current position x = X + u(X) of point @p k of the point loads (collective), m.
     dealii::Point<3>
     point_position(std::size_t k) const;

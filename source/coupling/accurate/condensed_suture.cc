@@ -3,6 +3,7 @@
 #include <suturesim/rod/rotation.h>
 
 #include <algorithm>
+#include <memory>
 
 namespace suturesim::coupling
 {
@@ -114,6 +115,11 @@ namespace suturesim::coupling
     if (m == 0)
       return true;
     suture.linearize(terms);
+    // H and F below are differences: each pierce point's friction stays on the branch
+    // it takes here (coulomb_friction()), released however this returns
+    needle.hold_friction_branches(x);
+    const std::unique_ptr<TissueNeedle, void (*)(TissueNeedle *)> release(
+      &needle, [](TissueNeedle *n) { n->release_friction_branches(); });
 
     // H = ∂R/∂y: the suture's residual as each coupled point moves
     Eigen::MatrixXd         H(6 * n, 3 * m);

@@ -143,11 +143,12 @@ namespace suturesim::coupling
         if (e != element)
           continue;
         const Eigen::Vector3d xj = eigen(x[offset + j]);
+        AccuratePiercePoint   p  = pierce[j];
         // the point's force f on the tissue and its reaction on the nodes, with the
         // element's nodes at (ya, ra), (yb, rb)
         const auto load = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
           const Offset       o = across_element(e, xj, thread.segment(ya, ra, yb, rb), xi);
-          const Tensor<1, 3> f = pierce_force(pierce[j], o, nullptr, nullptr);
+          const Tensor<1, 3> f = pierce_force(p, o, nullptr, nullptr);
           const double       u = std::clamp(o.u, 0.0, 1.0);
           Vec12              r = Vec12::Zero();
           for (unsigned i = 0; i < 3; ++i)
@@ -162,6 +163,7 @@ namespace suturesim::coupling
         residual += load(xa, qa, xb, qb);
         if (!jacobian)
           continue;
+        p.branch = branch_at(p, across_element(e, xj, thread.segment(xa, qa, xb, qb), xi));
         for (unsigned c = 0; c < 12; ++c)
           {
             const bool   turn = c % 6 >= 3;
@@ -286,7 +288,7 @@ namespace suturesim::coupling
     const Tensor<1, 3> f_perp = -(lambda + prm.transverse_stiffness * o.across);
     const double       N      = normal_force(prm.friction.grip, f_perp.norm(), prm.normal_smoothing).value;
     // the generalised force f_ζ acts along dx/dζ = −t
-    const FrictionResult r = coulomb_friction(prm.friction, o.zeta, p.anchor, N);
+    const FrictionResult r = coulomb_friction(prm.friction, o.zeta, p.anchor, N, p.branch ? &*p.branch : nullptr);
     if (r_out)
       *r_out = r;
     if (N_out)
@@ -307,13 +309,15 @@ namespace suturesim::coupling
       return f;
     if (on_thread(p))
       {
+        AccuratePiercePoint q = p;
+        q.branch              = branch_at(p, o);
         for (unsigned k = 0; k < 3; ++k)
           {
             Point<3> plus = x, minus = x;
             plus[k] += position_step;
             minus[k] -= position_step;
-            const Tensor<1, 3> rate = (pierce_force(p, across_curve(p, plus), nullptr, nullptr) -
-                                       pierce_force(p, across_curve(p, minus), nullptr, nullptr)) /
+            const Tensor<1, 3> rate = (pierce_force(q, across_curve(q, plus), nullptr, nullptr) -
+                                       pierce_force(q, across_curve(q, minus), nullptr, nullptr)) /
                                       (2 * position_step);
             for (unsigned i = 0; i < 3; ++i)
               (*df_dx)[i][k] = rate[i];
@@ -381,6 +385,32 @@ namespace suturesim::coupling
           pierce[j].carrier   = next;
         }
     return changed;
+  }
+
+  void
+  TissueNeedle::hold_friction_branches(const std::vector<Point<3>> &x)
+  {
+    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    for (std::size_t j = 0; j < pierce.size(); ++j)
+      if (on_thread(pierce[j]))
+        pierce[j].branch = branch_at(pierce[j], across_curve(pierce[j], x[offset + j]));
+  }
+
+  void
+  TissueNeedle::release_friction_branches()
+  {
+    for (auto &p : pierce)
+      p.branch.reset();
+  }
+
+  FrictionBranch
+  TissueNeedle::branch_at(const AccuratePiercePoint &p, const Offset &o) const
+  {
+    if (p.branch)
+      return *p.branch;
+    FrictionResult r;
+    pierce_force(p, o, &r, nullptr);
+    return FrictionBranch::of(r, o.zeta - p.anchor);
   }
 
   double

@@ -76,12 +76,15 @@ namespace suturesim::scene
             fail(0, failure);
           record.record(0, stitch.step_statistics(0, 0));
 
-          unsigned  steps = 0, total_iterations = 0;
+          unsigned  steps = 0, total_iterations = 0, failed_attempts = 0;
           StepHooks hooks;
           hooks.attempt = [&](const double tn, const double dt) { return stitch.attempt(tn, dt); };
           hooks.undo    = [&](const StepAttempt &attempt, const double tn, const double dt) {
             if (attempt.outcome == StepAttempt::Outcome::failed)
-              pcout << "t = " << tn << " s: step of " << dt << " s failed: " << attempt.reason << "\n";
+              {
+                ++failed_attempts;
+                pcout << "t = " << tn << " s: step of " << dt << " s failed: " << attempt.reason << "\n";
+              }
             stitch.undo();
           };
           hooks.accept = [&](const double tn, const double dt, const unsigned cutbacks) {
@@ -103,7 +106,10 @@ namespace suturesim::scene
           run_with_cutbacks({scene.time.end_time, scene.time.step_size, scene.time.max_cutbacks, 8}, hooks);
 
           record.finish(t);
-          RunSummary(recorder.summary()).solver({{"steps", steps}, {"newton_iterations_total", total_iterations}});
+          // failed_attempts: steps whose solve failed and was halved (events' refinements
+          // of a step that overshot a threshold are not failures)
+          RunSummary(recorder.summary())
+            .solver({{"steps", steps}, {"newton_iterations_total", total_iterations}, {"failed_attempts", failed_attempts}});
         });
       }
 

@@ -100,6 +100,9 @@ namespace suturesim::coupling
     // of the last accepted state, for the record
     double zeta = 0, normal = 0, friction = 0, slip_speed = 0;
     bool   slipping = false;
+    /// Set while a tangent is differenced: the friction law stays on this branch
+    /// (coulomb_friction()'s one-sided derivative at the stick–slip kink).
+    std::optional<FrictionBranch> branch;
   };
 
   class TissueNeedle : public tissue::PointLoads
@@ -140,6 +143,25 @@ namespace suturesim::coupling
     /// true when a carrier changed element.
     bool
     follow_thread(const std::vector<dealii::Point<3>> &x);
+
+    /// On the thread ∂f/∂x is a central difference of the whole law (pierce_force()):
+    /// in slip it has the part μ t ⊗ ∂N/∂x, and with Lagrange multipliers the turn of
+    /// P⊥ λ, neither of them symmetric. On the needle alone it is symmetric (the slip's
+    /// ∂N/∂x is left out there).
+    bool
+    symmetric_tangent() const override
+    {
+      return !thread.attached() || (prm.friction.mu == 0 && !prm.lagrange);
+    }
+
+    /// Keeps each thread point's friction on the branch it takes at tissue positions
+    /// @p x (one per points()) until release_friction_branches(): a body condensing its
+    /// response by finite differences (CondensedSuture) then differences one branch of
+    /// the law at the stick–slip kink, as thread_terms() does.
+    void
+    hold_friction_branches(const std::vector<dealii::Point<3>> &x);
+    void
+    release_friction_branches();
 
     /// Largest gap |P⊥ d| of the pierce points at tissue positions @p x (one per
     /// points()), m.
@@ -284,6 +306,10 @@ namespace suturesim::coupling
     /// at @p u0.
     Offset
     across_element(std::size_t e, const Eigen::Vector3d &x, const HermiteSegment &h, double u0) const;
+    /// The friction branch of @p p at offset @p o: its held one, else the return
+    /// mapping's choice there.
+    FrictionBranch
+    branch_at(const AccuratePiercePoint &p, const Offset &o) const;
     /// Rebuilds X (touch first, then the pierce points).
     void
     rebuild_points();
