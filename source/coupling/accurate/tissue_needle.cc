@@ -309,8 +309,9 @@ namespace suturesim::coupling
       return f;
     if (on_thread(p))
       {
+        // differenced on the branch the law took here (r), unless one is held
         AccuratePiercePoint q = p;
-        q.branch              = branch_at(p, o);
+        q.branch              = p.branch ? *p.branch : FrictionBranch::of(r, o.zeta - p.anchor);
         for (unsigned k = 0; k < 3; ++k)
           {
             Point<3> plus = x, minus = x;
