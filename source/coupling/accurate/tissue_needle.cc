@@ -144,11 +144,9 @@ namespace suturesim::coupling
           continue;
         const Eigen::Vector3d xj = eigen(x[offset + j]);
         AccuratePiercePoint   p  = pierce[j];
-        // the point's force f on the tissue and its reaction on the nodes, with the
-        // element's nodes at (ya, ra), (yb, rb)
-        const auto load = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
-          const Offset       o = across_element(e, xj, thread.segment(ya, ra, yb, rb), xi);
-          const Tensor<1, 3> f = pierce_force(p, o, nullptr, nullptr);
+        // the point's force f on the tissue at offset o and its reaction on the nodes
+        const auto load = [&](const Offset &o, FrictionResult *r_out) {
+          const Tensor<1, 3> f = pierce_force(p, o, r_out, nullptr);
           const double       u = std::clamp(o.u, 0.0, 1.0);
           Vec12              r = Vec12::Zero();
           for (unsigned i = 0; i < 3; ++i)
@@ -158,12 +156,20 @@ namespace suturesim::coupling
             }
           return r;
         };
+        // its offset with the element's nodes at (ya, ra), (yb, rb)
+        const auto offset_at = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
+          return across_element(e, xj, thread.segment(ya, ra, yb, rb), xi);
+        };
         const auto [xa, qa] = thread.node(e);
         const auto [xb, qb] = thread.node(e + 1);
-        residual += load(xa, qa, xb, qb);
+        const Offset   base = offset_at(xa, qa, xb, qb);
+        FrictionResult here;
+        residual += load(base, &here);
         if (!jacobian)
           continue;
-        p.branch = branch_at(p, across_element(e, xj, thread.segment(xa, qa, xb, qb), xi));
+        // differenced on the branch the law took here, unless one is held
+        if (!p.branch)
+          p.branch = FrictionBranch::of(here, base.zeta - p.anchor);
         for (unsigned c = 0; c < 12; ++c)
           {
             const bool   turn = c % 6 >= 3;
@@ -178,7 +184,7 @@ namespace suturesim::coupling
                 q = rod::quaternion_exp(v) * q;
               else
                 y += v;
-              return load(ya, ra, yb, rb);
+              return load(offset_at(ya, ra, yb, rb), nullptr);
             };
             jacobian->col(c) += (moved(h) - moved(-h)) / (2 * h);
           }
