@@ -46,6 +46,7 @@ namespace suturesim::scene
     parameters.spacing              = np.spacing;
     parameters.lagrange             = np.enforcement == "lagrange";
     parameters.normal_smoothing     = np.transverse_stiffness * np.coupling_tolerance;
+    parameters.load_radius          = np.load_radius;
     lagrange                        = parameters.lagrange;
     needle = std::make_unique<coupling::TissueNeedle>(geometry, parameters, surface.triangles, surface.reference);
     pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;

@@ -130,6 +130,11 @@ namespace suturesim::scene
     prm.declare_entry("Coupling iterations", default_text(d.coupling_iterations), Patterns::Integer(1, 1000),
                       "Most rounds per step; a step that does not settle in them is halved. "
                       "Unit: 1. Range: 1-1000.");
+    prm.declare_entry("Load radius", default_text(d.load_radius), Patterns::Double(0, 0.01),
+                      "Radius of the tissue that carries a pierce point's force: the point moves "
+                      "with, and loads, the tissue within this distance of it, weighted by "
+                      "(1 - r^2/radius^2)^2 (tissue/point_loads.h). 0: a point load, whose "
+                      "displacement grows without bound as the mesh is refined. Unit: m. Range: 0-0.01.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -217,6 +222,7 @@ namespace suturesim::scene
     enforcement         = prm.get("Enforcement");
     coupling_tolerance  = prm.get_double("Coupling tolerance");
     coupling_iterations = prm.get_integer("Coupling iterations");
+    load_radius         = prm.get_double("Load radius");
     scope.subsection("Accurate").require(coupling_tolerance > 0, "Coupling tolerance", "must be > 0 m");
     prm.leave_subsection();
     prm.leave_subsection();

@@ -1,10 +1,11 @@
 #include <suturesim/tissue/point_loads.h>
 
-#include <deal.II/base/quadrature.h>
+#include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/grid/grid_tools.h>
-#include <deal.II/lac/petsc_vector.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -21,34 +22,98 @@ namespace suturesim::tissue
     , comm(comm)
   {}
 
+  namespace
+  {
+    /// Adds @p w at DoF @p dof (component @p component) to @p into, through the
+    /// hanging-node line of @p c if @p dof has one.
+    void
+    add_weight(std::map<types::global_dof_index, EmbeddedPoints::Weight> &into, const types::global_dof_index dof,
+               const unsigned component, const double w, const AffineConstraints<double> &c)
+    {
+      const auto *entries = c.is_constrained(dof) ? c.get_constraint_entries(dof) : nullptr;
+      if (entries != nullptr && !entries->empty())
+        {
+          // a hanging node couples a component to the same component of its parents
+          for (const auto &[parent, alpha] : *entries)
+            add_weight(into, parent, component, alpha * w, c);
+          return;
+        }
+      auto &entry = into.try_emplace(dof, EmbeddedPoints::Weight{dof, component, 0.0}).first->second;
+      entry.value += w;
+    }
+  } // namespace
+
+  std::map<types::global_dof_index, EmbeddedPoints::Weight>
+  EmbeddedPoints::local_weights(const Point<3> &X, const double rho) const
+  {
+    std::map<types::global_dof_index, Weight> w;
+    const unsigned                             n = fe.n_dofs_per_cell();
+    std::vector<types::global_dof_index>       dofs(n);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      {
+        if (!cell->is_locally_owned())
+          continue;
+        const BoundingBox<3> box = cell->bounding_box();
+        Point<3>             nearest;
+        for (unsigned d = 0; d < 3; ++d)
+          nearest[d] = std::clamp(X[d], box.get_boundary_points().first[d], box.get_boundary_points().second[d]);
+        if (nearest.distance(X) >= rho)
+          continue;
+        // two Gauss points per subinterval, subintervals no longer than ρ/2: points no
+        // further than about ρ/4 apart whatever the cell's size
+        const unsigned  m = std::clamp(static_cast<unsigned>(std::ceil(2 * cell->diameter() / rho)), 1U, 16U);
+        const QIterated<3> quadrature(QGauss<1>(2), m);
+        FEValues<3> values(mapping, fe, quadrature, update_values | update_quadrature_points | update_JxW_values);
+        values.reinit(cell);
+        cell->get_dof_indices(dofs);
+        std::vector<double> a(n, 0.0);
+        bool                inside = false;
+        for (unsigned q = 0; q < quadrature.size(); ++q)
+          {
+            const double s = values.quadrature_point(q).distance(X) / rho;
+            if (s >= 1)
+              continue;
+            const double phi = (1 - s * s) * (1 - s * s) * values.JxW(q);
+            for (unsigned i = 0; i < n; ++i)
+              a[i] += phi * values.shape_value(i, q);
+            inside = true;
+          }
+        if (inside)
+          for (unsigned i = 0; i < n; ++i)
+            {
+              auto &entry = w.try_emplace(dofs[i], Weight{dofs[i], fe.system_to_component_index(i).first, 0.0})
+                              .first->second;
+              entry.value += a[i];
+            }
+      }
+    return w;
+  }
+
   void
-  EmbeddedPoints::locate(const PointLoads &l)
+  EmbeddedPoints::locate(const PointLoads &l, const AffineConstraints<double> &constraints)
   {
     loads = &l;
-    by_cell.clear();
     const auto    &X    = l.points();
     const unsigned rank = Utilities::MPI::this_mpi_process(comm);
-    where.assign(X.size(), {});
+    weight.assign(X.size(), {});
     mine.assign(X.size(), false);
+    any_spread = false;
     for (std::size_t k = 0; k < X.size(); ++k)
       {
         // A point of the boundary's triangles (the puncture's surface: two triangles per
         // quadrilateral face) lies off a warped face's bilinear surface, outside its cell
         // by up to a fraction of the warp: looked for again with a tolerance of 5 % of the
         // cell in unit coordinates, and its unit point then taken onto the cell.
-        unsigned owner = numbers::invalid_unsigned_int;
+        unsigned                                                   owner = numbers::invalid_unsigned_int;
+        std::pair<DoFHandler<3>::active_cell_iterator, Point<3>> found;
         for (const double tolerance : {1e-10, 0.05})
           {
             try
               {
-                auto found =
-                  GridTools::find_active_cell_around_point(mapping, dof_handler, X[k], std::vector<bool>(), tolerance);
+                found = GridTools::find_active_cell_around_point(mapping, dof_handler, X[k], std::vector<bool>(),
+                                                                 tolerance);
                 if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
-                  {
-                    found.second = GeometryInfo<3>::project_to_unit_cell(found.second);
-                    where[k]     = found;
-                    owner        = rank;
-                  }
+                  owner = rank;
               }
             catch (...)
               {
@@ -65,79 +130,174 @@ namespace suturesim::tissue
             throw std::invalid_argument(s.str());
           }
         mine[k] = lowest == rank;
-        if (mine[k])
-          by_cell[where[k].first->active_cell_index()].push_back({k, where[k].second});
+
+        const double                              rho = l.spread_radius(k);
+        std::map<types::global_dof_index, Weight> raw;
+        if (rho > 0)
+          raw = local_weights(X[k], rho);
+        else if (mine[k])
+          {
+            const Point<3> unit = GeometryInfo<3>::project_to_unit_cell(found.second);
+            FEValues<3>    values(mapping, fe, Quadrature<3>(unit), update_values);
+            values.reinit(found.first);
+            std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+            found.first->get_dof_indices(dofs);
+            for (unsigned i = 0; i < dofs.size(); ++i)
+              raw[dofs[i]] = Weight{dofs[i], fe.system_to_component_index(i).first, values.shape_value(i, 0)};
+          }
+        // normalised (the kernel's integral; 1 for the shape functions), folded through
+        // the hanging nodes by the rank whose cells hold them, then gathered
+        double total = 0;
+        for (const auto &[dof, w] : raw)
+          if (w.component == 0)
+            total += w.value;
+        total = Utilities::MPI::sum(total, comm);
+        if (!(total > 0))
+          {
+            std::ostringstream s;
+            s << "embedded point (" << X[k] << ") m: no tissue within its spread radius " << rho << " m";
+            throw std::invalid_argument(s.str());
+          }
+        std::map<types::global_dof_index, Weight> folded;
+        for (const auto &[dof, w] : raw)
+          add_weight(folded, dof, w.component, w.value / total, constraints);
+        std::vector<Weight> part;
+        for (const auto &[dof, w] : folded)
+          part.push_back(w);
+        std::map<types::global_dof_index, Weight> merged;
+        for (const auto &from : Utilities::MPI::all_gather(comm, part))
+          for (const Weight &w : from)
+            {
+              auto &entry = merged.try_emplace(w.dof, Weight{w.dof, w.component, 0.0}).first->second;
+              entry.value += w.value;
+            }
+        for (const auto &[dof, w] : merged)
+          weight[k].push_back(w);
+        any_spread = any_spread || rho > 0;
       }
   }
 
   void
-  EmbeddedPoints::add(const DoFHandler<3>::active_cell_iterator &cell, const dealii::Vector<double> &u_local,
-                      dealii::Vector<double> &r, FullMatrix<double> *K) const
+  EmbeddedPoints::add_couplings(DynamicSparsityPattern &dsp, const IndexSet &owned) const
   {
-    const auto found = by_cell.find(cell->active_cell_index());
-    if (found == by_cell.end())
-      return;
-    const unsigned n = fe.n_dofs_per_cell();
-    for (const auto &p : found->second)
+    std::vector<types::global_dof_index> columns;
+    for (const auto &w : weight)
       {
-        FEValues<3> values(mapping, fe, Quadrature<3>(p.unit), update_values);
-        values.reinit(cell);
-        Point<3> x = loads->points()[p.k];
-        for (unsigned i = 0; i < n; ++i)
-          x[fe.system_to_component_index(i).first] += values.shape_value(i, 0) * u_local[i];
-        Tensor<1, 3> f;
-        Tensor<2, 3> df_dx;
-        loads->force(p.k, x, f, df_dx);
-        for (unsigned i = 0; i < n; ++i)
-          {
-            const unsigned ci = fe.system_to_component_index(i).first;
-            const double   Ni = values.shape_value(i, 0);
-            r[i] -= Ni * f[ci];
-            if (K)
-              for (unsigned j = 0; j < n; ++j)
-                (*K)(i, j) -= Ni * df_dx[ci][fe.system_to_component_index(j).first] * values.shape_value(j, 0);
-          }
+        columns.clear();
+        for (const Weight &e : w)
+          columns.push_back(e.dof);
+        for (const Weight &e : w)
+          if (owned.is_element(e.dof))
+            dsp.add_entries(e.dof, columns.begin(), columns.end(), true);
       }
   }
 
-  template <typename VectorType>
-  Point<3>
-  EmbeddedPoints::position(const std::size_t k, const VectorType &u) const
+  std::vector<Point<3>>
+  EmbeddedPoints::positions(const Vector &u) const
   {
-    if (!mine[k])
-      return Point<3>(std::numeric_limits<double>::quiet_NaN(), 0, 0);
-    const auto &[cell, unit] = where[k];
-    FEValues<3> values(mapping, fe, Quadrature<3>(unit), update_values);
-    values.reinit(cell);
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    cell->get_dof_indices(dofs);
-    Point<3> x = loads->points()[k];
-    for (unsigned i = 0; i < dofs.size(); ++i)
-      x[fe.system_to_component_index(i).first] += values.shape_value(i, 0) * u[dofs[i]];
+    const auto           &X = loads->points();
+    const IndexSet        owned = u.locally_owned_elements();
+    std::vector<double> sum(3 * X.size(), 0.0);
+    for (std::size_t k = 0; k < X.size(); ++k)
+      for (const Weight &e : weight[k])
+        if (owned.is_element(e.dof))
+          sum[3 * k + e.component] += e.value * u(e.dof);
+    Utilities::MPI::sum(sum, comm, sum);
+    std::vector<Point<3>> x(X);
+    for (std::size_t k = 0; k < X.size(); ++k)
+      for (unsigned d = 0; d < 3; ++d)
+        x[k][d] += sum[3 * k + d];
     return x;
   }
 
-  template <typename VectorType>
   void
   EmbeddedPoints::add_point_force(const std::size_t k, const Tensor<1, 3> &f, const AffineConstraints<double> &c,
-                                  VectorType &rhs) const
+                                  Vector &rhs) const
   {
-    if (!mine[k])
-      return;
-    const auto &[cell, unit] = where[k];
-    FEValues<3> values(mapping, fe, Quadrature<3>(unit), update_values);
-    values.reinit(cell);
-    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-    cell->get_dof_indices(dofs);
-    dealii::Vector<double> local(dofs.size());
-    for (unsigned i = 0; i < dofs.size(); ++i)
-      local[i] = values.shape_value(i, 0) * f[fe.system_to_component_index(i).first];
-    c.distribute_local_to_global(local, dofs, rhs);
+    const IndexSet owned = rhs.locally_owned_elements();
+    for (const Weight &e : weight[k])
+      if (owned.is_element(e.dof) && !c.is_constrained(e.dof))
+        rhs(e.dof) += e.value * f[e.component];
   }
 
-  template Point<3>
-  EmbeddedPoints::position(std::size_t, const PETScWrappers::MPI::Vector &) const;
-  template void
-  EmbeddedPoints::add_point_force(std::size_t, const Tensor<1, 3> &, const AffineConstraints<double> &,
-                                  PETScWrappers::MPI::Vector &) const;
+  void
+  EmbeddedPoints::assemble(const Vector &u, const AffineConstraints<double> &c, Matrix *K, Vector &rhs,
+                           Vector &full) const
+  {
+    const std::size_t           n     = weight.size();
+    const std::vector<Point<3>> x     = positions(u);
+    const IndexSet              owned = rhs.locally_owned_elements();
+    // Shared by a sum over the ranks, per point: f (3) and ∂f/∂x (9) from the rank that
+    // evaluates the force law; Σ W_J g_J over the DoFs J fixed by c (3: AffineConstraints
+    // moves K_IJ g_J to the right-hand side of the free rows); then per weight whether c
+    // fixes its DoF (its owner knows).
+    std::vector<std::size_t> first(n + 1, 15 * n);
+    for (std::size_t k = 0; k < n; ++k)
+      first[k + 1] = first[k] + weight[k].size();
+    std::vector<double> shared(first[n], 0.0);
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        if (mine[k])
+          {
+            Tensor<1, 3> f;
+            Tensor<2, 3> A;
+            loads->force(k, x[k], f, A);
+            for (unsigned a = 0; a < 3; ++a)
+              {
+                shared[15 * k + a] = f[a];
+                for (unsigned b = 0; b < 3; ++b)
+                  shared[15 * k + 3 + 3 * a + b] = A[a][b];
+              }
+          }
+        for (std::size_t j = 0; j < weight[k].size(); ++j)
+          {
+            const Weight &e = weight[k][j];
+            if (!owned.is_element(e.dof) || !c.is_constrained(e.dof))
+              continue;
+            shared[first[k] + j] = 1;
+            shared[15 * k + 12 + e.component] += e.value * c.get_inhomogeneity(e.dof);
+          }
+      }
+    Utilities::MPI::sum(shared, comm, shared);
+
+    std::vector<types::global_dof_index> rows, full_rows, row_columns;
+    std::vector<double>                  r_rows, r_full, k_row;
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const double *f = &shared[15 * k], *A = &shared[15 * k + 3], *Wg = &shared[15 * k + 12];
+        const double *fixed = &shared[first[k]];
+        for (std::size_t i = 0; i < weight[k].size(); ++i)
+          {
+            const Weight &I = weight[k][i];
+            if (!owned.is_element(I.dof))
+              continue;
+            // R_I = −W_I f in every owned row; −R in the free ones, with −K_IJ g_J =
+            // W_I (A Σ W_J g_J) for the fixed columns when the tangent is assembled
+            full_rows.push_back(I.dof);
+            r_full.push_back(-I.value * f[I.component]);
+            if (fixed[i] > 0)
+              continue;
+            double b = I.value * f[I.component];
+            if (K != nullptr)
+              {
+                for (unsigned d = 0; d < 3; ++d)
+                  b += I.value * A[3 * I.component + d] * Wg[d];
+                row_columns.clear();
+                k_row.clear();
+                for (std::size_t j = 0; j < weight[k].size(); ++j)
+                  if (fixed[j] == 0)
+                    {
+                      const Weight &J = weight[k][j];
+                      row_columns.push_back(J.dof);
+                      k_row.push_back(-I.value * A[3 * I.component + J.component] * J.value);
+                    }
+                K->add(I.dof, row_columns, k_row, false);
+              }
+            rows.push_back(I.dof);
+            r_rows.push_back(b);
+          }
+      }
+    full.add(full_rows, r_full);
+    rhs.add(rows, r_rows);
+  }
 } // namespace suturesim::tissue

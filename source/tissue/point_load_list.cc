@@ -19,12 +19,25 @@ namespace suturesim::tissue
     first.push_back(all.size());
   }
 
+  std::size_t
+  PointLoadList::part_of(const std::size_t k) const
+  {
+    // the last part whose first point is at or before k
+    return std::distance(first.begin(), std::upper_bound(first.begin(), first.end() - 1, k)) - 1;
+  }
+
+  double
+  PointLoadList::spread_radius(const std::size_t k) const
+  {
+    const std::size_t part = part_of(k);
+    return list[part]->spread_radius(k - first[part]);
+  }
+
   void
   PointLoadList::force(const std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
                        dealii::Tensor<2, 3> &df_dx) const
   {
-    // the part holding k: the last whose first point is at or before it
-    const std::size_t part = std::distance(first.begin(), std::upper_bound(first.begin(), first.end() - 1, k)) - 1;
+    const std::size_t part = part_of(k);
     list[part]->force(k - first[part], x, f, df_dx);
   }
 

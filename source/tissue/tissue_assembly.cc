@@ -45,8 +45,8 @@ namespace suturesim::tissue
       {}
       bool                                ok = false;
       DoFHandler<3>::active_cell_iterator cell;
-      // the copier (given a const reference by WorkStream) completes them with the point
-      // loads, and negates r for the right-hand side
+      // the copier (given a const reference by WorkStream) negates r for the right-hand
+      // side
       mutable FullMatrix<double>           K;
       mutable dealii::Vector<double>       r;
       dealii::Vector<double>               r_c, u, v, Kv; ///< v, Kv: Rayleigh damping's
@@ -127,9 +127,6 @@ namespace suturesim::tissue
           ++bad_cells;
           return;
         }
-      // the point loads here, in the cells' order: their force laws need not be thread-safe
-      if (point_loads != nullptr)
-        embedded->add(in.cell, in.u, in.r, with_matrix ? &in.K : nullptr);
       full_residual.add(in.dofs, in.r);
       if (update == MixedUpdate::newton)
         constraint_force.add(in.dofs, in.r_c);
@@ -148,6 +145,10 @@ namespace suturesim::tissue
                     Scratch(*cell_assembler, mapping, fe, face_quadrature),
                     Contribution(n));
 
+    // the point loads after the cells, on this thread: their force laws need not be
+    // thread-safe, and a spread point's weights span several cells
+    if (point_loads != nullptr)
+      embedded->assemble(u_ghost, c, with_matrix ? &system_matrix : nullptr, system_rhs, full_residual);
     if (with_matrix)
       system_matrix.compress(VectorOperation::add);
     system_rhs.compress(VectorOperation::add);

@@ -4,6 +4,7 @@
  * output in tissue_output.cc, the dynamics in tissue_dynamics.cc, the parameters in
  * tissue_parameters.cc.
  */
+#include <suturesim/core/error.h>
 #include <suturesim/tissue/tissue_model.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -88,13 +89,7 @@ namespace suturesim::tissue
     saved_cell_mixed = cell_mixed;
 
     make_constraints(0.0, solution_ghost, constraints);
-    DynamicSparsityPattern dsp(locally_relevant_dofs);
-    // Constrained rows keep their pattern (zeroed by the constraints) so that the mass
-    // matrix of the dynamics shares it.
-    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, true);
-    SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, comm,
-                                               locally_relevant_dofs);
-    system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
+    make_system_matrix();
 
     owned_dirichlet.clear();
     for (const auto i : locally_owned_dofs)
@@ -107,6 +102,20 @@ namespace suturesim::tissue
       solver->set_near_null_space(rigid_body_modes());
 
     locate_probes();
+  }
+
+  void
+  TissueModel::make_system_matrix()
+  {
+    DynamicSparsityPattern dsp(locally_relevant_dofs);
+    // Constrained rows keep their pattern (zeroed by the constraints) so that the mass
+    // matrix of the dynamics shares it.
+    DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, true);
+    if (embedded && embedded->spread())
+      embedded->add_couplings(dsp, locally_owned_dofs);
+    SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, comm,
+                                               locally_relevant_dofs);
+    system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
   }
 
   std::vector<TissueModel::Vector>
@@ -192,21 +201,20 @@ namespace suturesim::tissue
       return;
     if (!embedded)
       embedded = std::make_unique<EmbeddedPoints>(mapping, fe, dof_handler, comm);
-    embedded->locate(*loads);
+    const bool had_couplings = embedded->spread();
+    embedded->locate(*loads, constraints);
+    if (embedded->spread() && mass_matrix.m() > 0)
+      throw InputError("a spread pierce load (Pierce points/Accurate/Load radius > 0) with tissue dynamics: "
+                       "the dynamics' matrices do not carry its couplings; use a quasi-static scene or radius 0");
+    // a spread point couples DoFs of several cells: the pattern is rebuilt with them
+    if (had_couplings || embedded->spread())
+      make_system_matrix();
   }
 
   Point<3>
   TissueModel::point_position(const std::size_t k) const
   {
-    Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
-    ghost = solution;
-    const Point<3> mine = embedded->position(k, ghost);
-    // the owner's value; NaN elsewhere
-    Point<3> x;
-    const bool here = !std::isnan(mine[0]);
-    for (unsigned d = 0; d < 3; ++d)
-      x[d] = Utilities::MPI::sum(here ? mine[d] : 0.0, comm);
-    return x;
+    return embedded->positions(solution)[k];
   }
 
   void

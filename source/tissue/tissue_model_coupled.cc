@@ -22,18 +22,12 @@ namespace suturesim::tissue
   std::vector<Point<3>>
   TissueModel::point_values(const Vector &v, const bool displacement) const
   {
-    const std::size_t     n = point_loads ? point_loads->points().size() : 0;
-    std::vector<Point<3>> values(n);
-    for (std::size_t k = 0; k < n; ++k)
-      {
-        // the owner's value; NaN elsewhere
-        const Point<3> mine = embedded->position(k, v);
-        const bool     here = !std::isnan(mine[0]);
-        for (unsigned d = 0; d < 3; ++d)
-          values[k][d] = Utilities::MPI::sum(here ? mine[d] : 0.0, comm);
-        if (!displacement)
-          values[k] -= Tensor<1, 3>(point_loads->points()[k]);
-      }
+    if (!point_loads)
+      return {};
+    std::vector<Point<3>> values = embedded->positions(v);
+    if (!displacement)
+      for (std::size_t k = 0; k < values.size(); ++k)
+        values[k] -= Tensor<1, 3>(point_loads->points()[k]);
     return values;
   }
 

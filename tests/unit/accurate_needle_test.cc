@@ -110,35 +110,44 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
   // pivots and sums MUMPS orders differently on two processes, and from run to run
   // there: 1.8e-9 and 9.5e-8 N apart in two runs (the free end's tension of about
   // 1e-8 N; the bottom's reaction). The same rows: no step is halved differently.
-  const std::string args = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
-                                         " --set 'Time/Output interval=0.5'";
-  const auto        serial   = run_suturesim("needle_pass_suture_np1", args);
-  const auto        parallel = run_suturesim("needle_pass_suture_np2", args, mpi_launcher(2));
-  ASSERT_EQ(serial.exit_code, 0) << serial.output;
-  ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
-  std::string h1, h2;
-  const auto  a = read_forces(serial, &h1), b = read_forces(parallel, &h2);
-  ASSERT_EQ(h1, h2);
-  ASSERT_EQ(a.size(), b.size());
-  ASSERT_GT(a.size(), 50u);
-  std::vector<std::string> names;
-  std::stringstream        list(h1);
-  for (std::string name; std::getline(list, name, ',');)
-    names.push_back(name);
-  double worst = 0;
-  for (std::size_t j = 0; j < a.front().size(); ++j)
+  // Also with the pierce loads spread over 2 mm (tissue/point_loads.h): a point's weights
+  // then span cells of both processes, gathered onto both.
+  for (const std::string radius : {"0", "0.002"})
     {
-      double scale = 0;
-      for (const auto &row : a)
-        scale = std::max(scale, std::abs(row[j]));
-      for (std::size_t k = 0; k < a.size(); ++k)
+      const std::string args = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
+                                             " --set 'Time/Output interval=0.5'"
+                                             " --set 'Pierce points/Accurate/Load radius=" + radius + "'";
+      const std::string name     = std::string("needle_pass_suture_") + (radius == "0" ? "" : "spread_");
+      const auto        serial   = run_suturesim(name + "np1", args);
+      const auto        parallel = run_suturesim(name + "np2", args, mpi_launcher(2));
+      ASSERT_EQ(serial.exit_code, 0) << serial.output;
+      ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
+      std::string h1, h2;
+      const auto  a = read_forces(serial, &h1), b = read_forces(parallel, &h2);
+      ASSERT_EQ(h1, h2);
+      ASSERT_EQ(a.size(), b.size());
+      ASSERT_GT(a.size(), 50u);
+      std::vector<std::string> names;
+      std::stringstream        list(h1);
+      for (std::string name; std::getline(list, name, ',');)
+        names.push_back(name);
+      double worst = 0;
+      for (std::size_t j = 0; j < a.front().size(); ++j)
         {
-          EXPECT_NEAR(b[k][j], a[k][j], 1e-7 * scale + 5e-7) << names[j] << ", t = " << a[k][0];
-          worst = std::max(worst, std::abs(b[k][j] - a[k][j]));
+          double scale = 0;
+          for (const auto &row : a)
+            scale = std::max(scale, std::abs(row[j]));
+          for (std::size_t k = 0; k < a.size(); ++k)
+            {
+              EXPECT_NEAR(b[k][j], a[k][j], 1e-7 * scale + 5e-7)
+                << names[j] << ", t = " << a[k][0] << ", load radius " << radius;
+              worst = std::max(worst, std::abs(b[k][j] - a[k][j]));
+            }
         }
+      std::printf("[ mpi ] load radius %s m: %zu rows, %zu columns: largest difference %.2e (SI units)\n",
+                  radius.c_str(), a.size(), names.size(), worst);
+      EXPECT_EQ(parallel.summary["mpi_processes"].get<int>(), 2);
     }
-  std::printf("[ mpi ] %zu rows, %zu columns: largest difference %.2e (SI units)\n", a.size(), names.size(), worst);
-  EXPECT_EQ(parallel.summary["mpi_processes"].get<int>(), 2);
 }
 
 namespace
@@ -404,9 +413,16 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   const auto &m = r.summary["metrics"];
   EXPECT_NEAR(m["simulated_time"].get<double>(), 7.5, 1e-9);
   EXPECT_GT(r.summary["wall_time_seconds"].get<double>(), 0.0);
-  // every step's coupled solve converges at its first attempt (issue 25; there were four
-  // failed attempts while MUMPS's Cholesky solved the non-symmetric tangent)
-  EXPECT_EQ(r.summary["solver"]["failed_attempts"].get<unsigned>(), 0u);
+  // The steps whose first attempt fails, pinned with the regression values below (the
+  // count is as deterministic as they are). There were four while MUMPS's Cholesky
+  // solved the non-symmetric coupled tangent, none after that fix (issue 25), and two
+  // again once the point loads were assembled after the cells instead of inside them
+  // (tissue/point_loads.h: the same sums in another order): a suture solve 0.19 s after
+  // the grasp (500 iterations, 66 N left) and a coupled solve in the tightening
+  // (6.437 s, 25 iterations, 0.18 N left), each recovered by halving the step. That
+  // round-off decides them is the open point: both solves are that close to their
+  // limits at these states (docs/interrupted_stitch.md).
+  EXPECT_EQ(r.summary["solver"]["failed_attempts"].get<unsigned>(), 2u);
   ASSERT_FALSE(m["closure_tension"].is_null()) << "least gap " << m["gaps"]["mid"]["least"];
   ASSERT_FALSE(m["tie_off_tension"].is_null());
   EXPECT_GT(m["closure_time"].get<double>(), 2.5);
@@ -446,11 +462,16 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // points' friction on the thread makes non-symmetric (MUMPS's Cholesky had solved its
   // upper triangle's mirror: tissue/linear_solver.h): the four failed attempts of the run
   // became none, the closure was detected one 10 ms substep earlier (6.606875 s against
-  // 6.616875 s) and its tension moved from 8.829873215351013 N to the value below
+  // 6.616875 s) and its tension moved from 8.829873215351013 N to 8.719799809127036 N
   // (−1.2 %), the tie-off tension by 1.3e-7 relative, the final gap by 2.6e-6.
-  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.719799809127036, 1e-12 * 8.719799809127036);
-  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.907274740342237, 1e-12 * 10.907274740342237);
+  // Re-stored when the point loads moved out of the cells' assembly (the same terms
+  // summed in another order; the runs agree to 1e-13 up to the suture's attachment at
+  // 1.5 s, then the friction's path memory and the solves' tolerances take over): the
+  // closure tension moved by −0.21 % to the value below at the same closure time, the
+  // tie-off tension from 10.907274740342237 N by −7.4e-9 relative.
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.70127810704199, 1e-12 * 8.70127810704199);
+  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.907274659186264, 1e-12 * 10.907274659186264);
   EXPECT_NEAR(m["closure_time"].get<double>(), 6.606875, 1e-9);
   EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.846875, 1e-9);
-  EXPECT_NEAR(m["final_gap"].get<double>(), 4.6710224164257406e-05, 1e-9 * 4.6710224164257406e-05);
+  EXPECT_NEAR(m["final_gap"].get<double>(), 4.671023086189226e-05, 1e-9 * 4.671023086189226e-05);
 }

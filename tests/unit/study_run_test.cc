@@ -451,9 +451,10 @@ TEST(StudyRun, MeshConvergenceStitchAtSmallSize)
 TEST(StudyRun, ShippedStudiesValidate)
 {
   // each is also run: the stitch studies at small size above, the others in their tests,
-  // but for mesh_convergence_stitch_local.prm, only validated here: its finest case runs
-  // over 30 CPU minutes, and its series shows the stitch has no mesh limit yet (issue 25,
-  // docs/studies.md); the small-size series machinery is AResolutionSeriesReference... above
+  // but for mesh_convergence_stitch_local.prm and mesh_convergence_stitch_spread.prm, only
+  // validated here: their finest cases run for over 30 CPU minutes (issue 25,
+  // docs/interrupted_stitch.md); the small-size series machinery is
+  // AResolutionSeriesReference... above
   for (const auto &entry : fs::directory_iterator(source_path("parameters/studies")))
     {
       std::string output;

@@ -35,11 +35,17 @@ namespace suturesim::tissue
     void
     force(std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
           dealii::Tensor<2, 3> &df_dx) const override;
+    double
+    spread_radius(std::size_t k) const override;
     /// Symmetric when every part's is.
     bool
     symmetric_tangent() const override;
 
   private:
+    /// The part holding point @p k.
+    std::size_t
+    part_of(std::size_t k) const;
+
     std::vector<const PointLoads *> list;
     std::vector<std::size_t>        first;
     std::vector<dealii::Point<3>>   all;

@@ -3,12 +3,29 @@
  * @file
  * Forces at material points of the tissue that depend on where those points are now —
  * the needle tip's touch and the pierce points (coupling/). The coupling implements
- * PointLoads; EmbeddedPoints finds each material point X in its cell (reference
- * coordinates ξ, no remeshing) and adds, to that cell,
- *   residual  r_i −= N_i(ξ) · f(x),           x = X + Σ_j N_j(ξ) u_j,
- *   tangent   K_ij −= N_i(ξ) · (∂f/∂x) N_j(ξ),
+ * PointLoads; EmbeddedPoints represents each point k on the mesh (reference
+ * coordinates, no remeshing) by constant weights W_kI over displacement DoFs I:
+ *   position  x_k = X_k + Σ_I W_kI u_I e_c(I),
+ *   residual  r_I −= W_kI f_c(I)(x_k),
+ *   tangent   K_IJ −= W_kI (∂f/∂x)_c(I)c(J) W_kJ,
  * so that R = f_int − f_ext keeps its sign convention and Newton stays quadratic when
- * ∂f/∂x is exact (a penalty spring: f = −k d, ∂f/∂x = −k: K gains +k N_iN_j).
+ * ∂f/∂x is exact (a penalty spring: f = −k d, ∂f/∂x = −k: K gains +k W_I W_J). The
+ * same weights interpolate the point's motion and spread its force, so the coupling
+ * does work f·δx and the tangent is symmetric whenever ∂f/∂x is.
+ *
+ * A point load (spread radius ρ = 0) takes W_kI = N_I(ξ), the shape functions at the
+ * point in its cell. Its displacement has no mesh limit: under a point force F in an
+ * elastic solid u ~ F/(8πμ r) (Kelvin's solution; Timoshenko & Goodier, "Theory of
+ * Elasticity", 1970, §136), and a mesh of size h measures it at r ~ h. With ρ > 0 the
+ * point stands for the tissue within ρ of X in the reference configuration, weighted by
+ * the kernel φ(s) = (1 − s²)², s = |X' − X|/ρ:
+ *   W_kI = ∫_{|X'−X|<ρ} φ N_I dV / ∫ φ dV,
+ * the smoothed delta of immersed-boundary methods, which interpolate and spread with
+ * the same kernel (Peskin 2002, Acta Numerica 11:479–517, §6). The integrals use a
+ * Gauss rule iterated until its points are no further than ρ/4 apart, so that the
+ * weights are resolved on any mesh and their mesh limit is the kernel's. Hanging-node
+ * constraints are folded into the weights; rows and columns that the solve's
+ * constraints fix (Dirichlet values) are left to those constraints.
  */
 
 #include <deal.II/base/mpi.h>
@@ -18,8 +35,9 @@
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
-#include <deal.II/lac/full_matrix.h>
-#include <deal.II/lac/vector.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
 
 #include <map>
 #include <vector>
@@ -48,54 +66,96 @@ namespace suturesim::tissue
     {
       return true;
     }
+
+    /// Radius ρ of the tissue that carries point @p k's force (m): 0 for a point load;
+    /// see EmbeddedPoints for the kernel.
+    virtual double
+    spread_radius(std::size_t /*k*/) const
+    {
+      return 0;
+    }
   };
 
   class EmbeddedPoints
   {
   public:
+    using Matrix = dealii::PETScWrappers::MPI::SparseMatrix;
+    using Vector = dealii::PETScWrappers::MPI::Vector;
+
     EmbeddedPoints(const dealii::Mapping<3> &mapping, const dealii::FiniteElement<3> &fe,
                    const dealii::DoFHandler<3> &dof_handler, MPI_Comm comm);
 
-    /// Finds the cell of every point of @p loads (collective): the lowest rank owning a
-    /// cell that holds it assembles it. Throws std::invalid_argument naming a point
-    /// outside the mesh.
+    /// Finds every point of @p loads (collective): the lowest rank owning a cell that
+    /// holds it evaluates its force law; its weights, with the hanging-node lines of
+    /// @p constraints folded in, are known on every rank. Throws std::invalid_argument
+    /// naming a point outside the mesh.
     void
-    locate(const PointLoads &loads);
+    locate(const PointLoads &loads, const dealii::AffineConstraints<double> &constraints);
 
-    /// Adds the loads at the points inside @p cell to its residual @p r and, if given,
-    /// tangent @p K (cell-local, the cell's DoF order), at the cell's displacements
-    /// @p u_local.
+    /// Whether some point's weights reach beyond one cell's DoFs, so that the matrix
+    /// needs the couplings of add_couplings() on top of the cells' own.
+    bool
+    spread() const
+    {
+      return any_spread;
+    }
+
+    /// Adds to @p dsp, in the rows @p owned, the couplings among each point's DoFs.
     void
-    add(const dealii::DoFHandler<3>::active_cell_iterator &cell, const dealii::Vector<double> &u_local,
-        dealii::Vector<double> &r, dealii::FullMatrix<double> *K) const;
+    add_couplings(dealii::DynamicSparsityPattern &dsp, const dealii::IndexSet &owned) const;
 
-    /// Adds the nodal forces of a force @p f at point @p k, Σ_i N_i(ξ) f, into @p rhs
-    /// through @p constraints (constrained entries left alone), on the rank that owns
-    /// the point.
-    template <typename VectorType>
+    /// Adds the loads at displacements @p u (collective) to the residual @p full
+    /// (R = f_int − f_ext, every owned row), to the right-hand side @p rhs (−R, the rows
+    /// @p c leaves free) and, if given, to the tangent @p K (those rows and columns; a
+    /// fixed column's inhomogeneity moved to @p rhs as AffineConstraints does).
+    void
+    assemble(const Vector &u, const dealii::AffineConstraints<double> &c, Matrix *K, Vector &rhs,
+             Vector &full) const;
+
+    /// Adds the nodal forces of a force @p f at point @p k, Σ_I W_kI f, into the owned
+    /// rows of @p rhs that @p constraints leave free.
     void
     add_point_force(std::size_t k, const dealii::Tensor<1, 3> &f, const dealii::AffineConstraints<double> &constraints,
-                    VectorType &rhs) const;
+                    Vector &rhs) const;
 
-    /// Current position of point @p k from the ghosted displacement @p u (on the rank
-    /// that owns it; the others return NaN): x = X + u(X).
-    template <typename VectorType>
-    dealii::Point<3>
-    position(std::size_t k, const VectorType &u) const;
+    /// Current positions of all points from the displacement @p u (collective; the
+    /// same on every rank): x_k = X_k + Σ_I W_kI u_I.
+    std::vector<dealii::Point<3>>
+    positions(const Vector &u) const;
+
+    /// The weights of point @p k: (DoF, component, W), by DoF.
+    struct Weight
+    {
+      dealii::types::global_dof_index dof;
+      unsigned                        component;
+      double                          value;
+
+      /// For Utilities::MPI::all_gather().
+      template <class Archive>
+      void
+      serialize(Archive &archive, const unsigned int /*version*/)
+      {
+        archive &dof &component &value;
+      }
+    };
+    const std::vector<Weight> &
+    weights(std::size_t k) const
+    {
+      return weight[k];
+    }
 
   private:
+    /// The weights over the locally owned cells near @p X (the kernel), this rank's part.
+    std::map<dealii::types::global_dof_index, Weight>
+    local_weights(const dealii::Point<3> &X, double rho) const;
+
     const dealii::Mapping<3>        &mapping;
     const dealii::FiniteElement<3>  &fe;
     const dealii::DoFHandler<3>     &dof_handler;
     MPI_Comm                         comm;
     const PointLoads                *loads = nullptr;
-    struct Located
-    {
-      std::size_t      k;
-      dealii::Point<3> unit;
-    };
-    std::map<unsigned int, std::vector<Located>> by_cell; ///< active cell index → its points
-    std::vector<std::pair<dealii::DoFHandler<3>::active_cell_iterator, dealii::Point<3>>> where;
-    std::vector<bool> mine;
+    std::vector<std::vector<Weight>> weight;
+    std::vector<bool>                mine; ///< this rank evaluates the point's force law
+    bool                             any_spread = false;
   };
 } // namespace suturesim::tissue

@@ -280,8 +280,9 @@ namespace suturesim::tissue
     newton_stop(unsigned it, double r_norm, double r_ref, double du_norm, double du_max, double gap,
                 double force_floor, NewtonReport &report) const;
 
-    /// Positions X + N v of every point load for the ghosted vector @p v (collective);
-    /// with @p displacement false, N v alone (the points' share of an update).
+    /// Positions X + W v of every point load for the vector @p v (collective; see
+    /// EmbeddedPoints); with @p displacement false, W v alone (the points' share of an
+    /// update).
     std::vector<dealii::Point<3>>
     point_values(const Vector &v, bool displacement) const;
 
@@ -298,6 +299,11 @@ namespace suturesim::tissue
 
     void
     assemble_mass_matrix();
+
+    /// The tangent's sparsity: the cells' couplings under the constraints, plus those of
+    /// spread point loads (EmbeddedPoints::add_couplings()).
+    void
+    make_system_matrix();
 
     /// Fills reaction_dofs (setup()).
     void

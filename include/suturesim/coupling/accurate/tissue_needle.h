@@ -84,6 +84,9 @@ namespace suturesim::coupling
     /// coupling/coulomb_friction.h), N; the scene sets the force the tie carries at the
     /// coupling tolerance, k⊥ × tolerance, which the coupled solve does not resolve anyway
     double             normal_smoothing     = 0;
+    /// ρ of the tissue that carries a pierce point's force (tissue/point_loads.h), m;
+    /// 0: a point load. The tip's touch stays a point.
+    double             load_radius          = 0;
   };
 
   struct AccuratePiercePoint
@@ -201,6 +204,11 @@ namespace suturesim::coupling
     void
     force(std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
           dealii::Tensor<2, 3> &df_dx) const override;
+    double
+    spread_radius(std::size_t k) const override
+    {
+      return touch_index() == 0 && k == 0 ? 0.0 : prm.load_radius;
+    }
 
     /// Index of the touch among points() (−1 when not pressing) and of pierce point j.
     int
