@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -89,90 +88,105 @@ namespace suturesim::tissue
     return w;
   }
 
+  std::pair<DoFHandler<3>::active_cell_iterator, Point<3>>
+  EmbeddedPoints::find(const Point<3> &X, bool &here) const
+  {
+    // A point of the boundary's triangles (the puncture's surface: two triangles per
+    // quadrilateral face) lies off a warped face's bilinear surface, outside its cell by
+    // up to a fraction of the warp: looked for again with a tolerance of 5 % of the cell
+    // in unit coordinates, and its unit point then taken onto the cell.
+    const unsigned                                           rank  = Utilities::MPI::this_mpi_process(comm);
+    unsigned                                                 owner = numbers::invalid_unsigned_int;
+    std::pair<DoFHandler<3>::active_cell_iterator, Point<3>> found;
+    for (const double tolerance : {1e-10, 0.05})
+      {
+        try
+          {
+            found = GridTools::find_active_cell_around_point(mapping, dof_handler, X, std::vector<bool>(), tolerance);
+            if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
+              owner = rank;
+          }
+        catch (...)
+          {
+            // not in this rank's part of the mesh
+          }
+        if (Utilities::MPI::min(owner, comm) != numbers::invalid_unsigned_int)
+          break;
+      }
+    const unsigned lowest = Utilities::MPI::min(owner, comm);
+    if (lowest == numbers::invalid_unsigned_int)
+      {
+        std::ostringstream s;
+        s << "embedded point (" << X << ") m lies outside the mesh";
+        throw std::invalid_argument(s.str());
+      }
+    here         = lowest == rank;
+    found.second = GeometryInfo<3>::project_to_unit_cell(found.second);
+    return found;
+  }
+
+  std::vector<EmbeddedPoints::Weight>
+  EmbeddedPoints::gather(const std::map<types::global_dof_index, Weight> &raw,
+                         const AffineConstraints<double>                 &constraints) const
+  {
+    // normalised (the kernel's integral; 1 for the shape functions), folded through the
+    // hanging nodes by the rank whose cells hold them, then summed over the ranks
+    double total = 0;
+    for (const auto &[dof, w] : raw)
+      if (w.component == 0)
+        total += w.value;
+    total = Utilities::MPI::sum(total, comm);
+    if (!(total > 0))
+      return {};
+    std::map<types::global_dof_index, Weight> folded;
+    for (const auto &[dof, w] : raw)
+      add_weight(folded, dof, w.component, w.value / total, constraints);
+    std::vector<Weight> part;
+    for (const auto &[dof, w] : folded)
+      part.push_back(w);
+    std::map<types::global_dof_index, Weight> merged;
+    for (const auto &from : Utilities::MPI::all_gather(comm, part))
+      for (const Weight &w : from)
+        merged.try_emplace(w.dof, Weight{w.dof, w.component, 0.0}).first->second.value += w.value;
+    std::vector<Weight> all;
+    for (const auto &[dof, w] : merged)
+      all.push_back(w);
+    return all;
+  }
+
   void
   EmbeddedPoints::locate(const PointLoads &l, const AffineConstraints<double> &constraints)
   {
-    loads = &l;
-    const auto    &X    = l.points();
-    const unsigned rank = Utilities::MPI::this_mpi_process(comm);
+    loads       = &l;
+    const auto &X = l.points();
     weight.assign(X.size(), {});
     mine.assign(X.size(), false);
     any_spread = false;
     for (std::size_t k = 0; k < X.size(); ++k)
       {
-        // A point of the boundary's triangles (the puncture's surface: two triangles per
-        // quadrilateral face) lies off a warped face's bilinear surface, outside its cell
-        // by up to a fraction of the warp: looked for again with a tolerance of 5 % of the
-        // cell in unit coordinates, and its unit point then taken onto the cell.
-        unsigned                                                   owner = numbers::invalid_unsigned_int;
-        std::pair<DoFHandler<3>::active_cell_iterator, Point<3>> found;
-        for (const double tolerance : {1e-10, 0.05})
-          {
-            try
-              {
-                found = GridTools::find_active_cell_around_point(mapping, dof_handler, X[k], std::vector<bool>(),
-                                                                 tolerance);
-                if (found.first.state() == IteratorState::valid && found.first->is_locally_owned())
-                  owner = rank;
-              }
-            catch (...)
-              {
-                // not in this rank's part of the mesh
-              }
-            if (Utilities::MPI::min(owner, comm) != numbers::invalid_unsigned_int)
-              break;
-          }
-        const unsigned lowest = Utilities::MPI::min(owner, comm);
-        if (lowest == numbers::invalid_unsigned_int)
-          {
-            std::ostringstream s;
-            s << "embedded point (" << X[k] << ") m lies outside the mesh";
-            throw std::invalid_argument(s.str());
-          }
-        mine[k] = lowest == rank;
-
-        const double                              rho = l.spread_radius(k);
+        bool         here  = false;
+        const auto   found = find(X[k], here);
+        const double rho   = l.spread_radius(k);
+        mine[k]            = here;
         std::map<types::global_dof_index, Weight> raw;
         if (rho > 0)
           raw = local_weights(X[k], rho);
-        else if (mine[k])
+        else if (here)
           {
-            const Point<3> unit = GeometryInfo<3>::project_to_unit_cell(found.second);
-            FEValues<3>    values(mapping, fe, Quadrature<3>(unit), update_values);
+            FEValues<3> values(mapping, fe, Quadrature<3>(found.second), update_values);
             values.reinit(found.first);
             std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
             found.first->get_dof_indices(dofs);
             for (unsigned i = 0; i < dofs.size(); ++i)
               raw[dofs[i]] = Weight{dofs[i], fe.system_to_component_index(i).first, values.shape_value(i, 0)};
           }
-        // normalised (the kernel's integral; 1 for the shape functions), folded through
-        // the hanging nodes by the rank whose cells hold them, then gathered
-        double total = 0;
-        for (const auto &[dof, w] : raw)
-          if (w.component == 0)
-            total += w.value;
-        total = Utilities::MPI::sum(total, comm);
-        if (!(total > 0))
+        weight[k] = gather(raw, constraints);
+        if (weight[k].empty())
           {
             std::ostringstream s;
             s << "embedded point (" << X[k] << ") m: no tissue within its spread radius " << rho << " m";
             throw std::invalid_argument(s.str());
           }
-        std::map<types::global_dof_index, Weight> folded;
-        for (const auto &[dof, w] : raw)
-          add_weight(folded, dof, w.component, w.value / total, constraints);
-        std::vector<Weight> part;
-        for (const auto &[dof, w] : folded)
-          part.push_back(w);
-        std::map<types::global_dof_index, Weight> merged;
-        for (const auto &from : Utilities::MPI::all_gather(comm, part))
-          for (const Weight &w : from)
-            {
-              auto &entry = merged.try_emplace(w.dof, Weight{w.dof, w.component, 0.0}).first->second;
-              entry.value += w.value;
-            }
-        for (const auto &[dof, w] : merged)
-          weight[k].push_back(w);
         any_spread = any_spread || rho > 0;
       }
   }

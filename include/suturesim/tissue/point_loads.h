@@ -40,6 +40,7 @@
 #include <deal.II/lac/petsc_vector.h>
 
 #include <map>
+#include <utility>
 #include <vector>
 
 namespace suturesim::tissue
@@ -145,6 +146,19 @@ namespace suturesim::tissue
     }
 
   private:
+    /// The cell that holds @p X and its unit point there (collective); @p here: this
+    /// rank owns it (the lowest rank that does). Throws std::invalid_argument for a
+    /// point outside the mesh.
+    std::pair<dealii::DoFHandler<3>::active_cell_iterator, dealii::Point<3>>
+    find(const dealii::Point<3> &X, bool &here) const;
+
+    /// Every rank's @p raw weights of one point normalised to sum to one, folded through
+    /// the hanging-node lines of @p constraints and summed (collective); empty when they
+    /// sum to zero.
+    std::vector<Weight>
+    gather(const std::map<dealii::types::global_dof_index, Weight> &raw,
+           const dealii::AffineConstraints<double>                 &constraints) const;
+
     /// The weights over the locally owned cells near @p X (the kernel), this rank's part.
     std::map<dealii::types::global_dof_index, Weight>
     local_weights(const dealii::Point<3> &X, double rho) const;
