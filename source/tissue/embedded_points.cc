@@ -5,6 +5,7 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -274,12 +275,31 @@ namespace suturesim::tissue
       }
     Utilities::MPI::sum(shared, comm, shared);
 
-    std::vector<types::global_dof_index> rows, full_rows, row_columns;
-    std::vector<double>                  r_rows, r_full, k_row;
+    std::vector<types::global_dof_index> rows, full_rows, columns;
+    std::vector<double>                  r_rows, r_full, k_row, WJ;
+    std::array<std::vector<double>, 3>   AJ; ///< per row component a: A_a,c(J) over the free J
     for (std::size_t k = 0; k < n; ++k)
       {
         const double *f = &shared[15 * k], *A = &shared[15 * k + 3], *Wg = &shared[15 * k + 12];
         const double *fixed = &shared[first[k]];
+        // the tangent's rows of this point differ only by their factor W_I and its
+        // component: the free columns, their W_J and A's entries once per point
+        if (K != nullptr)
+          {
+            columns.clear();
+            WJ.clear();
+            for (auto &a : AJ)
+              a.clear();
+            for (std::size_t j = 0; j < weight[k].size(); ++j)
+              if (fixed[j] == 0)
+                {
+                  const Weight &J = weight[k][j];
+                  columns.push_back(J.dof);
+                  WJ.push_back(J.value);
+                  for (unsigned a = 0; a < 3; ++a)
+                    AJ[a].push_back(A[3 * a + J.component]);
+                }
+          }
         for (std::size_t i = 0; i < weight[k].size(); ++i)
           {
             const Weight &I = weight[k][i];
@@ -296,16 +316,11 @@ namespace suturesim::tissue
               {
                 for (unsigned d = 0; d < 3; ++d)
                   b += I.value * A[3 * I.component + d] * Wg[d];
-                row_columns.clear();
-                k_row.clear();
-                for (std::size_t j = 0; j < weight[k].size(); ++j)
-                  if (fixed[j] == 0)
-                    {
-                      const Weight &J = weight[k][j];
-                      row_columns.push_back(J.dof);
-                      k_row.push_back(-I.value * A[3 * I.component + J.component] * J.value);
-                    }
-                K->add(I.dof, row_columns, k_row, false);
+                const std::vector<double> &a = AJ[I.component];
+                k_row.resize(a.size());
+                for (std::size_t j = 0; j < a.size(); ++j)
+                  k_row[j] = -I.value * a[j] * WJ[j];
+                K->add(I.dof, columns, k_row, false);
               }
             rows.push_back(I.dof);
             r_rows.push_back(b);

@@ -148,6 +148,7 @@ TEST(EmbeddedPoints, SpreadWeightsSumToOneAndReproduceLinearFieldsAcrossHangingN
       for (unsigned d = 0; d < 3; ++d)
         EXPECT_NEAR(sum[d], 1.0, 1e-12) << "ρ = " << rho;
       // ρ = 0: the shape functions at the point, exact; ρ > 0: the rule's error
+      std::cout << "rho = " << rho << " m: centroid " << centroid.distance(spring.X[0]) << " m from the point\n";
       EXPECT_LT(centroid.distance(spring.X[0]), rho > 0 ? 1e-3 * rho : 1e-15) << "ρ = " << rho;
       if (rho > 0)
         EXPECT_GT(points.weights(0).size(), 3 * 27u); // more than one cell's DoFs
