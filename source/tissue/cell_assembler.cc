@@ -26,15 +26,27 @@ namespace suturesim::tissue
     , mixed(mixed)
     , n_p(mixed ? (pressure_degree == 0 ? 1 : 4) : 0)
     , dofs_per_cell(fe.n_dofs_per_cell())
+    , n_scalar(dofs_per_cell / 3)
     , component(dofs_per_cell)
     , F_q(quadrature.size())
     , J_q(quadrature.size())
     , Np_q(quadrature.size())
-    , dE(dofs_per_cell)
-    , CC_dE(dofs_per_cell)
+    , A_q(quadrature.size())
+    , grad_N(n_scalar, 3 * quadrature.size())
+    , H(n_scalar, 3 * quadrature.size())
+    , K_cd(n_scalar, n_scalar)
   {
+    // a displacement element: three copies of one scalar element, N_a e_c
+    AssertThrow(fe.n_components() == 3 && fe.is_primitive() && fe.n_base_elements() == 1,
+                ExcMessage("CellAssembler needs FESystem(scalar element, 3)"));
+    for (auto &d : dof_of)
+      d.resize(n_scalar);
     for (unsigned int i = 0; i < dofs_per_cell; ++i)
-      component[i] = fe.system_to_component_index(i).first;
+      {
+        const auto [c, a] = fe.system_to_component_index(i);
+        component[i]      = c;
+        dof_of[c][a]      = i;
+      }
     if (mixed)
       K_pu.reinit(n_p, dofs_per_cell);
   }
@@ -210,71 +222,127 @@ namespace suturesim::tissue
     SymTensor4 CC;
     for (unsigned int q = 0; q < n_q; ++q)
       {
-        const Tensor2   &F     = F_q[q];
-        const double     J     = J_q[q];
-        const SymTensor2 C     = symmetrize(transpose(F) * F);
-        const double     dV    = fe_values.JxW(q);
+        const Tensor2   &F  = F_q[q];
+        const double     J  = J_q[q];
+        const SymTensor2 C  = symmetrize(transpose(F) * F);
+        const double     dV = fe_values.JxW(q);
         if (mixed)
           {
             double p = 0;
             for (unsigned int a = 0; a < n_p; ++a)
               p += Np_q[q][a] * p_coef[a];
             material.isochoric_response(C, S, CC);
-            const SymTensor2 C_inv = invert(C);
-            S += p * J * C_inv;
             if (K != nullptr)
-              CC += p * J * (outer_product(C_inv, C_inv) - 2.0 * symmetric_product(C_inv));
+              store_tangent(q, F, S, CC, dV);
+            // S += p̃ J C⁻¹. Its part of 𝔸, ∂(p̃ J F⁻ᵀ)/∂F at fixed p̃, is
+            // p̃ J (F⁻ᵀ_cB F⁻ᵀ_dD − F⁻ᵀ_cD F⁻ᵀ_dB): the δ_cd (p̃ J C⁻¹)_BD of the geometric
+            // term cancels against ℂ's −2 p̃ J C⁻¹ ⊙ C⁻¹.
+            const Tensor2 F_invT = transpose(invert(F));
+            S += p * J * invert(C);
+            if (K != nullptr)
+              {
+                std::array<double, 81> &A   = A_q[q];
+                const double            pJV = p * J * dV;
+                for (unsigned c = 0; c < 3; ++c)
+                  for (unsigned B = 0; B < 3; ++B)
+                    for (unsigned d = 0; d < 3; ++d)
+                      for (unsigned D = 0; D < 3; ++D)
+                        A[(3 * c + B) * 9 + 3 * d + D] +=
+                          pJV * (F_invT[c][B] * F_invT[d][D] - F_invT[c][D] * F_invT[d][B]);
+              }
+            // K_pu: J C⁻¹ : δE = J F⁻ᵀ_cB ∂_B N_a for δu = N_a e_c
+            for (unsigned int a = 0; a < n_p; ++a)
+              for (unsigned int i = 0; i < dofs_per_cell; ++i)
+                K_pu(a, i) +=
+                  Np_q[q][a] * J * (F_invT[component[i]] * fe_values.shape_grad(i, q)) * dV;
           }
         else
-          material.response(C, S, CC);
+          {
+            material.response(C, S, CC);
+            if (K != nullptr)
+              store_tangent(q, F, S, CC, dV);
+          }
 
-        // δE_i = sym(Fᵀ ∇δu_i) for the vector shape function i = N_i e_c.
+        // r_(a,c) = P_cB ∂_B N_a dV with P = F S (= S : δE for δu = N_a e_c)
+        const Tensor2 P = F * Tensor2(S);
         for (unsigned int i = 0; i < dofs_per_cell; ++i)
           {
-            const Tensor<1, 3> &g = fe_values.shape_grad(i, q);
-            const unsigned int  c = component[i];
-            SymTensor2          e;
-            for (unsigned int A = 0; A < 3; ++A)
-              for (unsigned int B = A; B < 3; ++B)
-                e[A][B] = 0.5 * (F[c][A] * g[B] + F[c][B] * g[A]);
-            dE[i] = e;
-            r[i] += (S * e) * dV;
+            const unsigned int c = component[i];
+            r[i] += (P[c] * fe_values.shape_grad(i, q)) * dV;
             if (body_acceleration.norm_square() > 0)
               r[i] -= material.density() * body_acceleration[c] *
                       fe_values.shape_value(i, q) * dV;
           }
-        if (mixed)
-          {
-            const SymTensor2 JC_inv = J * invert(C);
-            for (unsigned int a = 0; a < n_p; ++a)
-              for (unsigned int i = 0; i < dofs_per_cell; ++i)
-                K_pu(a, i) += Np_q[q][a] * (JC_inv * dE[i]) * dV;
-          }
-        if (K == nullptr)
-          continue;
-
-        for (unsigned int j = 0; j < dofs_per_cell; ++j)
-          CC_dE[j] = CC * dE[j];
-        for (unsigned int i = 0; i < dofs_per_cell; ++i)
-          {
-            const Tensor<1, 3> S_gi = S * fe_values.shape_grad(i, q);
-            for (unsigned int j = 0; j <= i; ++j)
-              {
-                double k = dE[i] * CC_dE[j];
-                if (component[i] == component[j])
-                  k += S_gi * fe_values.shape_grad(j, q);
-                (*K)(i, j) += k * dV;
-              }
-          }
       }
-
     if (K != nullptr)
-      for (unsigned int i = 0; i < dofs_per_cell; ++i)
-        for (unsigned int j = i + 1; j < dofs_per_cell; ++j)
-          (*K)(i, j) = (*K)(j, i);
+      contract_tangent(*K);
+
     if (mixed)
       condense(mf, unknowns, M_inv, K_JJ, R_p, R_J, r, K, constraint_force);
     return true;
+  }
+
+  void
+  CellAssembler::store_tangent(const unsigned q, const Tensor2 &F, const SymTensor2 &S,
+                               const SymTensor4 &CC, const double dV)
+  {
+    // T_cBCD = F_cA ℂ_ABCD, then 𝔸_cBdD = T_cBCD F_dC + δ_cd S_BD
+    double cc[3][3][3][3], T[3][3][3][3];
+    for (unsigned A = 0; A < 3; ++A)
+      for (unsigned B = 0; B < 3; ++B)
+        for (unsigned C = 0; C < 3; ++C)
+          for (unsigned D = 0; D < 3; ++D)
+            cc[A][B][C][D] = CC[A][B][C][D];
+    for (unsigned c = 0; c < 3; ++c)
+      for (unsigned B = 0; B < 3; ++B)
+        for (unsigned C = 0; C < 3; ++C)
+          for (unsigned D = 0; D < 3; ++D)
+            T[c][B][C][D] = F[c][0] * cc[0][B][C][D] + F[c][1] * cc[1][B][C][D] + F[c][2] * cc[2][B][C][D];
+    std::array<double, 81> &A = A_q[q];
+    for (unsigned c = 0; c < 3; ++c)
+      for (unsigned B = 0; B < 3; ++B)
+        for (unsigned d = 0; d < 3; ++d)
+          for (unsigned D = 0; D < 3; ++D)
+            A[(3 * c + B) * 9 + 3 * d + D] =
+              dV * (T[c][B][0][D] * F[d][0] + T[c][B][1][D] * F[d][1] + T[c][B][2][D] * F[d][2] +
+                    (c == d ? S[B][D] : 0.0));
+  }
+
+  void
+  CellAssembler::contract_tangent(FullMatrix<double> &K)
+  {
+    const unsigned n_q = fe_values.n_quadrature_points;
+    for (unsigned q = 0; q < n_q; ++q)
+      for (unsigned a = 0; a < n_scalar; ++a)
+        {
+          const Tensor<1, 3> &g = fe_values.shape_grad(dof_of[0][a], q);
+          for (unsigned B = 0; B < 3; ++B)
+            grad_N(a, 3 * q + B) = g[B];
+        }
+    for (unsigned c = 0; c < 3; ++c)
+      for (unsigned d = c; d < 3; ++d)
+        {
+          // H = ∂N 𝔸^cd, point by point (𝔸^cd is block diagonal over q), then K^cd = H ∂Nᵀ
+          for (unsigned q = 0; q < n_q; ++q)
+            {
+              const std::array<double, 81> &A = A_q[q];
+              for (unsigned D = 0; D < 3; ++D)
+                {
+                  const double A0 = A[(3 * c) * 9 + 3 * d + D], A1 = A[(3 * c + 1) * 9 + 3 * d + D],
+                               A2 = A[(3 * c + 2) * 9 + 3 * d + D];
+                  H.col(3 * q + D) =
+                    A0 * grad_N.col(3 * q) + A1 * grad_N.col(3 * q + 1) + A2 * grad_N.col(3 * q + 2);
+                }
+            }
+          K_cd.noalias() = H * grad_N.transpose();
+          // a diagonal block from its lower triangle, so that K is symmetric to the bit
+          for (unsigned a = 0; a < n_scalar; ++a)
+            for (unsigned b = 0; b < (c == d ? a + 1 : n_scalar); ++b)
+              {
+                K(dof_of[c][a], dof_of[d][b]) = K_cd(a, b);
+                K(dof_of[d][b], dof_of[c][a]) = K_cd(a, b);
+              }
+        }
   }
 
   void

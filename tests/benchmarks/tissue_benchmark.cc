@@ -9,16 +9,27 @@
 //                                  (anchor: ~200 µs·core/DoF, Davydov et al. 2020)
 //   peak_rss_MB                    peak resident memory of the process so far: run one
 //                                  case per process for a clean figure (README).
+// CellAssembly times one cell's residual and tangent (CellAssembler::assemble) on a
+// distorted hexahedron at a finite strain: the kernel of every Newton iteration, without
+// the global matrix: its time is the time per cell.
 // Run: build/tests/benchmarks/tissue_benchmark --benchmark_filter=...
 #include <suturesim/io/recorder.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
+#include <suturesim/tissue/cell_assembler.h>
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_q1.h>
+#include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -96,8 +107,60 @@ namespace
         state.counters["peak_rss_MB"] = usage.ru_maxrss / 1024.0;
       }
   }
+
+  /// A Mooney–Rivlin material (C10 = 0.8 MPa, C01 = 0.2 MPa, ν = 0.45).
+  tissue::Material
+  cell_material()
+  {
+    dealii::ParameterHandler prm;
+    tissue::Material::declare_parameters(prm);
+    ParameterFile file(prm,
+                       "set Model = Mooney-Rivlin\nset Poisson ratio = 0.45\n"
+                       "subsection Mooney-Rivlin\n set C10 = 0.8e6\n set C01 = 0.2e6\nend\n",
+                       "benchmark.prm",
+                       ".");
+    return tissue::Material::parse_parameters(prm, ParameterScope(file, ""));
+  }
+
+  /// Arguments: element degree, pressure degree (mixed, Newton-unknown update).
+  void
+  cell_assembly(benchmark::State &state)
+  {
+    using namespace dealii;
+    const unsigned     degree = static_cast<unsigned>(state.range(0));
+    Triangulation<3>   tria;
+    GridGenerator::hyper_cube(tria, 0.0, 0.01);
+    GridTools::transform(
+      [](const Point<3> &p) {
+        return p + 0.001 * Point<3>(std::sin(300 * p[1] + 200 * p[2]),
+                                  std::cos(250 * p[0] + 100 * p[2]),
+                                  std::sin(150 * p[0] + 280 * p[1] + 1));
+      },
+      tria);
+    FESystem<3>   fe(FE_Q<3>(degree), 3);
+    DoFHandler<3> dofs(tria);
+    dofs.distribute_dofs(fe);
+    MappingQ1<3>            mapping;
+    tissue::CellAssembler   assembler(mapping, fe, QGauss<3>(degree + 1), true,
+                                      static_cast<unsigned>(state.range(1)));
+    const tissue::Material  material = cell_material();
+    const unsigned          n        = fe.n_dofs_per_cell();
+    dealii::Vector<double>  u(n), r(n);
+    FullMatrix<double>      K(n, n);
+    for (unsigned i = 0; i < n; ++i) // about 5 % strain
+      u[i] = 5e-4 * std::sin(1.7 * i + 0.3);
+    tissue::MixedCell fields;
+    const auto        cell = dofs.begin_active();
+    assembler.assemble(cell, u, material, {}, r, &K, &fields, tissue::MixedUpdate::exact);
+    for (auto _ : state)
+      {
+        assembler.assemble(cell, u, material, {}, r, &K, &fields, tissue::MixedUpdate::newton);
+        benchmark::DoNotOptimize(K(0, 0));
+      }
+  }
 } // namespace
 
+BENCHMARK(cell_assembly)->Args({1, 0})->Args({2, 1})->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(run_block, direct, std::string("direct"))
   ->Arg(8)
   ->Arg(16)

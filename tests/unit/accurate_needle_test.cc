@@ -414,14 +414,10 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   EXPECT_NEAR(m["simulated_time"].get<double>(), 7.5, 1e-9);
   EXPECT_GT(r.summary["wall_time_seconds"].get<double>(), 0.0);
   // The steps whose first attempt fails, pinned with the regression values below (the
-  // count is as deterministic as they are). There were four while MUMPS's Cholesky
-  // solved the non-symmetric coupled tangent, none after that fix (issue 25), and two
-  // again once the point loads were assembled after the cells instead of inside them
-  // (tissue/point_loads.h: the same sums in another order): a suture solve 0.19 s after
-  // the grasp (500 iterations, 66 N left) and a coupled solve in the tightening
-  // (6.437 s, 25 iterations, 0.18 N left), each recovered by halving the step. That
-  // round-off decides them is the open point: both solves are that close to their
-  // limits at these states (docs/interrupted_stitch.md).
+  // count is as deterministic as they are): two, a suture solve shortly after the grasp
+  // and a coupled solve in the tightening, each recovered by halving the step. Which
+  // steps fail moves with round-off; that both solves are that close to their limits is
+  // the open point (docs/interrupted_stitch.md, "Regression values of the stitch").
   EXPECT_EQ(r.summary["solver"]["failed_attempts"].get<unsigned>(), 2u);
   ASSERT_FALSE(m["closure_tension"].is_null()) << "least gap " << m["gaps"]["mid"]["least"];
   ASSERT_FALSE(m["tie_off_tension"].is_null());
@@ -435,44 +431,21 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   ASSERT_FALSE(rows.empty());
   EXPECT_GT(rows.back()[column(header, "wound_face_contacts")], 0.0);
 
-  // Then the regression values of this deterministic run, stored 2026-11-25 from
-  // `suturesim parameters/stitch_interrupted.prm --set Model=accurate --output DIR`
+  // Then the regression values of this deterministic run, from `suturesim
+  // parameters/stitch_interrupted.prm --set Model=accurate --output DIR`
   // (OPENBLAS_NUM_THREADS=1). Spread measured on this machine (AMD EPYC, OpenBLAS 0.3.21,
-  // MUMPS 5.5): OpenBLAS's Cooperlake (its choice here), Haswell and Prescott kernels
-  // (OPENBLAS_CORETYPE) and 2 MPI processes against 1 move the closure tension by at
-  // most 2.0e-16, the tie-off tension by 2.6e-15 and the final gap by 3.8e-12 relative,
-  // the closure and tie-off times not at all (the same 20 ms step; the steps' halvings
-  // differ, 398 to 401 records). Tolerances: 1e-12 relative on the tensions (~400
-  // times their spread), 1e-9 on the final gap (~260 times), 1e-9 s on the times (a
-  // step earlier or later moves them by 20 ms, the tension by per cents). The closure
-  // tension's change with the step size (8.718 N at 10 ms, 0.3 %:
-  // docs/interrupted_stitch.md) is the model's sensitivity to its discretisation, not
-  // a reproducibility: it sets no tolerance here. Re-stored when the mixed fields became
-  // Newton unknowns (cell_assembler.h): the exact update's run gave 8.744570884462 N,
-  // 10.9362909786647 N and 4.548893241301531e-05 m, differences of 3.3e-11, 1.0e-10 and
-  // 2.2e-9 relative, the Newton tolerance's size (two iterations of one solve converge
-  // to different points inside it). Re-stored 2026-11-27 when the suture's solve gained
-  // its stall window, carriers that follow within it and the grasped thread's predictor
-  // (issue 25; docs/interrupted_stitch.md): 34 step halvings became 17, and the
-  // path through them moved the closure tension from 8.744570884751576 N to the value
-  // below (+1.0 %), the tie-off tension from 10.93629097751728 N (−0.3 %). That is the
-  // stitch's sensitivity to its load path (friction remembers it), which those numbers
-  // bound: 8.66–8.86 N over the four solver variants measured. Re-stored the same day
-  // when the tissue's direct solver took LU for the coupled tangent, which the pierce
-  // points' friction on the thread makes non-symmetric (MUMPS's Cholesky had solved its
-  // upper triangle's mirror: tissue/linear_solver.h): the four failed attempts of the run
-  // became none, the closure was detected one 10 ms substep earlier (6.606875 s against
-  // 6.616875 s) and its tension moved from 8.829873215351013 N to 8.719799809127036 N
-  // (−1.2 %), the tie-off tension by 1.3e-7 relative, the final gap by 2.6e-6.
-  // Re-stored when the point loads moved out of the cells' assembly (the same terms
-  // summed in another order; the runs agree to 2e-13 up to 1.2 s, 1e-6 when the suture
-  // takes the pierce points at 1.57 s, then the friction's path memory and the solves'
-  // tolerances carry it): the closure tension moved by −0.21 % to the value below at
-  // the same closure time, the tie-off tension from 10.907274740342237 N by −7.4e-9
-  // relative.
-  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.70127810704199, 1e-12 * 8.70127810704199);
-  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.907274659186264, 1e-12 * 10.907274659186264);
+  // MUMPS 5.5): OpenBLAS's Cooperlake, Haswell and Prescott kernels and 2 MPI processes
+  // against 1 move the closure tension by at most 2.0e-16, the tie-off tension by
+  // 2.6e-15 and the final gap by 3.8e-12 relative, the closure and tie-off times not at
+  // all. Tolerances: 1e-12 relative on the tensions (~400 times their spread), 1e-9 on
+  // the final gap (~260 times), 1e-9 s on the times (a step earlier or later moves them
+  // by 20 ms, the tension by per cents). A change of the code that sums the same terms in
+  // another order moves these values by up to a few tenths of a per cent through the
+  // friction's memory of the path: each re-storing, with the value before and the
+  // reason, is listed in docs/interrupted_stitch.md ("Regression values of the stitch").
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.719799809127801, 1e-12 * 8.719799809127801);
+  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.907274740340263, 1e-12 * 10.907274740340263);
   EXPECT_NEAR(m["closure_time"].get<double>(), 6.606875, 1e-9);
   EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.846875, 1e-9);
-  EXPECT_NEAR(m["final_gap"].get<double>(), 4.671023086189226e-05, 1e-9 * 4.671023086189226e-05);
+  EXPECT_NEAR(m["final_gap"].get<double>(), 4.67102241837602e-05, 1e-9 * 4.67102241837602e-05);
 }
