@@ -6,6 +6,20 @@ namespace suturesim::tissue
 {
   using namespace dealii;
 
+  namespace
+  {
+    /// Adds p̃ J dV (F⁻ᵀ_cB F⁻ᵀ_dD − F⁻ᵀ_cD F⁻ᵀ_dB) to 𝔸 dV (row 3c + B, column 3d + D).
+    void
+    add_pressure_tangent(const Tensor2 &F_invT, const double pJV, std::array<double, 81> &A)
+    {
+      for (unsigned c = 0; c < 3; ++c)
+        for (unsigned B = 0; B < 3; ++B)
+          for (unsigned d = 0; d < 3; ++d)
+            for (unsigned D = 0; D < 3; ++D)
+              A[(3 * c + B) * 9 + 3 * d + D] += pJV * (F_invT[c][B] * F_invT[d][D] - F_invT[c][D] * F_invT[d][B]);
+    }
+  } // namespace
+
   std::array<double, 4>
   pressure_basis(const Point<3> &X, const Point<3> &center, const double h)
   {
@@ -240,16 +254,7 @@ namespace suturesim::tissue
             const Tensor2 F_invT = transpose(invert(F));
             S += p * J * invert(C);
             if (K != nullptr)
-              {
-                std::array<double, 81> &A   = A_q[q];
-                const double            pJV = p * J * dV;
-                for (unsigned c = 0; c < 3; ++c)
-                  for (unsigned B = 0; B < 3; ++B)
-                    for (unsigned d = 0; d < 3; ++d)
-                      for (unsigned D = 0; D < 3; ++D)
-                        A[(3 * c + B) * 9 + 3 * d + D] +=
-                          pJV * (F_invT[c][B] * F_invT[d][D] - F_invT[c][D] * F_invT[d][B]);
-              }
+              add_pressure_tangent(F_invT, p * J * dV, A_q[q]);
             // K_pu: J C⁻¹ : δE = J F⁻ᵀ_cB ∂_B N_a for δu = N_a e_c
             for (unsigned int a = 0; a < n_p; ++a)
               for (unsigned int i = 0; i < dofs_per_cell; ++i)
