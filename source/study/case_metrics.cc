@@ -347,9 +347,37 @@ namespace suturesim::study
   {
     static const std::vector<std::pair<std::string, std::string>> columns{
       {"step_time_median", "s"}, {"step_time_p99", "s"}, {"wall_time", "s"}, {"core_seconds", "s"},
-      {"peak_memory", "B"}};
+      {"peak_memory", "B"}, {"newton_per_step_max", "1"}, {"failed_attempts", "1"}};
     return columns;
   }
+
+  namespace
+  {
+    /// The most Newton iterations of one step (accurate runs: summary.json's "steps"),
+    /// NaN for a run without them.
+    double
+    newton_per_step_max(const nlohmann::json &summary)
+    {
+      double most = nan;
+      if (summary.contains("steps") && summary["steps"].is_array())
+        for (const auto &step : summary["steps"])
+          if (step.is_object() && step.contains("newton_iterations") && step["newton_iterations"].is_number())
+            most = std::isnan(most) ? step["newton_iterations"].get<double>()
+                                    : std::max(most, step["newton_iterations"].get<double>());
+      return most;
+    }
+
+    /// Steps whose first attempt failed and were cut back (summary.json's
+    /// "solver.failed_attempts"), NaN for a run without a cut-back stepper.
+    double
+    failed_attempts(const nlohmann::json &summary)
+    {
+      if (summary.contains("solver") && summary["solver"].is_object() && summary["solver"].contains("failed_attempts") &&
+          summary["solver"]["failed_attempts"].is_number())
+        return summary["solver"]["failed_attempts"].get<double>();
+      return nan;
+    }
+  } // namespace
 
   std::vector<double>
   case_costs(const RunData &run, const CaseOutcome &outcome)
@@ -359,6 +387,6 @@ namespace suturesim::study
       return v ? 1e-6 * *v : nan;
     };
     return {us("step_time_median_us"), us("step_time_p99_us"), outcome.wall_seconds, outcome.cpu_seconds,
-            outcome.peak_memory_bytes};
+            outcome.peak_memory_bytes,   newton_per_step_max(run.summary), failed_attempts(run.summary)};
   }
 } // namespace suturesim::study

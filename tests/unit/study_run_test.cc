@@ -436,6 +436,27 @@ TEST(StudyRun, MeshConvergenceStitchAtSmallSize)
     }
   EXPECT_TRUE(rt["observed_order"].is_number()) << rt.dump();
   EXPECT_TRUE(rt["extrapolated"].is_number()) << rt.dump();
+  // the solver's effort per case: the accurate reference's from its summary.json, none
+  // for the realtime cases
+  for (const auto &c : r.study.at("cases"))
+    {
+      const auto &costs = c["costs"];
+      if (c["name"] != "reference")
+        {
+          EXPECT_TRUE(costs["newton_per_step_max"].is_null()) << c.dump();
+          EXPECT_TRUE(costs["failed_attempts"].is_null()) << c.dump();
+          continue;
+        }
+      std::ifstream  in(r.folder + "/cases/reference/summary.json");
+      nlohmann::json summary;
+      in >> summary;
+      unsigned most = 0;
+      for (const auto &step : summary["steps"])
+        most = std::max(most, step["newton_iterations"].get<unsigned>());
+      EXPECT_GE(most, 2u); // the tightening needs iterations
+      EXPECT_EQ(costs["newton_per_step_max"].get<double>(), most) << c.dump();
+      EXPECT_EQ(costs["failed_attempts"].get<double>(), summary["solver"]["failed_attempts"].get<double>());
+    }
   // the accurate series: the reference alone, no estimate from one size
   const auto &acc = series.at("accurate");
   ASSERT_EQ(acc["table"].size(), 1u);

@@ -79,7 +79,9 @@ namespace suturesim::study
   cost_columns();
 
   /// The cost columns of a run (NaN where the run does not measure one: the step times
-  /// of an accurate run).
+  /// of an accurate run, the Newton iterations and failed attempts of a realtime one).
+  /// The last two are the solver's effort: the most Newton iterations of one step and
+  /// the steps whose first attempt failed and were cut back.
   std::vector<double>
   case_costs(const RunData &run, const CaseOutcome &outcome);
 } // namespace suturesim::study
