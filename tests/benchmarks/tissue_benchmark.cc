@@ -9,9 +9,9 @@
 //                                  (anchor: ~200 µs·core/DoF, Davydov et al. 2020)
 //   peak_rss_MB                    peak resident memory of the process so far: run one
 //                                  case per process for a clean figure (README).
-// CellAssembly times one cell's residual and tangent (CellAssembler::assemble) on a
+// cell_assembly times one cell's residual and tangent (CellAssembler::assemble) on a
 // distorted hexahedron at a finite strain: the kernel of every Newton iteration, without
-// the global matrix: its time is the time per cell.
+// the global matrix, so its time is the time per cell.
 // Run: build/tests/benchmarks/tissue_benchmark --benchmark_filter=...
 #include <suturesim/io/recorder.h>
 #include <suturesim/core/parameter_file.h>
