@@ -246,7 +246,9 @@ namespace suturesim::tissue
     // evaluates the force law; Σ W_J g_J over the DoFs J fixed by c (3: AffineConstraints
     // moves K_IJ g_J to the right-hand side of the free rows); then per weight whether c
     // fixes its DoF (its owner knows).
-    std::vector<std::size_t> first(n + 1, 15 * n);
+    // the per-point block of the shared array: f at 0, ∂f/∂x (row-major) at 3, Σ W g at 12
+    constexpr std::size_t block = 15, at_f = 0, at_A = 3, at_Wg = 12;
+    std::vector<std::size_t> first(n + 1, block * n);
     for (std::size_t k = 0; k < n; ++k)
       first[k + 1] = first[k] + weight[k].size();
     std::vector<double> shared(first[n], 0.0);
@@ -259,9 +261,9 @@ namespace suturesim::tissue
             loads->force(k, x[k], f, A);
             for (unsigned a = 0; a < 3; ++a)
               {
-                shared[15 * k + a] = f[a];
+                shared[block * k + at_f + a] = f[a];
                 for (unsigned b = 0; b < 3; ++b)
-                  shared[15 * k + 3 + 3 * a + b] = A[a][b];
+                  shared[block * k + at_A + 3 * a + b] = A[a][b];
               }
           }
         for (std::size_t j = 0; j < weight[k].size(); ++j)
@@ -270,7 +272,7 @@ namespace suturesim::tissue
             if (!owned.is_element(e.dof) || !c.is_constrained(e.dof))
               continue;
             shared[first[k] + j] = 1;
-            shared[15 * k + 12 + e.component] += e.value * c.get_inhomogeneity(e.dof);
+            shared[block * k + at_Wg + e.component] += e.value * c.get_inhomogeneity(e.dof);
           }
       }
     Utilities::MPI::sum(shared, comm, shared);
@@ -280,7 +282,7 @@ namespace suturesim::tissue
     std::array<std::vector<double>, 3>   AJ; ///< per row component a: A_a,c(J) over the free J
     for (std::size_t k = 0; k < n; ++k)
       {
-        const double *f = &shared[15 * k], *A = &shared[15 * k + 3], *Wg = &shared[15 * k + 12];
+        const double *f = &shared[block * k + at_f], *A = &shared[block * k + at_A], *Wg = &shared[block * k + at_Wg];
         const double *fixed = &shared[first[k]];
         // the tangent's rows of this point differ only by their factor W_I and its
         // component: the free columns, their W_J and A's entries once per point

@@ -18,13 +18,13 @@
 #include <suturesim/scene/simulation.h>
 #include <suturesim/tissue/cell_assembler.h>
 
+#include "unit/distorted_cell.h"
+
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_q1.h>
-#include <deal.II/grid/grid_generator.h>
-#include <deal.II/grid/grid_tools.h>
 
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
@@ -108,20 +108,6 @@ namespace
       }
   }
 
-  /// A Mooney–Rivlin material (C10 = 0.8 MPa, C01 = 0.2 MPa, ν = 0.45).
-  tissue::Material
-  cell_material()
-  {
-    dealii::ParameterHandler prm;
-    tissue::Material::declare_parameters(prm);
-    ParameterFile file(prm,
-                       "set Model = Mooney-Rivlin\nset Poisson ratio = 0.45\n"
-                       "subsection Mooney-Rivlin\n set C10 = 0.8e6\n set C01 = 0.2e6\nend\n",
-                       "benchmark.prm",
-                       ".");
-    return tissue::Material::parse_parameters(prm, ParameterScope(file, ""));
-  }
-
   /// Arguments: element degree, pressure degree (mixed, Newton-unknown update).
   void
   cell_assembly(benchmark::State &state)
@@ -129,21 +115,14 @@ namespace
     using namespace dealii;
     const unsigned     degree = static_cast<unsigned>(state.range(0));
     Triangulation<3>   tria;
-    GridGenerator::hyper_cube(tria, 0.0, 0.01);
-    GridTools::transform(
-      [](const Point<3> &p) {
-        return p + 0.001 * Point<3>(std::sin(300 * p[1] + 200 * p[2]),
-                                  std::cos(250 * p[0] + 100 * p[2]),
-                                  std::sin(150 * p[0] + 280 * p[1] + 1));
-      },
-      tria);
+    testing::distorted_cube(tria);
     FESystem<3>   fe(FE_Q<3>(degree), 3);
     DoFHandler<3> dofs(tria);
     dofs.distribute_dofs(fe);
     MappingQ1<3>            mapping;
     tissue::CellAssembler   assembler(mapping, fe, QGauss<3>(degree + 1), true,
                                       static_cast<unsigned>(state.range(1)));
-    const tissue::Material  material = cell_material();
+    const tissue::Material  material = testing::mooney_rivlin(0.45);
     const unsigned          n        = fe.n_dofs_per_cell();
     dealii::Vector<double>  u(n), r(n);
     FullMatrix<double>      K(n, n);

@@ -1,5 +1,7 @@
 // The cell tangent of both formulations against central finite differences of the cell
 // residual (conventions.md §6; FEBio's FETangentDiagnostic): relative error ≤ 1e-6.
+#include "distorted_cell.h"
+
 #include <suturesim/tissue/cell_assembler.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -21,19 +23,7 @@ using namespace dealii;
 
 namespace
 {
-  Material
-  material(const double nu)
-  {
-    dealii::ParameterHandler prm;
-    Material::declare_parameters(prm);
-    suturesim::ParameterFile file(
-      prm,
-      "set Model = Mooney-Rivlin\nset Poisson ratio = " + std::to_string(nu) +
-        "\nsubsection Mooney-Rivlin\n set C10 = 0.8e6\n set C01 = 0.2e6\nend\n",
-      "test.prm",
-      ".");
-    return Material::parse_parameters(prm, suturesim::ParameterScope(file, ""));
-  }
+  using suturesim::testing::mooney_rivlin;
 
   struct Case
   {
@@ -50,14 +40,7 @@ namespace
       : fe(FE_Q<3>(c.degree), 3)
       , dofs(tria)
     {
-      GridGenerator::hyper_cube(tria, 0.0, 0.01);
-      GridTools::transform(
-        [](const Point<3> &p) {
-          return p + 0.001 * Point<3>(std::sin(300 * p[1] + 200 * p[2]),
-                                    std::cos(250 * p[0] + 100 * p[2]),
-                                    std::sin(150 * p[0] + 280 * p[1] + 1));
-        },
-        tria);
+      suturesim::testing::distorted_cube(tria);
       dofs.distribute_dofs(fe);
       assembler = std::make_unique<CellAssembler>(mapping, fe, QGauss<3>(c.degree + 1), c.mixed,
                                                   c.pressure_degree);
@@ -79,7 +62,7 @@ TEST_P(CellTangent, MatchesCentralDifferences)
   OneCell        one(c);
   const auto    &fe        = one.fe;
   CellAssembler &assembler = *one.assembler;
-  const Material m         = material(0.45);
+  const Material m         = mooney_rivlin(0.45);
 
   const unsigned n = fe.n_dofs_per_cell();
   Vector<double> u(n);
@@ -137,7 +120,7 @@ TEST(CellAssembler, RejectsInvertedIterate)
   for (unsigned i = 0; i < fe.n_dofs_per_cell(); ++i)
     if (fe.system_to_component_index(i).first == 2 && fe.system_to_component_index(i).second >= 4)
       u[i] = -0.02;
-  EXPECT_FALSE(assembler.assemble(dofs.begin_active(), u, material(0.3), {}, r, nullptr));
+  EXPECT_FALSE(assembler.assemble(dofs.begin_active(), u, mooney_rivlin(0.3), {}, r, nullptr));
 }
 
 // The three-field Newton update (MixedUpdate::newton, cell_assembler.h) against central
@@ -157,7 +140,7 @@ TEST_P(MixedNewtonUpdate, IsNewtonsStepOfTheThreeFieldSystem)
   OneCell        one(c);
   const auto    &fe        = one.fe;
   CellAssembler &assembler = *one.assembler;
-  const Material m         = material(0.49);
+  const Material m         = mooney_rivlin(0.49);
   const auto     cell      = one.dofs.begin_active();
   const unsigned n    = fe.n_dofs_per_cell();
   const unsigned n_p  = assembler.n_pressure();
