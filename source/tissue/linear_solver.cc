@@ -212,4 +212,81 @@ namespace suturesim::tissue
                         std::to_string(rnorm));
     x.compress(dealii::VectorOperation::insert);
   }
+
+  namespace
+  {
+    /// A dense PETSc matrix of @p columns columns laid out like @p like, destroyed
+    /// with its scope (a solver error throws between its creation and its use).
+    struct DenseColumns
+    {
+      Mat mat = nullptr;
+
+      DenseColumns(MPI_Comm comm, const Vec like, const std::size_t columns)
+      {
+        PetscInt local, global;
+        check(VecGetLocalSize(like, &local), "VecGetLocalSize");
+        check(VecGetSize(like, &global), "VecGetSize");
+        check(MatCreateDense(comm, local, PETSC_DECIDE, global,
+                             static_cast<PetscInt>(columns), nullptr, &mat),
+              "MatCreateDense");
+      }
+      ~DenseColumns()
+      {
+        MatDestroy(&mat);
+      }
+      DenseColumns(const DenseColumns &) = delete;
+      DenseColumns &
+      operator=(const DenseColumns &) = delete;
+
+      void
+      set(const PetscInt j, const Vec v)
+      {
+        Vec column;
+        check(MatDenseGetColumnVecWrite(mat, j, &column), "MatDenseGetColumnVecWrite");
+        check(VecCopy(v, column), "VecCopy");
+        check(MatDenseRestoreColumnVecWrite(mat, j, &column), "MatDenseRestoreColumnVecWrite");
+      }
+      void
+      get(const PetscInt j, Vec v) const
+      {
+        Vec column;
+        check(MatDenseGetColumnVecRead(mat, j, &column), "MatDenseGetColumnVecRead");
+        check(VecCopy(column, v), "VecCopy");
+        check(MatDenseRestoreColumnVecRead(mat, j, &column), "MatDenseRestoreColumnVecRead");
+      }
+    };
+  } // namespace
+
+  void
+  LinearSolver::solve_columns(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                              std::vector<dealii::PETScWrappers::MPI::Vector>       &X,
+                              const std::vector<dealii::PETScWrappers::MPI::Vector> &B,
+                              const double absolute_tolerance)
+  {
+    Assert(X.size() == B.size(), dealii::ExcDimensionMismatch(X.size(), B.size()));
+    if (prm.method != "direct")
+      {
+        for (std::size_t j = 0; j < B.size(); ++j)
+          solve(A, X[j], B[j], 0, absolute_tolerance);
+        return;
+      }
+    if (B.empty())
+      return;
+    DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
+    for (std::size_t j = 0; j < B.size(); ++j)
+      rhs.set(static_cast<PetscInt>(j), B[j]);
+    Mat mat = A;
+    check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+    check(KSPMatSolve(ksp, rhs.mat, sol.mat), "KSPMatSolve");
+    KSPConvergedReason reason;
+    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+    if (reason < 0)
+      throw SolverError(std::string("linear solver (direct) failed on ") + std::to_string(B.size()) +
+                        " right-hand sides: " + KSPConvergedReasons[reason]);
+    for (std::size_t j = 0; j < X.size(); ++j)
+      {
+        sol.get(static_cast<PetscInt>(j), X[j]);
+        X[j].compress(dealii::VectorOperation::insert);
+      }
+  }
 } // namespace suturesim::tissue

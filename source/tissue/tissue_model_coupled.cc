@@ -41,7 +41,7 @@ namespace suturesim::tissue
     Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
     const std::vector<std::size_t> coupled = body.coupled_points();
     const std::size_t              m       = coupled.size();
-    std::vector<Vector>            Z(3 * m, Vector(locally_owned_dofs, comm));
+    std::vector<Vector>            Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
     Eigen::MatrixXd                G, NZ(3 * m, 3 * m);
     Eigen::VectorXd                Nz0(3 * m);
     double                         r_ref = 0, du_norm = std::numeric_limits<double>::infinity(), du_max = du_norm;
@@ -94,7 +94,7 @@ namespace suturesim::tissue
             {
               const double target =
                 std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
-              // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ column by column with the same factorisation
+              // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
               update = 0;
               solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
               report.linear_iterations += solver->statistics().iterations;
@@ -114,25 +114,28 @@ namespace suturesim::tissue
                   for (std::size_t j = 0; j < m; ++j)
                     for (unsigned d = 0; d < 3; ++d)
                       Nz0[3 * j + d] = z0_at[coupled[j]][d];
+                  // Nᵀ's columns, unit forces at the points, solved in one call
                   for (std::size_t j = 0; j < m; ++j)
                     for (unsigned d = 0; d < 3; ++d)
                       {
                         Tensor<1, 3> unit;
-                        unit[d] = 1;
-                        rhs     = 0;
-                        embedded->add_point_force(coupled[j], unit, constraints, rhs);
-                        rhs.compress(VectorOperation::add);
-                        Vector &z = Z[3 * j + d];
-                        z         = 0;
-                        solver->solve(system_matrix, z, rhs, 0, 1e-14);
-                        constraints.distribute(z);
-                        z.add(-1, g);
-                        ghost          = z;
-                        const auto zat = point_values(ghost, false);
-                        for (std::size_t i = 0; i < m; ++i)
-                          for (unsigned e = 0; e < 3; ++e)
-                            NZ(3 * i + e, 3 * j + d) = zat[coupled[i]][e];
+                        unit[d]   = 1;
+                        Vector &n = unit_forces[3 * j + d];
+                        n         = 0;
+                        embedded->add_point_force(coupled[j], unit, constraints, n);
+                        n.compress(VectorOperation::add);
                       }
+                  solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);
+                  for (std::size_t k = 0; k < 3 * m; ++k)
+                    {
+                      constraints.distribute(Z[k]);
+                      Z[k].add(-1, g);
+                      ghost          = Z[k];
+                      const auto zat = point_values(ghost, false);
+                      for (std::size_t i = 0; i < m; ++i)
+                        for (unsigned e = 0; e < 3; ++e)
+                          NZ(3 * i + e, k) = zat[coupled[i]][e];
+                    }
                   // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0
                   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
                   const Eigen::VectorXd c = (I + G * NZ).partialPivLu().solve(G * Nz0);

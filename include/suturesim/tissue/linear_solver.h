@@ -87,6 +87,19 @@ namespace suturesim::tissue
           double                                          relative_tolerance = 0,
           double                                          absolute_tolerance = 0);
 
+    /// Solves A X = B for the columns of @p B with the factorisation or preconditioner
+    /// that the last solve() of @p A set up. The direct method passes all columns to
+    /// MUMPS's solve phase at once (PETSc's KSPMatSolve), which reads the factors once
+    /// per block of right-hand sides instead of once per column: the triangular solves
+    /// are memory-bound, and the coupled iteration needs 3 m + 1 of them per
+    /// factorisation for m coupled points (docs/interrupted_stitch.md). A Krylov method
+    /// solves column by column to @p absolute_tolerance.
+    void
+    solve_columns(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                  std::vector<dealii::PETScWrappers::MPI::Vector>       &X,
+                  const std::vector<dealii::PETScWrappers::MPI::Vector> &B,
+                  double                                                 absolute_tolerance = 0);
+
     const Statistics &
     statistics() const
     {
