@@ -236,8 +236,16 @@ namespace suturesim::tissue
   }
 
   void
+  EmbeddedPoints::set_condensed(const std::vector<std::size_t> &points)
+  {
+    condensed.assign(weight.size(), false);
+    for (const std::size_t k : points)
+      condensed.at(k) = true;
+  }
+
+  void
   EmbeddedPoints::assemble(const Vector &u, const AffineConstraints<double> &c, Matrix *K, Vector &rhs,
-                           Vector &full) const
+                           Vector &full)
   {
     const std::size_t           n     = weight.size();
     const std::vector<Point<3>> x     = positions(u);
@@ -276,6 +284,18 @@ namespace suturesim::tissue
           }
       }
     Utilities::MPI::sum(shared, comm, shared);
+    skew.assign(n, Tensor<2, 3>());
+    for (std::size_t k = 0; k < std::min(n, condensed.size()); ++k)
+      if (condensed[k])
+        for (unsigned a = 0; a < 3; ++a)
+          for (unsigned b = 0; b < a; ++b)
+            {
+              double &A_ab = shared[block * k + at_A + 3 * a + b], &A_ba = shared[block * k + at_A + 3 * b + a];
+              const double s = 0.5 * (A_ab - A_ba), mean = 0.5 * (A_ab + A_ba);
+              skew[k][a][b]  = s;
+              skew[k][b][a]  = -s;
+              A_ab = A_ba = mean; // the same bits in both triangles
+            }
 
     std::vector<types::global_dof_index> rows, full_rows, columns;
     std::vector<double>                  r_rows, r_full, k_row, WJ;

@@ -31,10 +31,12 @@ namespace suturesim::tissue
     prm.declare_entry("Factorization",
                       d.factorization,
                       dealii::Patterns::Selection("auto|cholesky|lu"),
-                      "Factorization of 'direct': 'auto' (Cholesky while the tangent is "
-                      "symmetric, LU when a coupling makes it not: friction at pierce "
-                      "points), 'cholesky' (LDL^T, half the work; symmetric tangents only) "
-                      "or 'lu' (any matrix). Unit: none.");
+                      "Factorization of 'direct': 'auto' (Cholesky while the matrix is "
+                      "symmetric, LU when a point load makes it not: friction at pierce "
+                      "points, except in the solve coupled with the suture, which moves "
+                      "that part into its low-rank update), 'cholesky' (LDL^T, half the "
+                      "work; refused with non-symmetric loads) or 'lu' (any matrix). Unit: "
+                      "none.");
     prm.declare_entry("Preconditioner",
                       d.preconditioner,
                       dealii::Patterns::Selection("gamg|boomeramg|jacobi"),

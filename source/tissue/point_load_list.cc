@@ -42,6 +42,13 @@ namespace suturesim::tissue
   }
 
   bool
+  PointLoadList::symmetric_at(const std::size_t k) const
+  {
+    const std::size_t part = part_of(k);
+    return list[part]->symmetric_at(k - first[part]);
+  }
+
+  bool
   PointLoadList::symmetric_tangent() const
   {
     for (const PointLoads *part : list)

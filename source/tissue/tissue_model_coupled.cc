@@ -31,6 +31,39 @@ namespace suturesim::tissue
     return values;
   }
 
+  namespace
+  {
+    /// EmbeddedPoints::set_condensed() for the coupled points while a coupled solve
+    /// runs (every return path lets go); symmetric: whether the tangent then is.
+    struct Condensing
+    {
+      EmbeddedPoints *points = nullptr;
+      bool            symmetric = true;
+
+      Condensing(const std::unique_ptr<EmbeddedPoints> &embedded, const PointLoads *loads,
+                 const std::vector<std::size_t> &coupled)
+      {
+        if (!embedded || !loads)
+          return;
+        points = embedded.get();
+        points->set_condensed(coupled);
+        std::vector<bool> in(loads->points().size(), false);
+        for (const std::size_t k : coupled)
+          in.at(k) = true;
+        for (std::size_t k = 0; k < in.size(); ++k)
+          symmetric = symmetric && (in[k] || loads->symmetric_at(k));
+      }
+      ~Condensing()
+      {
+        if (points)
+          points->set_condensed({});
+      }
+      Condensing(const Condensing &) = delete;
+      Condensing &
+      operator=(const Condensing &) = delete;
+    };
+  } // namespace
+
   NewtonReport
   TissueModel::solve_coupled(const double t, const double force_floor, CondensedBody &body)
   {
@@ -41,6 +74,11 @@ namespace suturesim::tissue
     Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
     const std::vector<std::size_t> coupled = body.coupled_points();
     const std::size_t              m       = coupled.size();
+    // The coupled points' ∂f/∂x enters K by its symmetric part and the Woodbury update
+    // below by its skew part S (G − S): the same system, and a symmetric K for
+    // Cholesky (half LU's work) when no other point's tangent is non-symmetric.
+    const Condensing condensing(embedded, point_loads, coupled);
+    solver->set_symmetric(condensing.symmetric, "a point load's tangent");
     std::vector<Vector>            Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
     Eigen::MatrixXd                G, NZ(3 * m, 3 * m);
     Eigen::VectorXd                Nz0(3 * m);
@@ -136,9 +174,15 @@ namespace suturesim::tissue
                         for (unsigned e = 0; e < 3; ++e)
                           NZ(3 * i + e, k) = zat[coupled[i]][e];
                     }
-                  // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0
+                  // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the
+                  // points' skew parts
+                  Eigen::MatrixXd G_S = G;
+                  for (std::size_t j = 0; j < m; ++j)
+                    for (unsigned a = 0; a < 3; ++a)
+                      for (unsigned b = 0; b < 3; ++b)
+                        G_S(3 * j + a, 3 * j + b) -= embedded->skew_tangent(coupled[j])[a][b];
                   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
-                  const Eigen::VectorXd c = (I + G * NZ).partialPivLu().solve(G * Nz0);
+                  const Eigen::VectorXd c = (I + G_S * NZ).partialPivLu().solve(G_S * Nz0);
                   for (std::size_t k = 0; k < 3 * m; ++k)
                     update.add(-c[k], Z[k]);
                 }

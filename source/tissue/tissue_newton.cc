@@ -92,6 +92,8 @@ namespace suturesim::tissue
     NewtonReport            report;
     Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm);
 
+    // the whole tangent, as a coupled solve may have left the solver symmetric
+    solver->set_symmetric(!point_loads || point_loads->symmetric_tangent(), "a point load's tangent");
     solution_ghost = solution;
     double gap     = make_constraints(t, solution_ghost, constraints);
     Timer  clock;

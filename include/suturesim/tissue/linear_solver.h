@@ -8,6 +8,8 @@
  *    mode reads one triangle of the matrix, so a non-symmetric tangent factorised by
  *    Cholesky is silently a different matrix and Newton's direction is wrong (measured:
  *    docs/interrupted_stitch.md, "The coupled Newton's stall on a refined mesh"). The
+ *    solve coupled with the suture keeps its matrix symmetric by moving the pierce
+ *    points' skew part into its low-rank update (EmbeddedPoints::set_condensed()). The
  *    default method: the tangents of nearly
  *    incompressible tissue and, later, of penalty coupling are ill-conditioned, and at the
  *    sizes of suturing scenes (≤ 1e5 DoFs) a factorisation on 2 cores is as fast as a

@@ -40,6 +40,8 @@ namespace suturesim::tissue
     /// Symmetric when every part's is.
     bool
     symmetric_tangent() const override;
+    bool
+    symmetric_at(std::size_t k) const override;
 
   private:
     /// The part holding point @p k.

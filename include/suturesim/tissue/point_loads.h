@@ -68,6 +68,15 @@ namespace suturesim::tissue
       return true;
     }
 
+    /// Whether point @p k's ∂f/∂x is symmetric: a coupled solve that condenses the
+    /// non-symmetric points' skew parts (EmbeddedPoints::set_condensed()) leaves a
+    /// symmetric tangent when every other point's is.
+    virtual bool
+    symmetric_at(std::size_t /*k*/) const
+    {
+      return symmetric_tangent();
+    }
+
     /// Radius ρ of the tissue that carries point @p k's force (m): 0 for a point load;
     /// see EmbeddedPoints for the kernel.
     virtual double
@@ -111,7 +120,22 @@ namespace suturesim::tissue
     /// fixed column's inhomogeneity moved to @p rhs as AffineConstraints does).
     void
     assemble(const Vector &u, const dealii::AffineConstraints<double> &c, Matrix *K, Vector &rhs,
-             Vector &full) const;
+             Vector &full);
+
+    /// Points whose ∂f/∂x = A enters assemble()'s tangent (and its fixed columns'
+    /// right-hand side) by its symmetric part ½(A + Aᵀ) only; the rest, S = ½(A − Aᵀ),
+    /// is kept (skew_tangent()) for a solve that adds it as a low-rank update
+    /// Nᵀ(−S)N: TissueModel::solve_coupled() does, so that friction on the thread leaves
+    /// a symmetric matrix for MUMPS's Cholesky. Empty (the default): the whole A.
+    void
+    set_condensed(const std::vector<std::size_t> &points);
+
+    /// S of point @p k at the last assemble(): zero unless set_condensed() named it.
+    const dealii::Tensor<2, 3> &
+    skew_tangent(std::size_t k) const
+    {
+      return skew[k];
+    }
 
     /// Adds the nodal forces of a force @p f at point @p k, Σ_I W_kI f, into the owned
     /// rows of @p rhs that @p constraints leave free.
@@ -170,6 +194,8 @@ namespace suturesim::tissue
     const PointLoads                *loads = nullptr;
     std::vector<std::vector<Weight>> weight;
     std::vector<bool>                mine; ///< this rank evaluates the point's force law
+    std::vector<bool>                condensed;
+    std::vector<dealii::Tensor<2, 3>> skew;
     bool                             any_spread = false;
   };
 } // namespace suturesim::tissue

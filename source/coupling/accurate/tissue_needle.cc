@@ -458,6 +458,13 @@ namespace suturesim::coupling
     rebuild_points();
   }
 
+  bool
+  TissueNeedle::symmetric_at(const std::size_t k) const
+  {
+    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    return k < offset || !on_thread(pierce[k - offset]) || symmetric_tangent();
+  }
+
   void
   TissueNeedle::force(const std::size_t k, const Point<3> &x, Tensor<1, 3> &f, Tensor<2, 3> &df_dx) const
   {

@@ -156,6 +156,10 @@ namespace suturesim::coupling
     {
       return !thread.attached() || (prm.friction.mu == 0 && !prm.lagrange);
     }
+    /// The touch and the points on the needle are symmetric, those on the thread as
+    /// symmetric_tangent() says.
+    bool
+    symmetric_at(std::size_t k) const override;
 
     /// Keeps each thread point's friction on the branch it takes at tissue positions
     /// @p x (one per points()) until release_friction_branches(): a body condensing its
