@@ -109,7 +109,11 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
   // LU (the frictional coupled tangent is not symmetric, tissue/linear_solver.h), whose
   // pivots and sums MUMPS orders differently on two processes, and from run to run
   // there: 1.8e-9 and 9.5e-8 N apart in two runs (the free end's tension of about
-  // 1e-8 N; the bottom's reaction). The same rows: no step is halved differently.
+  // 1e-8 N; the bottom's reaction). The coupled solve has since factorised a symmetric
+  // matrix by Cholesky again (the friction's skew part in its Woodbury update), and the
+  // two runs measured 3.5e-9 (point loads) and 9.9e-8 (spread) apart, 2026-11-27 (where
+  // the rest of the partition's difference now comes from is not traced). The same rows:
+  // no step is halved differently.
   // Also with the pierce loads spread over 2 mm (tissue/point_loads.h): a point's weights
   // then span cells of both processes, gathered onto both.
   for (const std::string radius : {"0", "0.002"})
