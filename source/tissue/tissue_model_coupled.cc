@@ -64,26 +64,81 @@ namespace suturesim::tissue
     };
   } // namespace
 
+  unsigned
+  TissueModel::coupled_update(const std::vector<std::size_t> &coupled, const Eigen::MatrixXd &G,
+                              const double tolerance, Vector &update)
+  {
+    // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
+    update = 0;
+    solver->solve(system_matrix, update, system_rhs, 0, tolerance);
+    const unsigned    iterations = solver->statistics().iterations;
+    const std::size_t m          = coupled.size();
+    if (m == 0)
+      return iterations;
+    // the points read the cells' DoFs, hanging ones among them on a locally refined mesh:
+    // z0 takes its constrained values (the boundary's motion too), each column of Z the
+    // homogeneous ones, P z (a solve leaves a constrained row at its right-hand side's
+    // value, not at the interpolation of its parents); distribute(z) = P z + g
+    Vector g(locally_owned_dofs, comm), ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    constraints.distribute(update);
+    constraints.distribute(g);
+    ghost                = update;
+    const auto      z0_at = point_values(ghost, false);
+    Eigen::VectorXd Nz0(3 * m);
+    for (std::size_t j = 0; j < m; ++j)
+      for (unsigned d = 0; d < 3; ++d)
+        Nz0[3 * j + d] = z0_at[coupled[j]][d];
+    // Nᵀ's columns, unit forces at the points, solved in one call
+    std::vector<Vector> Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
+    for (std::size_t j = 0; j < m; ++j)
+      for (unsigned d = 0; d < 3; ++d)
+        {
+          Tensor<1, 3> unit;
+          unit[d] = 1;
+          embedded->add_point_force(coupled[j], unit, constraints, unit_forces[3 * j + d]);
+          unit_forces[3 * j + d].compress(VectorOperation::add);
+        }
+    solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);
+    Eigen::MatrixXd NZ(3 * m, 3 * m);
+    for (std::size_t k = 0; k < 3 * m; ++k)
+      {
+        constraints.distribute(Z[k]);
+        Z[k].add(-1, g);
+        ghost          = Z[k];
+        const auto zat = point_values(ghost, false);
+        for (std::size_t i = 0; i < m; ++i)
+          for (unsigned e = 0; e < 3; ++e)
+            NZ(3 * i + e, k) = zat[coupled[i]][e];
+      }
+    // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the points' skew
+    // parts
+    Eigen::MatrixXd G_S = G;
+    for (std::size_t j = 0; j < m; ++j)
+      for (unsigned a = 0; a < 3; ++a)
+        for (unsigned b = 0; b < 3; ++b)
+          G_S(3 * j + a, 3 * j + b) -= embedded->skew_tangent(coupled[j])[a][b];
+    const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
+    const Eigen::VectorXd c = (I + G_S * NZ).partialPivLu().solve(G_S * Nz0);
+    for (std::size_t k = 0; k < 3 * m; ++k)
+      update.add(-c[k], Z[k]);
+    return iterations;
+  }
+
   NewtonReport
   TissueModel::solve_coupled(const double t, const double force_floor, CondensedBody &body)
   {
     const NewtonParameters &np = parameters.newton;
     NewtonReport            report;
-    Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm),
-      rhs(locally_owned_dofs, comm);
-    Vector ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm);
     const std::vector<std::size_t> coupled = body.coupled_points();
-    const std::size_t              m       = coupled.size();
     // The coupled points' ∂f/∂x enters K by its symmetric part and the Woodbury update
-    // below by its skew part S (G − S): the same system, and a symmetric K for
+    // by its skew part S (coupled_update()): the same system, and a symmetric K for
     // Cholesky (half LU's work) when no other point's tangent is non-symmetric.
     const Condensing condensing(embedded, point_loads, coupled);
     solver->set_symmetric(condensing.symmetric, "a point load's tangent");
-    std::vector<Vector>            Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
-    Eigen::MatrixXd                G, NZ(3 * m, 3 * m);
-    Eigen::VectorXd                Nz0(3 * m);
-    double                         r_ref = 0, du_norm = std::numeric_limits<double>::infinity(), du_max = du_norm;
-    Timer                          clock;
+    Eigen::MatrixXd G;
+    double          r_ref = 0, du_norm = std::numeric_limits<double>::infinity(), du_max = du_norm;
+    Timer           clock;
 
     // the state of an iterate: the body in equilibrium with the points where it puts
     // them (its response condensed onto them), then the tissue's residual and tangent;
@@ -132,60 +187,7 @@ namespace suturesim::tissue
             {
               const double target =
                 std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
-              // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
-              update = 0;
-              solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
-              report.linear_iterations += solver->statistics().iterations;
-              if (m > 0)
-                {
-                  // the points read the cells' DoFs, hanging ones among them on a locally
-                  // refined mesh: z0 takes its constrained values (the boundary's
-                  // motion too), each column of Z the homogeneous ones, P z (a solve
-                  // leaves a constrained row at its right-hand side's value, not at the
-                  // interpolation of its parents); distribute(z) = P z + g
-                  constraints.distribute(update);
-                  rhs = 0;
-                  constraints.distribute(rhs);
-                  const Vector g        = rhs;
-                  ghost                 = update;
-                  const auto z0_at      = point_values(ghost, false);
-                  for (std::size_t j = 0; j < m; ++j)
-                    for (unsigned d = 0; d < 3; ++d)
-                      Nz0[3 * j + d] = z0_at[coupled[j]][d];
-                  // Nᵀ's columns, unit forces at the points, solved in one call
-                  for (std::size_t j = 0; j < m; ++j)
-                    for (unsigned d = 0; d < 3; ++d)
-                      {
-                        Tensor<1, 3> unit;
-                        unit[d]   = 1;
-                        Vector &n = unit_forces[3 * j + d];
-                        n         = 0;
-                        embedded->add_point_force(coupled[j], unit, constraints, n);
-                        n.compress(VectorOperation::add);
-                      }
-                  solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);
-                  for (std::size_t k = 0; k < 3 * m; ++k)
-                    {
-                      constraints.distribute(Z[k]);
-                      Z[k].add(-1, g);
-                      ghost          = Z[k];
-                      const auto zat = point_values(ghost, false);
-                      for (std::size_t i = 0; i < m; ++i)
-                        for (unsigned e = 0; e < 3; ++e)
-                          NZ(3 * i + e, k) = zat[coupled[i]][e];
-                    }
-                  // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the
-                  // points' skew parts
-                  Eigen::MatrixXd G_S = G;
-                  for (std::size_t j = 0; j < m; ++j)
-                    for (unsigned a = 0; a < 3; ++a)
-                      for (unsigned b = 0; b < 3; ++b)
-                        G_S(3 * j + a, 3 * j + b) -= embedded->skew_tangent(coupled[j])[a][b];
-                  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
-                  const Eigen::VectorXd c = (I + G_S * NZ).partialPivLu().solve(G_S * Nz0);
-                  for (std::size_t k = 0; k < 3 * m; ++k)
-                    update.add(-c[k], Z[k]);
-                }
+              report.linear_iterations += coupled_update(coupled, G, 0.01 * target, update);
             }
           catch (const SolverError &e)
             {

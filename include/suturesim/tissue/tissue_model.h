@@ -286,6 +286,16 @@ namespace suturesim::tissue
     std::vector<dealii::Point<3>>
     point_values(const Vector &v, bool displacement) const;
 
+    /// The coupled iteration's update (solve_coupled()): (K + Nᵀ (G − S) N) Δu = −R by
+    /// the Sherman–Morrison–Woodbury identity, Δu = z0 − Z (I + (G − S) N Z)⁻¹ (G − S) N z0
+    /// with z0 = K⁻¹(−R) and Z = K⁻¹Nᵀ (one call for the 3m columns of the points
+    /// @p coupled) from one factorisation of the assembled K; S their skew parts, which
+    /// K leaves out (EmbeddedPoints::set_condensed()). Returns the Krylov iterations of
+    /// z0's solve, to @p tolerance; throws SolverError.
+    unsigned
+    coupled_update(const std::vector<std::size_t> &coupled, const Eigen::MatrixXd &G, double tolerance,
+                   Vector &update);
+
     /// g, ġ, g̈ at the locally owned Dirichlet DoFs (order of owned_dirichlet).
     void
     boundary_values(double               t,
