@@ -1,5 +1,6 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/process.h>
+#include <suturesim/mesh/gmsh_geometry.h>
 #include <suturesim/mesh/mesh_loader.h>
 
 #include <deal.II/base/mpi.h>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <iomanip>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -74,6 +76,14 @@ namespace suturesim::mesh
                       "0",
                       Patterns::Integer(0, 10),
                       "Uniform refinements of the coarse mesh. Unit: 1. Range: 0-10.");
+    prm.declare_entry("Snap to geometry",
+                      "",
+                      Patterns::List(Patterns::Anything()),
+                      "Boundaries (names or ids) of a .geo mesh whose faces refinement "
+                      "(global or local) puts on the .geo's surfaces, e.g. 'wound_left, "
+                      "wound_right': without it a refined face's new vertices lie on its "
+                      "parent's chords, and a curved face keeps the coarse mesh's polygon "
+                      "at every level. Unit: none.");
     LocalRefinement::declare(prm);
   }
 
@@ -90,6 +100,8 @@ namespace suturesim::mesh
     scope.require(scale > 0, "Scale", "must be > 0");
     scope.require(thickness > 0, "Thickness", "must be > 0 m");
     local.parse(prm, scope);
+    snap_to_geometry = Utilities::split_string_list(prm.get("Snap to geometry"));
+    this->scope      = std::make_shared<const ParameterScope>(scope);
 
     geo_parameters.clear();
     const auto map = Patterns::Tools::Convert<std::map<std::string, double>>::to_value(
@@ -109,6 +121,8 @@ namespace suturesim::mesh
                       "File",
                       "mesh file '" + given + "' must end in .geo or .msh");
       }
+    scope.require(snap_to_geometry.empty() || (source == "gmsh" && fs::path(file).extension() == ".geo"),
+                  "Snap to geometry", "needs the geometry: a .geo mesh file (Source = gmsh)");
   }
 
   types::boundary_id
@@ -335,8 +349,49 @@ namespace suturesim::mesh
         info.boundary_names[face->boundary_id()] = "boundary_" + std::to_string(face->boundary_id());
 
     tria.copy_triangulation(coarse);
-    tria.refine_global(p.global_refinements);
-    p.local.apply(info, needle_path, tria);
+    // the snapped boundaries' faces and edges carry manifold ids 1, 2, … while the mesh
+    // is refined, then flat again: the gmsh session closes with the refinement
+    {
+      std::shared_ptr<const GmshGeometry> geometry;
+      if (!p.snap_to_geometry.empty())
+        geometry = std::make_shared<const GmshGeometry>(p.file, p.geo_parameters);
+      // the boundary ids that meet at each coarse edge: an edge of a snapped face where
+      // another boundary meets it follows the surface's bounding curves
+      std::map<unsigned, std::set<types::boundary_id>> meeting;
+      for (const auto &cell : tria.cell_iterators_on_level(0))
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto l : cell->face(f)->line_indices())
+              meeting[cell->face(f)->line(l)->index()].insert(cell->face(f)->boundary_id());
+      types::manifold_id id = 0;
+      for (const auto &name : p.snap_to_geometry)
+        {
+          const types::boundary_id b        = info.boundary_id(name, *p.scope, "Snap to geometry");
+          const std::vector<int>   surfaces = geometry->surfaces(info.boundary_name(b));
+          if (surfaces.empty())
+            p.scope->fail("Snap to geometry", "boundary '" + name + "' is no physical surface of " + p.file);
+          const types::manifold_id on_surface = ++id, on_edge = ++id;
+          for (const auto &cell : tria.cell_iterators_on_level(0))
+            for (const auto f : cell->face_indices())
+              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == b)
+                {
+                  cell->face(f)->set_manifold_id(on_surface);
+                  for (const auto l : cell->face(f)->line_indices())
+                    cell->face(f)->line(l)->set_manifold_id(
+                      meeting[cell->face(f)->line(l)->index()].size() > 1 ? on_edge : on_surface);
+                }
+          tria.set_manifold(on_surface, GmshSurfaceManifold(geometry, 2, surfaces, p.scale));
+          tria.set_manifold(on_edge, GmshSurfaceManifold(geometry, 1, geometry->boundary_curves(surfaces), p.scale));
+        }
+      tria.refine_global(p.global_refinements);
+      p.local.apply(info, needle_path, tria);
+      if (id > 0)
+        {
+          for (const auto &cell : tria.cell_iterators())
+            cell->set_all_manifold_ids(numbers::flat_manifold_id);
+          tria.reset_all_manifolds();
+        }
+    }
     return info;
   }
 } // namespace suturesim::mesh

@@ -15,6 +15,7 @@
 #include <deal.II/distributed/tria.h>
 
 #include <map>
+#include <memory>
 #include <vector>
 #include <string>
 
@@ -32,6 +33,10 @@ namespace suturesim::mesh
     double                        scale             = 1.0;
     unsigned                      global_refinements = 0;
     LocalRefinement               local;
+    /// Boundaries whose refined faces are put on the .geo's surfaces (gmsh_geometry.h).
+    std::vector<std::string>      snap_to_geometry;
+    /// Where these were read, for errors that name their entry.
+    std::shared_ptr<const ParameterScope> scope;
 
     static void
     declare(dealii::ParameterHandler &prm);
@@ -64,7 +69,8 @@ namespace suturesim::mesh
   mesh_file(const MeshParameters &parameters, const std::string &work_directory);
 
   /// Builds the coarse mesh into @p tria (refined globally, then locally near the
-  /// features of Local refinement, @p needle_path among them), running gmsh into
+  /// features of Local refinement, @p needle_path among them; the new vertices of the
+  /// boundaries of Snap to geometry on the .geo's surfaces), running gmsh into
   /// @p work_directory when the source is a .geo. Checks every cell for a positive
   /// Jacobian determinant; an inverted or degenerate cell is an InputError naming the
   /// file and the cell.
