@@ -9,17 +9,26 @@
 
 namespace suturesim::mesh
 {
-  GmshGeometry::GmshGeometry(const std::string &geo, const std::map<std::string, double> &parameters)
-    : file(geo)
+  std::vector<std::string>
+  setnumber_arguments(const std::map<std::string, double> &parameters)
   {
-    // the geo parameters as on gmsh's command line, which initialize() reads
-    std::vector<std::string> args{"gmsh"};
+    std::vector<std::string> args;
     for (const auto &[k, v] : parameters)
       {
         std::ostringstream value;
         value << std::setprecision(17) << v;
         args.insert(args.end(), {"-setnumber", k, value.str()});
       }
+    return args;
+  }
+
+  GmshGeometry::GmshGeometry(const std::string &geo, const std::map<std::string, double> &parameters)
+    : file(geo)
+  {
+    // the geo parameters as on gmsh's command line, which initialize() reads
+    std::vector<std::string> args{"gmsh"};
+    const auto               setnumber = setnumber_arguments(parameters);
+    args.insert(args.end(), setnumber.begin(), setnumber.end());
     std::vector<char *> argv;
     for (auto &a : args)
       argv.push_back(a.data());
@@ -89,9 +98,9 @@ namespace suturesim::mesh
           throw SolverError(file + ": gmsh found no closest point on entity (" + std::to_string(dim) + ", " +
                             std::to_string(tag) + ")");
         const dealii::Point<3> q(closest[0], closest[1], closest[2]);
-        if (q.distance(p) < d)
+        if (const double dq = q.distance(p); dq < d)
           {
-            d    = q.distance(p);
+            d    = dq;
             best = q;
           }
       }

@@ -239,12 +239,8 @@ namespace suturesim::mesh
     run_gmsh(const MeshParameters &p, const std::string &msh, const std::string &log)
     {
       std::vector<std::string> args{SUTURESIM_GMSH, "-3", "-format", "msh22", "-nt", "1"};
-      for (const auto &[k, v] : p.geo_parameters)
-        {
-          std::ostringstream value;
-          value << std::setprecision(17) << v;
-          args.insert(args.end(), {"-setnumber", k, value.str()});
-        }
+      const auto               setnumber = setnumber_arguments(p.geo_parameters);
+      args.insert(args.end(), setnumber.begin(), setnumber.end());
       args.insert(args.end(), {"-o", msh, p.file});
       return run_process(args, log);
     }
@@ -271,6 +267,45 @@ namespace suturesim::mesh
       throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " + log);
     return msh;
   }
+
+  namespace
+  {
+    /// Gives the faces of each boundary of Snap to geometry a GmshSurfaceManifold on its
+    /// surfaces (manifold ids 1, 3, …) and their edges where another boundary meets them
+    /// one on those surfaces' bounding curves (2, 4, …), from the coarse mesh.
+    void
+    attach_geometry(const MeshParameters &p, const MeshInfo &info, parallel::distributed::Triangulation<3> &tria)
+    {
+      const auto geometry = std::make_shared<const GmshGeometry>(p.file, p.geo_parameters);
+      // the boundary ids that meet at each coarse edge
+      std::map<unsigned, std::set<types::boundary_id>> meeting;
+      for (const auto &cell : tria.cell_iterators_on_level(0))
+        for (const auto f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto l : cell->face(f)->line_indices())
+              meeting[cell->face(f)->line(l)->index()].insert(cell->face(f)->boundary_id());
+      types::manifold_id id = 0;
+      for (const auto &name : p.snap_to_geometry)
+        {
+          const types::boundary_id b        = info.boundary_id(name, *p.scope, "Snap to geometry");
+          const std::vector<int>   surfaces = geometry->surfaces(info.boundary_name(b));
+          if (surfaces.empty())
+            p.scope->fail("Snap to geometry", "boundary '" + name + "' is no physical surface of " + p.file);
+          const types::manifold_id on_surface = ++id, on_edge = ++id;
+          for (const auto &cell : tria.cell_iterators_on_level(0))
+            for (const auto f : cell->face_indices())
+              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == b)
+                {
+                  cell->face(f)->set_manifold_id(on_surface);
+                  for (const auto l : cell->face(f)->line_indices())
+                    cell->face(f)->line(l)->set_manifold_id(
+                      meeting[cell->face(f)->line(l)->index()].size() > 1 ? on_edge : on_surface);
+                }
+          tria.set_manifold(on_surface, GmshSurfaceManifold(geometry, 2, surfaces, p.scale));
+          tria.set_manifold(on_edge, GmshSurfaceManifold(geometry, 1, geometry->boundary_curves(surfaces), p.scale));
+        }
+    }
+  } // namespace
 
   MeshInfo
   create_mesh(const MeshParameters                            &p,
@@ -349,49 +384,17 @@ namespace suturesim::mesh
         info.boundary_names[face->boundary_id()] = "boundary_" + std::to_string(face->boundary_id());
 
     tria.copy_triangulation(coarse);
-    // the snapped boundaries' faces and edges carry manifold ids 1, 2, … while the mesh
-    // is refined, then flat again: the gmsh session closes with the refinement
-    {
-      std::shared_ptr<const GmshGeometry> geometry;
-      if (!p.snap_to_geometry.empty())
-        geometry = std::make_shared<const GmshGeometry>(p.file, p.geo_parameters);
-      // the boundary ids that meet at each coarse edge: an edge of a snapped face where
-      // another boundary meets it follows the surface's bounding curves
-      std::map<unsigned, std::set<types::boundary_id>> meeting;
-      for (const auto &cell : tria.cell_iterators_on_level(0))
-        for (const auto f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            for (const auto l : cell->face(f)->line_indices())
-              meeting[cell->face(f)->line(l)->index()].insert(cell->face(f)->boundary_id());
-      types::manifold_id id = 0;
-      for (const auto &name : p.snap_to_geometry)
-        {
-          const types::boundary_id b        = info.boundary_id(name, *p.scope, "Snap to geometry");
-          const std::vector<int>   surfaces = geometry->surfaces(info.boundary_name(b));
-          if (surfaces.empty())
-            p.scope->fail("Snap to geometry", "boundary '" + name + "' is no physical surface of " + p.file);
-          const types::manifold_id on_surface = ++id, on_edge = ++id;
-          for (const auto &cell : tria.cell_iterators_on_level(0))
-            for (const auto f : cell->face_indices())
-              if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == b)
-                {
-                  cell->face(f)->set_manifold_id(on_surface);
-                  for (const auto l : cell->face(f)->line_indices())
-                    cell->face(f)->line(l)->set_manifold_id(
-                      meeting[cell->face(f)->line(l)->index()].size() > 1 ? on_edge : on_surface);
-                }
-          tria.set_manifold(on_surface, GmshSurfaceManifold(geometry, 2, surfaces, p.scale));
-          tria.set_manifold(on_edge, GmshSurfaceManifold(geometry, 1, geometry->boundary_curves(surfaces), p.scale));
-        }
-      tria.refine_global(p.global_refinements);
-      p.local.apply(info, needle_path, tria);
-      if (id > 0)
-        {
-          for (const auto &cell : tria.cell_iterators())
-            cell->set_all_manifold_ids(numbers::flat_manifold_id);
-          tria.reset_all_manifolds();
-        }
-    }
+    if (!p.snap_to_geometry.empty())
+      attach_geometry(p, info, tria);
+    tria.refine_global(p.global_refinements);
+    p.local.apply(info, needle_path, tria);
+    if (!p.snap_to_geometry.empty())
+      {
+        // flat again: the manifolds, and with them the gmsh session, go with the refinement
+        for (const auto &cell : tria.cell_iterators())
+          cell->set_all_manifold_ids(numbers::flat_manifold_id);
+        tria.reset_all_manifolds();
+      }
     return info;
   }
 } // namespace suturesim::mesh

@@ -21,6 +21,12 @@
 
 namespace suturesim::mesh
 {
+  /// gmsh's command-line arguments "-setnumber NAME VALUE" for each geo parameter, the
+  /// values to 17 digits: the same for the gmsh executable that meshes a .geo and for
+  /// the API session that reads its geometry.
+  std::vector<std::string>
+  setnumber_arguments(const std::map<std::string, double> &parameters);
+
   /// A .geo's geometry loaded into gmsh (its API is one global session per process; no
   /// mesh is generated), with the geo parameters given as gmsh's -setnumber.
   class GmshGeometry
