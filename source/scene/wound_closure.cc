@@ -115,11 +115,17 @@ namespace suturesim::scene
       least[k] = std::min(least[k], gaps[k]);
     if (t < prm.start_time || gaps.empty())
       return;
-    if (!closed() && gaps.front() < prm.closure_gap)
+    const double gap = gaps.front();
+    if (!closed() && gap < prm.closure_gap)
       {
-        closure_time    = t;
-        closure_tension = tension;
+        // the fraction of the last step at which the gap crossed; read at the step's
+        // end when there is no counted step before it
+        const Sample p = previous ? *previous : Sample{t, gap, tension};
+        const double s = p.gap > gap && p.gap >= prm.closure_gap ? (p.gap - prm.closure_gap) / (p.gap - gap) : 1;
+        closure_time    = p.t + s * (t - p.t);
+        closure_tension = p.tension + s * (tension - p.tension);
       }
+    previous = Sample{t, gap, tension};
     if (prm.tie_off && closed() && !tied() && gaps.front() < prm.tie_off_gap)
       {
         tie_time    = t;

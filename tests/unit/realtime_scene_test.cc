@@ -288,17 +288,19 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   EXPECT_EQ(m5["suture_nodes_inside_tissue"].get<int>(), 0) << m5["suture_penetration_depth"];
   EXPECT_GT(m5["suture_nodes_in_tracts"].get<int>(), 5);
   // Regression values of this deterministic run (the checks above are the physics):
-  // stored 2026-11-25 from `suturesim --output DIR` (the default scene). Spread measured
+  // stored 2026-11-25 from `suturesim --output DIR` (the default scene; the closure
+  // re-stored 2026-11-27, read since at the gap's interpolated crossing). Spread measured
   // on this machine (AMD EPYC, GCC 12): bit-identical with the hot kernels' x86-64-v3
   // (FMA) clones and with their baseline build (this scene's quasi-static tissue and
   // FTL suture do not call them); an input moved by one ulp (shear modulus, angular
   // speed) moves them by at most 6e-16 (closure) and 2.2e-15 (tie-off) relative, so
   // the run does not amplify round-off. Tolerance 1e-12 relative: ~500 times that
-  // spread, room for another compiler's or libm's rounding; closing one haptic step
-  // earlier or later moves the tension by 2e-3 N (4.6e-4 relative).
-  EXPECT_NEAR(m5["closure_tension"].get<double>(), 4.474548216066862, 1e-12 * 4.474548216066862);
+  // spread, room for another compiler's or libm's rounding; the tension rises by 2e-3 N
+  // (4.6e-4 relative) over the haptic step in which the wound closes.
+  EXPECT_NEAR(m5["closure_tension"].get<double>(), 4.47299300872754, 1e-12 * 4.47299300872754);
   EXPECT_NEAR(m5["tie_off_tension"].get<double>(), 4.848175935808833, 1e-12 * 4.848175935808833);
-  EXPECT_NEAR(m5["closure_time"].get<double>(), 6.644, 1e-9); // a whole haptic step (1 ms)
+  // the gap's crossing, interpolated within the haptic step (1 ms) that closes
+  EXPECT_NEAR(m5["closure_time"].get<double>(), 6.643240844819425, 1e-9);
 
   const auto r6 = run_suturesim("stitch_bite_6mm", stitch +
                                                      " --set 'Needle/Pass/Entry point=-0.006, 0, 0.006'"
@@ -335,10 +337,29 @@ TEST(WoundClosure, GapIsTheOpeningAlongThePairAndClosureFreezesTheMotion)
   monitor.write(m);
   EXPECT_EQ(m["initial_gap"].get<double>(), 1e-3);
   EXPECT_EQ(m["final_gap"].get<double>(), -2e-5);
-  EXPECT_EQ(m["closure_tension"].get<double>(), 3.5);
-  EXPECT_EQ(m["closure_time"].get<double>(), 2.0);
+  // read where the gap crosses 1e-4 m between the steps at 1 s (5e-4 m, 2 N) and 2 s
+  // (9e-5 m, 3.5 N): at the fraction 4e-4/4.1e-4 of that step
+  const double s = 4e-4 / 4.1e-4;
+  EXPECT_NEAR(m["closure_time"].get<double>(), 1 + s, 1e-15);
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 2 + 1.5 * s, 1e-15);
   EXPECT_EQ(m["gaps"]["deep"]["least"].get<double>(), 5e-5);
-  EXPECT_EQ(m["tie_off_time"].get<double>(), 2.0);
+  EXPECT_EQ(m["tie_off_time"].get<double>(), 2.0); // the motions stop at a step
+}
+
+TEST(WoundClosure, AGapAlreadyBelowAtTheFirstCountedStepClosesThere)
+{
+  // no bracket reaches back before the start time: the crossing before it is not the
+  // suture's, so the first counted step is read as it is
+  suturesim::scene::ClosureParameters prm;
+  prm.pairs      = {{"mid", {-5e-4, 0, 0.006}, {5e-4, 0, 0.006}}};
+  prm.start_time = 1;
+  suturesim::scene::ClosureMonitor monitor(prm);
+  monitor.update(0.5, {5e-4}, 1);
+  monitor.update(1, {5e-5}, 2);
+  nlohmann::json m;
+  monitor.write(m);
+  EXPECT_EQ(m["closure_time"].get<double>(), 1.0);
+  EXPECT_EQ(m["closure_tension"].get<double>(), 2.0);
 }
 
 TEST(WoundClosure, ATieOffGapBelowTheClosureGapDrawsTheStitchOnPastClosure)
@@ -362,9 +383,10 @@ TEST(WoundClosure, ATieOffGapBelowTheClosureGapDrawsTheStitchOnPastClosure)
   EXPECT_EQ(monitor.motion_time(3.5), 3.0);
   nlohmann::json m;
   monitor.write(m);
-  EXPECT_EQ(m["closure_tension"].get<double>(), 3.5);
-  EXPECT_EQ(m["closure_time"].get<double>(), 1.0);
-  EXPECT_EQ(m["tie_off_tension"].get<double>(), 5.0);
+  const double s = 9e-4 / 9.1e-4; // the crossing of 1e-4 m between 0 s and 1 s
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 3.5 * s, 1e-15);
+  EXPECT_NEAR(m["closure_time"].get<double>(), s, 1e-15);
+  EXPECT_EQ(m["tie_off_tension"].get<double>(), 5.0); // at the step that stops the motions
   EXPECT_EQ(m["tie_off_time"].get<double>(), 3.0);
 
   // without a tie-off nothing is held

@@ -96,7 +96,7 @@ namespace suturesim::coupling
   std::vector<std::size_t>
   TissueNeedle::thread_points() const
   {
-    const std::size_t        offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t        offset = first_pierce_index();
     std::vector<std::size_t> indices;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       if (on_thread(pierce[j]))
@@ -107,7 +107,7 @@ namespace suturesim::coupling
   std::vector<TissueNeedle::ThreadPointState>
   TissueNeedle::thread_point_states(const std::vector<Point<3>> &x) const
   {
-    const std::size_t             offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t             offset = first_pierce_index();
     std::vector<ThreadPointState> states;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       if (on_thread(pierce[j]))
@@ -134,7 +134,7 @@ namespace suturesim::coupling
                              Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> *jacobian) const
   {
     using Vec12              = Eigen::Matrix<double, 12, 1>;
-    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset = first_pierce_index();
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
         if (!on_thread(pierce[j]))
@@ -381,7 +381,7 @@ namespace suturesim::coupling
   bool
   TissueNeedle::follow_thread(const std::vector<Point<3>> &x)
   {
-    const std::size_t offset  = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset  = first_pierce_index();
     bool              changed = false;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       if (on_thread(pierce[j]))
@@ -397,7 +397,7 @@ namespace suturesim::coupling
   void
   TissueNeedle::hold_friction_branches(const std::vector<Point<3>> &x)
   {
-    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset = first_pierce_index();
     for (std::size_t j = 0; j < pierce.size(); ++j)
       if (on_thread(pierce[j]))
         pierce[j].branch = branch_at(pierce[j], across_curve(pierce[j], x[offset + j]));
@@ -423,7 +423,7 @@ namespace suturesim::coupling
   double
   TissueNeedle::constraint_gap(const std::vector<Point<3>> &x) const
   {
-    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset = first_pierce_index();
     double            gap    = 0;
     for (std::size_t j = 0; j < pierce.size(); ++j)
       gap = std::max(gap, across_curve(pierce[j], x[offset + j]).across.norm());
@@ -434,7 +434,7 @@ namespace suturesim::coupling
   TissueNeedle::update_multipliers(const std::vector<Point<3>> &x)
   {
     const double      gap    = constraint_gap(x);
-    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset = first_pierce_index();
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
         const Offset       o    = across_curve(pierce[j], x[offset + j]);
@@ -461,14 +461,14 @@ namespace suturesim::coupling
   bool
   TissueNeedle::symmetric_at(const std::size_t k) const
   {
-    const std::size_t offset = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset = first_pierce_index();
     return k < offset || !on_thread(pierce[k - offset]) || symmetric_tangent();
   }
 
   void
   TissueNeedle::force(const std::size_t k, const Point<3> &x, Tensor<1, 3> &f, Tensor<2, 3> &df_dx) const
   {
-    if (touch_index() == 0 && k == 0)
+    if (is_touch(k))
       {
         const auto        *touch = puncture->touch();
         const Tensor<1, 3> n     = tensor(touch->normal);
@@ -479,7 +479,7 @@ namespace suturesim::coupling
         df_dx = pen > 0 ? Tensor<2, 3>(-prm.puncture.stiffness * outer_product(n, n)) : Tensor<2, 3>();
         return;
       }
-    f = pierce_force(pierce[k - (touch_index() == 0 ? 1 : 0)], x, nullptr, nullptr, &df_dx);
+    f = pierce_force(pierce[k - first_pierce_index()], x, nullptr, nullptr, &df_dx);
   }
 
   double
@@ -494,7 +494,7 @@ namespace suturesim::coupling
   TissueNeedle::accept_step(const std::vector<Point<3>> &x)
   {
     bool              changed = false;
-    const std::size_t offset  = touch_index() == 0 ? 1 : 0;
+    const std::size_t offset  = first_pierce_index();
     const double      step    = time - last_time;
     std::vector<bool> on_needle;
     for (const auto &p : pierce)
@@ -580,8 +580,8 @@ namespace suturesim::coupling
                           cross_product_3d(tensor(needle.swage(current)) - origin, force);
     for (std::size_t k = 0; k < x.size(); ++k)
       {
-        const std::size_t offset = touch_index() == 0 ? 1 : 0;
-        const bool        tip    = touch_index() == 0 && k == 0;
+        const std::size_t offset = first_pierce_index();
+        const bool        tip    = is_touch(k);
         // points on the thread load the suture, not the needle
         if (!tip && on_thread(pierce[k - offset]))
           continue;

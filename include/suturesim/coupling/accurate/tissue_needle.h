@@ -211,7 +211,7 @@ namespace suturesim::coupling
     double
     spread_radius(std::size_t k) const override
     {
-      return touch_index() == 0 && k == 0 ? 0.0 : prm.load_radius;
+      return is_touch(k) ? 0.0 : prm.load_radius;
     }
 
     /// Index of the touch among points() (−1 when not pressing) and of pierce point j.
@@ -219,6 +219,19 @@ namespace suturesim::coupling
     touch_index() const
     {
       return puncture->pressing() ? 0 : -1;
+    }
+    /// The index among points() of pierce point 0: 1 while the tip presses (the touch
+    /// is point 0), else 0.
+    std::size_t
+    first_pierce_index() const
+    {
+      return puncture->pressing() ? 1 : 0;
+    }
+    /// Whether point @p k of points() is the tip's touch.
+    bool
+    is_touch(std::size_t k) const
+    {
+      return puncture->pressing() && k == 0;
     }
 
     /// The touch force at the converged positions @p x (one per point), N.
