@@ -24,6 +24,16 @@ namespace suturesim
     prm.declare_entry("Max cutbacks", default_text(d.max_cutbacks), dealii::Patterns::Integer(0, 30),
                       "Consecutive halvings of a failing step before the run stops. Unit: 1. "
                       "Range: 0-30.");
+    prm.declare_entry("Max step size", default_text(d.max_step_size), dealii::Patterns::Double(0),
+                      "Adaptive steps (the accurate path's quasi-static steps: tissue, needle "
+                      "pass, stitch): above 'Step size', each step is followed by one scaled by "
+                      "sqrt(Target iterations / its Newton iterations), within [1/2, 2] times it, "
+                      "up to this size; steps end on the motions' kinks and the grasp, and start "
+                      "again from 'Step size' there. 0 (or <= Step size): fixed steps. Unit: s. "
+                      "Range: >= 0.");
+    prm.declare_entry("Target iterations", default_text(d.target_iterations), dealii::Patterns::Integer(1, 100),
+                      "Newton iterations per step that adaptive steps aim at (see Max step size). "
+                      "Unit: 1. Range: 1-100.");
     prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
                       "Simulated time between VTU outputs; 0 writes every step (quasi-"
                       "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
@@ -37,6 +47,8 @@ namespace suturesim
     step_size       = prm.get_double("Step size");
     max_cutbacks    = prm.get_integer("Max cutbacks");
     output_interval = prm.get_double("Output interval");
+    max_step_size     = prm.get_double("Max step size");
+    target_iterations = prm.get_integer("Target iterations");
     scope.require(end_time > 0, "End time", "must be > 0 s");
     scope.require(step_size > 0, "Step size", "must be > 0 s");
     scope.require(step_size <= end_time, "Step size", "must not exceed the end time");

@@ -54,6 +54,17 @@ namespace suturesim::scene
     if (scene.bodies == "tissue and suture")
       build_suture();
     build_contacts();
+    // where adaptive steps end: the needle's kinks, the grasp and the grasped end's
+    // keyframes (linear between them, so each is a kink)
+    events = path.kinks();
+    if (suture && scene.suture.last_end.type != "free")
+      {
+        events.push_back(scene.suture.last_end.grasp_time);
+        for (const auto &key : scene.suture.last_end.keyframes)
+          events.push_back(key.first);
+      }
+    std::sort(events.begin(), events.end());
+    events.erase(std::unique(events.begin(), events.end()), events.end());
     model->expect_symmetric_tangent(needle->symmetric_tangent(),
                                     "the pierce points' friction on the thread (Pierce points/Friction "
                                     "coefficient > 0) or Lagrange tie");
@@ -285,9 +296,11 @@ namespace suturesim::scene
   void
   AccurateStitch::solve_rounds(const double tn)
   {
+    step_iterations = 0;
     for (rounds = 1;; ++rounds)
       {
         report = coupled ? model->solve_coupled(tn, force_floor, *coupled) : model->solve_static(tn, force_floor);
+        step_iterations += report.iterations;
         if (!report.converged || !(suture || lagrange || faces))
           return;
         const auto x = positions();
@@ -339,8 +352,30 @@ namespace suturesim::scene
       }
     // land the puncture within 4 % above the threshold: a step that overshoots is cut
     if (needle->touch_force(positions()) > 1.04 * np.puncture.threshold)
-      return {StepAttempt::Outcome::too_long, ""};
-    return {};
+      return {StepAttempt::Outcome::too_long, "", step_iterations};
+    // an adaptive step longer than the nominal one does not tie off: the tie-off (a
+    // step's state, the motions stop there) lands as finely as with fixed steps
+    if (dt > scene.time.step_size * (1 + 1e-9) && closure && scene.closure.tie_off && !closure->tied() &&
+        tn >= scene.closure.start_time && first_gap() < scene.closure.tie_off_gap)
+      return {StepAttempt::Outcome::too_long, "", step_iterations};
+    return {StepAttempt::Outcome::converged, "", step_iterations};
+  }
+
+  double
+  AccurateStitch::first_gap() const
+  {
+    const auto  u    = model->probe_displacements();
+    const auto &pair = scene.closure.pairs.front();
+    const auto &ua = u[first_gap_probe], &ub = u[first_gap_probe + 1];
+    return closure->gap(0, pair.a + Eigen::Vector3d(ua[0], ua[1], ua[2]), pair.b + Eigen::Vector3d(ub[0], ub[1], ub[2]));
+  }
+
+  double
+  AccurateStitch::next_event(const double t) const
+  {
+    // the first event beyond t by more than round-off (a step that ended on one)
+    const auto next = std::upper_bound(events.begin(), events.end(), t + 1e-12 * std::max(1.0, std::abs(t)));
+    return next == events.end() ? std::numeric_limits<double>::infinity() : *next;
   }
 
   void

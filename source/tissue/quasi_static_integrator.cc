@@ -50,7 +50,8 @@ namespace suturesim::tissue
         hooks.attempt = [&](const double t_new, double) {
           model.save_state();
           report = model.solve_static(t_new);
-          return report.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, report.failure};
+          return report.converged ? StepAttempt{StepAttempt::Outcome::converged, "", report.iterations}
+                                  : StepAttempt{StepAttempt::Outcome::failed, report.failure};
         };
         hooks.undo   = [&](const StepAttempt &, double, double) { model.restore_state(); };
         hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
@@ -65,7 +66,7 @@ namespace suturesim::tissue
         hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
           fail(observer, "step " + std::to_string(step + 1), t_new, cutbacks, reason);
         };
-        run_with_cutbacks({T, time.step_size, time.max_cutbacks, 0}, hooks);
+        run_with_cutbacks({T, time.step_size, time.max_cutbacks, 0, time.max_step_size, time.target_iterations}, hooks);
         observer.totals({{"integrator", "quasi-static"}, {"steps", step}, {"newton_iterations_total", total_iterations}});
       }
 

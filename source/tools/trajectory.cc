@@ -1,5 +1,7 @@
 #include <suturesim/tools/trajectory.h>
 
+#include <algorithm>
+
 namespace suturesim::tools
 {
   Pose
@@ -43,6 +45,26 @@ namespace suturesim::tools
     if (angle > M_PI) // slerp takes the short way
       angle -= 2 * M_PI;
     return {(next->second.position - prev->second.position) / dt, axis * angle / dt};
+  }
+
+  std::vector<double>
+  Trajectory::kinks() const
+  {
+    std::vector<double> times;
+    std::pair<Vector3d, Vector3d> before{Vector3d::Zero(), Vector3d::Zero()}; // at rest before the first
+    for (auto k = keys.begin(); k != keys.end(); ++k)
+      {
+        const auto next  = std::next(k);
+        const auto after = next == keys.end() ? std::pair{Vector3d::Zero(), Vector3d::Zero()}
+                                              : velocity(0.5 * (k->first + next->first));
+        const auto jumps = [](const Vector3d &a, const Vector3d &b) {
+          return (a - b).norm() > 1e-6 * std::max(a.norm(), b.norm());
+        };
+        if (jumps(before.first, after.first) || jumps(before.second, after.second))
+          times.push_back(k->first);
+        before = after;
+      }
+    return times;
   }
 
   double

@@ -29,6 +29,25 @@ TEST(Trajectory, InterpolatesLinearlyAndBySlerpAndHoldsOutside)
   EXPECT_EQ(path.velocity(4).first, Vector3d::Zero());
 }
 
+TEST(Trajectory, KinksAreTheKeyframesWhereTheVelocityJumps)
+{
+  // from rest at 1 s a straight move (keyframe 2 s mid-way: not a kink), a steady turn
+  // from 3 s (keyframe 4 s mid-way, as slerp keyframes are: not a kink), rest after 5 s
+  Trajectory path;
+  const auto about_z = [](const double angle) { return Quaterniond(Eigen::AngleAxisd(angle, Vector3d::UnitZ())); };
+  path.add(1, {Vector3d(0, 0, 0), Quaterniond::Identity()});
+  path.add(2, {Vector3d(1, 0, 0), Quaterniond::Identity()});
+  path.add(3, {Vector3d(2, 0, 0), Quaterniond::Identity()});
+  path.add(4, {Vector3d(2, 0, 0), about_z(M_PI / 4)});
+  path.add(5, {Vector3d(2, 0, 0), about_z(M_PI / 2)});
+  EXPECT_EQ(path.kinks(), (std::vector<double>{1, 3, 5}));
+  // a keyframe that holds still is no kink either
+  Trajectory still;
+  still.add(0, {Vector3d(1, 2, 3), Quaterniond::Identity()});
+  still.add(1, {Vector3d(1, 2, 3), Quaterniond::Identity()});
+  EXPECT_TRUE(still.kinks().empty());
+}
+
 TEST(CurvedNeedle, TipSwageTangentAndClosestPoint)
 {
   const CurvedNeedle needle(0.01, CurvedNeedle::arc_angle_of("3/8"), 4e-4);

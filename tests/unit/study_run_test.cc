@@ -472,7 +472,7 @@ TEST(StudyRun, MeshConvergenceStitchAtSmallSize)
 TEST(StudyRun, ShippedStudiesValidate)
 {
   // each is also run: the stitch studies at small size above, the others in their tests,
-  // but for mesh_convergence_stitch_local.prm and mesh_convergence_stitch_spread.prm, only
+  // but for mesh_convergence_stitch_local.prm, _spread.prm and _wound.prm, only
   // validated here: their finest cases run for over 30 CPU minutes (issue 25,
   // docs/interrupted_stitch.md); the small-size series machinery is
   // AResolutionSeriesReference... above

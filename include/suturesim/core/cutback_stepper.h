@@ -13,6 +13,19 @@
  * and halved as well, at most Max cutbacks + @ref StepControl::refinements halvings in a
  * row, and accepted once none is left.
  *
+ * Adaptive steps (@ref StepControl::max_step_size above the nominal Δt): a step that
+ * needed n Newton iterations, against a target N (Target iterations), is followed by
+ *
+ *     Δt_next = clamp(Δt · min(2, max(1/2, √(N / n))), Δt_nom 2^(−Max cutbacks), Δt_max)
+ *
+ * (n = 0 counts as doubling): steps grow while the solves are easy and shrink as they
+ * get hard, before any fails — the iteration-count rule of the implicit codes' automatic
+ * steppers (FEBio's time stepper with its dtmax and opt_iter; ABAQUS *STATIC's automatic
+ * increments). No step crosses an event of the caller (@ref StepHooks::next_event: a
+ * kink of a prescribed motion, a grasp): it ends on it, and the step after an event
+ * starts again from the nominal Δt. With Δt_max = Δt_nom (the default) the steps are
+ * those of the fixed stepper above.
+ *
  * Plain C++: the solvers of both paths may include it.
  */
 
@@ -27,6 +40,8 @@ namespace suturesim
     double   step_size    = 0.1; ///< nominal Δt, s
     unsigned max_cutbacks = 6;   ///< halvings of a failing step in a row
     unsigned refinements  = 0;   ///< further halvings of a step that is too long
+    double   max_step_size = 0;  ///< s; ≤ step_size: no growth beyond the nominal Δt
+    unsigned target_iterations = 4; ///< Newton iterations a step aims at when adaptive
   };
 
   struct StepAttempt
@@ -38,7 +53,8 @@ namespace suturesim
       too_long ///< converged, but the caller wants a shorter step
     };
     Outcome     outcome = Outcome::converged;
-    std::string reason; ///< why it failed
+    std::string reason;         ///< why it failed
+    unsigned    iterations = 0; ///< the solve's Newton iterations (adaptive steps)
   };
 
   struct StepHooks
@@ -52,6 +68,9 @@ namespace suturesim
     /// No halving is left for the failed step to @p t_new (the state is the last
     /// accepted one again): throw the run's SolverError.
     std::function<void(double t_new, unsigned cutbacks, const std::string &reason)> fail;
+    /// Optional: the first event after time @p t that a step must end on (∞: none);
+    /// read with adaptive steps only, so that fixed steps stay on their grid.
+    std::function<double(double t)> next_event;
   };
 
   /// Runs from @p t_start to the end time; returns the number of accepted steps. When

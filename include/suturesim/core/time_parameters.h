@@ -2,7 +2,8 @@
 /**
  * @file
  * The "Time" subsection every model path reads: which integrator, the end time, the
- * (nominal) step, how many halvings of a failing step in a row, the output interval.
+ * (nominal) step, how many halvings of a failing step in a row, the output interval,
+ * and the bounds of adaptive steps where an integrator takes them.
  * The integrators themselves are registered by the bodies they integrate (tissue/,
  * rod/); the scene offers all of them under one key (Simulation::declare_parameters).
  */
@@ -23,6 +24,10 @@ namespace suturesim
     double      step_size       = 0.1; ///< s
     unsigned    max_cutbacks    = 6;
     double      output_interval = 0.0; ///< s; 0: every step
+    /// adaptive steps (core/cutback_stepper.h): the largest step, s (≤ step_size: fixed
+    /// steps), and the Newton iterations a step aims at
+    double   max_step_size     = 0;
+    unsigned target_iterations = 4;
 
     /// Declares into the current subsection ("Time"); @p integrators (name →
     /// description) are the choices of "Integrator", of every body.

@@ -74,6 +74,11 @@ namespace suturesim::scene
     nlohmann::json
     step_statistics(double dt, unsigned cutbacks) const;
 
+    /// The first event after @p t that an adaptive step ends on (∞: none): the kinks of
+    /// the needle's motion and of the grasped end's (its grasp among them), s.
+    double
+    next_event(double t) const;
+
     // --- what the record reads -----------------------------------------------------------
     SceneParameters        &scene;
     const NeedleParameters &np;
@@ -132,6 +137,9 @@ namespace suturesim::scene
     /// Coupled solves until the contacts and multipliers settle (this step's rounds).
     void
     solve_rounds(double tn);
+    /// The closure's first gap in the current state, m.
+    double
+    first_gap() const;
 
     double                                   force_floor = 0;
     bool                                     lagrange    = false;
@@ -152,6 +160,8 @@ namespace suturesim::scene
     Eigen::Matrix3Xd                         round_surface;
     tissue::NewtonReport                     report;
     unsigned                                 rounds         = 0;
+    unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
+    std::vector<double>                      events;          ///< sorted, s
     bool                                     points_changed = false;
   };
 } // namespace suturesim::scene

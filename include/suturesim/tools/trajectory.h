@@ -17,6 +17,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace suturesim::tools
 {
@@ -67,6 +68,12 @@ namespace suturesim::tools
     /// the segment containing t (right-sided at keyframes); zero outside the keyframes.
     std::pair<Vector3d, Vector3d>
     velocity(double t) const;
+
+    /// The keyframe times at which the velocity (linear or angular) jumps by more than
+    /// 1e-6 of the larger one: the motion's kinks, where adaptive steps must end. A
+    /// keyframe between two segments of one steady turn (slerp keyframes) is not one.
+    std::vector<double>
+    kinks() const;
 
     double
     start_time() const;

@@ -102,8 +102,11 @@ namespace suturesim::scene
                   << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
           };
           hooks.fail = [&](const double tn, unsigned, const std::string &reason) { fail(tn, reason); };
+          hooks.next_event = [&](const double tn) { return stitch.next_event(tn); };
           // a step that overshoots the puncture threshold is halved up to 8 more times
-          run_with_cutbacks({scene.time.end_time, scene.time.step_size, scene.time.max_cutbacks, 8}, hooks);
+          const auto &time = scene.time;
+          run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size, time.target_iterations},
+                            hooks);
 
           record.finish(t);
           // failed_attempts: steps whose solve failed and was halved (events' refinements

@@ -37,6 +37,8 @@ namespace suturesim::scene
         const std::string   &name     = scene.time.integrator;
         time.require(registry.all().count(name) > 0, "Integrator",
                      "'" + name + "' does not integrate a suture; use " + registry.selection_pattern());
+        time.require(scene.time.max_step_size <= scene.time.step_size, "Max step size",
+                     "adaptive steps are for the tissue and the needle scenes; the suture alone steps by Step size");
         if (name != "quasi-static")
           scene.scope("Suture/Cross section")
             .require(scene.suture.section.density > 0, "Density",

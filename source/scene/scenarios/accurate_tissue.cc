@@ -48,6 +48,8 @@ namespace suturesim::scene
                      "must be > 0 kg/m^3 for dynamics (Time/Integrator = " + integrator + ")");
         time.require(registry.all().count(integrator) > 0, "Integrator",
                      "'" + integrator + "' does not integrate the tissue; use " + registry.selection_pattern());
+        time.require(integrator == "quasi-static" || scene.time.max_step_size <= scene.time.step_size,
+                     "Max step size", "adaptive steps are quasi-static only (Time/Integrator = quasi-static)");
         prm.enter_subsection("Time");
         time_integrator = registry.get(integrator).create(prm, time);
         prm.leave_subsection();

@@ -33,6 +33,8 @@ namespace suturesim::scene
         scene.time.end_time        = prm.get_double("End time");
         scene.time.output_interval = prm.get_double("Output interval");
         scene.scope("Time").require(scene.time.end_time > 0, "End time", "must be > 0 s");
+        scene.scope("Time").require(prm.get_double("Max step size") == 0, "Max step size",
+                                    "the realtime step is the haptic step 1/Rate (Realtime/Rate)");
         prm.leave_subsection();
         if (scene.needle.present() && scene.has_suture() && scene.needle.attach_suture)
           scene.scope("Suture/Start end")
