@@ -355,19 +355,23 @@ namespace suturesim::scene
       return {StepAttempt::Outcome::too_long, "", step_iterations};
     // an adaptive step longer than the nominal one does not tie off: the tie-off (a
     // step's state, the motions stop there) lands as finely as with fixed steps
-    if (dt > scene.time.step_size * (1 + 1e-9) && closure && scene.closure.tie_off && !closure->tied() &&
-        tn >= scene.closure.start_time && first_gap() < scene.closure.tie_off_gap)
+    if (dt > scene.time.step_size * (1 + 1e-9) && closure && closure->ties_off(tn, gaps(model->probe_displacements()).front()))
       return {StepAttempt::Outcome::too_long, "", step_iterations};
     return {StepAttempt::Outcome::converged, "", step_iterations};
   }
 
-  double
-  AccurateStitch::first_gap() const
+  std::vector<double>
+  AccurateStitch::gaps(const std::vector<Tensor<1, 3>> &probes) const
   {
-    const auto  u    = model->probe_displacements();
-    const auto &pair = scene.closure.pairs.front();
-    const auto &ua = u[first_gap_probe], &ub = u[first_gap_probe + 1];
-    return closure->gap(0, pair.a + Eigen::Vector3d(ua[0], ua[1], ua[2]), pair.b + Eigen::Vector3d(ub[0], ub[1], ub[2]));
+    std::vector<double> g;
+    const auto         &pairs = scene.closure.pairs;
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      {
+        const auto &ua = probes[first_gap_probe + 2 * k], &ub = probes[first_gap_probe + 2 * k + 1];
+        g.push_back(closure->gap(k, pairs[k].a + Eigen::Vector3d(ua[0], ua[1], ua[2]),
+                                 pairs[k].b + Eigen::Vector3d(ub[0], ub[1], ub[2])));
+      }
+    return g;
   }
 
   double

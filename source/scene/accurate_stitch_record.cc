@@ -53,16 +53,8 @@ namespace suturesim::scene
   {
     // the gaps, charged to the tension the grasper on the far end feels (else the
     // needle's pull), as in the realtime path
-    const auto         &pairs = stitch.scene.closure.pairs;
-    std::vector<double> gaps;
-    for (std::size_t k = 0; k < pairs.size(); ++k)
-      {
-        const auto &pair = pairs[k];
-        const auto &ua = probes[stitch.first_gap_probe + 2 * k], &ub = probes[stitch.first_gap_probe + 2 * k + 1];
-        gaps.push_back(stitch.closure->gap(k, pair.a + Eigen::Vector3d(ua[0], ua[1], ua[2]),
-                                           pair.b + Eigen::Vector3d(ub[0], ub[1], ub[2])));
-        row.push_back(gaps.back());
-      }
+    const std::vector<double> gaps = stitch.gaps(probes);
+    row.insert(row.end(), gaps.begin(), gaps.end());
     stitch.closure->update(t, gaps, stitch.grasped ? stitch.end_tension : stitch.load.first.norm());
   }
 

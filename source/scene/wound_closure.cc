@@ -126,7 +126,7 @@ namespace suturesim::scene
         closure_tension = p.tension + s * (tension - p.tension);
       }
     previous = Sample{t, gap, tension};
-    if (prm.tie_off && closed() && !tied() && gaps.front() < prm.tie_off_gap)
+    if (ties_off(t, gap))
       {
         tie_time    = t;
         tie_tension = tension;

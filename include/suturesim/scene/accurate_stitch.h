@@ -103,6 +103,10 @@ namespace suturesim::scene
     std::pair<dealii::Tensor<1, 3>, dealii::Tensor<1, 3>> load;
     double                                                 end_tension = 0, stabilization_force = 0;
 
+    /// The closure pairs' gaps (m) for the tissue's probe displacements @p probes.
+    std::vector<double>
+    gaps(const std::vector<dealii::Tensor<1, 3>> &probes) const;
+
     /// The tissue points of the point loads, current positions.
     std::vector<dealii::Point<3>>
     positions() const;
@@ -137,9 +141,6 @@ namespace suturesim::scene
     /// Coupled solves until the contacts and multipliers settle (this step's rounds).
     void
     solve_rounds(double tn);
-    /// The closure's first gap in the current state, m.
-    double
-    first_gap() const;
 
     double                                   force_floor = 0;
     bool                                     lagrange    = false;

@@ -90,6 +90,14 @@ namespace suturesim::scene
     void
     update(double t, const std::vector<double> &gaps, double tension);
 
+    /// Whether a step at @p t whose first gap is @p gap would tie the stitch off.
+    bool
+    ties_off(double t, double gap) const
+    {
+      return prm.tie_off && !tied() && t >= prm.start_time && gap < prm.tie_off_gap &&
+             (closed() || gap < prm.closure_gap);
+    }
+
     /// The time up to which prescribed motions run: ∞ until a tie-off, then its time.
     double
     motion_time(double t) const
