@@ -2,6 +2,7 @@
 #include <suturesim/tissue/linear_solver.h>
 
 #include <cmath>
+#include <iostream>
 #include <sstream>
 
 namespace suturesim::tissue
@@ -168,6 +169,90 @@ namespace suturesim::tissue
     null_space_modes = std::move(modes);
   }
 
+  namespace
+  {
+    /// What MUMPS's INFOG(1) < 0 means (MUMPS 5 users' guide, section "Error
+    /// diagnostics"); whether more working space (ICNTL(14)) cures it.
+    std::pair<std::string, bool>
+    mumps_error(const PetscInt infog1)
+    {
+      switch (infog1)
+        {
+          case -8:
+          case -9:
+          case -11:
+          case -12:
+          case -14:
+          case -15:
+          case -17:
+          case -20:
+            return {"its working space, estimated in the analysis, is too small", true};
+          case -10:
+            return {"the matrix is numerically singular", false};
+          case -13:
+            return {"a memory allocation failed (out of memory)", false};
+          case -19:
+            return {"the memory limit ICNTL(23) is too small", false};
+          default:
+            return {"see MUMPS's users' guide for INFOG(1) = " + std::to_string(infog1), false};
+        }
+    }
+
+    /// The direct method's factorisation of @p mat on @p ksp (a no-op while @p mat is
+    /// unchanged). A failed one starts again from MUMPS's analysis; when MUMPS ran short
+    /// of the working space its analysis estimated (INFOG(1) = -8, -9, ...), with the
+    /// space's margin ICNTL(14) raised from m to 2 m + 20 % (for the rest of the run: its
+    /// later matrices share the pattern), up to three times, each said on stderr.
+    /// Otherwise, or then, throws SolverError naming MUMPS's INFOG(1) and what it means.
+    void
+    factorize(KSP ksp, Mat mat)
+    {
+      constexpr unsigned max_space_retries = 3;
+      PC pc;
+      check(KSPGetPC(ksp, &pc), "KSPGetPC");
+      check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+      for (unsigned attempt = 0;; ++attempt)
+        {
+          check(KSPSetUp(ksp), "KSPSetUp");
+          PCFailedReason failed;
+          check(PCGetFailedReason(pc, &failed), "PCGetFailedReason");
+          if (failed == PC_NOERROR)
+            return;
+          Mat      F;
+          PetscInt infog1 = 0, infog2 = 0, space = 0;
+          check(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+          check(MatMumpsGetInfog(F, 1, &infog1), "MatMumpsGetInfog");
+          check(MatMumpsGetInfog(F, 2, &infog2), "MatMumpsGetInfog");
+          check(MatMumpsGetIcntl(F, 14, &space), "MatMumpsGetIcntl");
+          // MUMPS keeps a failed factorisation's INFOG(1), and PETSc then skips every later
+          // numerical factorisation of that analysis: without a fresh start here, a
+          // matrix that fails once fails at every cut-back of the step (seen on the
+          // stitch's L2, docs/interrupted_stitch.md).
+          check(KSPReset(ksp), "KSPReset");
+          check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+          const auto [meaning, more_space_helps] = mumps_error(infog1);
+          if (!more_space_helps || attempt == max_space_retries)
+            throw SolverError("MUMPS's factorisation failed: " + meaning + " (INFOG(1) = " +
+                              std::to_string(infog1) + ", INFOG(2) = " + std::to_string(infog2) +
+                              ", working space +" + std::to_string(space) + " % (ICNTL(14)))");
+          // through the options database, which MUMPS's analysis reads under the factor's
+          // prefix: a value set on the factor before MUMPS is initialised does not last
+          check(PCFactorSetUpMatSolverType(pc), "PCFactorSetUpMatSolverType");
+          check(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+          const char *prefix = nullptr;
+          check(MatGetOptionsPrefix(F, &prefix), "MatGetOptionsPrefix");
+          const std::string option = "-" + std::string(prefix ? prefix : "") + "mat_mumps_icntl_14";
+          const std::string raised = std::to_string(2 * space + 20);
+          check(PetscOptionsSetValue(nullptr, option.c_str(), raised.c_str()), "PetscOptionsSetValue");
+          PetscMPIInt rank = 0;
+          MPI_Comm_rank(PetscObjectComm(reinterpret_cast<PetscObject>(ksp)), &rank);
+          if (rank == 0)
+            std::cerr << "note: MUMPS's factorisation ran short of working space (INFOG(1) = " << infog1
+                      << "); again with a margin of " << raised << " % (ICNTL(14))" << std::endl;
+        }
+    }
+  } // namespace
+
   void
   LinearSolver::solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                       dealii::PETScWrappers::MPI::Vector             &x,
@@ -188,7 +273,10 @@ namespace suturesim::tissue
         check(MatSetNearNullSpace(mat, nsp), "MatSetNearNullSpace");
         check(MatNullSpaceDestroy(&nsp), "MatNullSpaceDestroy");
       }
-    check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+    if (prm.method == "direct")
+      factorize(ksp, mat);
+    else
+      check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
     if (prm.method != "direct")
       check(KSPSetTolerances(ksp,
                              relative_tolerance > 0 ? relative_tolerance : prm.tolerance,
@@ -277,8 +365,7 @@ namespace suturesim::tissue
     DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
     for (std::size_t j = 0; j < B.size(); ++j)
       rhs.set(static_cast<PetscInt>(j), B[j]);
-    Mat mat = A;
-    check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
+    factorize(ksp, A);
     check(KSPMatSolve(ksp, rhs.mat, sol.mat), "KSPMatSolve");
     KSPConvergedReason reason;
     check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");

@@ -6,6 +6,7 @@
 // Q1-P0 mixed formulation, fixed at the bottom and pressed and sheared on top.
 #include "block_model.h"
 
+#include <suturesim/core/error.h>
 #include <suturesim/tissue/linear_solver.h>
 
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -18,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 using namespace suturesim;
 
@@ -92,6 +94,72 @@ namespace
     return owned;
   }
 } // namespace
+
+namespace
+{
+  /// The stencil (−1 − c, 2, −1 + c) on [0, n), with row and column @p zero (< n) set to
+  /// stored zeros when @p zero < n: the same pattern, numerically singular.
+  void
+  fill_stencil(dealii::PETScWrappers::MPI::SparseMatrix &A, const dealii::IndexSet &owned,
+               const unsigned n, const double c, const unsigned zero)
+  {
+    for (const auto i : owned)
+      for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
+        {
+          const double value = j == i ? 2.0 : (j < i ? -1.0 - c : -1.0 + c);
+          A.set(i, j, (i == zero || j == zero) ? 0.0 : value);
+        }
+    A.compress(dealii::VectorOperation::insert);
+  }
+} // namespace
+
+// A factorisation that fails says why in MUMPS's terms, and does not spoil the next
+// one: MUMPS keeps a failed factorisation's INFOG(1) < 0, and PETSc then skips every
+// numerical factorisation of that analysis, so before LinearSolver::factorize() started
+// again from the analysis, a matrix that failed once failed at every cut-back of the
+// step whatever its values (the stitch's L2, docs/interrupted_stitch.md). Here a
+// singular matrix, then the regular one with the same pattern; Cholesky and LU.
+TEST(LinearSolver, AFailedFactorisationSaysWhyAndDoesNotSpoilTheNext)
+{
+  const unsigned         n     = 60;
+  const dealii::IndexSet owned = owned_rows(n);
+  for (const double c : {0.3, 0.0})
+    {
+      dealii::DynamicSparsityPattern dsp(n, n, owned);
+      for (const auto i : owned)
+        for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
+          dsp.add(i, j);
+      dealii::PETScWrappers::MPI::SparseMatrix A;
+      A.reinit(owned, owned, dsp, MPI_COMM_WORLD);
+      tissue::LinearSolver::Parameters prm;
+      tissue::LinearSolver             solver(prm, MPI_COMM_WORLD);
+      solver.set_symmetric(c == 0);
+      dealii::PETScWrappers::MPI::Vector x(owned, MPI_COMM_WORLD), b(x), residual(x);
+      for (const auto i : owned)
+        b(i) = 1.0 + std::sin(i + 1.0);
+      b.compress(dealii::VectorOperation::insert);
+
+      fill_stencil(A, owned, n, c, n / 2);
+      std::string message;
+      try
+        {
+          solver.solve(A, x, b);
+        }
+      catch (const SolverError &e)
+        {
+          message = e.what();
+        }
+      std::printf("[ linear solver ] c = %.1f, singular: %s\n", c, message.c_str());
+      EXPECT_NE(message.find("numerically singular (INFOG(1) = -10"), std::string::npos) << message;
+
+      fill_stencil(A, owned, n, c, n);
+      // the same pattern, now regular, in the same solver: no throw, and it is solved
+      ASSERT_NO_THROW(solver.solve(A, x, b)) << "c = " << c;
+      A.vmult(residual, x);
+      residual -= b;
+      EXPECT_LT(residual.linfty_norm(), 1e-12 * b.linfty_norm()) << "c = " << c;
+    }
+}
 
 // The coupled iteration's 3 m solves with one factorisation go to MUMPS in one call
 // (LinearSolver::solve_columns): each column must be the solution solve() gives it.
