@@ -296,11 +296,16 @@ namespace suturesim::scene
   void
   AccurateStitch::solve_rounds(const double tn)
   {
-    step_iterations = 0;
+    step_iterations   = 0;
+    suture_iterations = 0;
+    if (body)
+      body->take_peak_iterations();
     for (rounds = 1;; ++rounds)
       {
         report = coupled ? model->solve_coupled(tn, force_floor, *coupled) : model->solve_static(tn, force_floor);
         step_iterations += report.iterations;
+        if (body)
+          suture_iterations = std::max(suture_iterations, body->take_peak_iterations());
         if (!report.converged || !(suture || lagrange || faces))
           return;
         const auto x = positions();
@@ -425,6 +430,7 @@ namespace suturesim::scene
   {
     return {{"dt", dt},
             {"newton_iterations", report.iterations},
+            {"suture_newton_iterations", suture_iterations},
             {"cutbacks", cutbacks},
             {"coupling_rounds", rounds},
             {"residual_norms", report.residual_norms}};

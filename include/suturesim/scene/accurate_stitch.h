@@ -162,6 +162,7 @@ namespace suturesim::scene
     tissue::NewtonReport                     report;
     unsigned                                 rounds         = 0;
     unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
+    unsigned                                 suture_iterations = 0; ///< this attempt's most of one suture solve
     std::vector<double>                      events;          ///< sorted, s
     bool                                     points_changed = false;
   };

@@ -103,6 +103,7 @@ namespace suturesim::coupling
         if (!result.converged || !needle.follow_thread(seen))
           break;
       }
+    peak_iterations = std::max(peak_iterations, iterations);
     const Attached attached(*this);
     if (!result.converged)
       {

@@ -97,7 +97,8 @@ namespace suturesim::scene
             stitch.advance();
             // one line a step (as ASPECT): a run that slows down shows where and why
             pcout << "step " << steps << "  t = " << std::setprecision(5) << t << " s  dt = " << dt << " s  Newton "
-                  << statistics["newton_iterations"] << " it  rounds " << statistics["coupling_rounds"]
+                  << statistics["newton_iterations"] << " it (suture at most "
+                  << statistics["suture_newton_iterations"] << ")  rounds " << statistics["coupling_rounds"]
                   << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
                   << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
           };

@@ -24,6 +24,7 @@
 #include <suturesim/tissue/condensed_body.h>
 #include <suturesim/tissue/point_load_list.h>
 
+#include <utility>
 #include <vector>
 
 namespace suturesim::coupling
@@ -64,6 +65,14 @@ namespace suturesim::coupling
       return iterations;
     }
 
+    /// The most suture Newton iterations one equilibrate() took since the last call
+    /// (then 0 again): the suture's share of a coupled step's effort.
+    unsigned
+    take_peak_iterations()
+    {
+      return std::exchange(peak_iterations, 0u);
+    }
+
   private:
     /// Sets the pierce points' element terms on the suture for its lifetime: they read
     /// this body's state, so they are attached only while it is at work.
@@ -91,5 +100,6 @@ namespace suturesim::coupling
     rod::ElementTerms             element_terms;
     rod::ElementList              elements;
     unsigned                      iterations = 0;
+    unsigned                      peak_iterations = 0;
   };
 } // namespace suturesim::coupling
