@@ -37,11 +37,14 @@ namespace suturesim
         const auto        name  = entry.substr(0, entry.find('=') + 1);
         bool              set   = false;
         for (const auto &over : environment)
-          set = set || over.rfind(name, 0) == 0;
+          set = set || over.rfind(name, 0) == 0 ||
+                (!over.empty() && over.back() == '*' && entry.rfind(over.substr(0, over.size() - 1), 0) == 0);
         if (!set)
           env.push_back(entry);
       }
-    env.insert(env.end(), environment.begin(), environment.end());
+    for (const auto &over : environment)
+      if (over.empty() || over.back() != '*')
+        env.push_back(over);
     auto arg_pointers = pointers(args), env_pointers = pointers(env);
 
     posix_spawn_file_actions_t actions;

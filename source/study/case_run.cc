@@ -91,7 +91,10 @@ namespace suturesim::study
     }
 
     /// The case's child process: suturesim <scene> --output <folder> --set ... with its
-    /// output in log.txt, each case on one thread (the study's concurrency is the cases).
+    /// output in log.txt, each process on one thread (the study's concurrency is its
+    /// processes); with CaseJob::processes above 1 under mpirun -np, which gets an
+    /// environment without this process's own MPI variables (a study is an MPI singleton,
+    /// and mpirun started with its variables would take itself for one of its ranks).
     pid_t
     spawn(const std::string &executable, const CaseJob &job)
     {
@@ -99,10 +102,17 @@ namespace suturesim::study
       std::vector<std::string> args{executable, job.scene, "--output", job.folder};
       for (const auto &s : job.settings)
         args.insert(args.end(), {"--set", s});
+      std::vector<std::string> environment{"OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1"};
+      if (job.processes > 1)
+        {
+          args.insert(args.begin(), {"mpirun", "-np", std::to_string(job.processes)});
+          // Open MPI refuses root unless told; other MPIs ignore these
+          environment.insert(environment.end(), {"OMPI_*", "PMIX_*", "OPAL_*", "OMPI_ALLOW_RUN_AS_ROOT=1",
+                                                 "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"});
+        }
       try
         {
-          return start_process(args, (fs::path(job.folder) / "log.txt").string(),
-                               {"OPENBLAS_NUM_THREADS=1", "OMP_NUM_THREADS=1"});
+          return start_process(args, (fs::path(job.folder) / "log.txt").string(), environment);
         }
       catch (const std::runtime_error &e)
         {
@@ -181,6 +191,7 @@ namespace suturesim::study
     std::vector<CaseOutcome>                              outcomes(jobs.size());
     std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
     std::size_t                                           next = 0, done = 0, failed = 0;
+    unsigned                                              busy = 0; ///< processes of the running cases
     double                                                run_time = 0;
     const auto                                            start    = Clock::now();
     const auto report = [&](const std::string &event) {
@@ -196,10 +207,12 @@ namespace suturesim::study
     };
     while (done < jobs.size())
       {
-        while (next < jobs.size() && running.size() < std::max(1u, concurrency))
+        while (next < jobs.size() &&
+               (running.empty() || busy + jobs[next].processes <= std::max(1u, concurrency)))
           {
             const pid_t pid = spawn(executable, jobs[next]);
             running[pid]    = {next, Clock::now()};
+            busy += jobs[next].processes;
             report("started " + jobs[next++].name);
           }
         int    status = 0;
@@ -212,6 +225,7 @@ namespace suturesim::study
           continue;
         const auto [k, t0] = it->second;
         running.erase(it);
+        busy -= jobs[k].processes;
         const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
         outcomes[k]       = outcome_of(jobs[k], status, usage, wall);
         write_run_json(jobs[k], parameters[k], outcomes[k]);

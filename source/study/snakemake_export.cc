@@ -41,15 +41,21 @@ namespace suturesim::study
       << "CASES = {\n";
     for (std::size_t k = 0; k < jobs.size(); ++k)
       s << "    " << literal(jobs[k].name) << ": " << literal(digest(parameters[k])) << ",\n";
+    s << "}\n"
+      << "# the MPI processes of each case's run (Reference/Processes): its cores\n"
+      << "PROCESSES = {\n";
+    for (const auto &job : jobs)
+      s << "    " << literal(job.name) << ": " << job.processes << ",\n";
     s << "}\n\n"
       << "wildcard_constraints:\n    name=\"[A-Za-z0-9._-]+\"\n\n"
       << "rule all:\n    input: OUT + \"/cases.csv\"\n\n"
       << "rule run_case:\n"
       << "    output: OUT + \"/cases/{name}/run.json\"\n"
       << "    params: digest=lambda w: CASES[w.name]\n"
+      << "    threads: lambda w: PROCESSES[w.name]\n"
       << "    run:\n"
-      << "        subprocess.run([SUTURESIM, \"study\", STUDY, \"--output\", OUT, \"--case\", wildcards.name] + SETTINGS,"
-         " check=True)\n\n"
+      << "        subprocess.run([SUTURESIM, \"study\", STUDY, \"--output\", OUT, \"--case\", wildcards.name,"
+         " \"--jobs\", str(threads)] + SETTINGS, check=True)\n\n"
       << "rule aggregate:\n"
       << "    input: expand(OUT + \"/cases/{name}/run.json\", name=list(CASES))\n"
       << "    output: OUT + \"/cases.csv\", OUT + \"/study.json\"\n"

@@ -261,7 +261,8 @@ namespace suturesim::study
         p.cases.push_back(&c);
       for (const auto *c : p.cases)
         {
-          p.jobs.push_back({c->name, (fs::path(folder) / "cases" / c->name).string(), study.base_scene, c->settings});
+          p.jobs.push_back({c->name, (fs::path(folder) / "cases" / c->name).string(), study.base_scene, c->settings,
+                            c->processes});
           p.parameters.push_back(case_parameters(study.base_scene, c->settings));
         }
       return p;

@@ -126,6 +126,10 @@ namespace suturesim::study
                         "over 'Settings'), three or more; each scalar and probe is extrapolated to h -> 0 "
                         "where the series converges monotonically, else the finest run's value is used "
                         "(study/reference_series.h). Not with 'Per axis'. Unit: none.");
+      prm.declare_entry("Processes", "1", dealii::Patterns::Integer(1, 1024),
+                        "MPI processes of each reference run (mpirun -np; the accurate path "
+                        "distributes its tissue solve). A run of k processes takes k of the "
+                        "study's --jobs. Unit: 1. Range: 1-1024.");
       prm.leave_subsection();
       prm.enter_subsection("Cases");
       prm.declare_entry("Settings", "", Anything(),
@@ -362,6 +366,7 @@ namespace suturesim::study
       const auto reference_settings = settings(prm.get("Settings"));
       const auto per_axis           = names(prm.get("Per axis"), ';');
       const auto series             = prm.get("Series");
+      const auto processes          = static_cast<unsigned>(prm.get_integer("Processes"));
       prm.leave_subsection();
       {
         Case reference{"reference", reference_settings, {}, 0};
@@ -387,6 +392,7 @@ namespace suturesim::study
       std::set<std::string> used;
       for (auto &r : d.references)
         {
+          r.processes = processes;
           r.settings.insert(r.settings.end(), extra.begin(), extra.end());
           used.insert(r.name);
           if (d.references.size() > 1) // with its value of each physical axis, or its resolution

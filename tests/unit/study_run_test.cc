@@ -199,6 +199,42 @@ TEST(StudyRun, RerunWithNothingChangedRunsNoCase)
   EXPECT_EQ(third.study["timing"]["cases_run"], 5);
 }
 
+// Reference/Processes: the reference runs under mpirun -np 2 (its summary.json says so),
+// a listed case with the same settings serially, and the two agree to the solver's
+// tolerance; the exported Snakefile gives the reference two cores.
+TEST(StudyRun, AReferenceOnTwoProcessesGivesTheSerialResult)
+{
+  const std::string file = (scratch_path() / "studies" / "cook_processes.prm").string();
+  fs::create_directories(scratch_path() / "studies");
+  const std::string same = "Tissue/Element degree=2, Mesh/Elements per edge=4";
+  std::ofstream(file) << "set Name = cook_processes\nset Base scene = " << source_path("tests/data/cook_coarse.prm")
+                      << "\nsubsection Reference\n  set Settings = " << same
+                      << "\n  set Processes = 2\nend\nsubsection Cases\n  set List = serial: " << same
+                      << "\nend\nsubsection Metrics\n  set Probes = tip\nend\n"
+                         "subsection Objective\n  set Error = probes.max\nend\n";
+  const auto r = run_study("study_processes", file, "--jobs 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, nlohmann::json> summaries;
+  for (const std::string name : {"reference", "serial"})
+    {
+      std::ifstream in(r.folder + "/cases/" + name + "/summary.json");
+      in >> summaries[name];
+    }
+  EXPECT_EQ(summaries["reference"]["mpi_processes"], 2);
+  EXPECT_EQ(summaries["serial"]["mpi_processes"], 1);
+  const double tip = summaries["serial"]["metrics"]["tip_displacement_y"].get<double>();
+  EXPECT_GT(std::abs(tip), 1e-3); // the membrane bends by millimetres
+  // Newton stops at 1e-9 of the first residual (Tissue/Newton defaults) on either count
+  EXPECT_NEAR(summaries["reference"]["metrics"]["tip_displacement_y"].get<double>(), tip, 1e-8 * std::abs(tip));
+  const auto exported = run_study("study_processes_snakemake", file, "--export snakemake");
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  std::ifstream      snakefile(exported.folder + "/Snakefile");
+  std::ostringstream text;
+  text << snakefile.rdbuf();
+  EXPECT_NE(text.str().find("PROCESSES = {\n    \"reference\": 2,\n    \"serial\": 1,\n}"), std::string::npos)
+    << text.str();
+}
+
 TEST(StudyRun, SnakemakeExportGivesTheSameTableAsJobs)
 {
   const auto jobs = run_study("study_jobs", small_study, "--jobs 2");

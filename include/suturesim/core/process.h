@@ -17,7 +17,8 @@ namespace suturesim
 {
   /// Starts @p argv (argv[0] found on PATH unless it has a '/'); its standard output and
   /// error go to @p log (created or truncated; empty: this process's), its environment is
-  /// this process's with @p environment ("NAME=value") set over it. Returns the child's
+  /// this process's with @p environment ("NAME=value") set over it, less the variables
+  /// whose names begin with a "PREFIX*" of @p environment. Returns the child's
   /// pid; throws std::runtime_error naming argv[0] when it cannot be started.
   pid_t
   start_process(const std::vector<std::string> &argv, const std::string &log = "",

@@ -44,6 +44,8 @@ namespace suturesim::study
     std::string              folder;
     std::string              scene;
     std::vector<std::string> settings;
+    /// MPI processes of the run (Reference/Processes): above 1, under mpirun -np.
+    unsigned processes = 1;
   };
 
   /// Every parameter of a run of @p settings over @p scene, with its value, as text.
@@ -54,9 +56,10 @@ namespace suturesim::study
   std::optional<CaseOutcome>
   completed_run(const CaseJob &job, const std::string &parameters);
 
-  /// Runs @p jobs with @p executable (suturesim), at most @p concurrency at a time, and
-  /// writes each one's run.json; a line on @p progress after each start and end (done,
-  /// running, failed, estimated time left). Returns the outcomes in job order.
+  /// Runs @p jobs with @p executable (suturesim), at most @p concurrency processes at a
+  /// time (a job of CaseJob::processes k takes k of them; one above @p concurrency runs
+  /// alone), and writes each one's run.json; a line on @p progress after each start and
+  /// end (done, running, failed, estimated time left). Returns the outcomes in job order.
   std::vector<CaseOutcome>
   run_cases(const std::string &executable, const std::vector<CaseJob> &jobs,
             const std::vector<std::string> &parameters, unsigned concurrency, std::ostream &progress);

@@ -54,6 +54,7 @@ namespace suturesim::study
     /// The axis values that made it, by axis path ({} for listed cases).
     std::vector<std::pair<std::string, std::string>> axis_values;
     std::size_t reference = 0; ///< index of its reference in StudyDefinition::references
+    unsigned    processes = 1; ///< MPI processes of its run (the references' Reference/Processes)
   };
 
   /// What is measured of every case against the reference (study/case_metrics.h).
