@@ -3,11 +3,18 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #ifndef SUTURESIM_SOURCE_DIR
@@ -26,6 +33,152 @@ namespace suturesim
         return "";
       const auto e = s.find_last_not_of(" \t\r");
       return s.substr(b, e - b + 1);
+    }
+
+    /// Whether @p text is valid UTF-8: nlohmann::json refuses to write any other, and
+    /// every name of a scene reaches summary.json.
+    bool
+    valid_utf8(const std::string &text)
+    {
+      try
+        {
+          (void)nlohmann::json(text).dump();
+          return true;
+        }
+      catch (const nlohmann::json::type_error &)
+        {
+          return false;
+        }
+    }
+
+    /// Refuses a line of @p text that is not UTF-8, naming it.
+    void
+    require_utf8(const std::string &text, const std::string &file_name)
+    {
+      std::istringstream in(text);
+      int                number = 0;
+      for (std::string line; std::getline(in, line);)
+        if (++number; !valid_utf8(line))
+          throw InputError(file_name + ":" + std::to_string(number) + ": the line is not valid UTF-8 text");
+    }
+
+    /// Follows the "include <file>" lines of @p text as deal.II will (the file name
+    /// relative to the working folder) and refuses a file that includes itself, directly
+    /// or through others, or includes nested deeper than 8: deal.II recurses until the
+    /// stack overflows.
+    void
+    check_includes(const std::string &text, const std::string &file_name, std::vector<std::string> &chain)
+    {
+      std::istringstream in(text);
+      int                number = 0;
+      for (std::string line; std::getline(in, line);)
+        {
+          ++number;
+          line = trim(line.substr(0, line.find('#')));
+          if (line.rfind("include ", 0) != 0 && line.rfind("INCLUDE ", 0) != 0)
+            continue;
+          const std::string included = trim(line.substr(8));
+          std::ifstream     file(included);
+          if (!file)
+            continue; // deal.II names the file it cannot open
+          const std::string here = file_name + ":" + std::to_string(number) + ": include " + included + ": ";
+          std::error_code   error;
+          const std::string key = std::filesystem::weakly_canonical(included, error).string();
+          std::string       path;
+          for (const auto &c : chain)
+            path += c + " -> ";
+          if (std::find(chain.begin(), chain.end(), key) != chain.end())
+            throw InputError(here + "the file includes itself (" + path + key + ")");
+          if (chain.size() >= 8)
+            throw InputError(here + "includes nest deeper than 8 files");
+          std::stringstream buffer;
+          buffer << file.rdbuf();
+          chain.push_back(key);
+          check_includes(buffer.str(), included, chain);
+          chain.pop_back();
+        }
+    }
+
+    /// @p text as a number the way deal.II's get_double() and get_integer() read it
+    /// (strtod or strtol over the whole text, no range error) and finite; nullopt if it
+    /// is not one.
+    std::optional<double>
+    number(const std::string &text, const bool integer = false)
+    {
+      const std::string t = trim(text);
+      if (t.empty())
+        return std::nullopt;
+      errno       = 0;
+      char *end   = nullptr;
+      const double value = integer ? static_cast<double>(std::strtol(t.c_str(), &end, 10)) : std::strtod(t.c_str(), &end);
+      if (errno != 0 || end != t.c_str() + t.size() || !std::isfinite(value))
+        return std::nullopt;
+      return value;
+    }
+
+    /// The comma-separated numbers of @p text (the value of @p key), each as number()
+    /// reads it; an InputError naming @p key for one that is not.
+    std::vector<double>
+    get_numbers(const std::string &text, const std::string &key)
+    {
+      std::vector<double> values;
+      for (const auto &item : dealii::Utilities::split_string_list(text, ','))
+        {
+          const auto x = number(item);
+          if (!x)
+            throw InputError(key + ": '" + item + "' in '" + text + "' is not a finite number within the machine's range");
+          values.push_back(*x);
+        }
+      return values;
+    }
+
+    /// The entries below @p node (deal.II's JSON print) whose pattern is Double, Integer
+    /// or a list of them, each paired with its path: the entries check_numbers() reads.
+    void
+    numeric_entries(const nlohmann::json &node, const std::string &path,
+                    std::vector<std::pair<std::string, const nlohmann::json *>> &out)
+    {
+      for (const auto &[name, child] : node.items())
+        if (child.is_object() && child.contains("value") && child.contains("pattern_description"))
+          out.emplace_back(path + name, &child);
+        else if (child.is_object())
+          numeric_entries(child, path + name + "/", out);
+    }
+
+    /// Every Double and Integer entry, and every list of them, read as get_double() and
+    /// get_integer() will read it: a pattern accepts texts they refuse (a denormal such as
+    /// 4.9e-324 matches Patterns::Double, and strtod reports its underflow), and their
+    /// refusal is an exception that names no file, line or entry.
+    void
+    check_numbers(const dealii::ParameterHandler &prm, const ParameterFile &file)
+    {
+      std::ostringstream print;
+      prm.print_parameters(print, dealii::ParameterHandler::JSON);
+      std::vector<std::pair<std::string, const nlohmann::json *>> entries;
+      const nlohmann::json tree = nlohmann::json::parse(print.str());
+      numeric_entries(tree, "", entries);
+      for (const auto &[path, entry] : entries)
+        {
+          const std::string pattern = entry->at("pattern_description").get<std::string>();
+          const std::string value   = entry->at("value").get<std::string>();
+          const bool        list    = pattern.rfind("[List of <[", 0) == 0;
+          const std::string element = list ? pattern.substr(11) : pattern.substr(1);
+          const bool        integer = element.rfind("Integer", 0) == 0;
+          if (!integer && element.rfind("Double", 0) != 0)
+            continue;
+          std::vector<std::string> items{value};
+          if (list)
+            {
+              const auto        by  = pattern.rfind(" separated by <");
+              const std::string sep = by == std::string::npos ? "," : pattern.substr(by + 15, pattern.size() - by - 17);
+              items = dealii::Utilities::split_string_list(value, sep);
+            }
+          for (const auto &item : items)
+            if (!number(item, integer))
+              file.fail(path, "value '" + item + "' is not " + (integer ? "an integer" : "a finite number") +
+                                " within the machine's range (" +
+                                (integer ? "a 64-bit integer)" : "magnitude 0 or 2.2e-308 to 1.8e308)"));
+        }
     }
 
     /// Maps each "set Key = value" of the text to its line, tracking subsections. This is
@@ -246,6 +399,14 @@ namespace suturesim
     : file_name(name)
     , directory(directory)
   {
+    require_utf8(text, name);
+    for (const auto &o : command_line)
+      if (!valid_utf8(o))
+        throw InputError("--set: a setting is not valid UTF-8 text");
+    {
+      std::vector<std::string> chain{std::filesystem::weakly_canonical(name).string()};
+      check_includes(text, name, chain);
+    }
     std::vector<ModelSection> sections;
     const std::string         common = cut_model_sections(text, name, sections);
     lines                            = locate_keys(common);
@@ -256,7 +417,10 @@ namespace suturesim
     for (const auto &o : plain)
       apply_override(prm, o);
     if (sections.empty() && scoped.empty())
-      return;
+      {
+        check_numbers(prm, *this);
+        return;
+      }
 
     // The path's own settings go over the common ones, and the command line over both:
     // the overrides are set again after the section.
@@ -295,6 +459,7 @@ namespace suturesim
         apply_override(prm, assignment);
     for (const auto &o : plain)
       set_path(prm, o);
+    check_numbers(prm, *this);
   }
 
   void
@@ -438,7 +603,9 @@ namespace suturesim
   Eigen::Vector3d
   get_vector(const dealii::ParameterHandler &prm, const std::string &key)
   {
-    const auto v = dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(key), ','));
+    const auto v = get_numbers(prm.get(key), key);
+    if (v.size() != 3)
+      throw InputError(key + ": '" + prm.get(key) + "' is not three numbers");
     return {v[0], v[1], v[2]};
   }
 
@@ -449,9 +616,9 @@ namespace suturesim
     for (const auto &item : dealii::Utilities::split_string_list(prm.get(key), ';'))
       {
         const auto colon = item.find(':');
-        entries.emplace_back(dealii::Utilities::trim(item.substr(0, colon)),
-                             dealii::Utilities::string_to_double(
-                               dealii::Utilities::split_string_list(item.substr(colon + 1), ',')));
+        if (colon == std::string::npos)
+          throw InputError(key + ": '" + item + "' is not 'name: values'");
+        entries.emplace_back(dealii::Utilities::trim(item.substr(0, colon)), get_numbers(item.substr(colon + 1), key));
       }
     return entries;
   }
@@ -461,8 +628,11 @@ namespace suturesim
   {
     std::map<double, std::vector<double>> keyframes;
     for (const auto &[time, v] : get_named_values(prm, key))
-      scope.require(keyframes.emplace(dealii::Utilities::string_to_double(time), v).second, key,
-                    "time " + time + " appears twice");
+    {
+      const auto at = number(time);
+      scope.require(at.has_value(), key, "time '" + time + "' is not a finite number");
+      scope.require(keyframes.emplace(*at, v).second, key, "time " + time + " appears twice");
+    }
     return keyframes;
   }
 } // namespace suturesim

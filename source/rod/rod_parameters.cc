@@ -316,7 +316,16 @@ namespace suturesim::rod
     polyline.clear();
     for (const auto &point : Utilities::split_string_list(prm.get("Polyline points"), ';'))
       {
-        const auto v = Utilities::string_to_double(Utilities::split_string_list(point, ','));
+        std::vector<double> v;
+        try
+          {
+            v = Utilities::string_to_double(Utilities::split_string_list(point, ','));
+          }
+        catch (const ExceptionBase &)
+          {
+            // the pattern passes a denormal that strtod reports as out of range
+            scope.fail("Polyline points", "'" + point + "' is not three finite numbers within the machine's range");
+          }
         polyline.emplace_back(v[0], v[1], v[2]);
       }
     if (centreline == "polyline")

@@ -131,12 +131,9 @@ namespace suturesim::tissue
     // The pattern has validated the text; split it here to keep the order of the file
     // (a std::map would sort the probes and merge duplicates silently).
     probes.clear();
-    for (const auto &item : Utilities::split_string_list(prm.get("Probes"), ';'))
+    for (const auto &[name, x] : get_named_values(prm, "Probes"))
       {
-        const auto colon = item.find(':');
-        const std::string name = Utilities::trim(item.substr(0, colon));
-        const auto x = Utilities::string_to_double(
-          Utilities::split_string_list(item.substr(colon + 1), ','));
+        scope.require(x.size() == 3, "Probes", "probe '" + name + "' needs three coordinates");
         for (const auto &[other, point] : probes)
           scope.require(other != name, "Probes", "probe '" + name + "' is named twice");
         probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
