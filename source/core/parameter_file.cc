@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -51,15 +50,26 @@ namespace suturesim
         }
     }
 
-    /// Refuses a line of @p text that is not UTF-8, naming it.
+    /// The longest line a scene may have, in bytes: far above any setting's (a polyline
+    /// of a thousand points), far below what would make the parse's memory or the
+    /// messages that quote a value unbounded.
+    constexpr std::size_t max_line_length = 65536;
+
+    /// Refuses a line of @p text that is not UTF-8 or longer than max_line_length, naming it.
     void
-    require_utf8(const std::string &text, const std::string &file_name)
+    check_lines(const std::string &text, const std::string &file_name)
     {
       std::istringstream in(text);
       int                number = 0;
       for (std::string line; std::getline(in, line);)
-        if (++number; !valid_utf8(line))
-          throw InputError(file_name + ":" + std::to_string(number) + ": the line is not valid UTF-8 text");
+        {
+          const std::string here = file_name + ":" + std::to_string(++number) + ": ";
+          if (line.size() > max_line_length)
+            throw InputError(here + "the line is " + std::to_string(line.size()) + " characters long (at most " +
+                             std::to_string(max_line_length) + ")");
+          if (!valid_utf8(line))
+            throw InputError(here + "the line is not valid UTF-8 text");
+        }
     }
 
     /// Follows the "include <file>" lines of @p text as deal.II will (the file name
@@ -303,22 +313,25 @@ namespace suturesim
     {
       std::ostringstream info;
       e.print_info(info);
-      std::string       text = one_line(info.str());
-      const std::regex  located(R"(^Line <(\d+)> of file <(.*?)>?:\s*(.*)$)");
-      std::smatch       m;
-      if (std::regex_match(text, m, located))
-        {
-          std::string rest = m[3];
-          // "The entry value X for the entry named K does not match the given pattern: P"
-          const std::regex pattern(
-            R"(The entry value (.*) for the entry named (.*) does not match the given pattern: (.*))");
-          std::smatch p;
-          if (std::regex_match(rest, p, pattern))
-            rest = std::string(p[2]) + ": value '" + std::string(p[1]) +
-                   "' does not match " + std::string(p[3]);
-          return file_name + ":" + std::string(m[1]) + ": " + rest;
-        }
-      return file_name + ": " + text;
+      // found by plain search, not std::regex, whose recursion overflowed the stack on a
+      // 100 kB value
+      const std::string text = one_line(info.str());
+      const std::string head = "Line <", of = "> of file <";
+      const auto        end  = text.find(of);
+      const auto        line = text.substr(std::min(head.size(), text.size()), end == std::string::npos ? 0 : end - head.size());
+      const auto        colon = end == std::string::npos ? end : text.find(':', end + of.size());
+      if (text.rfind(head, 0) != 0 || line.empty() || colon == std::string::npos ||
+          line.find_first_not_of("0123456789") != std::string::npos)
+        return file_name + ": " + text;
+      std::string rest = trim(text.substr(colon + 1));
+      // "The entry value X for the entry named K does not match the given pattern: P"
+      const std::string value = "The entry value ", named = " for the entry named ",
+                        match = " does not match the given pattern: ";
+      const auto        m = rest.find(match), n = rest.rfind(named, m);
+      if (rest.rfind(value, 0) == 0 && n != std::string::npos && m != std::string::npos && n < m)
+        rest = rest.substr(n + named.size(), m - n - named.size()) + ": value '" +
+               rest.substr(value.size(), n - value.size()) + "' does not match " + rest.substr(m + match.size());
+      return file_name + ":" + line + ": " + rest;
     }
     /// A command-line setting of one model path's section: "Model <path>/Sub/Key=value".
     struct ModelSetting
@@ -399,10 +412,11 @@ namespace suturesim
     : file_name(name)
     , directory(directory)
   {
-    require_utf8(text, name);
+    check_lines(text, name);
     for (const auto &o : command_line)
-      if (!valid_utf8(o))
-        throw InputError("--set: a setting is not valid UTF-8 text");
+      if (!valid_utf8(o) || o.size() > max_line_length)
+        throw InputError("--set: a setting is not valid UTF-8 text of at most " + std::to_string(max_line_length) +
+                         " characters");
     {
       std::vector<std::string> chain{std::filesystem::weakly_canonical(name).string()};
       check_includes(text, name, chain);
