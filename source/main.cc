@@ -2,6 +2,7 @@
 #include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
 #include <suturesim/core/version.h>
+#include <suturesim/io/checked_output.h>
 #include <suturesim/scene/default_scene.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/study/study_command.h>
@@ -159,6 +160,17 @@ main(int argc, char **argv)
       if (root)
         std::cerr << "error: " << e.what() << '\n';
       return 2;
+    }
+  catch (const io::WriteError &e)
+    {
+      // no summary.json: the run's outputs are not complete (io/checked_output.h). Only
+      // rank 0 writes files, so the other ranks would wait for it in their next
+      // collective call: with several, the job ends here.
+      if (root)
+        std::cerr << "error: " << e.what() << std::endl;
+      if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        MPI_Abort(MPI_COMM_WORLD, 5);
+      return 5;
     }
   catch (const SolverError &e)
     {

@@ -1,13 +1,16 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/version.h>
+#include <suturesim/io/checked_output.h>
 #include <suturesim/io/recorder.h>
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/base/multithread_info.h>
 
+#include <cerrno>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <sstream>
 
 namespace suturesim::io
 {
@@ -67,8 +70,9 @@ namespace suturesim::io
   {
     if (!root)
       return;
-    std::ofstream out(fs::path(dir) / "parameters.prm");
-    prm.print_parameters(out, dealii::ParameterHandler::PRM);
+    std::ostringstream text;
+    prm.print_parameters(text, dealii::ParameterHandler::PRM);
+    write_whole((fs::path(dir) / "parameters.prm").string(), text.str());
   }
 
   void
@@ -77,10 +81,12 @@ namespace suturesim::io
     n_columns = names.size();
     if (!root)
       return;
+    errno = 0;
     csv.open(fs::path(dir) / "forces.csv");
     for (std::size_t i = 0; i < names.size(); ++i)
       csv << (i ? "," : "") << names[i];
-    csv << '\n' << std::flush;
+    csv << '\n';
+    check_written(csv, (fs::path(dir) / "forces.csv").string());
   }
 
   void
@@ -90,10 +96,12 @@ namespace suturesim::io
       throw std::logic_error("forces.csv row has the wrong number of columns");
     if (!root)
       return;
+    errno = 0;
     csv << std::setprecision(std::numeric_limits<double>::max_digits10);
     for (std::size_t i = 0; i < values.size(); ++i)
       csv << (i ? "," : "") << values[i];
-    csv << '\n' << std::flush;
+    csv << '\n';
+    check_written(csv, (fs::path(dir) / "forces.csv").string());
   }
 
   void
@@ -103,8 +111,9 @@ namespace suturesim::io
     files.emplace_back(time, vtu_file);
     if (!root)
       return;
-    std::ofstream out(fs::path(dir) / (series + ".pvd"));
-    dealii::DataOutBase::write_pvd_record(out, files);
+    std::ostringstream text;
+    dealii::DataOutBase::write_pvd_record(text, files);
+    write_whole((fs::path(dir) / (series + ".pvd")).string(), text.str());
   }
 
   void
@@ -115,7 +124,6 @@ namespace suturesim::io
       json["error"] = message;
     if (!root)
       return;
-    std::ofstream out(fs::path(dir) / "summary.json");
-    out << json.dump(2) << '\n';
+    write_whole((fs::path(dir) / "summary.json").string(), json.dump(2) + '\n');
   }
 } // namespace suturesim::io

@@ -1,7 +1,9 @@
+#include <suturesim/io/checked_output.h>
 #include <suturesim/io/simplex_writer.h>
 
 #include <deal.II/base/data_out_base.h>
 
+#include <cerrno>
 #include <fstream>
 #include <stdexcept>
 #include <tuple>
@@ -50,10 +52,12 @@ namespace suturesim::io
           }
       }
     DataOutBase::VtkFlags flags(time);
+    errno = 0;
     std::ofstream         out(file_name);
     if (!out)
-      throw std::runtime_error("cannot write " + file_name);
+      throw WriteError(file_name + ": cannot be written (cannot open)");
     DataOutBase::write_vtu(patches, names, vectors, flags, out);
+    check_written(out, file_name);
   }
 
   template void

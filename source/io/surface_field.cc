@@ -1,3 +1,4 @@
+#include <suturesim/io/checked_output.h>
 #include <suturesim/io/surface_field.h>
 
 #include <nlohmann/json.hpp>
@@ -50,10 +51,7 @@ namespace suturesim::io
         u.push_back({displacement(0, i), displacement(1, i), displacement(2, i)});
       }
     j["triangles"] = triangles;
-    std::ofstream out(file);
-    out << j.dump() << '\n';
-    if (!out.good())
-      throw std::runtime_error(file + ": cannot be written");
+    write_whole(file, j.dump() + '\n');
   }
 
   SurfaceField

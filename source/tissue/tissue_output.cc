@@ -4,6 +4,7 @@
  * Mises stress, J, the largest principal stretch, pressure, material and rank per cell);
  * with the setup of the reaction DoFs and of the probes' cells.
  */
+#include <suturesim/io/checked_output.h>
 #include <suturesim/core/error.h>
 #include <suturesim/tissue/tissue_model.h>
 
@@ -264,8 +265,16 @@ namespace suturesim::tissue
     data_out.set_flags(flags);
     std::ostringstream name;
     name << "tissue_" << std::setw(5) << std::setfill('0') << index << ".vtu";
-    data_out.write_vtu_in_parallel((std::filesystem::path(directory) / name.str()).string(),
-                                   comm);
+    const std::string file = (std::filesystem::path(directory) / name.str()).string();
+    try
+      {
+        data_out.write_vtu_in_parallel(file, comm);
+      }
+    catch (const ExceptionBase &)
+      {
+        // MPI-IO's failure (a full disk, a folder gone) as a deal.II exception
+        throw io::WriteError(file + ": cannot be written (MPI-IO)");
+      }
     return name.str();
   }
 } // namespace suturesim::tissue

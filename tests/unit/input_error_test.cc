@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 
 using namespace suturesim::test_support;
 namespace fs = std::filesystem;
@@ -85,6 +86,35 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
               suite->total_test_count());
   EXPECT_EQ(static_cast<std::size_t>(suite->total_test_count()), files.size());
   EXPECT_EQ(files.size(), 33u);
+}
+
+// A write that fails ends the run with one line naming the file, exit 5, and no
+// summary.json (io/checked_output.h). The failure is injected: summary.json's temporary
+// file is a link to /dev/full, which refuses every write with ENOSPC as a full disk does.
+// Before the writes were checked, such a run exited 0 with an empty summary.json.
+TEST(InputErrors, AFailedWriteIsOneLineExitFiveAndNoSummary)
+{
+  const auto folder = scratch_path() / "failed_write";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  fs::create_symlink("/dev/full", folder / "summary.json.tmp");
+  std::string output;
+  const int   code = run_logged(std::string(suturesim_binary()) + " '" + source_path("tests/data/cook_coarse.prm") +
+                                  "' --output '" + folder.string() + "'",
+                                folder.string() + ".log", output);
+  EXPECT_EQ(code, 5) << output;
+  EXPECT_FALSE(fs::exists(folder / "summary.json")) << output;
+  EXPECT_FALSE(fs::exists(folder / "summary.json.tmp")) << "the temporary file is left behind";
+  // the rest of the run was written: the failure is the summary's alone
+  EXPECT_TRUE(fs::exists(folder / "forces.csv"));
+  EXPECT_NE(output.find("error: " + (folder / "summary.json").string() + ": cannot be written (No space left on device)"),
+            std::string::npos)
+    << output;
+  std::size_t       errors = 0; // one error line, after the run's progress lines
+  std::stringstream in(output);
+  for (std::string line; std::getline(in, line);)
+    errors += line.rfind("error", 0) == 0 || line.find("terminate") != std::string::npos;
+  EXPECT_EQ(errors, 1u) << output;
 }
 
 TEST(InputErrors, UnwritableOutputFolder)
