@@ -1,8 +1,22 @@
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/time_parameters.h>
 
+#include <sstream>
+
 namespace suturesim
 {
+  namespace
+  {
+    /// Refuses @p steps above @p maximum (Time/Maximum steps), naming @p key.
+    void
+    check_step_count(const double steps, const double maximum, const std::string &key, const ParameterScope &scope)
+    {
+      std::ostringstream why;
+      why << "gives " << steps << " steps to End time, above Time/Maximum steps = " << maximum
+          << " (raise it to run this)";
+      scope.require(steps <= maximum, key, why.str());
+    }
+  } // namespace
 
   void
   TimeParameters::declare(dealii::ParameterHandler &prm, const std::map<std::string, std::string> &integrators)
@@ -34,6 +48,10 @@ namespace suturesim
     prm.declare_entry("Target iterations", default_text(d.target_iterations), dealii::Patterns::Integer(1, 100),
                       "Newton iterations per step that adaptive steps aim at (see Max step size). "
                       "Unit: 1. Range: 1-100.");
+    prm.declare_entry("Maximum steps", "1e6", dealii::Patterns::Double(1),
+                      "A guard against a run that would never end: a scene whose End time / Step "
+                      "size (realtime: End time x Realtime/Rate) is above this many steps is "
+                      "refused before it starts. Raise it for a longer run. Unit: 1. Range: >= 1.");
     prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
                       "Simulated time between VTU outputs; 0 writes every step (quasi-"
                       "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
@@ -52,6 +70,7 @@ namespace suturesim
     scope.require(end_time > 0, "End time", "must be > 0 s");
     scope.require(step_size > 0, "Step size", "must be > 0 s");
     scope.require(step_size <= end_time, "Step size", "must not exceed the end time");
+    check_step_count(end_time / step_size, prm.get_double("Maximum steps"), "Step size", scope);
   }
 
   bool

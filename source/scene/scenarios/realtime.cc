@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <sstream>
 
 namespace suturesim::scene
 {
@@ -32,6 +33,7 @@ namespace suturesim::scene
         prm.enter_subsection("Time");
         scene.time.end_time        = prm.get_double("End time");
         scene.time.output_interval = prm.get_double("Output interval");
+        const double maximum_steps = prm.get_double("Maximum steps");
         scene.scope("Time").require(scene.time.end_time > 0, "End time", "must be > 0 s");
         scene.scope("Time").require(prm.get_double("Max step size") == 0, "Max step size",
                                     "the realtime step is the haptic step 1/Rate (Realtime/Rate)");
@@ -43,6 +45,13 @@ namespace suturesim::scene
         prm.enter_subsection("Realtime");
         const ParameterScope realtime = scene.scope("Realtime");
         settings.parse(prm);
+        // the guard of TimeParameters::parse() for the haptic step: End time = 1e308 at
+        // 1 kHz overflowed the step count
+        std::ostringstream steps;
+        steps << "gives " << scene.time.end_time * settings.rate
+              << " haptic steps at Realtime/Rate, above Time/Maximum steps = " << maximum_steps
+              << " (raise it to run this)";
+        scene.scope("Time").require(scene.time.end_time * settings.rate <= maximum_steps, "End time", steps.str());
         models = std::make_unique<RealtimeModels>(prm, realtime, settings, scene.has_tissue(), scene.has_suture());
         prm.leave_subsection();
         if (scene.has_tissue() && scene.has_suture() && settings.contact)
