@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <set>
 #include <sstream>
 
 #ifndef SUTURESIM_SOURCE_DIR
@@ -142,8 +141,8 @@ namespace suturesim
       return values;
     }
 
-    /// The entries below @p node (deal.II's JSON print) whose pattern is Double, Integer
-    /// or a list of them, each paired with its path: the entries check_numbers() reads.
+    /// Every entry below @p node (deal.II's JSON print of a ParameterHandler), each paired
+    /// with its path: what check_numbers() sorts by pattern.
     void
     numeric_entries(const nlohmann::json &node, const std::string &path,
                     std::vector<std::pair<std::string, const nlohmann::json *>> &out)
