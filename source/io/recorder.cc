@@ -101,7 +101,9 @@ namespace suturesim::io
     for (std::size_t i = 0; i < values.size(); ++i)
       csv << (i ? "," : "") << values[i];
     csv << '\n';
-    check_written(csv, (fs::path(dir) / "forces.csv").string());
+    // a row per realtime tick: the file's name is built only when the write failed
+    if (!csv.flush().good())
+      check_written(csv, (fs::path(dir) / "forces.csv").string());
   }
 
   void

@@ -97,6 +97,17 @@ namespace
 
 namespace
 {
+  /// @p A as the tridiagonal pattern on [0, n), the rows @p owned on this process.
+  void
+  tridiagonal(dealii::PETScWrappers::MPI::SparseMatrix &A, const dealii::IndexSet &owned, const unsigned n)
+  {
+    dealii::DynamicSparsityPattern dsp(n, n, owned);
+    for (const auto i : owned)
+      for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
+        dsp.add(i, j);
+    A.reinit(owned, owned, dsp, MPI_COMM_WORLD);
+  }
+
   /// The stencil (−1 − c, 2, −1 + c) on [0, n), with row and column @p zero (< n) set to
   /// stored zeros when @p zero < n: the same pattern, numerically singular.
   void
@@ -125,12 +136,8 @@ TEST(LinearSolver, AFailedFactorisationSaysWhyAndDoesNotSpoilTheNext)
   const dealii::IndexSet owned = owned_rows(n);
   for (const double c : {0.3, 0.0})
     {
-      dealii::DynamicSparsityPattern dsp(n, n, owned);
-      for (const auto i : owned)
-        for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
-          dsp.add(i, j);
       dealii::PETScWrappers::MPI::SparseMatrix A;
-      A.reinit(owned, owned, dsp, MPI_COMM_WORLD);
+      tridiagonal(A, owned, n);
       tissue::LinearSolver::Parameters prm;
       tissue::LinearSolver             solver(prm, MPI_COMM_WORLD);
       solver.set_symmetric(c == 0);
@@ -172,21 +179,9 @@ TEST(LinearSolver, ManyRightHandSidesInOneCallGiveTheColumnByColumnSolutions)
   for (const double c : {0.3, 0.0})
     for (const std::string method : {"direct", "gmres"})
       {
-        dealii::DynamicSparsityPattern dsp(n, n, owned);
-        for (const auto i : owned)
-          for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
-            dsp.add(i, j);
         dealii::PETScWrappers::MPI::SparseMatrix A;
-        A.reinit(owned, owned, dsp, MPI_COMM_WORLD);
-        for (const auto i : owned)
-          {
-            A.set(i, i, 2.0);
-            if (i > 0)
-              A.set(i, i - 1, -1.0 - c);
-            if (i + 1 < n)
-              A.set(i, i + 1, -1.0 + c);
-          }
-        A.compress(dealii::VectorOperation::insert);
+        tridiagonal(A, owned, n);
+        fill_stencil(A, owned, n, c, n);
 
         tissue::LinearSolver::Parameters prm;
         prm.method         = method;
