@@ -1,6 +1,7 @@
 // suturesim [--validate] [--output DIR] [--set "Subsection/Key=value"]... [scene.prm]
 #include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
+#include <suturesim/core/interruption.h>
 #include <suturesim/core/version.h>
 #include <suturesim/io/checked_output.h>
 #include <suturesim/scene/default_scene.h>
@@ -146,6 +147,7 @@ main(int argc, char **argv)
       recorder->clear_stale_outputs();
       recorder->write_parameters(prm);
       const auto start = std::chrono::steady_clock::now();
+      catch_stop_signals();
       simulation.run(*recorder);
       recorder->summary()["wall_time_seconds"] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -171,6 +173,16 @@ main(int argc, char **argv)
       if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
         MPI_Abort(MPI_COMM_WORLD, 5);
       return 5;
+    }
+  catch (const Interrupted &e)
+    {
+      // the run's outputs hold the state of the step it stopped after; the summary says
+      // it is not the end time's
+      if (recorder)
+        recorder->finish("interrupted", e.what());
+      if (root)
+        std::cerr << "suturesim: " << e.what() << '\n';
+      return 128 + e.signal;
     }
   catch (const SolverError &e)
     {

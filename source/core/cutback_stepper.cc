@@ -1,11 +1,31 @@
 #include <suturesim/core/cutback_stepper.h>
 #include <suturesim/core/error.h>
+#include <suturesim/core/interruption.h>
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <vector>
 
 namespace suturesim
 {
+  namespace
+  {
+    /// The accepted steps over which the pace of a run is judged (see the header): long
+    /// enough that a burst of short steps through an event (a contact, a puncture:
+    /// halvings that double back within Max cutbacks steps) does not count, short enough
+    /// that a collapsed run stops within seconds.
+    constexpr std::size_t pace_window = 200;
+
+    std::string
+    text(const double value)
+    {
+      std::ostringstream s;
+      s << value;
+      return s.str();
+    }
+  } // namespace
+
   unsigned
   run_with_cutbacks(const StepControl &control, const StepHooks &hooks, const double t_start)
   {
@@ -13,6 +33,8 @@ namespace suturesim
     const double h_max = std::max(h, control.max_step_size), h_min = std::ldexp(h, -int(control.max_cutbacks));
     double       t = t_start, dt = h;
     unsigned     cutbacks = 0, steps = 0;
+    std::vector<double> recent(pace_window, 0.0); // the last accepted steps, a ring
+    double              recent_sum = 0;
     while (t < T * (1 - 1e-12))
       {
         // a step ends on the next event (adaptive steps) or the end time when it would
@@ -31,7 +53,7 @@ namespace suturesim
             if (failed && cutbacks == control.max_cutbacks)
               {
                 hooks.fail(t_new, cutbacks, attempt.reason);
-                throw SolverError("the step to t = " + std::to_string(t_new) + " s failed after " +
+                throw SolverError("the step to t = " + text(t_new) + " s failed after " +
                                   std::to_string(cutbacks) + " step halvings: " + attempt.reason);
               }
             ++cutbacks;
@@ -52,6 +74,29 @@ namespace suturesim
             dt                    = std::clamp(dt * factor, h_min, h_max);
           }
         cutbacks = 0;
+        recent_sum += step_dt - recent[steps % pace_window];
+        recent[steps % pace_window] = step_dt;
+        // the last step ends the run as it would without the signal
+        if (const int signal = t < T * (1 - 1e-12) ? stop_requested() : 0)
+          {
+            const std::string where = hooks.keep ? hooks.keep(t) : "";
+            throw Interrupted(signal, "interrupted by " + signal_name(signal) + " after the step to t = " + text(t) +
+                                        " s" + (where.empty() ? "" : "; the state is in " + where));
+          }
+        if (control.max_steps > 0 && steps >= pace_window && t < T * (1 - 1e-12))
+          {
+            const double pace = recent_sum / pace_window;
+            if (steps + (T - t) / pace > control.max_steps)
+              {
+                const std::string where = hooks.keep ? hooks.keep(t) : "";
+                throw SolverError("the steps collapsed at t = " + text(t) + " s: the last " + std::to_string(pace_window) +
+                                  " averaged " + text(pace) + " s (nominal " + text(h) + " s), so End time = " + text(T) +
+                                  " s is " + text((T - t) / pace) + " steps away, above Time/Maximum steps = " +
+                                  text(control.max_steps) + " (" + std::to_string(steps) +
+                                  " taken): the solution is likely diverging, or the loads too fast for the step" +
+                                  (where.empty() ? "" : "; the state is in " + where));
+              }
+          }
       }
     return steps;
   }

@@ -51,7 +51,10 @@ namespace suturesim
     prm.declare_entry("Maximum steps", "1e6", dealii::Patterns::Double(1),
                       "A guard against a run that would never end: a scene whose End time / Step "
                       "size (realtime: End time x Realtime/Rate) is above this many steps is "
-                      "refused before it starts. Raise it for a longer run. Unit: 1. Range: >= 1.");
+                      "refused before it starts, and an implicit run whose steps shrink so far "
+                      "that the steps taken plus those still to go at the pace of its last 200 "
+                      "exceed it stops with status failed (a diverging solution). Raise it for "
+                      "a longer run. Unit: 1. Range: >= 1.");
     prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
                       "Simulated time between VTU outputs; 0 writes every step (quasi-"
                       "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
@@ -70,7 +73,8 @@ namespace suturesim
     scope.require(end_time > 0, "End time", "must be > 0 s");
     scope.require(step_size > 0, "Step size", "must be > 0 s");
     scope.require(step_size <= end_time, "Step size", "must not exceed the end time");
-    check_step_count(end_time / step_size, prm.get_double("Maximum steps"), "Step size", scope);
+    maximum_steps     = prm.get_double("Maximum steps");
+    check_step_count(end_time / step_size, maximum_steps, "Step size", scope);
   }
 
   bool

@@ -45,7 +45,8 @@ namespace suturesim::rod
                             " s failed after " + std::to_string(cutbacks) + " step halvings: " + reason +
                             "; the last converged state is kept");
         };
-        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0}, hooks);
+        hooks.keep = [&](const double t_now) { return observer.keep(t_now); };
+        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0, 0, 4, p.time.maximum_steps}, hooks);
       }
     };
 

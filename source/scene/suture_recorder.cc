@@ -108,10 +108,7 @@ namespace suturesim::scene
     RunSummary(summary).step(statistics, t);
 
     if (problem.time.output_due(t, last_output))
-      {
-        write_suture_vtu(model, problem.parameters.section.radius, output_index++, t, recorder);
-        last_output = t;
-      }
+      keep(t);
     if (recorder.is_root())
       {
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -119,5 +116,16 @@ namespace suturesim::scene
                   << ", tip (" << tip.transpose() << ") m, max |N| " << max_axial << " N, " << std::setprecision(3)
                   << elapsed << " s elapsed" << std::setprecision(6) << '\n';
       }
+  }
+
+  std::string
+  SutureRecorder::keep(const double t)
+  {
+    if (last_output < t)
+      {
+        write_suture_vtu(problem.model, problem.parameters.section.radius, output_index++, t, recorder);
+        last_output = t;
+      }
+    return recorder.directory() + "/suture.pvd";
   }
 } // namespace suturesim::scene

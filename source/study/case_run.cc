@@ -137,7 +137,8 @@ namespace suturesim::study
           return o;
         }
       o.exit_code = WEXITSTATUS(status);
-      const std::map<int, std::string> statuses{{0, "completed"}, {2, "refused"}, {3, "failed"}, {5, "failed"}};
+      const std::map<int, std::string> statuses{
+        {0, "completed"}, {2, "refused"}, {3, "failed"}, {5, "failed"}, {130, "interrupted"}, {143, "interrupted"}};
       const auto                       s = statuses.find(o.exit_code);
       o.status = s == statuses.end() ? "crashed" : s->second;
       if (o.exit_code != 0)

@@ -6,6 +6,7 @@
  * damping uses the current tangent stiffness K_t.
  */
 #include <suturesim/core/error.h>
+#include <suturesim/core/interruption.h>
 #include <suturesim/tissue/time_integrator.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -133,6 +134,10 @@ namespace suturesim::tissue
           if (t > 0)
             progress(++outputs, expected, t, time.end_time,
                      "IDA " + std::to_string(residuals) + " residuals");
+          // IDA stops only at an output: there the run can stop on a signal
+          if (const int signal = t < time.end_time * (1 - 1e-12) ? stop_requested() : 0)
+            throw Interrupted(signal, "interrupted by " + signal_name(signal) + " at t = " + std::to_string(t) +
+                                        " s; the state is in " + observer.keep_last_accepted());
         };
 
         BlockVector y(blocks, comm), y_dot(blocks, comm);

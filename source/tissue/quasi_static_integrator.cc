@@ -66,7 +66,9 @@ namespace suturesim::tissue
         hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
           fail(observer, "step " + std::to_string(step + 1), t_new, cutbacks, reason);
         };
-        run_with_cutbacks({T, time.step_size, time.max_cutbacks, 0, time.max_step_size, time.target_iterations}, hooks);
+        hooks.keep = [&](double) { return observer.keep_last_accepted(); };
+        run_with_cutbacks(
+          {T, time.step_size, time.max_cutbacks, 0, time.max_step_size, time.target_iterations, time.maximum_steps}, hooks);
         observer.totals({{"integrator", "quasi-static"}, {"steps", step}, {"newton_iterations_total", total_iterations}});
       }
 

@@ -108,3 +108,55 @@ TEST(CutbackStepper, AfterAFailedStepTheStepReturnsToTheNominalBeforeItGrowsAgai
     EXPECT_NEAR(s.dt[k], expected[k], 1e-12) << k;
   EXPECT_TRUE(failed);
 }
+
+// Collapsed steps (the header's guard): steps that only converge far below the nominal
+// one are stopped once the steps taken plus those to go at the last 200's pace exceed
+// Maximum steps, with the state kept, after a bounded number of steps.
+TEST(CutbackStepper, CollapsedStepsStopTheRunWithinABoundedNumberOfSteps)
+{
+  StepHooks   hooks;
+  std::size_t accepted = 0;
+  double      kept     = -1;
+  hooks.attempt        = [](double, const double dt) {
+    // converges only below 1e-6 of the nominal 0.01 s: the floor 0.01/2^20 passes
+    return dt < 1e-8 ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, "too long", 0};
+  };
+  hooks.undo   = [](const StepAttempt &, double, double) {};
+  hooks.accept = [&](double, double, unsigned) { ++accepted; };
+  hooks.fail   = [](double, unsigned, const std::string &) {};
+  hooks.keep   = [&](const double t) {
+    kept = t;
+    return std::string("here.pvd");
+  };
+  try
+    {
+      suturesim::run_with_cutbacks({1, 0.01, 20, 0, 0, 4, 1e6}, hooks);
+      FAIL() << "a run of 1e8 steps at the floor went on";
+    }
+  catch (const suturesim::SolverError &e)
+    {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("steps collapsed"), std::string::npos) << what;
+      EXPECT_NE(what.find("Time/Maximum steps = 1e+06"), std::string::npos) << what;
+      EXPECT_NE(what.find("here.pvd"), std::string::npos) << what;
+    }
+  EXPECT_EQ(accepted, 200u); // the first full window already shows the pace
+  EXPECT_GT(kept, 0);
+}
+
+// The same guard leaves alone a run whose steps shrink through an event and recover: at
+// t = 0.5 every step longer than 0.01/2^6 fails, once; 1 000 nominal steps under a budget
+// of 2 000 (the pace right after the event projects 1 035).
+TEST(CutbackStepper, ABurstOfShortStepsThroughAnEventIsNotACollapse)
+{
+  bool        hit = false;
+  const Steps s   = run({10, 0.01, 6, 0, 0, 4, 2000}, [](double) { return 2u; }, {},
+                      [&](const double tn, const double dt) {
+                        const bool fails = !hit && tn > 0.5 && dt > std::ldexp(0.01, -6) * 1.5;
+                        hit              = hit || (tn > 0.5 && !fails);
+                        return fails;
+                      });
+  EXPECT_GT(s.t.size(), 1000u);
+  EXPECT_NEAR(s.t.back(), 10, 1e-9);
+  EXPECT_LE(s.dt.size(), 1020u); // 1 000 nominal steps and a dozen through the event
+}

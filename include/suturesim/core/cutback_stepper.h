@@ -42,6 +42,8 @@ namespace suturesim
     unsigned refinements  = 0;   ///< further halvings of a step that is too long
     double   max_step_size = 0;  ///< s; ≤ step_size: no growth beyond the nominal Δt
     unsigned target_iterations = 4; ///< Newton iterations a step aims at when adaptive
+    /// the most accepted steps (0: no bound); see run_with_cutbacks()
+    double max_steps = 0;
   };
 
   struct StepAttempt
@@ -71,10 +73,22 @@ namespace suturesim
     /// Optional: the first event after time @p t that a step must end on (∞: none);
     /// read with adaptive steps only, so that fixed steps stay on their grid.
     std::function<double(double t)> next_event;
+    /// Optional: the run stops after the step to @p t was accepted (a stop signal,
+    /// core/interruption.h, or steps that collapsed): write the state and return where it
+    /// is ("": nowhere new).
+    std::function<std::string(double t)> keep;
   };
 
   /// Runs from @p t_start to the end time; returns the number of accepted steps. When
-  /// @p hooks.fail returns, a SolverError with the reason is thrown.
+  /// @p hooks.fail returns, a SolverError with the reason is thrown; after a step
+  /// accepted once a stop signal has arrived, an Interrupted (core/interruption.h).
+  ///
+  /// Collapsed steps: a solution that diverges (or a load far too fast for the step)
+  /// does not always fail a step; its steps shrink to the floor Δt 2^(−Max cutbacks) and
+  /// it creeps on, millions of steps that look like progress. With
+  /// @ref StepControl::max_steps = N, once the steps taken plus those still to go at the
+  /// mean step of the last 200 exceed N the run stops (keep, then a SolverError naming
+  /// the pace): a bounded number of steps, relative to the run's own step budget.
   unsigned
   run_with_cutbacks(const StepControl &control, const StepHooks &hooks, double t_start = 0);
 } // namespace suturesim

@@ -28,6 +28,10 @@ namespace suturesim
     /// steps), and the Newton iterations a step aims at
     double   max_step_size     = 0;
     unsigned target_iterations = 4;
+    /// the most steps a run may take (Time/Maximum steps): refused before the run when
+    /// the nominal steps exceed it, stopped during it when the steps taken and those
+    /// still to go at the recent pace do (core/cutback_stepper.h)
+    double maximum_steps = 1e6;
 
     /// Declares into the current subsection ("Time"); @p integrators (name →
     /// description) are the choices of "Integrator", of every body.

@@ -54,6 +54,16 @@ namespace suturesim::rod
     /// account of the step (summary.json "steps").
     virtual void
     accepted(double t, const nlohmann::json &statistics, const Eigen::VectorXd *residual) = 0;
+
+    /// The model holds the state accepted at @p t and the run stops there (a stop
+    /// signal, core/interruption.h): make sure that state is on disk; returns where it
+    /// is ("" if nowhere).
+    virtual std::string
+    keep(double t)
+    {
+      (void)t;
+      return "";
+    }
   };
 
   class RodIntegrator

@@ -36,6 +36,9 @@ namespace suturesim::scene
     void
     accepted(double t, const nlohmann::json &statistics, const Eigen::VectorXd *residual) override;
 
+    std::string
+    keep(double t) override;
+
   private:
     rod::RodProblem &problem;
     io::Recorder          &recorder;

@@ -104,9 +104,15 @@ namespace suturesim::scene
           };
           hooks.fail = [&](const double tn, unsigned, const std::string &reason) { fail(tn, reason); };
           hooks.next_event = [&](const double tn) { return stitch.next_event(tn); };
+          hooks.keep = [&](const double tn) {
+            const std::string where = record.keep(tn);
+            record.finish(tn);
+            return where;
+          };
           // a step that overshoots the puncture threshold is halved up to 8 more times
           const auto &time = scene.time;
-          run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size, time.target_iterations},
+          run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size, time.target_iterations,
+                             time.maximum_steps},
                             hooks);
 
           record.finish(t);

@@ -6,6 +6,7 @@
  * interval apply (the step is 1/Rate split into Substeps).
  */
 #include <suturesim/core/error.h>
+#include <suturesim/core/interruption.h>
 #include <suturesim/realtime/divergence_guard.h>
 #include <suturesim/scene/realtime_record.h>
 #include <suturesim/scene/scenario.h>
@@ -88,6 +89,7 @@ namespace suturesim::scene
         std::vector<rt::ToolPose> poses;
         double                    next_output = interval;
         std::string               failure;
+        int                       stop_signal = 0;
         for (std::size_t step = 1; step <= n_steps; ++step)
           {
             // prescribed motions stop at a tie-off
@@ -109,6 +111,10 @@ namespace suturesim::scene
                 record.write_state();
                 next_output += interval;
               }
+            // an atomic read a tick (one all-reduce with several processes): a signal
+            // stops the run here, between two ticks
+            if (step < n_steps && (stop_signal = stop_requested()) != 0)
+              break;
           }
         // The last state (the last good one after a divergence) is always written.
         if (!record.state_written())
@@ -120,6 +126,9 @@ namespace suturesim::scene
                   << " deadline misses (" << stats.deadline_us << " us)\n";
         if (!failure.empty())
           throw SolverError(failure + "; outputs hold the last good state (t = " + std::to_string(rw.time()) + " s)");
+        if (stop_signal != 0)
+          throw Interrupted(stop_signal, "interrupted by " + signal_name(stop_signal) + " at t = " +
+                                           std::to_string(rw.time()) + " s; the state is in " + recorder.directory());
       }
 
     private:
@@ -131,10 +140,14 @@ namespace suturesim::scene
           {
             const ParameterScope suture = scene.scope("Suture");
             const auto          &rod    = scene.suture;
-            suture.require(rod.end_force.isZero() && rod.end_moment.isZero(), "End force",
+            const ParameterScope loads = suture.subsection("Loads");
+            loads.require(rod.end_force.isZero(), "End force",
+                          "end loads are not applied by the realtime path (Model = realtime); "
+                          "move the end with Last end = prescribed instead");
+            loads.require(rod.end_moment.isZero(), "End moment",
                            "end loads are not applied by the realtime path (Model = realtime); "
                            "move the end with Last end = prescribed instead");
-            suture.require(rod.distributed.isZero(), "Distributed load",
+            loads.require(rod.distributed.isZero(), "Distributed load",
                            "is not applied by the realtime path (Model = realtime)");
             suture.subsection("Cross section")
               .require(rod.section.density > 0, "Density", "must be > 0 kg/m^3: the realtime suture has mass");
