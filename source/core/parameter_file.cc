@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -87,11 +88,13 @@ namespace suturesim
           if (line.rfind("include ", 0) != 0 && line.rfind("INCLUDE ", 0) != 0)
             continue;
           const std::string included = trim(line.substr(8));
-          std::ifstream     file(included);
-          if (!file)
-            continue; // deal.II names the file it cannot open
           const std::string here = file_name + ":" + std::to_string(number) + ": include " + included + ": ";
           std::error_code   error;
+          if (std::filesystem::is_directory(included, error))
+            throw InputError(here + "is a folder, not a parameter file"); // deal.II read nothing from it
+          std::ifstream file(included);
+          if (!file)
+            continue; // deal.II names the file it cannot open
           const std::string key = std::filesystem::weakly_canonical(included, error).string();
           std::string       path;
           for (const auto &c : chain)
@@ -154,6 +157,58 @@ namespace suturesim
           numeric_entries(child, path + name + "/", out);
     }
 
+    /// The bounds that the documentation of an entry states ("... Range: (0, 1).",
+    /// "Range: >= 0."), where its Pattern cannot: an open bound, or none at all.
+    struct DocumentedRange
+    {
+      double lower = -std::numeric_limits<double>::infinity(), upper = std::numeric_limits<double>::infinity();
+      bool   lower_open = false, upper_open = false;
+      std::string text; ///< as documented
+    };
+
+    /// The range of @p documentation's last "Range: ..." when it is an interval of two
+    /// numbers or one comparison with a number; nullopt for any other form (integer
+    /// ranges "1-30" are the Pattern's, words such as "pi/2" are not read).
+    std::optional<DocumentedRange>
+    documented_range(const std::string &documentation)
+    {
+      const auto at = documentation.rfind("Range: ");
+      if (at == std::string::npos)
+        return std::nullopt;
+      std::string r = trim(documentation.substr(at + 7));
+      if (!r.empty() && r.back() == '.')
+        r.pop_back();
+      DocumentedRange range;
+      range.text = r;
+      const auto read = [](const std::string &t) { return number(t); };
+      if (!r.empty() && (r[0] == '(' || r[0] == '['))
+        {
+          const auto comma = r.find(',');
+          const char close = r.back();
+          if (comma == std::string::npos || (close != ')' && close != ']'))
+            return std::nullopt;
+          const auto lo = read(r.substr(1, comma - 1)), hi = read(r.substr(comma + 1, r.size() - comma - 2));
+          if (!lo || !hi)
+            return std::nullopt;
+          range.lower      = *lo;
+          range.upper      = *hi;
+          range.lower_open = r[0] == '(';
+          range.upper_open = close == ')';
+          return range;
+        }
+      for (const std::string op : {">=", "<=", ">", "<"})
+        if (r.rfind(op, 0) == 0)
+          {
+            const auto x = read(r.substr(op.size()));
+            if (!x)
+              return std::nullopt;
+            (op[0] == '>' ? range.lower : range.upper)           = *x;
+            (op[0] == '>' ? range.lower_open : range.upper_open) = op.size() == 1;
+            return range;
+          }
+      return std::nullopt;
+    }
+
     /// Every Double and Integer entry, and every list of them, read as get_double() and
     /// get_integer() will read it: a pattern accepts texts they refuse (a denormal such as
     /// 4.9e-324 matches Patterns::Double, and strtod reports its underflow), and their
@@ -187,14 +242,29 @@ namespace suturesim
               file.fail(path, "value '" + item + "' is not " + (integer ? "an integer" : "a finite number") +
                                 " within the machine's range (" +
                                 (integer ? "a 64-bit integer)" : "magnitude 0 or 2.2e-308 to 1.8e308)"));
+          // a value the scene gives must lie in the range its documentation states:
+          // Patterns::Double(0, 1) accepts 0 and 1 where the range is (0, 1)
+          // (a default is not checked: a few mean "off" or "automatic" outside the range)
+          const bool default_value = entry->contains("default_value") && entry->at("default_value") == entry->at("value");
+          const auto range = list || default_value || !file.given(path) || !entry->contains("documentation")
+                               ? std::nullopt
+                               : documented_range(entry->at("documentation").get<std::string>());
+          if (range)
+            {
+              const double x = *number(value, integer);
+              if (x < range->lower || x > range->upper || (range->lower_open && x == range->lower) ||
+                  (range->upper_open && x == range->upper))
+                file.fail(path, "value " + value + " is outside its range " + range->text);
+            }
         }
     }
 
     /// Maps each "set Key = value" of the text to its line, tracking subsections. This is
     /// a locator for messages, not a parser: deal.II has parsed and validated the text
-    /// before it is used.
+    /// before it is used. A key set twice is refused with both lines: deal.II would keep
+    /// the last silently, and the reader of the file sees the first.
     std::map<std::string, int>
-    locate_keys(const std::string &text)
+    locate_keys(const std::string &text, const std::string &file_name)
     {
       std::map<std::string, int> lines;
       std::vector<std::string>   stack;
@@ -216,7 +286,11 @@ namespace suturesim
               std::string path;
               for (const auto &s : stack)
                 path += s + "/";
-              lines[path + key] = number;
+              const auto [first, added] = lines.emplace(path + key, number);
+              if (!added)
+                throw InputError(file_name + ":" + std::to_string(number) + ": " + path + key +
+                                 ": set a second time (first on line " + std::to_string(first->second) +
+                                 "); set each key once");
             }
         }
       return lines;
@@ -289,7 +363,7 @@ namespace suturesim
               // the body, without the section's own "subsection" and "end" lines
               auto &section = sections.back();
               section.text  = blank_except(file_lines, [&](std::size_t j) { return j > header && j < i; });
-              section.keys  = locate_keys(section.text);
+              section.keys  = locate_keys(section.text, file_name);
               in_section[i] = true;
             }
           if (open_depth > 0)
@@ -422,7 +496,7 @@ namespace suturesim
     }
     std::vector<ModelSection> sections;
     const std::string         common = cut_model_sections(text, name, sections);
-    lines                            = locate_keys(common);
+    lines                            = locate_keys(common, name);
     std::vector<std::string>  plain;
     std::vector<ModelSetting> scoped;
     split_command_line(command_line, plain, scoped);
@@ -493,11 +567,23 @@ namespace suturesim
                            const std::string              &file_name,
                            const std::vector<std::string> &command_line)
   {
+    std::error_code error;
+    if (!std::filesystem::is_regular_file(file_name, error) && std::filesystem::exists(file_name, error))
+      throw InputError(file_name + ": is not a file (a scene is a parameter file)");
     std::ifstream in(file_name);
     if (!in)
       throw InputError(file_name + ": cannot open the scene file");
     std::stringstream buffer;
     buffer << in.rdbuf();
+    // an empty scene would run every default: almost certainly not what was meant
+    {
+      std::istringstream lines(buffer.str());
+      bool               any = false;
+      for (std::string line; !any && std::getline(lines, line);)
+        any = !trim(line.substr(0, line.find('#'))).empty();
+      if (!any)
+        throw InputError(file_name + ": the scene file has no settings (empty, or comments only)");
+    }
     const auto parent = std::filesystem::path(file_name).parent_path().string();
     return ParameterFile(prm, buffer.str(), file_name, parent.empty() ? "." : parent, command_line);
   }

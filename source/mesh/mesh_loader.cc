@@ -10,6 +10,7 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -76,6 +77,14 @@ namespace suturesim::mesh
                       "0",
                       Patterns::Integer(0, 10),
                       "Uniform refinements of the coarse mesh. Unit: 1. Range: 0-10.");
+    prm.declare_entry("Maximum cells",
+                      "1e6",
+                      Patterns::Double(1),
+                      "A guard against a mesh that would exhaust the memory: a coarse mesh whose "
+                      "Global refinements would give more active cells than this (each refinement "
+                      "multiplies them by 8) is refused before refining, and so is a mesh that "
+                      "has more after its local refinement. Raise it for a larger mesh. Unit: 1. "
+                      "Range: >= 1.");
     prm.declare_entry("Snap to geometry",
                       "",
                       Patterns::List(Patterns::Anything()),
@@ -97,6 +106,7 @@ namespace suturesim::mesh
     thickness           = prm.get_double("Thickness");
     scale               = prm.get_double("Scale");
     global_refinements  = prm.get_integer("Global refinements");
+    maximum_cells       = prm.get_double("Maximum cells");
     scope.require(scale > 0, "Scale", "must be > 0");
     scope.require(thickness > 0, "Thickness", "must be > 0 m");
     local.parse(prm, scope);
@@ -305,6 +315,41 @@ namespace suturesim::mesh
           tria.set_manifold(on_edge, GmshSurfaceManifold(geometry, 1, geometry->boundary_curves(surfaces), p.scale));
         }
     }
+
+    /// Refuses @p cells above Mesh/Maximum cells, naming @p key (of Mesh) and @p what
+    /// gives them. Checked before a mesh is built where its size is known beforehand.
+    void
+    check_cell_count(const MeshParameters &p, const double cells, const std::string &key, const std::string &what)
+    {
+      if (cells <= p.maximum_cells)
+        return;
+      std::ostringstream why;
+      why << what << " gives " << cells << " cells, above Mesh/Maximum cells = " << p.maximum_cells
+          << " (raise it for a larger mesh)";
+      if (p.scope)
+        p.scope->fail(key, why.str());
+      throw InputError("Mesh/" + key + ": " + why.str());
+    }
+
+    /// The cells of deal.II generator @p name with @p arguments before refinement where
+    /// they are its first argument (the subdivided_* generators' repetitions), else 0.
+    double
+    generator_cells(const std::string &name, const std::string &arguments)
+    {
+      if (name.rfind("subdivided_", 0) != 0)
+        return 0;
+      double             cells = 1;
+      std::istringstream repetitions(arguments.substr(0, arguments.find(':')));
+      for (std::string n; std::getline(repetitions, n, ',');)
+        {
+          char        *end   = nullptr;
+          const double value = std::strtod(n.c_str(), &end);
+          if (end == n.c_str() || !std::isfinite(value))
+            return 0; // not a list of repetitions: deal.II names what is wrong
+          cells *= std::max(1.0, value);
+        }
+      return cells;
+    }
   } // namespace
 
   MeshInfo
@@ -346,6 +391,11 @@ namespace suturesim::mesh
       }
     else if (p.source == "cook membrane")
       {
+        const double n = p.elements_per_edge;
+        // the coarse mesh alone here; its refinements below
+        check_cell_count(p, n * n, "Elements per edge",
+                         "Cook's membrane of " + std::to_string(p.elements_per_edge) + " x " +
+                           std::to_string(p.elements_per_edge) + " elements");
         make_cook_membrane(p, coarse);
         what                = "Cook's membrane";
         info.boundary_names = {{0, "left"}, {1, "right"}, {2, "bottom"},
@@ -356,6 +406,13 @@ namespace suturesim::mesh
     else
       {
         what = "GridGenerator::" + p.generator_name;
+        check_cell_count(p, generator_cells(p.generator_name, p.generator_arguments), "Generator arguments", what);
+        const auto refuse = [&](const std::string &problem) {
+          const std::string why = what + "(" + p.generator_arguments + "): " + problem;
+          if (p.scope)
+            p.scope->fail("Generator", why);
+          throw InputError(why);
+        };
         try
           {
             GridGenerator::generate_from_name_and_arguments(coarse,
@@ -366,8 +423,11 @@ namespace suturesim::mesh
           {
             std::ostringstream info_text;
             e.print_info(info_text);
-            throw InputError(what + "(" + p.generator_arguments +
-                             "): " + one_line(info_text.str()));
+            refuse(one_line(info_text.str()));
+          }
+        catch (const std::bad_alloc &)
+          {
+            refuse("the mesh does not fit in memory");
           }
         info.description = what;
       }
@@ -386,8 +446,15 @@ namespace suturesim::mesh
     tria.copy_triangulation(coarse);
     if (!p.snap_to_geometry.empty())
       attach_geometry(p, info, tria);
+    // checked before refining: 10 refinements of a small mesh are 1e9 cells, which
+    // exhausted the memory instead of being refused
+    const double cells = coarse.n_active_cells() * std::pow(8.0, p.global_refinements);
+    check_cell_count(p, cells, "Global refinements",
+                     std::to_string(coarse.n_active_cells()) + " coarse cells refined " +
+                       std::to_string(p.global_refinements) + " times");
     tria.refine_global(p.global_refinements);
     p.local.apply(info, needle_path, tria);
+    check_cell_count(p, tria.n_global_active_cells(), "Local refinement/Levels", "the local refinement");
     if (!p.snap_to_geometry.empty())
       {
         // flat again: the manifolds, and with them the gmsh session, go with the refinement

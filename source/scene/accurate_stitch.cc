@@ -285,7 +285,9 @@ namespace suturesim::scene
   bool
   AccurateStitch::solve_initial(std::string &failure)
   {
-    needle->begin_step(0, path.pose(0), surface.reference);
+    // a pass that starts inside the tissue has pierce points at t = 0 already
+    if (needle->begin_step(0, path.pose(0), surface.reference))
+      locate_loads();
     report = model->solve_static(0, force_floor);
     failure = report.failure;
     if (report.converged)

@@ -34,6 +34,20 @@ namespace suturesim::scene
     {
       return {9 * K * mu / (3 * K + mu), (3 * K - 2 * mu) / (2 * (3 * K + mu))};
     }
+
+    /// Fails with a realtime model's ParameterError, which names only its key: the key
+    /// is one of a chosen model's (Realtime/<model>/Key) where the file or --set gives
+    /// it there, else one of Realtime's own.
+    [[noreturn]] void
+    fail_realtime(const SceneParameters &scene, const RealtimeSettings &settings, const ParameterError &e)
+    {
+      const ParameterScope realtime = scene.scope("Realtime");
+      for (const std::string &model : {settings.tissue_model, settings.suture_model, settings.self_collision,
+                                       settings.integrator, settings.pierce_model})
+        if (realtime.parameter_file().given("Realtime/" + model + "/" + e.key))
+          realtime.subsection(model).fail(e.key, e.problem);
+      realtime.fail(e.key, e.problem);
+    }
   } // namespace
 
   RealtimeWorld::RealtimeWorld(SceneParameters &s, const RealtimeSettings &settings, RealtimeModels models,
@@ -60,7 +74,16 @@ namespace suturesim::scene
     setup.contact_stiffness = settings.contact_stiffness;
     setup.contact_depth     = settings.contact_depth;
     setup.integrator        = std::move(models.integrator);
-    world                   = std::make_unique<rt::World>(std::move(setup));
+    // the models check what they read of their parameters as they are built (the
+    // self-collision response, the tissue's bending points against the mesh)
+    try
+      {
+        world = std::make_unique<rt::World>(std::move(setup));
+      }
+    catch (const ParameterError &e)
+      {
+        fail_realtime(scene, settings, e);
+      }
 
     if (scene.has_tissue())
       {
@@ -75,7 +98,7 @@ namespace suturesim::scene
       }
     catch (const ParameterError &e)
       {
-        scene.scope("Realtime").fail(e.key, e.problem);
+        fail_realtime(scene, settings, e);
       }
     if (!world->warning().empty())
       std::cerr << "warning: " << scene.file->name() << ": " << world->warning() << '\n';
@@ -138,7 +161,7 @@ namespace suturesim::scene
     if (!scene.has_tissue())
       setup.gravity = rod.gravity;
     else if (!rod.gravity.isZero() && !rod.gravity.isApprox(setup.gravity))
-      scene.scope("Suture").fail("Gravity", "differs from Tissue/Boundary conditions/Gravity; the realtime path "
+      scene.scope("Suture/Loads").fail("Gravity", "differs from Tissue/Boundary conditions/Gravity; the realtime path "
                                             "has one gravity for all bodies");
   }
 

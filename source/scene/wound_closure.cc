@@ -77,6 +77,9 @@ namespace suturesim::scene
       tie_off_gap = closure_gap;
     face_contact = Utilities::split_string_list(prm.get("Face contact"), ',');
     scope.require(face_contact.empty() || face_contact.size() == 2, "Face contact", "needs two faces, 'A, B'");
+    // the faces are read with the closure only: without gap probes they would be ignored
+    scope.require(face_contact.empty() || !pairs.empty(), "Face contact",
+                  "acts with the wound closure only: set Closure/Gap probes too");
     face_contact_stiffness = prm.get_double("Face contact stiffness");
     face_contact_margin    = prm.get_double("Face contact margin");
     scope.require(face_contact_stiffness > 0, "Face contact stiffness", "must be > 0 N/m");

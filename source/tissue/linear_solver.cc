@@ -16,6 +16,18 @@ namespace suturesim::tissue
         throw SolverError(std::string("PETSc error in ") + what + " (code " +
                           std::to_string(code) + ")");
     }
+
+    /// A PETSc error handler that keeps the first message in @p context (a std::string)
+    /// instead of printing PETSc's block of lines.
+    PetscErrorCode
+    keep_first_message(MPI_Comm, int, const char *, const char *, PetscErrorCode code, PetscErrorType,
+                       const char *message, void *context)
+    {
+      auto &kept = *static_cast<std::string *>(context);
+      if (kept.empty() && message != nullptr)
+        kept = message;
+      return code;
+    }
   } // namespace
 
   void
@@ -145,7 +157,16 @@ namespace suturesim::tissue
           prefixed += (token.rfind("-", 0) == 0 ? "-suturesim_" + token.substr(1) : token) + " ";
         check(PetscOptionsInsertString(nullptr, prefixed.c_str()), "PetscOptionsInsertString");
       }
-    check(KSPSetFromOptions(ksp), "KSPSetFromOptions");
+    // the user's options are input: one that PETSc refuses (an unknown type) is a one-line
+    // InputError naming the entry, not PETSc's block of error lines
+    std::string refused;
+    check(PetscPushErrorHandler(keep_first_message, &refused), "PetscPushErrorHandler");
+    const PetscErrorCode code = KSPSetFromOptions(ksp);
+    check(PetscPopErrorHandler(), "PetscPopErrorHandler");
+    if (code != 0 && !prm.petsc_options.empty())
+      throw InputError("Tissue/Linear solver/PETSc options: '" + prm.petsc_options + "': PETSc refused them (" +
+                       one_line(refused) + ")");
+    check(code, "KSPSetFromOptions");
   }
 
   LinearSolver::~LinearSolver()

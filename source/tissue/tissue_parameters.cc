@@ -133,6 +133,7 @@ namespace suturesim::tissue
     probes.clear();
     for (const auto &[name, x] : get_named_values(prm, "Probes"))
       {
+        scope.require(!name.empty(), "Probes", "a probe needs a name, 'name: x, y, z'");
         scope.require(x.size() == 3, "Probes", "probe '" + name + "' needs three coordinates");
         for (const auto &[other, point] : probes)
           scope.require(other != name, "Probes", "probe '" + name + "' is named twice");

@@ -85,7 +85,7 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
   std::printf("[ input errors ] %zu malformed scenes in tests/data/bad, %d BadScene cases\n", files.size(),
               suite->total_test_count());
   EXPECT_EQ(static_cast<std::size_t>(suite->total_test_count()), files.size());
-  EXPECT_EQ(files.size(), 35u);
+  EXPECT_EQ(files.size(), 130u);
 }
 
 // A write that fails ends the run with one line naming the file, exit 5, and no
@@ -169,6 +169,15 @@ TEST(InputErrors, EmptyOverridePath)
                                                    " --set '=1'");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("expected \"Subsection/Key=value\""), std::string::npos) << r.output;
+}
+
+// A folder given as the scene ran the all-defaults scene (issue 26): refused by name.
+TEST(InputErrors, AFolderIsNoScene)
+{
+  const auto r = run_suturesim("folder_scene", "'" + source_path("tests/data/bad_inputs") + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_FALSE(r.has_summary);
+  EXPECT_NE(r.output.find("bad_inputs: is not a file"), std::string::npos) << r.output;
 }
 
 TEST(Validate, AcceptsEveryShippedScene)

@@ -32,6 +32,8 @@ namespace suturesim::mesh
     double                        thickness         = 1e-3;
     double                        scale             = 1.0;
     unsigned                      global_refinements = 0;
+    /// the most active cells the refined mesh may have (Mesh/Maximum cells)
+    double                        maximum_cells = 1e6;
     LocalRefinement               local;
     /// Boundaries whose refined faces are put on the .geo's surfaces (gmsh_geometry.h).
     std::vector<std::string>      snap_to_geometry;
