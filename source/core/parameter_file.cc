@@ -268,6 +268,7 @@ namespace suturesim
     {
       std::map<std::string, int> lines;
       std::vector<std::string>   stack;
+      std::vector<int>           opened; // the line of each subsection on the stack
       std::istringstream         in(text);
       std::string                line;
       int                        number = 0;
@@ -276,9 +277,15 @@ namespace suturesim
           ++number;
           line = trim(line.substr(0, line.find('#')));
           if (line.rfind("subsection ", 0) == 0)
-            stack.push_back(trim(line.substr(11)));
+            {
+              stack.push_back(trim(line.substr(11)));
+              opened.push_back(number);
+            }
           else if (line == "end" && !stack.empty())
-            stack.pop_back();
+            {
+              stack.pop_back();
+              opened.pop_back();
+            }
           else if (line.rfind("set ", 0) == 0)
             {
               const auto  eq  = line.find('=');
@@ -293,6 +300,10 @@ namespace suturesim
                                  "); set each key once");
             }
         }
+      // deal.II says only that the counts differ, of "<input string>"
+      if (!stack.empty())
+        throw InputError(file_name + ":" + std::to_string(opened.back()) + ": 'subsection " + stack.back() +
+                         "' has no 'end'");
       return lines;
     }
 

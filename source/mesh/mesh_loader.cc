@@ -409,8 +409,10 @@ namespace suturesim::mesh
         check_cell_count(p, generator_cells(p.generator_name, p.generator_arguments), "Generator arguments", what);
         const auto refuse = [&](const std::string &problem) {
           const std::string why = what + "(" + p.generator_arguments + "): " + problem;
+          // the name when the scene gives it, else its arguments (the default name's)
           if (p.scope)
-            p.scope->fail("Generator", why);
+            p.scope->fail(p.scope->parameter_file().given("Mesh/Generator") ? "Generator" : "Generator arguments",
+                          why);
           throw InputError(why);
         };
         try
@@ -437,7 +439,19 @@ namespace suturesim::mesh
                               "model needs hexahedra (gmsh: Transfinite + Recombine)");
     if (p.scale != 1.0)
       GridTools::scale(p.scale, coarse);
-    check_cells(coarse, what);
+    try
+      {
+        check_cells(coarse, what);
+      }
+    catch (const InputError &e)
+      {
+        // a scale that overflows the coordinates inverts every cell: name it, not the mesh
+        if (p.scale == 1.0 || !p.scope)
+          throw;
+        std::ostringstream why;
+        why << e.what() << " after scaling by " << p.scale;
+        p.scope->fail("Scale", why.str());
+      }
 
     for (const auto &face : coarse.active_face_iterators())
       if (face->at_boundary() && !info.boundary_names.count(face->boundary_id()))

@@ -205,7 +205,12 @@ namespace suturesim::scene
       }
     catch (const std::invalid_argument &e)
       {
-        p.fail("Bite direction", e.what());
+        // the entry the planner's refusal is about (tools/surgical_pass.cc's messages)
+        const std::string what = e.what();
+        p.fail(what.find("surface normal") != std::string::npos ? "Surface normal"
+               : what.find("entry angle") != std::string::npos  ? "Entry angle"
+                                                                : "Bite direction",
+               what);
       }
   }
 

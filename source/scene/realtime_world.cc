@@ -121,6 +121,13 @@ namespace suturesim::scene
       mesh_info.boundary_names[id] = name;
     mesh_info.description = tissue_mesh.description;
     scene.boundary_conditions.resolve(mesh_info);
+    // the supports are known with the mesh's boundaries only: checked here, not at set-up
+    const ParameterScope bc = scene.scope("Tissue/Boundary conditions");
+    for (const auto &d : scene.boundary_conditions.dirichlet)
+      bc.require(d.components[0] && d.components[1] && d.components[2], "Fixed",
+                 "boundary '" + d.name +
+                   "': the realtime path holds nodes in every direction; component "
+                   "restrictions (name:x) need Model = accurate");
 
     const auto &material = *scene.material;
     std::tie(setup.material.youngs_modulus, setup.material.poisson_ratio) =

@@ -154,12 +154,6 @@ namespace suturesim::scene
           }
         if (scene.has_tissue())
           {
-            const ParameterScope bc = scene.scope("Tissue/Boundary conditions");
-            for (const auto &d : scene.boundary_conditions.dirichlet)
-              bc.require(d.components[0] && d.components[1] && d.components[2], "Fixed",
-                         "boundary '" + d.name +
-                           "': the realtime path holds nodes in every direction; component "
-                           "restrictions (name:x) need Model = accurate");
             scene.scope("Tissue/Material")
               .require(scene.material->density() > 0, "Density", "must be > 0 kg/m^3: the realtime tissue has mass");
           }
