@@ -66,6 +66,20 @@ namespace
       summary >> s.summary;
     return s;
   }
+
+  /// What every stopped run shows: exit 128 + @p signal, summary.json "interrupted" naming
+  /// it (@p name), and forces.csv ending after the start and before @p end_time.
+  void
+  expect_stopped(const Stopped &s, const int signal, const std::string &name, const double end_time)
+  {
+    EXPECT_EQ(s.exit_code, 128 + signal) << s.output;
+    ASSERT_FALSE(s.summary.is_null()) << s.output;
+    EXPECT_EQ(s.summary["status"], "interrupted");
+    EXPECT_NE(s.summary.value("error", "").find("interrupted by " + name), std::string::npos) << s.summary.dump();
+    ASSERT_FALSE(s.rows.empty());
+    EXPECT_LT(s.rows.back()[0], end_time);
+    EXPECT_GT(s.rows.back()[0], 0);
+  }
 } // namespace
 
 // The realtime loop asks between two ticks: a long stitch stopped early keeps its state
@@ -77,13 +91,7 @@ TEST(Interruption, SigintStopsARealtimeRunBetweenTicksWithStatusInterrupted)
                                 {suturesim::test_support::source_path("parameters/stitch_interrupted.prm"), "--set",
                                  "Time/End time=" + std::to_string(end_time)},
                                 SIGINT, 50);
-  EXPECT_EQ(s.exit_code, 130) << s.output;
-  ASSERT_FALSE(s.summary.is_null()) << s.output;
-  EXPECT_EQ(s.summary["status"], "interrupted");
-  EXPECT_NE(s.summary.value("error", "").find("interrupted by SIGINT"), std::string::npos) << s.summary.dump();
-  ASSERT_FALSE(s.rows.empty());
-  EXPECT_LT(s.rows.back()[0], end_time); // it stopped early, and forces.csv ends there
-  EXPECT_GT(s.rows.back()[0], 0);
+  expect_stopped(s, SIGINT, "SIGINT", end_time);
   EXPECT_TRUE(fs::exists(scratch_path() / "interrupt_realtime" / "tissue.pvd"));
   EXPECT_NE(s.output.find("suturesim: interrupted by SIGINT"), std::string::npos) << s.output;
 }
@@ -97,14 +105,10 @@ TEST(Interruption, SigtermStopsAnAccurateRunAfterAnAcceptedStep)
                                 {suturesim::test_support::source_path("parameters/suture_swing.prm"), "--set",
                                  "Time/End time=" + std::to_string(end_time)},
                                 SIGTERM, 5);
-  EXPECT_EQ(s.exit_code, 143) << s.output;
-  ASSERT_FALSE(s.summary.is_null()) << s.output;
-  EXPECT_EQ(s.summary["status"], "interrupted");
+  expect_stopped(s, SIGTERM, "SIGTERM", end_time);
   const std::string error = s.summary.value("error", "");
-  EXPECT_NE(error.find("interrupted by SIGTERM"), std::string::npos) << error;
   EXPECT_NE(error.find("suture.pvd"), std::string::npos) << error; // the state was written
   ASSERT_FALSE(s.rows.empty());
-  EXPECT_LT(s.rows.back()[0], end_time);
   // the last state is on disk: the series' last entry is the time the run stopped at
   const std::string pvd = read_text((scratch_path() / "interrupt_accurate" / "suture.pvd").string());
   std::ostringstream last;
