@@ -76,14 +76,13 @@ namespace suturesim
         cutbacks = 0;
         recent_sum += step_dt - recent[steps % pace_window];
         recent[steps % pace_window] = step_dt;
-        // the last step ends the run as it would without the signal
-        if (const int signal = t < T * (1 - 1e-12) ? stop_requested() : 0)
+        // the last step ends the run as it would without the signal or the pace
+        const bool before_end = t < T * (1 - 1e-12);
+        if (const int signal = before_end ? stop_requested() : 0)
           {
-            const std::string where = hooks.keep ? hooks.keep(t) : "";
-            throw Interrupted(signal, "interrupted by " + signal_name(signal) + " after the step to t = " + text(t) +
-                                        " s" + (where.empty() ? "" : "; the state is in " + where));
+            throw Interrupted(signal, t, hooks.keep ? hooks.keep(t) : "");
           }
-        if (control.max_steps > 0 && steps >= pace_window && t < T * (1 - 1e-12))
+        if (control.max_steps > 0 && steps >= pace_window && before_end)
           {
             const double pace = recent_sum / pace_window;
             if (steps + (T - t) / pace > control.max_steps)

@@ -3,12 +3,35 @@
 #include <deal.II/base/mpi.h>
 
 #include <csignal>
+#include <sstream>
 
 namespace suturesim
 {
   namespace
   {
     volatile std::sig_atomic_t received = 0;
+    /// several MPI processes: the request is combined (settled by catch_stop_signals())
+    bool several = false;
+
+    std::string
+    signal_name(const int signal)
+    {
+      if (signal == SIGINT)
+        return "SIGINT";
+      if (signal == SIGTERM)
+        return "SIGTERM";
+      return "signal " + std::to_string(signal);
+    }
+
+    std::string
+    describe(const int signal, const double t, const std::string &where)
+    {
+      std::ostringstream s;
+      s << "interrupted by " << signal_name(signal) << " after the step to t = " << t << " s";
+      if (!where.empty())
+        s << "; the state is in " << where;
+      return s.str();
+    }
 
     extern "C" void
     record_signal(const int signal)
@@ -17,14 +40,17 @@ namespace suturesim
     }
   } // namespace
 
-  Interrupted::Interrupted(const int signal, const std::string &what)
-    : std::runtime_error(what)
+  Interrupted::Interrupted(const int signal, const double t, const std::string &where)
+    : std::runtime_error(describe(signal, t, where))
     , signal(signal)
   {}
 
   void
   catch_stop_signals()
   {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    several = initialized && dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1;
     struct sigaction action = {};
     action.sa_handler       = record_signal;
     sigemptyset(&action.sa_mask);
@@ -38,23 +64,7 @@ namespace suturesim
   int
   stop_requested()
   {
-    int initialized = 0;
-    MPI_Initialized(&initialized);
-    int finalized = 0;
-    MPI_Finalized(&finalized);
     const int local = received;
-    if (!initialized || finalized || dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1)
-      return local;
-    return dealii::Utilities::MPI::max(local, MPI_COMM_WORLD);
-  }
-
-  std::string
-  signal_name(const int signal)
-  {
-    if (signal == SIGINT)
-      return "SIGINT";
-    if (signal == SIGTERM)
-      return "SIGTERM";
-    return "signal " + std::to_string(signal);
+    return several ? dealii::Utilities::MPI::max(local, MPI_COMM_WORLD) : local;
   }
 } // namespace suturesim

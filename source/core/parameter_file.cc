@@ -180,14 +180,13 @@ namespace suturesim
         r.pop_back();
       DocumentedRange range;
       range.text = r;
-      const auto read = [](const std::string &t) { return number(t); };
       if (!r.empty() && (r[0] == '(' || r[0] == '['))
         {
           const auto comma = r.find(',');
           const char close = r.back();
           if (comma == std::string::npos || (close != ')' && close != ']'))
             return std::nullopt;
-          const auto lo = read(r.substr(1, comma - 1)), hi = read(r.substr(comma + 1, r.size() - comma - 2));
+          const auto lo = number(r.substr(1, comma - 1)), hi = number(r.substr(comma + 1, r.size() - comma - 2));
           if (!lo || !hi)
             return std::nullopt;
           range.lower      = *lo;
@@ -199,7 +198,7 @@ namespace suturesim
       for (const std::string op : {">=", "<=", ">", "<"})
         if (r.rfind(op, 0) == 0)
           {
-            const auto x = read(r.substr(op.size()));
+            const auto x = number(r.substr(op.size()));
             if (!x)
               return std::nullopt;
             (op[0] == '>' ? range.lower : range.upper)           = *x;

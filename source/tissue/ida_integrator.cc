@@ -136,8 +136,7 @@ namespace suturesim::tissue
                      "IDA " + std::to_string(residuals) + " residuals");
           // IDA stops only at an output: there the run can stop on a signal
           if (const int signal = t < time.end_time * (1 - 1e-12) ? stop_requested() : 0)
-            throw Interrupted(signal, "interrupted by " + signal_name(signal) + " at t = " + std::to_string(t) +
-                                        " s; the state is in " + observer.keep_last_accepted());
+            throw Interrupted(signal, t, observer.keep_last_accepted());
         };
 
         BlockVector y(blocks, comm), y_dot(blocks, comm);

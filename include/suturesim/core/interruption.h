@@ -20,24 +20,25 @@
 
 namespace suturesim
 {
-  /// A run stopped at a step boundary on a signal; what() says when and where the state is.
+  /// A run stopped at a step boundary on a signal; what() says "interrupted by SIGINT
+  /// after the step to t = … s; the state is in <where>" (without the last part when
+  /// @p where is empty).
   class Interrupted : public std::runtime_error
   {
   public:
-    Interrupted(int signal, const std::string &what);
+    Interrupted(int signal, double t, const std::string &where);
     int signal; ///< SIGINT or SIGTERM
   };
 
-  /// Installs the handlers of SIGINT and SIGTERM (main(), once).
+  /// Installs the handlers of SIGINT and SIGTERM (main(), once, after MPI is initialised:
+  /// whether the request must be combined among processes is settled here).
   void
   catch_stop_signals();
 
-  /// The signal that asked this run to stop (0: none), agreed among the MPI processes when
-  /// there are several. Collective then: every rank calls it at the same step boundary.
+  /// The signal that asked this run to stop (0: none; always 0 before
+  /// catch_stop_signals()), agreed among the MPI processes when there are several.
+  /// Collective then: every rank calls it at the same step boundary. With one process an
+  /// atomic read, cheap enough for every haptic tick.
   int
   stop_requested();
-
-  /// "SIGINT", "SIGTERM" or "signal N".
-  std::string
-  signal_name(int signal);
 } // namespace suturesim

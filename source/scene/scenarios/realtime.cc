@@ -111,8 +111,7 @@ namespace suturesim::scene
                 record.write_state();
                 next_output += interval;
               }
-            // an atomic read a tick (one all-reduce with several processes): a signal
-            // stops the run here, between two ticks
+            // a signal stops the run here, between two ticks (core/interruption.h)
             if (step < n_steps && (stop_signal = stop_requested()) != 0)
               break;
           }
@@ -127,8 +126,7 @@ namespace suturesim::scene
         if (!failure.empty())
           throw SolverError(failure + "; outputs hold the last good state (t = " + std::to_string(rw.time()) + " s)");
         if (stop_signal != 0)
-          throw Interrupted(stop_signal, "interrupted by " + signal_name(stop_signal) + " at t = " +
-                                           std::to_string(rw.time()) + " s; the state is in " + recorder.directory());
+          throw Interrupted(stop_signal, rw.time(), recorder.directory());
       }
 
     private:
