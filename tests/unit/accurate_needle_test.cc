@@ -17,7 +17,7 @@ namespace
 {
   // the scene's own accurate resolution (its "subsection Model accurate": Q1 hexahedra
   // of 2 mm, 20 ms steps)
-  const std::string coarse_pass = "'" + source_path("parameters/needle_pass.prm") + "' --set Model=accurate";
+  const Args coarse_pass = {source_path("parameters/needle_pass.prm"), "--set", "Model=accurate"};
 
 } // namespace
 
@@ -28,8 +28,8 @@ TEST(AccurateNeedle, CoarseNeedlePassPuncturesAtTheThresholdAsStored)
   // is halved, so each puncture lands in [threshold, 1.04 threshold]; the values are
   // stored from this build's run (0.5 % relative tolerance)
   const auto r = run_suturesim("needle_pass_accurate",
-                               coarse_pass + " --set Bodies=tissue"
-                                             " --set 'Time/End time=1.1' --set 'Time/Output interval=0.5'");
+                               join(coarse_pass, {"--set", "Bodies=tissue", "--set", "Time/End time=1.1", "--set",
+                                                  "Time/Output interval=0.5"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto  &m         = r.summary["metrics"];
   const double threshold = r.summary["needle"]["puncture_threshold"];
@@ -64,9 +64,10 @@ TEST(AccurateNeedle, AdaptiveStepsGrowOnTheApproachAndStillLandThePuncturesAtThe
   // threshold, the window the fixed steps land it in too (measured: entry 0.7022 N both,
   // exit 0.7150 N adaptive against 0.7265 N fixed, of a 0.70 N threshold: each lands
   // where its own halvings put it in the window, so the two differ by up to its width)
-  const std::string settings = coarse_pass + " --set Bodies=tissue --set 'Time/End time=1.1' --set 'Time/Output interval=0.5'";
+  const Args settings =
+    join(coarse_pass, {"--set", "Bodies=tissue", "--set", "Time/End time=1.1", "--set", "Time/Output interval=0.5"});
   const auto fixed    = run_suturesim("needle_pass_fixed_steps", settings);
-  const auto adaptive = run_suturesim("needle_pass_adaptive_steps", settings + " --set 'Time/Max step size=0.08'");
+  const auto adaptive = run_suturesim("needle_pass_adaptive_steps", join(settings, {"--set", "Time/Max step size=0.08"}));
   ASSERT_EQ(fixed.exit_code, 0) << fixed.output;
   ASSERT_EQ(adaptive.exit_code, 0) << adaptive.output;
   const double threshold = adaptive.summary["needle"]["puncture_threshold"];
@@ -90,13 +91,12 @@ namespace
   /// options), run into folder @p name; each coupled step's residuals contract by
   /// @p contraction or better.
   void
-  expect_suture_pass_balances_as_one_body(const std::string &name, const std::string &mesh_settings,
-                                          double contraction);
+  expect_suture_pass_balances_as_one_body(const std::string &name, const Args &mesh_settings, double contraction);
 } // namespace
 
 TEST(AccurateNeedle, SutureTakesOverThePiercePointsAndIsDrawnThroughAgainstTheirFriction)
 {
-  expect_suture_pass_balances_as_one_body("needle_pass_accurate_suture", "", 1e-2);
+  expect_suture_pass_balances_as_one_body("needle_pass_accurate_suture", {}, 1e-2);
 }
 
 TEST(AccurateNeedle, SuturePassOnAMeshRefinedAlongTheNeedlePathBalancesAsOneBody)
@@ -118,9 +118,9 @@ TEST(AccurateNeedle, SuturePassOnAMeshRefinedAlongTheNeedlePathBalancesAsOneBody
   // the bound here is 2.5e-2. (A condensed tangent that misread the hanging DoFs
   // converges linearly where it should be quadratic: Condensation.*LocallyRefined*.)
   expect_suture_pass_balances_as_one_body("needle_pass_accurate_suture_refined",
-                                          " --set 'Mesh/Local refinement/Levels=1'"
-                                          " --set 'Mesh/Local refinement/Near needle path=true'"
-                                          " --set 'Mesh/Local refinement/Distance=0.001'",
+                                          {"--set", "Mesh/Local refinement/Levels=1", "--set",
+                                           "Mesh/Local refinement/Near needle path=true", "--set",
+                                           "Mesh/Local refinement/Distance=0.001"},
                                           2.5e-2);
 }
 
@@ -145,9 +145,9 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
   // then span cells of both processes, gathered onto both.
   for (const std::string radius : {"0", "0.002"})
     {
-      const std::string args = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
-                                             " --set 'Time/Output interval=0.5'"
-                                             " --set 'Pierce points/Accurate/Load radius=" + radius + "'";
+      const Args        args     = join(coarse_pass, {"--set", "Time/Step size=0.04", "--set", "Time/End time=2.6",
+                                                        "--set", "Time/Output interval=0.5", "--set",
+                                                        "Pierce points/Accurate/Load radius=" + radius});
       const std::string name     = std::string("needle_pass_suture_") + (radius == "0" ? "" : "spread_");
       const auto        serial   = run_suturesim(name + "np1", args);
       const auto        parallel = run_suturesim(name + "np2", args, mpi_launcher(2));
@@ -184,8 +184,7 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
 namespace
 {
 void
-expect_suture_pass_balances_as_one_body(const std::string &name, const std::string &mesh_settings,
-                                        const double contraction)
+expect_suture_pass_balances_as_one_body(const std::string &name, const Args &mesh_settings, const double contraction)
 {
   // The same pass with the suture (60 elements of 1 mm, clamped at the swage) to 0.4 s
   // into the pull (40 ms steps): both pierce points pass from the needle onto the suture
@@ -198,10 +197,10 @@ expect_suture_pass_balances_as_one_body(const std::string &name, const std::stri
   // A gap probe pair across the incision (0.4 mm apart at rest, away from the pass)
   // checks the accurate path's closure measurement: the gap of the undeformed pad, then
   // one gap per row.
-  const auto r = run_suturesim(name, coarse_pass + mesh_settings +
-                                       " --set 'Time/Step size=0.04' --set 'Time/End time=2.6'"
-                                       " --set 'Time/Output interval=0.5'"
-                                       " --set 'Closure/Gap probes=mid: -0.0002, 0, 0.006, 0.0002, 0, 0.006'");
+  const auto r = run_suturesim(name, join(join(coarse_pass, mesh_settings),
+                                          {"--set", "Time/Step size=0.04", "--set", "Time/End time=2.6", "--set",
+                                           "Time/Output interval=0.5", "--set",
+                                           "Closure/Gap probes=mid: -0.0002, 0, 0.006, 0.0002, 0, 0.006"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NEAR(r.summary["metrics"]["initial_gap"].get<double>(), 4e-4, 1e-12);
   EXPECT_TRUE(r.summary["metrics"]["closure_tension"].is_null()); // nothing draws it shut
@@ -343,16 +342,16 @@ TEST(AccurateNeedle, CoupledNewtonReachesTheTissuesFloorInTwoIterationsWithAndWi
   // mirror of one triangle and the same steps contracted linearly, about 2e-3 an
   // iteration (2.6e-3, 9.1e-6, 1.9e-8, 3.5e-11 N), two iterations leaving 1.9e-8 to
   // 8.8e-8 N: what this test now rules out.
-  const std::string base = coarse_pass + " --set 'Time/Step size=0.04' --set 'Time/End time=1.5'"
-                                         " --set 'Time/Output interval=0.5'"
-                                         " --set 'Pierce points/Accurate/Coupling tolerance=1e-10'";
+  const Args   base      = join(coarse_pass, {"--set", "Time/Step size=0.04", "--set", "Time/End time=1.5", "--set",
+                                              "Time/Output interval=0.5", "--set",
+                                              "Pierce points/Accurate/Coupling tolerance=1e-10"});
   const double floor     = 5e-10; // N: the tissue's absolute tolerance here
   const double round_off = 1e-10; // N: 100 times the residual reached without friction
   unsigned     runs      = 0;
   for (const double mu : {0.2, 0.0})
     {
       const auto r = run_suturesim(mu > 0 ? "newton_order_friction" : "newton_order_frictionless",
-                                   base + " --set 'Pierce points/Friction coefficient=" + std::to_string(mu) + "'");
+                                   join(base, {"--set", "Pierce points/Friction coefficient=" + std::to_string(mu)}));
       ASSERT_EQ(r.exit_code, 0) << r.output;
       const auto histories = coupled_histories(r);
       ASSERT_GE(histories.size(), 5u);
@@ -393,14 +392,14 @@ TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
   // here, is 2e-3 N of 6.7 N; measured 1e-4). A penalty tie of 5e4 N/m leaves a gap:
   // its N is lower, by K/(K + k) of it (springs in series; measured 0.73 of it).
   const auto run = [](const std::string &name, const std::string &enforcement, const double k, double &normal) {
-    const auto r = run_suturesim(name, coarse_pass + " --set Bodies=tissue"
-                                                     " --set 'Time/End time=0.4' --set 'Time/Output interval=0.4'"
-                                                     " --set 'Pierce points/Stick stiffness=5e4'"
-                                                     " --set 'Tissue/Boundary conditions/Prescribed displacement=sides'"
-                                                     " --set 'Tissue/Boundary conditions/Prescribed displacement "
-                                                     "function/Function expression=0; 0.002*t; 0'"
-                                                     " --set 'Pierce points/Accurate/Enforcement=" + enforcement + "'"
-                                                     " --set 'Pierce points/Transverse stiffness=" + std::to_string(k) + "'");
+    const auto r = run_suturesim(
+      name, join(coarse_pass, {"--set", "Bodies=tissue", "--set", "Time/End time=0.4", "--set",
+                               "Time/Output interval=0.4", "--set", "Pierce points/Stick stiffness=5e4", "--set",
+                               "Tissue/Boundary conditions/Prescribed displacement=sides", "--set",
+                               "Tissue/Boundary conditions/Prescribed displacement "
+                               "function/Function expression=0; 0.002*t; 0",
+                               "--set", "Pierce points/Accurate/Enforcement=" + enforcement, "--set",
+                               "Pierce points/Transverse stiffness=" + std::to_string(k)}));
     ASSERT_EQ(r.exit_code, 0) << r.output;
     std::string header;
     const auto  rows = read_forces(r, &header);
@@ -433,8 +432,8 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // inside the tissue, the faces pressing on each other.
   const auto r = run_suturesim(
     "stitch_accurate_coarse",
-    "'" + source_path("parameters/stitch_interrupted.prm") + "' --set Model=accurate",
-    "OPENBLAS_NUM_THREADS=1 timeout 1200");
+    {source_path("parameters/stitch_interrupted.prm"), "--set", "Model=accurate"},
+    {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "1200"});
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
   ASSERT_TRUE(r.has_summary);
   unsigned punctures = 0;

@@ -29,16 +29,16 @@ namespace
   {
     const double       u_ref = reference["converged_tip_displacement_y"]["value"];
     const std::string  name  = element["name"];
-    std::string        args  = "'" + source_path("benchmarks/cook_locking/" + reference["scene"].get<std::string>()) + "'";
+    Args               args  = {source_path("benchmarks/cook_locking/" + reference["scene"].get<std::string>())};
     for (const auto &s : reference["settings"])
-      args += " --set '" + s.get<std::string>() + "'";
-    args += " --set 'Tissue/Element degree=" + std::to_string(element["degree"].get<int>()) +
-            "' --set 'Tissue/Formulation=" + element["formulation"].get<std::string>() + "'";
+      args = join(args, {"--set", s.get<std::string>()});
+    args = join(args, {"--set", "Tissue/Element degree=" + std::to_string(element["degree"].get<int>()), "--set",
+                       "Tissue/Formulation=" + element["formulation"].get<std::string>()});
     std::vector<Refinement> rows;
     for (const unsigned n : element["meshes"].get<std::vector<unsigned>>())
       {
         const auto r = run_suturesim("cook_locking_" + name + "_" + std::to_string(n),
-                                     args + " --set 'Mesh/Elements per edge=" + std::to_string(n) + "'");
+                                     join(args, {"--set", "Mesh/Elements per edge=" + std::to_string(n)}));
         EXPECT_EQ(r.exit_code, 0) << r.output;
         if (r.exit_code != 0)
           break;

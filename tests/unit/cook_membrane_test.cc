@@ -15,14 +15,14 @@ using namespace suturesim::test_support;
 namespace
 {
   RunResult
-  cook(const std::string &name, const unsigned n, const unsigned degree,
-       const std::string &extra = "", const std::string &launcher = "")
+  cook(const std::string &name, const unsigned n, const unsigned degree, const Args &extra = {},
+       const Args &launcher = {})
   {
     return run_suturesim(name,
-                         benchmark_scene("cook_membrane") +
-                           " --set 'Mesh/Elements per edge=" + std::to_string(n) +
-                           "' --set 'Tissue/Element degree=" + std::to_string(degree) + "' " +
-                           extra,
+                         join({benchmark_scene("cook_membrane"), "--set",
+                               "Mesh/Elements per edge=" + std::to_string(n), "--set",
+                               "Tissue/Element degree=" + std::to_string(degree)},
+                              extra),
                          launcher);
   }
 
@@ -61,7 +61,7 @@ TEST(CookMembrane, PublishedTipDisplacementQ2)
 TEST(CookMembrane, PublishedTipDisplacementQ2Default)
 {
   // the scene as shipped (Q2, 16 elements per edge)
-  const auto r = run_suturesim("cook_default", benchmark_scene("cook_membrane"));
+  const auto r = run_suturesim("cook_default", {benchmark_scene("cook_membrane")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   expect_published(r);
 }
@@ -75,7 +75,7 @@ TEST(CookMembrane, PublishedTipDisplacementQ1)
 
 TEST(CookMembrane, NewtonConvergesQuadratically)
 {
-  const auto r = cook("cook_newton", 8, 2, "--set 'Tissue/Newton/Line search=false'");
+  const auto r = cook("cook_newton", 8, 2, {"--set", "Tissue/Newton/Line search=false"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   unsigned checked = 0;
   for (const auto &step : r.summary["steps"])
@@ -101,7 +101,7 @@ TEST(CookMembrane, TwoMpiProcessesGiveTheSerialResult)
 {
   const auto serial = cook("cook_serial", 8, 2);
   const auto parallel =
-    cook("cook_mpi", 8, 2, "", mpi_launcher(2));
+    cook("cook_mpi", 8, 2, {}, mpi_launcher(2));
   ASSERT_EQ(serial.exit_code, 0) << serial.output;
   ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
   EXPECT_EQ(parallel.summary["mpi_processes"], 2);
@@ -127,8 +127,8 @@ TEST(Reactions, OnlyConstrainedComponentsAndEachDofOnce)
   // Left clamped and u_z = 0 on both z faces: the z faces carry no in-plane force, the
   // clamped face carries the whole 1 N, each DoF counted for the first boundary only.
   const auto r = run_suturesim("reactions_masked",
-                               source_path("tests/data/cook_coarse.prm") +
-                                 " --set 'Tissue/Boundary conditions/Fixed=left, back:z, front:z'");
+                               {source_path("tests/data/cook_coarse.prm"), "--set",
+                                "Tissue/Boundary conditions/Fixed=left, back:z, front:z"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto &f = r.summary["metrics"]["reaction_force"];
   for (const char *face : {"back", "front"})
@@ -145,15 +145,15 @@ TEST(Reactions, IndependentOfThePartition)
 {
   // Skin pad with a slit, 1 and 5 MPI processes. Before the reaction DoFs were taken
   // from the constraints, this case gave -158.7 N on 5 ranks against -221.65 N serial.
-  const std::string args = source_path("parameters/skin_pad_pull.prm") +
-                           " --set 'Mesh/Geo parameters=h: 0.003'"
-                           " --set 'Tissue/Element degree=1' --set 'Time/Step size=1'";
+  const Args args = {source_path("parameters/skin_pad_pull.prm"),
+                     "--set",
+                     "Mesh/Geo parameters=h: 0.003",
+                     "--set",
+                     "Tissue/Element degree=1",
+                     "--set",
+                     "Time/Step size=1"};
   const auto serial   = run_suturesim("reactions_np1", args);
-  const auto parallel = run_suturesim(
-    "reactions_np3", args,
-    "for v in $(env | cut -d= -f1 | grep -E '^(OMPI_|PMIX_|OPAL_)'); do unset $v; "
-    "done; OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-    "mpirun -np 5 --oversubscribe");
+  const auto parallel = run_suturesim("reactions_np3", args, mpi_launcher(5));
   ASSERT_EQ(serial.exit_code, 0) << serial.output;
   ASSERT_EQ(parallel.exit_code, 0) << parallel.output;
   for (const char *b : {"bottom", "wound_left"})

@@ -34,7 +34,7 @@ namespace
 
 TEST(Dynamics, BarUnderSuddenGravityFollowsTheWaveEquation)
 {
-  const auto r = run_suturesim("bar_dynamics", source_path("tests/data/bar_dynamics.prm"));
+  const auto r = run_suturesim("bar_dynamics", {source_path("tests/data/bar_dynamics.prm")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_EQ(r.summary["solver"]["integrator"], "ida");
 
@@ -86,7 +86,7 @@ namespace
 
 TEST(Dynamics, BarDrivenAtBothEndsFollowsTheWaveEquation)
 {
-  const auto r = run_suturesim("bar_translation", source_path("tests/data/bar_translation.prm"));
+  const auto r = run_suturesim("bar_translation", {source_path("tests/data/bar_translation.prm")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // columns: time, boundary_0 R (3), boundary_1 R (3), middle u (3)
   const double A = 1e-4, w = 300;
@@ -152,11 +152,10 @@ TEST(Dynamics, RayleighDampingDecaysTheBarsModesAtTheirModalRates)
   unsigned     runs       = 0;
   for (const auto &[a_M, a_K] : std::vector<std::pair<double, double>>{{100, 0}, {0, 5e-4}})
     {
-      const auto r = run_suturesim("bar_rayleigh", source_path("tests/data/bar_dynamics.prm") +
-                                                     " --set 'Time/ida/Rayleigh mass coefficient=" +
-                                                     std::to_string(a_M) +
-                                                     "' --set 'Time/ida/Rayleigh stiffness coefficient=" +
-                                                     std::to_string(a_K) + "'");
+      const auto r = run_suturesim("bar_rayleigh", {source_path("tests/data/bar_dynamics.prm"), "--set",
+                                                    "Time/ida/Rayleigh mass coefficient=" + std::to_string(a_M),
+                                                    "--set",
+                                                    "Time/ida/Rayleigh stiffness coefficient=" + std::to_string(a_K)});
       ASSERT_EQ(r.exit_code, 0) << r.output;
       double   max_error = 0, max_undamped = 0;
       unsigned rows      = 0;

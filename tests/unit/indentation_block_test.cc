@@ -31,7 +31,7 @@ namespace
 
 TEST(IndentationBlock, MatchesStep44AtEveryLoadStep)
 {
-  const auto r = run_suturesim("indentation_block", benchmark_scene("indentation_block"));
+  const auto r = run_suturesim("indentation_block", {benchmark_scene("indentation_block")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto  ref       = benchmark_reference("indentation_block");
   const auto &step44    = ref["step44"]["direct_static_condensation"];
@@ -63,9 +63,9 @@ TEST(IndentationBlock, BothMixedUpdatesReachTheSameSolution)
 {
   // one global refinement (8 cells) keeps this quick; the exact variant needs line search
   // and backtracking here, the Newton-unknown variant does not
-  const std::string coarse = benchmark_scene("indentation_block") + " --set 'Mesh/Global refinements=1'";
+  const Args coarse = {benchmark_scene("indentation_block"), "--set", "Mesh/Global refinements=1"};
   const auto newton = run_suturesim("indentation_block_newton", coarse);
-  const auto exact  = run_suturesim("indentation_block_exact", coarse + " --set 'Tissue/Mixed update=exact'");
+  const auto exact  = run_suturesim("indentation_block_exact", join(coarse, {"--set", "Tissue/Mixed update=exact"}));
   ASSERT_EQ(newton.exit_code, 0) << newton.output;
   ASSERT_EQ(exact.exit_code, 0) << exact.output;
   const auto a = top_displacement(newton), b = top_displacement(exact);
@@ -89,8 +89,8 @@ TEST(IndentationBlock, TwoThreadsGiveTheOneThreadResult)
   // step-44's resolution: 64 cells, so that both threads get cells (WorkStream hands out
   // chunks of 8)
   const std::string scene = benchmark_scene("indentation_block");
-  const auto one = run_suturesim("indentation_block_1_thread", scene);
-  const auto two = run_suturesim("indentation_block_2_threads", scene + " --threads 2");
+  const auto one = run_suturesim("indentation_block_1_thread", {scene});
+  const auto two = run_suturesim("indentation_block_2_threads", {scene, "--threads", "2"});
   ASSERT_EQ(one.exit_code, 0) << one.output;
   ASSERT_EQ(two.exit_code, 0) << two.output;
   EXPECT_EQ(one.summary["threads"].get<unsigned>(), 1u);

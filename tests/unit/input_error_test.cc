@@ -50,8 +50,7 @@ TEST_P(BadScene, FailsWithOneLineNamingTheProblem)
   const std::string expected = first.substr(10);
 
   // Run from the data folder so that messages carry the relative path "bad/x.prm".
-  const auto r = run_suturesim(GetParam(), "bad/" + GetParam(),
-                               "cd '" + source_path("tests/data") + "' &&");
+  const auto r = run_suturesim(GetParam(), {"bad/" + GetParam()}, {"/usr/bin/env", "-C", source_path("tests/data")});
   EXPECT_EQ(r.exit_code, 2) << r.output; // main(): an InputError exits with 2
   EXPECT_FALSE(r.has_summary) << "a failed input left summary.json behind";
   const std::string lines = error_lines(r.output);
@@ -99,8 +98,7 @@ TEST(InputErrors, AFailedWriteIsOneLineExitFiveAndNoSummary)
   fs::create_directories(folder);
   fs::create_symlink("/dev/full", folder / "summary.json.tmp");
   std::string output;
-  const int   code = run_logged(std::string(suturesim_binary()) + " '" + source_path("tests/data/cook_coarse.prm") +
-                                  "' --output '" + folder.string() + "'",
+  const int   code = run_logged({suturesim_binary(), source_path("tests/data/cook_coarse.prm"), "--output", folder.string()},
                                 folder.string() + ".log", output);
   EXPECT_EQ(code, 5) << output;
   EXPECT_FALSE(fs::exists(folder / "summary.json")) << output;
@@ -121,16 +119,10 @@ TEST(InputErrors, UnwritableOutputFolder)
 {
   // Under a regular file no folder can be made, even as root.
   const std::string blocked = source_path("tests/data/cook_coarse.prm") + "/out";
-  const std::string cmd = std::string(suturesim_binary()) + " " +
-                          source_path("tests/data/cook_coarse.prm") + " --output '" +
-                          blocked + "' 2>&1";
-  FILE       *pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char        buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe))
-    out += buffer;
-  const int status = pclose(pipe);
-  EXPECT_NE(WEXITSTATUS(status), 0);
+  std::string       out;
+  const int         code = run_logged({suturesim_binary(), source_path("tests/data/cook_coarse.prm"), "--output", blocked},
+                                      (scratch_path() / "unwritable_output.log").string(), out);
+  EXPECT_GT(code, 0); // exited, and not with 0
   EXPECT_NE(out.find("error: --output " + blocked + ": cannot write"), std::string::npos) << out;
 }
 
@@ -139,8 +131,8 @@ TEST(InputErrors, CholeskyRefusesTheFrictionalCoupledTangent)
   // The pierce points' friction on the thread makes the coupled tangent non-symmetric
   // (TissueNeedle::symmetric_tangent()), and MUMPS's Cholesky would factorise the mirror
   // of one triangle instead (tissue/linear_solver.h): forced, it is refused at setup.
-  const std::string pass = "'" + source_path("parameters/needle_pass.prm") +
-                           "' --set Model=accurate --set 'Tissue/Linear solver/Factorization=cholesky'";
+  const Args pass = {source_path("parameters/needle_pass.prm"), "--set", "Model=accurate", "--set",
+                     "Tissue/Linear solver/Factorization=cholesky"};
   const auto        r    = run_suturesim("cholesky_friction", pass);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_FALSE(r.has_summary);
@@ -149,15 +141,15 @@ TEST(InputErrors, CholeskyRefusesTheFrictionalCoupledTangent)
   EXPECT_NE(lines.find("Tissue/Linear solver/Factorization"), std::string::npos) << lines;
   EXPECT_NE(lines.find("cholesky needs a symmetric tangent"), std::string::npos) << lines;
   // without friction the tangent is symmetric and Cholesky is taken
-  const auto ok = run_suturesim("cholesky_frictionless", pass + " --set 'Pierce points/Friction coefficient=0'"
-                                                                " --set 'Time/End time=0.04'");
+  const auto ok = run_suturesim("cholesky_frictionless", join(pass, {"--set", "Pierce points/Friction coefficient=0",
+                                                                     "--set", "Time/End time=0.04"}));
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
 }
 
 TEST(InputErrors, UnknownOverride)
 {
-  const auto r = run_suturesim("bad_override", source_path("tests/data/cook_coarse.prm") +
-                                                 " --set 'Tissue/Elemnt degree=2'");
+  const auto r =
+    run_suturesim("bad_override", {source_path("tests/data/cook_coarse.prm"), "--set", "Tissue/Elemnt degree=2"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_FALSE(r.has_summary);
   EXPECT_NE(r.output.find("--set \"Tissue/Elemnt degree=2\""), std::string::npos) << r.output;
@@ -165,8 +157,7 @@ TEST(InputErrors, UnknownOverride)
 
 TEST(InputErrors, EmptyOverridePath)
 {
-  const auto r = run_suturesim("empty_override", source_path("tests/data/cook_coarse.prm") +
-                                                   " --set '=1'");
+  const auto r = run_suturesim("empty_override", {source_path("tests/data/cook_coarse.prm"), "--set", "=1"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("expected \"Subsection/Key=value\""), std::string::npos) << r.output;
 }
@@ -174,7 +165,7 @@ TEST(InputErrors, EmptyOverridePath)
 // A folder given as the scene ran the all-defaults scene (issue 26): refused by name.
 TEST(InputErrors, AFolderIsNoScene)
 {
-  const auto r = run_suturesim("folder_scene", "'" + source_path("tests/data/bad_inputs") + "'");
+  const auto r = run_suturesim("folder_scene", {source_path("tests/data/bad_inputs")});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_FALSE(r.has_summary);
   EXPECT_NE(r.output.find("bad_inputs: is not a file"), std::string::npos) << r.output;
@@ -186,7 +177,7 @@ TEST(Validate, AcceptsEveryShippedScene)
   for (const auto &e : fs::recursive_directory_iterator(source_path("parameters")))
     if (e.path().extension() == ".prm" && e.path().parent_path().filename() != "studies") // studies: StudyRun
       {
-        const auto r = run_suturesim("validate", "--validate '" + e.path().string() + "'");
+        const auto r = run_suturesim("validate", {"--validate", e.path().string()});
         EXPECT_EQ(r.exit_code, 0) << e.path() << "\n" << r.output;
         EXPECT_NE(r.output.find(": valid"), std::string::npos) << r.output;
         EXPECT_FALSE(fs::exists(r.directory)) << "--validate wrote output";
@@ -198,15 +189,14 @@ TEST(Validate, AcceptsEveryShippedScene)
 TEST(Validate, TheEmbeddedDefaultSceneIsTheInterruptedStitch)
 {
   // issue 6: `suturesim` with no scene file runs parameters/stitch_interrupted.prm
-  const auto r = run_suturesim("validate_default", "--validate");
+  const auto r = run_suturesim("validate_default", {"--validate"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("<default scene stitch_interrupted.prm>: valid"), std::string::npos) << r.output;
 }
 
 TEST(Validate, RejectsUnknownKey)
 {
-  const auto r = run_suturesim("validate_bad", "--validate " +
-                                                 source_path("tests/data/bad/unknown_key.prm"));
+  const auto r = run_suturesim("validate_bad", {"--validate", source_path("tests/data/bad/unknown_key.prm")});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("No entry with name <Element dgree>"), std::string::npos) << r.output;
 }

@@ -15,14 +15,14 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  const std::string scene = "'" + source_path("benchmarks/realtime_seed004_scale/realtime_seed004_scale.prm") + "'";
+  const Args scene = {source_path("benchmarks/realtime_seed004_scale/realtime_seed004_scale.prm")};
   // a coarse block (h = 5 mm) keeps these runs short
-  const std::string coarse = " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 0'";
+  const Args coarse = {"--set", "Mesh/Geo parameters=h: 0.005, hexahedra: 0"};
 } // namespace
 
 TEST(RealtimeScene, RunsTheSeed004ScaleSceneAndRecordsItsHapticStatistics)
 {
-  const auto r = run_suturesim("realtime_scale", scene + coarse + " --set 'Time/End time=0.2'");
+  const auto r = run_suturesim("realtime_scale", join(join(scene, coarse), {"--set", "Time/End time=0.2"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(r.has_summary);
   EXPECT_EQ(r.summary["status"], "completed");
@@ -69,10 +69,9 @@ TEST(RealtimeScene, FixedBottomCarriesTheBlocksWeight)
   // The tissue block alone settles under gravity: the bottom's reaction is its weight
   // ρ V g = 1060 kg/m³ · 16 cm³ · 9.81 m/s² = 0.166378 N (XPBD multipliers, exact at rest).
   const auto r = run_suturesim("realtime_weight",
-                               scene + coarse +
-                                 " --set Bodies=tissue --set 'Time/End time=1'"
-                                 " --set 'Realtime/xpbd/Iterations=10'"
-                                 " --set 'Realtime/xpbd/Damping rate=30'");
+                               join(join(scene, coarse), {"--set", "Bodies=tissue", "--set", "Time/End time=1", "--set",
+                                                          "Realtime/xpbd/Iterations=10", "--set",
+                                                          "Realtime/xpbd/Damping rate=30"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::string header;
   const auto  rows = read_forces(r, &header);
@@ -90,9 +89,9 @@ TEST(RealtimeScene, DivergenceStopsWithOneLineAndKeepsTheLastGoodState)
 {
   // A real 3-0 suture under explicit Euler at 1 kHz: dt is 2000 times its limit.
   const auto r = run_suturesim("realtime_diverge",
-                               scene + " --set Bodies=suture --set 'Time/End time=0.05'"
-                                       " --set Realtime/Integrator=symplectic-euler"
-                                       " --set 'Realtime/Suture model=mass-spring'");
+                               join(scene, {"--set", "Bodies=suture", "--set", "Time/End time=0.05", "--set",
+                                            "Realtime/Integrator=symplectic-euler", "--set",
+                                            "Realtime/Suture model=mass-spring"}));
   EXPECT_EQ(r.exit_code, 3) << r.output;
   ASSERT_TRUE(r.has_summary);
   EXPECT_EQ(r.summary["status"], "failed");
@@ -105,9 +104,9 @@ TEST(RealtimeScene, DivergenceStopsWithOneLineAndKeepsTheLastGoodState)
 TEST(RealtimeScene, RefusesAboveTheStabilityLimitWhenAsked)
 {
   const auto r = run_suturesim("realtime_refuse",
-                               scene + " --set Bodies=suture --set Realtime/Integrator=symplectic-euler"
-                                       " --set 'Realtime/Suture model=mass-spring'"
-                                       " --set 'Realtime/Above stability limit=refuse'");
+                               join(scene, {"--set", "Bodies=suture", "--set", "Realtime/Integrator=symplectic-euler",
+                                            "--set", "Realtime/Suture model=mass-spring", "--set",
+                                            "Realtime/Above stability limit=refuse"}));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_FALSE(r.has_summary);
   EXPECT_NE(r.output.find("Realtime/Substeps"), std::string::npos) << r.output;
@@ -119,14 +118,14 @@ TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
   // its compare.py --against: both must report every probe, press the top centre down,
   // and agree there within the factor of reference.json "realtime_check" (the measured
   // error of the converged volume model at the shipped resolution: the folder's README).
-  const std::string file   = "'" + benchmark_scene("block_patch_load") + "'";
+  const std::string file   = benchmark_scene("block_patch_load");
   const double      factor = benchmark_reference("block_patch_load")["realtime_check"]["max_factor"];
-  const auto fe = run_suturesim("patch_accurate", file + " --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 1'");
+  const auto fe = run_suturesim("patch_accurate", {file, "--set", "Mesh/Geo parameters=h: 0.005, hexahedra: 1"});
   ASSERT_EQ(fe.exit_code, 0) << fe.output;
   const auto rt = run_suturesim("patch_realtime",
-                                file + " --set Model=realtime --set 'Mesh/Geo parameters=h: 0.005, hexahedra: 0'"
-                                       " --set Realtime/Integrator=xpbd --set Realtime/xpbd/Iterations=30"
-                                       " --set 'Realtime/xpbd/Damping rate=50' --set 'Time/End time=1.5'");
+                                {file, "--set", "Model=realtime", "--set", "Mesh/Geo parameters=h: 0.005, hexahedra: 0",
+                                 "--set", "Realtime/Integrator=xpbd", "--set", "Realtime/xpbd/Iterations=30", "--set",
+                                 "Realtime/xpbd/Damping rate=50", "--set", "Time/End time=1.5"});
   ASSERT_EQ(rt.exit_code, 0) << rt.output;
   for (const char *probe : {"top_centre", "top_edge_of_patch", "top_outside", "mid_depth_centre"})
     for (const auto *r : {&fe, &rt})
@@ -137,15 +136,12 @@ TEST(RealtimeScene, SameBlockUnderTheSameLoadInBothPathsFeedsTheProbeComparison)
   EXPECT_LT(u_rt, 0);
   EXPECT_LT(std::abs(std::log(u_rt / u_fe)), std::log(factor)) << u_fe << " vs " << u_rt;
 
-  const std::string command = "/usr/bin/python3 '" + source_path("benchmarks/block_patch_load/compare.py") +
-                              "' --against '" + fe.directory + "' '" + rt.directory + "' 2>&1";
-  FILE *pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
   std::string output;
-  char        buffer[256];
-  while (fgets(buffer, sizeof buffer, pipe))
-    output += buffer;
-  EXPECT_EQ(pclose(pipe), 0) << output;
+  EXPECT_EQ(run_logged({"/usr/bin/python3", source_path("benchmarks/block_patch_load/compare.py"), "--against",
+                        fe.directory, rt.directory},
+                       rt.directory + "_compare.log", output),
+            0)
+    << output;
   EXPECT_NE(output.find("| top_centre |"), std::string::npos) << output;
   EXPECT_TRUE(std::filesystem::exists(rt.directory + "/probe_comparison.csv"));
 }
@@ -155,9 +151,8 @@ TEST(RealtimeScene, NeedlePassPuncturesAtTheThresholdAndRecordsTheForceCurves)
   // parameters/needle_pass.prm through the suturesim command on a coarser pad (h = 2 mm):
   // entry and exit punctures at the threshold within 5 % (issue 5), both pierce points
   // drawn onto the suture, the needle columns and metrics, and the plot script's PNG/PDF
-  const auto r = run_suturesim("needle_pass",
-                               "'" + source_path("parameters/needle_pass.prm") +
-                                 "' --set 'Mesh/Geo parameters=h: 0.002, hexahedra: 0'");
+  const auto r = run_suturesim("needle_pass", {source_path("parameters/needle_pass.prm"), "--set",
+                                               "Mesh/Geo parameters=h: 0.002, hexahedra: 0"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto  &m         = r.summary["metrics"];
   const double threshold = r.summary["needle"]["puncture_threshold"];
@@ -184,9 +179,11 @@ TEST(RealtimeScene, NeedlePassPuncturesAtTheThresholdAndRecordsTheForceCurves)
                              "pierce_1_normal_force [N]", "pierce_0_friction_force [N]"})
     EXPECT_NE(header.find(column), std::string::npos) << column;
 
-  const std::string command = "/usr/bin/python3 '" + source_path("postprocess/plot_forces.py") + "' '" +
-                              r.directory + "' > /dev/null 2>&1";
-  EXPECT_EQ(std::system(command.c_str()), 0);
+  std::string plot_output;
+  EXPECT_EQ(run_logged({"/usr/bin/python3", source_path("postprocess/plot_forces.py"), r.directory},
+                       r.directory + "_plot.log", plot_output),
+            0)
+    << plot_output;
   for (const char *file : {"forces.png", "needle_forces.png", "needle_forces.pdf"})
     EXPECT_TRUE(std::filesystem::exists(r.directory + "/" + file)) << file;
 }
@@ -234,8 +231,8 @@ TEST(RealtimeScene, StitchPassesBothWoundSidesInOrderAcrossTheGap)
   // gaping wound measures its 0.4 mm on top, the stitch's depth gap is the ruled face's
   // Wg (1 - delta/Di), and one pass makes four punctures in turn — top of A, wound face
   // of A, wound face of B, top of B — whose pierce points stay in thread order
-  const auto r = run_suturesim("stitch_interrupted", "'" + source_path("parameters/stitch_interrupted.prm") +
-                                                       "' --set 'Time/End time=0.9'");
+  const auto r = run_suturesim("stitch_interrupted",
+                               {source_path("parameters/stitch_interrupted.prm"), "--set", "Time/End time=0.9"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto &m = r.summary["metrics"];
   EXPECT_NEAR(m["initial_gap"].get<double>(), 4e-4, 1e-9);
@@ -272,8 +269,8 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   // drawn the same way: 4.47 N at 5 mm, 5.78 N at 6 mm; the test asks for 15 % more).
   // At the end no suture node lies inside the tissue outside the bites' tracts (the
   // realtime path's suture–surface contact).
-  const std::string stitch = "'" + source_path("parameters/stitch_interrupted.prm") + "'";
-  const auto        r5     = run_suturesim("stitch_closes", stitch);
+  const std::string stitch = source_path("parameters/stitch_interrupted.prm");
+  const auto        r5     = run_suturesim("stitch_closes", {stitch});
   ASSERT_EQ(r5.exit_code, 0) << r5.output;
   const auto &m5 = r5.summary["metrics"];
   EXPECT_LT(std::abs(m5["final_gap"].get<double>()), 1e-4);
@@ -302,9 +299,8 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   // the gap's crossing, interpolated within the haptic step (1 ms) that closes
   EXPECT_NEAR(m5["closure_time"].get<double>(), 6.643240844819425, 1e-9);
 
-  const auto r6 = run_suturesim("stitch_bite_6mm", stitch +
-                                                     " --set 'Needle/Pass/Entry point=-0.006, 0, 0.006'"
-                                                     " --set 'Needle/Pass/Bite depth=0.0027085'");
+  const auto r6 = run_suturesim("stitch_bite_6mm", {stitch, "--set", "Needle/Pass/Entry point=-0.006, 0, 0.006",
+                                                    "--set", "Needle/Pass/Bite depth=0.0027085"});
   ASSERT_EQ(r6.exit_code, 0) << r6.output;
   const auto &m6 = r6.summary["metrics"];
   ASSERT_FALSE(m6["closure_tension"].is_null());
@@ -403,18 +399,18 @@ TEST(RealtimeScene, RegionModuliNameAPhysicalVolumeOfTheMesh)
 {
   // a layer the mesh does not have is an input error naming the entry and the region,
   // and the accurate path refuses layers it does not apply yet
-  const std::string stitch = "'" + source_path("parameters/stitch_interrupted.prm") + "'";
-  const auto        r = run_suturesim("region_unknown", stitch + " --set 'Tissue/Region moduli=fat: 840, 36000'");
+  const std::string stitch = source_path("parameters/stitch_interrupted.prm");
+  const auto        r = run_suturesim("region_unknown", {stitch, "--set", "Tissue/Region moduli=fat: 840, 36000"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("Region moduli"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("'fat'"), std::string::npos) << r.output;
   EXPECT_FALSE(r.has_summary && r.summary["status"] == "completed");
-  const auto bad = run_suturesim("region_poisson", stitch + " --set 'Tissue/Region moduli=dermis: 3e6, 1e6'");
+  const auto bad = run_suturesim("region_poisson", {stitch, "--set", "Tissue/Region moduli=dermis: 3e6, 1e6"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("0 < mu < 1.5 K"), std::string::npos) << bad.output;
-  const auto accurate = run_suturesim("region_accurate", "'" + source_path("parameters/needle_pass.prm") +
-                                                           "' --set Model=accurate --set Bodies=tissue"
-                                                           " --set 'Tissue/Region moduli=dermis: 840, 36000'");
+  const auto accurate = run_suturesim("region_accurate", {source_path("parameters/needle_pass.prm"), "--set",
+                                                          "Model=accurate", "--set", "Bodies=tissue", "--set",
+                                                          "Tissue/Region moduli=dermis: 840, 36000"});
   EXPECT_NE(accurate.exit_code, 0);
   EXPECT_NE(accurate.output.find("realtime only"), std::string::npos) << accurate.output;
 }

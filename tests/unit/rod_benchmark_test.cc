@@ -293,7 +293,7 @@ TEST(RodDynamics, EnergyConservedOrBoundedlyDissipated)
 TEST(RodBenchmark, ShippedRollUpScene)
 {
   const auto ref = benchmark_reference("rod_rollup");
-  const auto run = run_suturesim("rod_rollup", "'" + benchmark_scene("rod_rollup") + "'");
+  const auto run = run_suturesim("rod_rollup", {benchmark_scene("rod_rollup")});
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto   t   = run.summary["metrics"]["tip_position"];
   const Vec3   tip(t[0], t[1], t[2]);
@@ -317,7 +317,7 @@ TEST(RodBenchmark, ShippedRollUpScene)
 TEST(RodBenchmark, ShippedCantileverScene)
 {
   const auto ref = benchmark_reference("rod_cantilever");
-  const auto run = run_suturesim("rod_cantilever", "'" + benchmark_scene("rod_cantilever") + "'");
+  const auto run = run_suturesim("rod_cantilever", {benchmark_scene("rod_cantilever")});
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto   tip = run.summary["metrics"]["tip_position"];
   const double L   = std::stod(run_parameter(run, "Suture/Straight/Length"));
@@ -334,7 +334,7 @@ TEST(RodBenchmark, ShippedCantileverScene)
 // a real 3-0 monofilament at dt = 1 ms, where an explicit scheme needs ~1 us
 TEST(RodBenchmark, SutureSwingScene)
 {
-  const auto run = run_suturesim("suture_swing", source_path("parameters/suture_swing.prm"));
+  const auto run = run_suturesim("suture_swing", {source_path("parameters/suture_swing.prm")});
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(run.summary["status"], "completed");
   EXPECT_EQ(run.summary["steps"].size(), 501u) << "every 1 ms step accepted without cut-back";

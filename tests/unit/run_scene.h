@@ -1,17 +1,33 @@
 #pragma once
 // Runs the suturesim command as a user would and reads back what it wrote.
+#include <suturesim/core/process.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
+#include <sys/wait.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace suturesim::test_support
 {
+  /// A command as its argument vector: started without a shell, so a file name or a
+  /// setting with spaces or quotes is one argument, never a command.
+  using Args = std::vector<std::string>;
+
+  /// @p a followed by @p b.
+  inline Args
+  join(Args a, const Args &b)
+  {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  }
+
   /// The source tree, the suturesim binary and the scratch folder of this build
   /// (tests/unit/test_paths.cc: the one file compiled with these paths, so that the other
   /// test files' compiler-cache entries do not depend on where the tree is checked out).
@@ -67,15 +83,22 @@ namespace suturesim::test_support
     return dir;
   }
 
-  /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes. The test
-  /// process is an MPI singleton: its OMPI_/PMIX_ variables would make the child mpirun
-  /// join it, so they are removed first.
-  inline std::string
+  /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes (run_suturesim()
+  /// gives a launched run mpi_environment()).
+  inline Args
   mpi_launcher(const unsigned n)
   {
-    return "for v in $(env | cut -d= -f1 | grep -E '^(OMPI_|PMIX_|OPAL_)'); do unset $v; "
-           "done; OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np " +
-           std::to_string(n) + " --oversubscribe";
+    return {"mpirun", "-np", std::to_string(n), "--oversubscribe"};
+  }
+
+  /// The environment of a launched run: the test process is an MPI singleton, its
+  /// OMPI_/PMIX_/OPAL_ variables would make the child mpirun join it, so they are removed
+  /// (start_process() removes the "PREFIX*" entries from the inherited environment only,
+  /// then sets the "NAME=value" ones, so the two OMPI_ALLOW_ variables stay).
+  inline Args
+  mpi_environment()
+  {
+    return {"OMPI_*", "PMIX_*", "OPAL_*", "OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"};
   }
 
   /// The numeric rows of a run's forces.csv (the header is checked by the caller).
@@ -154,27 +177,52 @@ namespace suturesim::test_support
     return s.str();
   }
 
-  /// Runs the shell command @p command with its output into @p log; its exit code (-1 if
-  /// it did not exit), the output in @p output.
-  inline int
-  run_logged(const std::string &command, const std::string &log, std::string &output)
+  /// How many lines of @p output begin with @p prefix (e.g. "error: ").
+  inline std::size_t
+  lines_starting(const std::string &output, const std::string &prefix)
   {
-    const int status = std::system((command + " > '" + log + "' 2>&1").c_str());
-    output           = read_text(log);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::size_t       n = 0;
+    std::stringstream in(output);
+    for (std::string line; std::getline(in, line);)
+      n += line.rfind(prefix, 0) == 0;
+    return n;
   }
 
-  /// Runs `[launcher] suturesim args --output <fresh folder>`.
+  /// Runs @p argv (no shell; argv[0] found on PATH unless it has a '/') with @p environment
+  /// (see start_process()) and its standard output and error into @p log; its exit code
+  /// (-1 if it could not be started or did not exit), the output in @p output.
+  inline int
+  run_logged(const Args &argv, const std::string &log, std::string &output, const Args &environment = {})
+  {
+    int status = -1;
+    try
+      {
+        const pid_t pid = start_process(argv, log, environment);
+        if (waitpid(pid, &status, 0) != pid)
+          status = -1;
+        output = read_text(log);
+      }
+    catch (const std::runtime_error &e)
+      {
+        output = e.what();
+        return -1;
+      }
+    return status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  /// Runs `[launcher...] suturesim args... --output <fresh folder>`; a run launched by
+  /// mpirun (mpi_launcher()) gets mpi_environment(), any other launcher (such as
+  /// `/usr/bin/env -C <folder>`) this process's environment.
   inline RunResult
-  run_suturesim(const std::string &name, const std::string &args,
-                const std::string &launcher = "")
+  run_suturesim(const std::string &name, const Args &args, const Args &launcher = {})
   {
     namespace fs = std::filesystem;
     RunResult r;
     r.directory = (scratch_path() / name).string();
     fs::remove_all(r.directory);
-    r.exit_code = run_logged(launcher + " " + suturesim_binary() + " " + args + " --output '" + r.directory + "'",
-                             r.directory + ".log", r.output);
+    r.exit_code = run_logged(join(join(launcher, join({suturesim_binary()}, args)), {"--output", r.directory}),
+                             r.directory + ".log", r.output,
+                             !launcher.empty() && launcher.front() == "mpirun" ? mpi_environment() : Args{});
     const fs::path summary = fs::path(r.directory) / "summary.json";
     if (fs::exists(summary))
       {

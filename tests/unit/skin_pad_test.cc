@@ -13,11 +13,9 @@ namespace fs = std::filesystem;
 
 TEST(SkinPad, CoarsePullWritesTheOutputContractAndBalances)
 {
-  const auto r = run_suturesim("skin_pad",
-                               source_path("parameters/skin_pad_pull.prm") +
-                                 " --set 'Mesh/Geo parameters=h: 0.005'"
-                                 " --set 'Tissue/Element degree=1'"
-                                 " --set 'Time/Step size=0.5'");
+  const auto r = run_suturesim("skin_pad", {source_path("parameters/skin_pad_pull.prm"), "--set",
+                                            "Mesh/Geo parameters=h: 0.005", "--set", "Tissue/Element degree=1",
+                                            "--set", "Time/Step size=0.5"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.summary["status"], "completed");
   EXPECT_EQ(r.summary["model"], "accurate");

@@ -73,9 +73,8 @@ TEST(SolverFailure, TissueNewtonThatCannotConvergeKeepsTheInitialState)
 {
   // Cook's membrane (2 × 2 Q1) in two load steps; one Newton iteration cannot solve the
   // first, nor its half after the one halving allowed.
-  const auto r = run_suturesim("fail_tissue", "'" + source_path("tests/data/cook_coarse.prm") +
-                                                "' --set 'Tissue/Newton/Max iterations=1'"
-                                                " --set 'Time/Max cutbacks=1'");
+  const auto r = run_suturesim("fail_tissue", {source_path("tests/data/cook_coarse.prm"), "--set",
+                                               "Tissue/Newton/Max iterations=1", "--set", "Time/Max cutbacks=1"});
   EXPECT_NE(r.output.find("error: Newton failed at step 1 (t = 0.25 s) after 1 step halvings"), std::string::npos)
     << r.output;
   expect_failed(r);
@@ -84,9 +83,8 @@ TEST(SolverFailure, TissueNewtonThatCannotConvergeKeepsTheInitialState)
 
 TEST(SolverFailure, SutureNewtonThatCannotConvergeKeepsTheInitialState)
 {
-  const auto r = run_suturesim("fail_suture", "'" + benchmark_scene("rod_cantilever") +
-                                                "' --set 'Suture/Newton/Max iterations=1'"
-                                                " --set 'Time/Max cutbacks=1'");
+  const auto r = run_suturesim("fail_suture", {benchmark_scene("rod_cantilever"), "--set",
+                                               "Suture/Newton/Max iterations=1", "--set", "Time/Max cutbacks=1"});
   EXPECT_NE(r.output.find("error: suture load step from t = 0.000000 s to 0.100000 s failed after 1 step halvings"),
             std::string::npos)
     << r.output;
@@ -98,11 +96,9 @@ TEST(SolverFailure, CoupledNeedlePassThatCannotConvergeKeepsItsLastAcceptedStep)
 {
   // The accurate needle pass: two tissue Newton iterations solve the approach, not the
   // first step with a pierce point on the needle (its first halving also fails).
-  const auto r = run_suturesim("fail_needle", "'" + source_path("parameters/needle_pass.prm") +
-                                                "' --set Model=accurate --set 'Time/Step size=0.04'"
-                                                " --set 'Time/End time=1.5'"
-                                                " --set 'Tissue/Newton/Max iterations=2'"
-                                                " --set 'Time/Max cutbacks=1'");
+  const auto r = run_suturesim("fail_needle", {source_path("parameters/needle_pass.prm"), "--set", "Model=accurate",
+                                               "--set", "Time/Step size=0.04", "--set", "Time/End time=1.5", "--set",
+                                               "Tissue/Newton/Max iterations=2", "--set", "Time/Max cutbacks=1"});
   std::smatch       m;
   const std::regex  last(R"(last converged state t = ([0-9.eE+-]+) s)");
   ASSERT_TRUE(std::regex_search(r.output, m, last)) << r.output;
@@ -122,11 +118,10 @@ TEST(SolverFailure, CoupledNeedlePassThatCannotConvergeKeepsItsLastAcceptedStep)
 // first full window of 200 steps with status failed, a diagnosis and the state kept.
 TEST(SolverFailure, RunawayRodDynamicsStopWithinABoundedNumberOfSteps)
 {
-  const auto r = run_suturesim("fail_runaway_rod", "'" + source_path("parameters/suture_swing.prm") +
-                                                     "' --set 'Time/Generalized-alpha/Spectral radius=1'"
-                                                     " --set 'Suture/Damping=0'"
-                                                     " --set 'Suture/Loads/End force=0,0,-50'"
-                                                     " --set 'Time/Max cutbacks=20'");
+  const auto r = run_suturesim("fail_runaway_rod",
+                               {source_path("parameters/suture_swing.prm"), "--set",
+                                "Time/Generalized-alpha/Spectral radius=1", "--set", "Suture/Damping=0", "--set",
+                                "Suture/Loads/End force=0,0,-50", "--set", "Time/Max cutbacks=20"});
   EXPECT_EQ(r.exit_code, 3) << r.output;
   EXPECT_EQ(count_lines_starting(r.output, "error: "), 1u) << r.output;
   ASSERT_TRUE(r.has_summary) << r.output;

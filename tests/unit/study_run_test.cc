@@ -33,14 +33,14 @@ namespace
 
   /// `suturesim study <file> --output <scratch>/<name> <args>`; @p fresh clears the folder.
   StudyRun
-  run_study(const std::string &name, const std::string &file, const std::string &args, const bool fresh = true)
+  run_study(const std::string &name, const std::string &file, const Args &args, const bool fresh = true)
   {
     StudyRun r;
     r.folder = (scratch_path() / name).string();
     if (fresh)
       fs::remove_all(r.folder);
-    r.exit_code = run_logged(std::string(suturesim_binary()) + " study '" + file + "' --output '" + r.folder + "' " + args,
-                             r.folder + ".log", r.output);
+    r.exit_code = run_logged(join({suturesim_binary(), "study", file, "--output", r.folder}, args), r.folder + ".log",
+                             r.output);
     std::ifstream json(r.folder + "/study.json");
     if (json)
       json >> r.study;
@@ -106,7 +106,7 @@ TEST(StudyRun, PatchLoadParetoAtSmallSizeWritesTablesFrontAndCharts)
 {
   // the shipped study, 0.5 s instead of 3 s (the reference: one quasi-static step)
   const auto r = run_study("study_patch_load", source_path("parameters/studies/patch_load_pareto.prm"),
-                           "--jobs 2 --set \"Time/End time=0.5\"");
+                           {"--jobs", "2", "--set", "Time/End time=0.5"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char *file : {"cases.csv", "study.json", "pareto.png", "pareto.pdf"})
     EXPECT_TRUE(fs::exists(fs::path(r.folder) / file)) << file;
@@ -142,7 +142,7 @@ TEST(StudyRun, PatchLoadParetoAtSmallSizeWritesTablesFrontAndCharts)
 TEST(StudyRun, ExplicitStabilityBoundaryLiesWithinFivePercentOfDtCrit)
 {
   const auto r = run_study("study_stability_explicit", source_path("parameters/studies/stability_explicit.prm"),
-                           "--jobs 2");
+                           {"--jobs", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.csv"));
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.png"));
@@ -172,7 +172,7 @@ TEST(StudyRun, ExplicitStabilityBoundaryLiesWithinFivePercentOfDtCrit)
 
 TEST(StudyRun, RerunWithNothingChangedRunsNoCase)
 {
-  const auto first = run_study("study_rerun", small_study, "--jobs 2");
+  const auto first = run_study("study_rerun", small_study, {"--jobs", "2"});
   ASSERT_EQ(first.exit_code, 0) << first.output;
   EXPECT_EQ(first.study["timing"]["cases_run"], 5);
   const auto before = run_records(first.folder);
@@ -180,21 +180,21 @@ TEST(StudyRun, RerunWithNothingChangedRunsNoCase)
   // best.prm is a scene that reproduces the cheapest adequate case by itself
   ASSERT_TRUE(first.study["best"].is_string()) << first.study.dump();
   const std::string best = first.study["best"];
-  const auto        again = run_suturesim("study_rerun_best", "'" + first.folder + "/best.prm'");
+  const auto        again = run_suturesim("study_rerun_best", {first.folder + "/best.prm"});
   ASSERT_EQ(again.exit_code, 0) << again.output;
   std::ifstream  in(first.folder + "/cases/" + best + "/summary.json");
   nlohmann::json chosen;
   in >> chosen;
   for (const char *metric : {"top_centre_displacement_z", "mid_depth_centre_displacement_z"})
     EXPECT_EQ(again.summary["metrics"][metric], chosen["metrics"][metric]) << metric;
-  const auto second = run_study("study_rerun", small_study, "--jobs 2", false);
+  const auto second = run_study("study_rerun", small_study, {"--jobs", "2"}, false);
   ASSERT_EQ(second.exit_code, 0) << second.output;
   EXPECT_EQ(second.study["timing"]["cases_run"], 0);
   EXPECT_EQ(second.study["timing"]["cases_reused"], 5);
   EXPECT_EQ(run_records(second.folder), before);
   EXPECT_EQ(without_costs(read_csv(second.folder + "/cases.csv")), without_costs(read_csv(first.folder + "/cases.csv")));
   // a setting that changes every case runs them all again
-  const auto third = run_study("study_rerun", small_study, "--jobs 2 --set Realtime/Rate=500", false);
+  const auto third = run_study("study_rerun", small_study, {"--jobs", "2", "--set", "Realtime/Rate=500"}, false);
   ASSERT_EQ(third.exit_code, 0) << third.output;
   EXPECT_EQ(third.study["timing"]["cases_run"], 5);
 }
@@ -212,7 +212,7 @@ TEST(StudyRun, AReferenceOnTwoProcessesGivesTheSerialResult)
                       << "\n  set Processes = 2\nend\nsubsection Cases\n  set List = serial: " << same
                       << "\nend\nsubsection Metrics\n  set Probes = tip\nend\n"
                          "subsection Objective\n  set Error = probes.max\nend\n";
-  const auto r = run_study("study_processes", file, "--jobs 2");
+  const auto r = run_study("study_processes", file, {"--jobs", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::map<std::string, nlohmann::json> summaries;
   for (const std::string name : {"reference", "serial"})
@@ -226,7 +226,7 @@ TEST(StudyRun, AReferenceOnTwoProcessesGivesTheSerialResult)
   EXPECT_GT(std::abs(tip), 1e-3); // the membrane bends by millimetres
   // Newton stops at 1e-9 of the first residual (Tissue/Newton defaults) on either count
   EXPECT_NEAR(summaries["reference"]["metrics"]["tip_displacement_y"].get<double>(), tip, 1e-8 * std::abs(tip));
-  const auto exported = run_study("study_processes_snakemake", file, "--export snakemake");
+  const auto exported = run_study("study_processes_snakemake", file, {"--export", "snakemake"});
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   std::ifstream      snakefile(exported.folder + "/Snakefile");
   std::ostringstream text;
@@ -237,14 +237,18 @@ TEST(StudyRun, AReferenceOnTwoProcessesGivesTheSerialResult)
 
 TEST(StudyRun, SnakemakeExportGivesTheSameTableAsJobs)
 {
-  const auto jobs = run_study("study_jobs", small_study, "--jobs 2");
+  const auto jobs = run_study("study_jobs", small_study, {"--jobs", "2"});
   ASSERT_EQ(jobs.exit_code, 0) << jobs.output;
-  const auto exported = run_study("study_snakemake", small_study, "--export snakemake");
+  const auto exported = run_study("study_snakemake", small_study, {"--export", "snakemake"});
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   ASSERT_TRUE(fs::exists(fs::path(exported.folder) / "Snakefile"));
   // snakemake from Debian (scripts/install-deps.sh); its own working folder is the study's
-  const std::string cmd = "cd '" + exported.folder + "' && snakemake --snakefile Snakefile --cores 2 > snakemake.log 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << exported.folder << "/snakemake.log";
+  std::string snakemake_output;
+  ASSERT_EQ(run_logged({"snakemake", "--directory", exported.folder, "--snakefile", exported.folder + "/Snakefile",
+                        "--cores", "2"},
+                       exported.folder + "/snakemake.log", snakemake_output),
+            0)
+    << "see " << exported.folder << "/snakemake.log";
   const auto snake = read_csv(exported.folder + "/cases.csv");
   ASSERT_EQ(snake.size(), 6u);
   EXPECT_EQ(without_costs(snake), without_costs(read_csv(jobs.folder + "/cases.csv")));
@@ -274,15 +278,15 @@ TEST(StudyRun, ErrorsFoundAfterTheRunsNameTheStudyLine)
     {
       const std::string file = (dir / (b.name + ".prm")).string();
       std::ofstream(file) << b.text;
-      const auto r = run_study("bad_" + b.name, file, "");
+      const auto r = run_study("bad_" + b.name, file, {});
       std::printf("[ study error ] %s", r.output.substr(r.output.rfind("error: ")).c_str());
       EXPECT_EQ(r.exit_code, 2) << r.output;
       EXPECT_NE(r.output.find(b.expected), std::string::npos) << r.output;
     }
   // the command line
-  EXPECT_EQ(run_study("bad_jobs", small_study, "--jobs 0").exit_code, 2);
-  EXPECT_NE(run_study("bad_option", small_study, "--nonsense").output.find("unknown"), std::string::npos);
-  const auto only = run_study("bad_only", small_study, "--only nonsense");
+  EXPECT_EQ(run_study("bad_jobs", small_study, {"--jobs", "0"}).exit_code, 2);
+  EXPECT_NE(run_study("bad_option", small_study, {"--nonsense"}).output.find("unknown"), std::string::npos);
+  const auto only = run_study("bad_only", small_study, {"--only", "nonsense"});
   EXPECT_EQ(only.exit_code, 2);
   EXPECT_NE(only.output.find("--only nonsense: the study has no such case"), std::string::npos) << only.output;
 }
@@ -293,7 +297,7 @@ TEST(StudyRun, XpbdStretchFallsWithIterationsAndRate)
   // more iterations at one rate and with a higher rate at one iteration count (its
   // constraints' effective stiffness grows with both: Macklin et al. 2016, sec. 3.3)
   const auto r = run_study("study_stability_xpbd", source_path("parameters/studies/stability_xpbd.prm"),
-                           "--jobs 2 --set \"Time/End time=0.1\"");
+                           {"--jobs", "2", "--set", "Time/End time=0.1"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "stability.png"));
   const std::string modulus = "Suture/Cross section/Young's modulus";
@@ -346,7 +350,7 @@ TEST(StudyRun, XpbdStretchFallsWithIterationsAndRate)
 
 TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
 {
-  const auto r = run_study("study_convergence", source_path("tests/data/studies/convergence_small.prm"), "--jobs 2");
+  const auto r = run_study("study_convergence", source_path("tests/data/studies/convergence_small.prm"), {"--jobs", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto &series = r.study.at("convergence").at("series");
   ASSERT_EQ(series.size(), 1u); // every case is Model=realtime
@@ -360,7 +364,7 @@ TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
 
 TEST(StudyRun, AResolutionSeriesReferenceIsItsExtrapolation)
 {
-  const auto r = run_study("study_series", source_path("tests/data/studies/series_small.prm"), "--jobs 2");
+  const auto r = run_study("study_series", source_path("tests/data/studies/series_small.prm"), {"--jobs", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto &account = r.study.at("reference_series");
   ASSERT_EQ(account.at("runs").size(), 3u);
@@ -393,7 +397,7 @@ TEST(StudyRun, AResolutionSeriesReferenceIsItsExtrapolation)
 
   // --only keeps the whole series (it is one reference) and the same measurement
   const auto one = run_study("study_series_only", source_path("tests/data/studies/series_small.prm"),
-                             "--jobs 2 --only xpbd");
+                             {"--jobs", "2", "--only", "xpbd"});
   ASSERT_EQ(one.exit_code, 0) << one.output;
   ASSERT_EQ(one.study.at("cases").size(), 4u);
   EXPECT_EQ(one.study.at("reference_series").at("runs").size(), 3u);
@@ -406,8 +410,9 @@ TEST(StudyRun, StitchParetoAtSmallSize)
   // default on 2 mm tetrahedra (each through its path's model section, so the variants'
   // own meshes stay): about 90 s on 2 cores instead of 4 minutes
   const auto r = run_study("study_stitch_pareto", source_path("parameters/studies/stitch_pareto.prm"),
-                           "--jobs 2 --set \"Model accurate/Mesh/Geo parameters=h: 0.003, hexahedra: 1, Wg: 0.0004\""
-                           " --set \"Model realtime/Mesh/Geo parameters=h: 0.002, hexahedra: 0, Wg: 0.0004\"");
+                           {"--jobs", "2", "--set",
+                            "Model accurate/Mesh/Geo parameters=h: 0.003, hexahedra: 1, Wg: 0.0004", "--set",
+                            "Model realtime/Mesh/Geo parameters=h: 0.002, hexahedra: 0, Wg: 0.0004"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const char *file : {"cases.csv", "pareto.png", "pareto.pdf"})
     EXPECT_TRUE(fs::exists(fs::path(r.folder) / file)) << file;
@@ -448,8 +453,8 @@ TEST(StudyRun, MeshConvergenceStitchAtSmallSize)
   // three realtime meshes and the reference on 3 mm hexahedra (about 30 s)
   const auto r = run_study("study_mesh_convergence_stitch",
                            source_path("parameters/studies/mesh_convergence_stitch.prm"),
-                           "--jobs 2 --only rt-2mm,rt-1.8mm,rt-1.5mm"
-                           " --set \"Model accurate/Mesh/Geo parameters=h: 0.003, hexahedra: 1, Wg: 0.0004\"");
+                           {"--jobs", "2", "--only", "rt-2mm,rt-1.8mm,rt-1.5mm", "--set",
+                            "Model accurate/Mesh/Geo parameters=h: 0.003, hexahedra: 1, Wg: 0.0004"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_EQ(r.study.at("cases").size(), 4u); // --only: these three and their reference
   EXPECT_TRUE(fs::exists(fs::path(r.folder) / "convergence.csv"));
@@ -515,7 +520,7 @@ TEST(StudyRun, ShippedStudiesValidate)
   for (const auto &entry : fs::directory_iterator(source_path("parameters/studies")))
     {
       std::string output;
-      const int   code = run_logged(std::string(suturesim_binary()) + " study '" + entry.path().string() + "' --validate",
+      const int   code = run_logged({suturesim_binary(), "study", entry.path().string(), "--validate"},
                                   (scratch_path() / ("validate_" + entry.path().stem().string() + ".log")).string(),
                                   output);
       EXPECT_EQ(code, 0) << entry.path() << ": " << output;

@@ -101,7 +101,7 @@ TEST(SuturePreset, EveryPresetTakesItsSourcesValues)
 
 TEST(SuturePreset, HelpListsEveryPresetWithItsValues)
 {
-  const auto r = test_support::run_suturesim("preset_help", "--help");
+  const auto r = test_support::run_suturesim("preset_help", {"--help"});
   ASSERT_EQ(r.exit_code, 0);
   // the help text is wrapped into comment lines: compare without the comment marks,
   // white space collapsed

@@ -36,7 +36,7 @@ TEST(VtuOutput, AccurateTissueFilesHoldTheDocumentedFieldsOnTheReferenceMesh)
 {
   // tests/data/cook_coarse.prm: Cook's membrane, 2 x 2 x 1 Q1 cells, left face clamped,
   // outputs at t = 0, 0.5, 1
-  const auto r = run_suturesim("vtu_cook", source_path("tests/data/cook_coarse.prm"));
+  const auto r = run_suturesim("vtu_cook", {source_path("tests/data/cook_coarse.prm")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Vtu first = read_vtu(r.directory + "/tissue_00000.vtu");
   const Vtu last  = read_vtu(r.directory + "/tissue_00002.vtu");
@@ -103,9 +103,9 @@ TEST(VtuOutput, RealtimeFilesHoldTheDeformedTissueAndTheThreadsTension)
 {
   // the default stitch to 2.6 s (the thread drawn through its four holes, its tail
   // grasped: tension at both ends), with a probe inside side A; outputs every 0.1 s
-  const auto r = run_suturesim("vtu_realtime", "'" + source_path("parameters/stitch_interrupted.prm") +
-                                                 "' --set 'Time/End time=2.6'"
-                                                 " --set 'Tissue/Probes=inside: -0.003, 0.002, 0.004'");
+  const auto r = run_suturesim("vtu_realtime", {source_path("parameters/stitch_interrupted.prm"), "--set",
+                                                "Time/End time=2.6", "--set",
+                                                "Tissue/Probes=inside: -0.003, 0.002, 0.004"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::string header;
   const auto  rows = read_forces(r, &header);
@@ -198,7 +198,7 @@ TEST(VtuOutput, RodFilesHoldSectionForcesThatCarryTheEndLoad)
   // P = (0, −0.0442, 0) N alone; every section carries P (statics of the cut-off part:
   // its resultant in the section's frame, axial² + shear² = |P|², whatever the
   // deflection), the tip is metrics.tip_position, contact forces are zero
-  const auto r = run_suturesim("vtu_rod", "'" + benchmark_scene("rod_cantilever") + "'");
+  const auto r = run_suturesim("vtu_rod", {benchmark_scene("rod_cantilever")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Vtu rod = read_vtu(r.directory + "/suture_00005.vtu");
   EXPECT_NEAR(rod.get("FieldData", "TIME").values.at(0), 1.0, 1e-7);
