@@ -1,4 +1,4 @@
-// suturesim [--validate] [--output DIR] [--set "Subsection/Key=value"]... [scene.prm]
+// suturesim [--validate] [--output DIR | --restart DIR] [--set "Subsection/Key=value"]... [scene.prm]
 #include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
 #include <suturesim/core/interruption.h>
@@ -23,11 +23,14 @@
 namespace
 {
   const char *usage =
-    "usage: suturesim [--validate] [--output DIR] [--set \"Subsection/Key=value\"]... "
+    "usage: suturesim [--validate] [--output DIR | --restart DIR] [--set \"Subsection/Key=value\"]... "
     "[--threads N] [scene.prm]\n"
     "  scene.prm     deal.II parameter file; without it the embedded default scene runs\n"
     "  --validate    parse and check the scene, then exit (0 when valid)\n"
     "  --output DIR  output folder (default: output/<scene file stem>, output/default)\n"
+    "  --restart DIR go on from the checkpoint in DIR (a run of the same scene and --set\n"
+    "                into DIR that stopped, or wrote Time/Checkpoint steps); its outputs\n"
+    "                continue there as if it had not stopped. Only Time/End time may change\n"
     "  --set S/K=V   override a parameter, e.g. --set \"Time/End time=0.5\"; it goes over\n"
     "                the file and its 'subsection Model <path>' settings; --set \"Model\n"
     "                accurate/Time/Step size=0.01\" sets that section's key instead\n"
@@ -67,7 +70,7 @@ main(int argc, char **argv)
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 
   bool                     validate = false, help = false;
-  std::string              output, scene_file;
+  std::string              output, scene_file, restart;
   std::vector<std::string> overrides;
   for (int i = 1; i < argc; ++i)
     {
@@ -78,6 +81,8 @@ main(int argc, char **argv)
         help = true;
       else if ((a == "--output" || a == "--set") && i + 1 < argc)
         (a == "--output" ? output : (overrides.emplace_back(), overrides.back())) = argv[++i];
+      else if (a == "--restart" && i + 1 < argc)
+        restart = argv[++i];
       else if (a == "--threads" && i + 1 < argc)
         {
           const std::string n = argv[++i];
@@ -140,21 +145,40 @@ main(int argc, char **argv)
           return 0;
         }
 
+      if (!restart.empty() && !output.empty() && output != restart)
+        throw InputError("--restart " + restart + ": a restart writes into its own folder, not --output " + output);
+      if (!restart.empty())
+        output = restart;
       if (output.empty())
         output = "output/" + (scene_file.empty() ? std::string("default")
                                                  : std::filesystem::path(scene_file).stem().string());
       recorder = std::make_unique<io::Recorder>(output, MPI_COMM_WORLD);
-      recorder->clear_stale_outputs();
-      recorder->write_parameters(prm);
+      if (restart.empty())
+        {
+          recorder->clear_stale_outputs();
+          recorder->write_parameters(prm);
+        }
+      else
+        recorder->resume(prm);
       const auto start = std::chrono::steady_clock::now();
       catch_stop_signals();
       simulation.run(*recorder);
       recorder->summary()["wall_time_seconds"] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      recorder->finish("completed");
+      // a run that ended without what its scene asked for says so (scene/run_summary.h)
+      std::string incomplete;
+      for (const auto &reason : recorder->summary().value("incomplete", nlohmann::json::array()))
+        incomplete += (incomplete.empty() ? "" : "; ") + reason.get<std::string>();
+      recorder->finish(incomplete.empty() ? "completed" : "incomplete");
       if (root)
         std::cout << "suturesim: wrote " << output << "/ (summary.json, forces.csv, "
                   << "*.pvd, parameters.prm)\n";
+      if (!incomplete.empty())
+        {
+          if (root)
+            std::cerr << "incomplete: " << incomplete << '\n';
+          return 6;
+        }
       return 0;
     }
   catch (const InputError &e)

@@ -27,7 +27,8 @@ namespace suturesim
   } // namespace
 
   unsigned
-  run_with_cutbacks(const StepControl &control, const StepHooks &hooks, const double t_start)
+  run_with_cutbacks(const StepControl &control, const StepHooks &hooks, const double t_start,
+                    const StepperState *resume)
   {
     const double T = control.end_time, h = control.step_size;
     const double h_max = std::max(h, control.max_step_size), h_min = std::ldexp(h, -int(control.max_cutbacks));
@@ -35,6 +36,15 @@ namespace suturesim
     unsigned     cutbacks = 0, steps = 0;
     std::vector<double> recent(pace_window, 0.0); // the last accepted steps, a ring
     double              recent_sum = 0;
+    if (resume)
+      {
+        t          = resume->t;
+        dt         = resume->dt;
+        steps      = resume->steps;
+        recent_sum = resume->recent_sum;
+        if (resume->recent.size() == pace_window)
+          recent = resume->recent;
+      }
     while (t < T * (1 - 1e-12))
       {
         // a step ends on the next event (adaptive steps) or the end time when it would
@@ -76,6 +86,8 @@ namespace suturesim
         cutbacks = 0;
         recent_sum += step_dt - recent[steps % pace_window];
         recent[steps % pace_window] = step_dt;
+        if (hooks.accepted)
+          hooks.accepted({t, dt, steps, recent, recent_sum});
         // the last step ends the run as it would without the signal or the pace
         const bool before_end = t < T * (1 - 1e-12);
         if (const int signal = before_end ? stop_requested() : 0)

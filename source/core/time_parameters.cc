@@ -55,6 +55,14 @@ namespace suturesim
                       "that the steps taken plus those still to go at the pace of its last 200 "
                       "exceed it stops with status failed (a diverging solution). Raise it for "
                       "a longer run. Unit: 1. Range: >= 1.");
+    prm.declare_entry("Checkpoint steps", "0", dealii::Patterns::Integer(0),
+                      "Checkpoints of the accurate needle pass and stitch (the run's folder, "
+                      "checkpoint/; suturesim --restart DIR goes on from the last): every this many "
+                      "accepted steps; 0: not by steps. A run stopped by SIGINT or SIGTERM writes one "
+                      "anyway. Unit: 1. Range: >= 0.");
+    prm.declare_entry("Checkpoint minutes", "0", dealii::Patterns::Double(0),
+                      "Checkpoints (see Checkpoint steps) every this many minutes of wall time; 0: "
+                      "not by time. Unit: min. Range: >= 0.");
     prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
                       "Simulated time between VTU outputs; 0 writes every step (quasi-"
                       "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
@@ -73,7 +81,9 @@ namespace suturesim
     scope.require(end_time > 0, "End time", "must be > 0 s");
     scope.require(step_size > 0, "Step size", "must be > 0 s");
     scope.require(step_size <= end_time, "Step size", "must not exceed the end time");
-    maximum_steps     = prm.get_double("Maximum steps");
+    maximum_steps      = prm.get_double("Maximum steps");
+    checkpoint_steps   = prm.get_integer("Checkpoint steps");
+    checkpoint_minutes = prm.get_double("Checkpoint minutes");
     check_step_count(end_time / step_size, maximum_steps, "Step size", scope);
   }
 

@@ -1,5 +1,6 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/io/state_json.h>
 
 #include <Eigen/Geometry>
 
@@ -182,5 +183,54 @@ namespace suturesim::coupling
     state      = contact.exit ? Phase::outside : Phase::inside;
     last_force = 0;
     return true;
+  }
+  nlohmann::json
+  event_state(const PunctureEvent &e)
+  {
+    return {{"kind", e.kind}, {"time", e.time}, {"position", io::to_array(e.position)}, {"force", e.force}};
+  }
+
+  PunctureEvent
+  event_from(const nlohmann::json &j)
+  {
+    return {j.at("kind").get<std::string>(), j.at("time").get<double>(), io::vector3(j.at("position")),
+            j.at("force").get<double>()};
+  }
+
+  nlohmann::json
+  NeedlePuncture::snapshot() const
+  {
+    nlohmann::json events = nlohmann::json::array();
+    for (const auto &e : log)
+      events.push_back(event_state(e));
+    return {{"phase", int(state)},
+            {"touch",
+             {{"triangle", contact.point.triangle},
+              {"weights", io::to_array(contact.point.weights)},
+              {"reference", io::to_array(contact.reference)},
+              {"normal", io::to_array(contact.normal)},
+              {"exit", contact.exit}}},
+            {"events", events},
+            {"last_force", last_force},
+            {"last_tip", io::to_array(last_tip)},
+            {"looked", looked}};
+  }
+
+  void
+  NeedlePuncture::restore(const nlohmann::json &j)
+  {
+    state                  = Phase(j.at("phase").get<int>());
+    const auto &touch      = j.at("touch");
+    contact.point.triangle = touch.at("triangle").get<std::uint32_t>();
+    contact.point.weights  = io::vector3(touch.at("weights"));
+    contact.reference      = io::vector3(touch.at("reference"));
+    contact.normal         = io::vector3(touch.at("normal"));
+    contact.exit           = touch.at("exit").get<bool>();
+    log.clear();
+    for (const auto &e : j.at("events"))
+      log.push_back(event_from(e));
+    last_force = j.at("last_force").get<double>();
+    last_tip   = io::vector3(j.at("last_tip"));
+    looked     = j.at("looked").get<bool>();
   }
 } // namespace suturesim::coupling

@@ -1,6 +1,7 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/version.h>
 #include <suturesim/io/checked_output.h>
+#include <suturesim/io/checkpoint.h>
 #include <suturesim/io/recorder.h>
 
 #include <deal.II/base/data_out_base.h>
@@ -16,8 +17,56 @@ namespace suturesim::io
 {
   namespace fs = std::filesystem;
 
+  namespace
+  {
+    /// The settings of a parameters.prm text as "Subsection/Key = value" lines, without
+    /// those a restart may change.
+    std::vector<std::string>
+    settings(const std::string &text)
+    {
+      std::vector<std::string> path, lines;
+      std::istringstream       in(text);
+      for (std::string line; std::getline(in, line);)
+        {
+          line.erase(0, line.find_first_not_of(' '));
+          if (line.rfind("subsection ", 0) == 0)
+            path.push_back(line.substr(11));
+          else if (line == "end" && !path.empty())
+            path.pop_back();
+          else if (line.rfind("set ", 0) == 0 && line.find('=') != std::string::npos)
+            {
+              // "set Key   = value   # default: ..." (the PRM writer aligns the '=')
+              const auto trim = [](std::string t) {
+                t.erase(0, t.find_first_not_of(' '));
+                t.erase(t.find_last_not_of(' ') + 1);
+                return t;
+              };
+              std::string key = trim(line.substr(4, line.find('=') - 4));
+              for (auto p = path.rbegin(); p != path.rend(); ++p)
+                key = *p + "/" + key;
+              const std::string value = trim(line.substr(line.find('=') + 1, line.find('#') - line.find('=') - 1));
+              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0)
+                lines.push_back(key + " = " + value);
+            }
+        }
+      return lines;
+    }
+  } // namespace
+
+  std::string
+  first_difference(const std::string &before, const std::string &now)
+  {
+    const auto a = settings(before), b = settings(now);
+    for (std::size_t k = 0; k < std::max(a.size(), b.size()); ++k)
+      if (k >= a.size() || k >= b.size() || a[k] != b[k])
+        return "'" + (k < a.size() ? a[k] : std::string("nothing")) + "' then, '" +
+               (k < b.size() ? b[k] : std::string("nothing")) + "' now";
+    return "";
+  }
+
   Recorder::Recorder(const std::string &directory, MPI_Comm comm)
     : dir(directory)
+    , comm(comm)
     , root(dealii::Utilities::MPI::this_mpi_process(comm) == 0)
   {
     int ok = 1;
@@ -63,16 +112,73 @@ namespace suturesim::io
             ext == ".pvd" || ext == ".vtu" || ext == ".pvtu")
           fs::remove(entry.path());
       }
+    remove_checkpoint(dir);
   }
 
   void
-  Recorder::write_parameters(const dealii::ParameterHandler &prm) const
+  Recorder::write_parameters(const dealii::ParameterHandler &prm)
   {
-    if (!root)
-      return;
     std::ostringstream text;
     prm.print_parameters(text, dealii::ParameterHandler::PRM);
-    write_whole((fs::path(dir) / "parameters.prm").string(), text.str());
+    parameters = text.str();
+    if (root)
+      write_whole((fs::path(dir) / "parameters.prm").string(), parameters);
+  }
+
+  void
+  Recorder::resume(const dealii::ParameterHandler &prm)
+  {
+    try
+      {
+        take_up(prm);
+      }
+    catch (const nlohmann::json::exception &e)
+      {
+        resumed = {};
+        throw InputError("--restart " + dir + ": the checkpoint is not one of this version's (" + e.what() + ")");
+      }
+  }
+
+  void
+  Recorder::take_up(const dealii::ParameterHandler &prm)
+  {
+    resumed = read_checkpoint(dir, comm);
+    std::ostringstream text;
+    prm.print_parameters(text, dealii::ParameterHandler::PRM);
+    const auto       &record     = resumed.first.at("record");
+    const std::string difference = first_difference(record.at("parameters").get<std::string>(), text.str());
+    if (!difference.empty())
+      {
+        resumed = {};
+        throw InputError("--restart " + dir + ": the checkpoint was written with other parameters (" + difference +
+                         "); a restart runs the checkpoint's scene, only Time/End time may change");
+      }
+    write_parameters(prm);
+    series_files = record.at("series").get<decltype(series_files)>();
+    const auto csv_bytes = record.at("forces_csv_bytes").get<std::uintmax_t>();
+    if (!root)
+      return;
+    const fs::path forces = fs::path(dir) / "forces.csv";
+    std::error_code error;
+    if (fs::file_size(forces, error) < csv_bytes || error)
+      throw InputError("--restart " + dir + ": forces.csv is shorter than the checkpoint's record");
+    fs::resize_file(forces, csv_bytes, error);
+    if (error)
+      throw WriteError(forces.string() + ": cannot be written (" + error.message() + ")");
+    fs::remove(fs::path(dir) / "summary.json");
+  }
+
+  void
+  Recorder::checkpoint(const nlohmann::json &shared, const nlohmann::json &local)
+  {
+    nlohmann::json state;
+    state["processes"] = dealii::Utilities::MPI::n_mpi_processes(comm);
+    state["scenario"]  = shared;
+    state["record"]    = {{"parameters", parameters},
+                          {"summary", json},
+                          {"series", series_files},
+                          {"forces_csv_bytes", root ? fs::file_size(fs::path(dir) / "forces.csv") : 0}};
+    write_checkpoint(dir, state, local, comm);
   }
 
   void
@@ -82,10 +188,19 @@ namespace suturesim::io
     if (!root)
       return;
     errno = 0;
-    csv.open(fs::path(dir) / "forces.csv");
+    std::ostringstream header;
     for (std::size_t i = 0; i < names.size(); ++i)
-      csv << (i ? "," : "") << names[i];
-    csv << '\n';
+      header << (i ? "," : "") << names[i];
+    header << '\n';
+    if (resuming())
+      {
+        // the rows up to the checkpoint are there: go on after them
+        csv.open(fs::path(dir) / "forces.csv", std::ios::app);
+        check_written(csv, (fs::path(dir) / "forces.csv").string());
+        return;
+      }
+    csv.open(fs::path(dir) / "forces.csv");
+    csv << header.str();
     check_written(csv, (fs::path(dir) / "forces.csv").string());
   }
 

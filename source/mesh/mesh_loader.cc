@@ -10,7 +10,10 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -18,6 +21,8 @@
 #include <set>
 #include <sstream>
 #include <vector>
+
+#include <sys/wait.h>
 
 #ifndef SUTURESIM_GMSH
 #  define SUTURESIM_GMSH "gmsh"
@@ -85,6 +90,12 @@ namespace suturesim::mesh
                       "multiplies them by 8) is refused before refining, and so is a mesh that "
                       "has more after its local refinement. Raise it for a larger mesh. Unit: 1. "
                       "Range: >= 1.");
+    prm.declare_entry("Gmsh time limit",
+                      "600",
+                      Patterns::Double(0),
+                      "A guard against a .geo meshed far finer than meant (e.g. Geo parameters "
+                      "h: 1e-5): gmsh is stopped after this much wall time and the run refused. "
+                      "Raise it for a larger mesh. Unit: s. Range: > 0.");
     prm.declare_entry("Snap to geometry",
                       "",
                       Patterns::List(Patterns::Anything()),
@@ -107,6 +118,8 @@ namespace suturesim::mesh
     scale               = prm.get_double("Scale");
     global_refinements  = prm.get_integer("Global refinements");
     maximum_cells       = prm.get_double("Maximum cells");
+    gmsh_time_limit     = prm.get_double("Gmsh time limit");
+    scope.require(gmsh_time_limit > 0, "Gmsh time limit", "must be > 0 s");
     scope.require(scale > 0, "Scale", "must be > 0");
     scope.require(thickness > 0, "Thickness", "must be > 0 m");
     local.parse(prm, scope);
@@ -242,9 +255,13 @@ namespace suturesim::mesh
 
   namespace
   {
+    /// gmsh did not finish within Mesh/Gmsh time limit (run_gmsh()).
+    constexpr int gmsh_timed_out = -2;
+
     /// Runs gmsh on the scene's .geo with an argument vector (no shell: a file name or a
-    /// geo-parameter key is never read as a command), its output into @p log. Returns
-    /// gmsh's exit status, -1 if it could not be started or did not exit normally.
+    /// geo-parameter key is never read as a command), its output into @p log, stopped
+    /// after Mesh/Gmsh time limit. Returns gmsh's exit status, -1 if it could not be
+    /// started or did not exit normally, gmsh_timed_out when it was stopped.
     int
     run_gmsh(const MeshParameters &p, const std::string &msh, const std::string &log)
     {
@@ -252,7 +269,31 @@ namespace suturesim::mesh
       const auto               setnumber = setnumber_arguments(p.geo_parameters);
       args.insert(args.end(), setnumber.begin(), setnumber.end());
       args.insert(args.end(), {"-o", msh, p.file});
-      return run_process(args, log);
+      pid_t pid = 0;
+      try
+        {
+          pid = start_process(args, log);
+        }
+      catch (const std::runtime_error &)
+        {
+          return -1;
+        }
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(p.gmsh_time_limit);
+      for (int status = 0;;)
+        {
+          const pid_t done = waitpid(pid, &status, WNOHANG);
+          if (done == pid)
+            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+          if (done < 0)
+            return -1;
+          if (std::chrono::steady_clock::now() > deadline)
+            {
+              kill(pid, SIGKILL);
+              waitpid(pid, &status, 0);
+              return gmsh_timed_out;
+            }
+          std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
     }
   } // namespace
 
@@ -273,6 +314,15 @@ namespace suturesim::mesh
       }
     // Every rank learns the outcome, so that all throw together (no rank left waiting).
     MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (status == gmsh_timed_out)
+      {
+        std::ostringstream why;
+        why << "gmsh did not mesh " << p.file << " within " << p.gmsh_time_limit
+            << " s (a mesh finer than meant? see Mesh/Geo parameters); raise it for a larger mesh";
+        if (p.scope)
+          p.scope->fail("Gmsh time limit", why.str());
+        throw InputError("Mesh/Gmsh time limit: " + why.str());
+      }
     if (status != 0)
       throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " + log);
     return msh;

@@ -48,6 +48,7 @@ namespace suturesim::scene
     parameters.normal_smoothing     = np.transverse_stiffness * np.coupling_tolerance;
     parameters.load_radius          = np.load_radius;
     lagrange                        = parameters.lagrange;
+    np.check_entry_on_surface(surface.triangles, surface.reference, scene.scope("Needle/Pass"));
     needle = std::make_unique<coupling::TissueNeedle>(geometry, parameters, surface.triangles, surface.reference);
     pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;
     pose0      = path.pose(0);
@@ -436,5 +437,83 @@ namespace suturesim::scene
             {"cutbacks", cutbacks},
             {"coupling_rounds", rounds},
             {"residual_norms", report.residual_norms}};
+  }
+  nlohmann::json
+  AccurateStitch::snapshot() const
+  {
+    const auto     vec = [](const auto &v) { return nlohmann::json{v[0], v[1], v[2]}; };
+    nlohmann::json j{{"needle", needle->snapshot()},
+                     {"grasped", grasped},
+                     {"grasped_at", vec(grasped_at)},
+                     {"load", {vec(load.first), vec(load.second)}},
+                     {"end_tension", end_tension},
+                     {"stabilization_force", stabilization_force}};
+    if (suture)
+      {
+        std::vector<double> x, q;
+        for (std::size_t i = 0; i < suture->n_nodes(); ++i)
+          {
+            const auto &r = suture->rotations()[i];
+            x.insert(x.end(), {suture->positions()[i][0], suture->positions()[i][1], suture->positions()[i][2]});
+            q.insert(q.end(), {r.w(), r.x(), r.y(), r.z()});
+          }
+        j["suture"] = {{"x", x}, {"q", q}};
+      }
+    if (contact)
+      j["contact"] = contact->snapshot();
+    if (faces)
+      j["faces"] = faces->snapshot();
+    if (closure)
+      j["closure"] = closure->snapshot();
+    return j;
+  }
+
+  nlohmann::json
+  AccurateStitch::local_snapshot() const
+  {
+    return model->local_state();
+  }
+
+  void
+  AccurateStitch::restore(const nlohmann::json &j, const nlohmann::json &local)
+  {
+    const auto tensor = [](const nlohmann::json &v) {
+      Tensor<1, 3> t;
+      for (unsigned d = 0; d < 3; ++d)
+        t[d] = v.at(d).get<double>();
+      return t;
+    };
+    model->restore_local_state(local);
+    needle->restore(j.at("needle"));
+    if (suture)
+      {
+        const auto x = j.at("suture").at("x").get<std::vector<double>>(), q = j.at("suture").at("q").get<std::vector<double>>();
+        if (x.size() != 3 * suture->n_nodes() || q.size() != 4 * suture->n_nodes())
+          throw InputError("--restart: the checkpoint's suture has another number of nodes");
+        for (std::size_t i = 0; i < suture->n_nodes(); ++i)
+          suture->set_node(i, rod::Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]),
+                           rod::Quat(q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]));
+        grasped = j.at("grasped").get<bool>();
+        const auto &at = j.at("grasped_at");
+        grasped_at     = rod::Vec3(at[0].get<double>(), at[1].get<double>(), at[2].get<double>());
+        // the grasper's hold, as hold_suture() set it at the grasp
+        if (grasped)
+          {
+            const bool r = scene.suture.last_end.fixes_rotation();
+            suture->constrain(suture->n_nodes() - 1, {{true, true, true, r, r, r}});
+          }
+      }
+    if (contact)
+      contact->restore(j.at("contact"));
+    if (faces)
+      faces->restore(j.at("faces"));
+    if (closure)
+      closure->restore(j.at("closure"));
+    load                = {tensor(j.at("load").at(0)), tensor(j.at("load").at(1))};
+    end_tension         = j.at("end_tension").get<double>();
+    stabilization_force = j.at("stabilization_force").get<double>();
+    points_changed      = false;
+    locate_loads();
+    model->surface_positions(surface, x_surface);
   }
 } // namespace suturesim::scene

@@ -139,7 +139,7 @@ namespace suturesim::scene
   AccurateStitchRecord::finish(const double t)
   {
     auto &metrics = summary.metrics();
-    summary.needle(stitch.np, stitch.needle->all_events(), peak_pull);
+    summary.needle(stitch.np, stitch.needle->all_events(), peak_pull, t);
     metrics["simulated_time"] = t;
     if (stitch.suture)
       {
@@ -160,5 +160,20 @@ namespace suturesim::scene
       }
     if (stitch.closure)
       stitch.closure->write(metrics);
+  }
+  nlohmann::json
+  AccurateStitchRecord::snapshot() const
+  {
+    return {{"peak_pull", peak_pull}, {"last_output", last_output}, {"output_index", output_index}, {"last_file", last_file}};
+  }
+
+  void
+  AccurateStitchRecord::restore(const nlohmann::json &j)
+  {
+    peak_pull    = j.at("peak_pull").get<double>();
+    last_output  = j.at("last_output").get<double>();
+    output_index = j.at("output_index").get<unsigned>();
+    last_file    = j.at("last_file").get<std::string>();
+    recorder.restore_summary();
   }
 } // namespace suturesim::scene

@@ -1,8 +1,11 @@
+#include <suturesim/collision/proximity.h>
 #include <suturesim/core/parameter_adapter.h>
 #include <suturesim/scene/needle_parameters.h>
 
 #include <deal.II/base/utilities.h>
 
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 
 namespace suturesim::scene
@@ -255,6 +258,34 @@ namespace suturesim::scene
   NeedleParameters::planned_pass() const
   {
     return tools::plan_pass(needle(), pass);
+  }
+
+  void
+  NeedleParameters::check_entry_on_surface(const std::vector<std::array<std::uint32_t, 3>> &triangles,
+                                           const Eigen::Matrix3Xd &vertices, const ParameterScope &scope) const
+  {
+    if (motion != "pass" || triangles.empty())
+      return;
+    const auto      planned = planned_pass();
+    double          nearest = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d at      = pass.entry, bary;
+    for (const auto &t : triangles)
+      {
+        const Eigen::Vector3d q = collision::closest_point_on_triangle(pass.entry, vertices.col(t[0]),
+                                                                       vertices.col(t[1]), vertices.col(t[2]), bary);
+        if ((q - pass.entry).norm() < nearest)
+          {
+            nearest = (q - pass.entry).norm();
+            at      = q;
+          }
+      }
+    if (nearest <= 0.5 * planned.bite_depth)
+      return;
+    std::ostringstream why;
+    why << "lies " << nearest << " m from the tissue's surface (nearest point " << at[0] << ", " << at[1] << ", "
+        << at[2] << " m), more than half the bite depth (" << planned.bite_depth
+        << " m): the pass would miss the tissue or graze it; put the entry point on the surface";
+    scope.fail("Entry point", why.str());
   }
 
   tools::Trajectory

@@ -239,7 +239,7 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < world.tool_ends.size(); ++k)
       metrics[world.tool_ends[k].name + "_force_magnitude"] = rw.tool_forces()[world.first_end_tool + k].force.norm();
     if (world.needle)
-      summary.needle(scene.needle, world.needle->events(rw), world.needle->peak_pull_force(),
+      summary.needle(scene.needle, world.needle->events(rw), world.needle->peak_pull_force(), rw.time(),
                      rw.needle()->pierce_model());
     for (const auto &[name, index] : world.probes)
       {

@@ -248,6 +248,8 @@ namespace suturesim::scene
       {
         if (!scene.has_tissue())
           scene.scope("Needle").fail("Shape", "a needle needs tissue (Bodies = tissue or tissue and suture)");
+        scene.needle.check_entry_on_surface(world->tissue()->surface(), world->system().nodes.reference,
+                                            scene.scope("Needle/Pass"));
         try
           {
             needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);

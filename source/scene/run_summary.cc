@@ -1,6 +1,8 @@
 #include <suturesim/scene/run_summary.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace suturesim::scene
 {
@@ -90,7 +92,7 @@ namespace suturesim::scene
 
   void
   RunSummary::needle(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
-                     const double peak_pull_force, const std::string &pierce_model)
+                     const double peak_pull_force, const double t, const std::string &pierce_model)
   {
     auto &list    = json["events"];
     list          = nlohmann::json::array();
@@ -127,6 +129,41 @@ namespace suturesim::scene
       }
     if (!pierce_model.empty())
       json["pierce_model"] = pierce_model;
+    // what the pass is for, not reached: no puncture, or the suture drawn out of its hole
+    if (np.motion == "pass" && t >= np.planned_pass().t_tip_exit && !metrics.contains("puncture_force_entry"))
+      {
+        const bool         touched = std::any_of(events.begin(), events.end(),
+                                                 [](const auto &e) { return e.kind == "touch_entry"; });
+        std::ostringstream why;
+        why << "the needle never punctured the tissue, though its tip had turned past the planned exit by t = " << t
+            << " s: ";
+        if (touched)
+          why << "its force stayed below Puncture/Threshold = " << np.puncture.threshold << " N";
+        else
+          why << "it never touched the tissue";
+        incomplete(why.str());
+      }
+    // the first hole it left says it (a later one the same)
+    if (np.attach_suture)
+      for (const auto &e : events)
+        if (e.kind == "released")
+          {
+            std::ostringstream why;
+            why << "the suture's far end was drawn out of the tissue at t = " << e.time << " s through the hole at ("
+                << e.position[0] << ", " << e.position[1] << ", " << e.position[2]
+                << ") m: the suture is too short for this pass";
+            incomplete(why.str());
+            break;
+          }
+  }
+
+  void
+  RunSummary::incomplete(const std::string &reason)
+  {
+    // a record finished twice (kept, then finished) gives its reasons once
+    auto &reasons = json["incomplete"];
+    if (std::find(reasons.begin(), reasons.end(), reason) == reasons.end())
+      reasons.push_back(reason);
   }
 
   void

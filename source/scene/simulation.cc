@@ -39,11 +39,23 @@ namespace suturesim::scene
       scene.scope().fail("Bodies", "no scenario runs Model = " + scene.model + " with Bodies = " + scene.bodies +
                                      (scene.needle.present() ? " and a needle" : ""));
     scenario = entry->create(prm, scene);
+    if (!scenario->writes_checkpoints())
+      {
+        prm.enter_subsection("Time");
+        const bool by_steps = prm.get_integer("Checkpoint steps") > 0, by_time = prm.get_double("Checkpoint minutes") > 0;
+        prm.leave_subsection();
+        if (by_steps || by_time)
+          scene.scope("Time").fail(by_steps ? "Checkpoint steps" : "Checkpoint minutes",
+                                   "only the accurate needle pass and stitch write checkpoints so far; this scene is "
+                                   "the " + entry->name + " scenario");
+      }
   }
 
   void
   Simulation::run(io::Recorder &recorder)
   {
+    if (recorder.resuming() && !scenario->writes_checkpoints())
+      throw InputError("--restart " + recorder.directory() + ": this scene's scenario cannot go on from a checkpoint");
     scenario->run(recorder);
   }
 } // namespace suturesim::scene

@@ -151,4 +151,33 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < prm.pairs.size(); ++k)
       metrics["gaps"][prm.pairs[k].name] = {{"initial", initial[k]}, {"final", last[k]}, {"least", least[k]}};
   }
+  nlohmann::json
+  ClosureMonitor::snapshot() const
+  {
+    nlohmann::json j{{"initial", initial},
+                     {"last", last},
+                     {"least", least},
+                     {"closure_time", closure_time},
+                     {"tie_time", tie_time},
+                     {"closure_tension", closure_tension},
+                     {"tie_tension", tie_tension}};
+    if (previous)
+      j["previous"] = {previous->t, previous->gap, previous->tension};
+    return j;
+  }
+
+  void
+  ClosureMonitor::restore(const nlohmann::json &j)
+  {
+    initial         = j.at("initial").get<std::vector<double>>();
+    last            = j.at("last").get<std::vector<double>>();
+    least           = j.at("least").get<std::vector<double>>();
+    closure_time    = j.at("closure_time").get<double>();
+    tie_time        = j.at("tie_time").get<double>();
+    closure_tension = j.at("closure_tension").get<double>();
+    tie_tension     = j.at("tie_tension").get<double>();
+    previous.reset();
+    if (j.contains("previous"))
+      previous = Sample{j["previous"][0].get<double>(), j["previous"][1].get<double>(), j["previous"][2].get<double>()};
+  }
 } // namespace suturesim::scene

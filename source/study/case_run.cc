@@ -62,7 +62,8 @@ namespace suturesim::study
       return text.str();
     }
 
-    /// The last "error: ..." line of the case's log (its one-line diagnostic).
+    /// The last "error: ..." or "incomplete: ..." line of the case's log (its one-line
+    /// diagnostic).
     std::string
     error_line(const fs::path &log)
     {
@@ -71,6 +72,8 @@ namespace suturesim::study
       while (std::getline(in, line))
         if (line.rfind("error: ", 0) == 0)
           last = line.substr(7);
+        else if (line.rfind("incomplete: ", 0) == 0)
+          last = line.substr(12);
       return last;
     }
 
@@ -138,7 +141,8 @@ namespace suturesim::study
         }
       o.exit_code = WEXITSTATUS(status);
       const std::map<int, std::string> statuses{
-        {0, "completed"}, {2, "refused"}, {3, "failed"}, {5, "failed"}, {130, "interrupted"}, {143, "interrupted"}};
+        {0, "completed"}, {2, "refused"},     {3, "failed"},
+        {5, "failed"},    {6, "incomplete"}, {130, "interrupted"}, {143, "interrupted"}};
       const auto                       s = statuses.find(o.exit_code);
       o.status = s == statuses.end() ? "crashed" : s->second;
       if (o.exit_code != 0)

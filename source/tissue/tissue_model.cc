@@ -5,6 +5,7 @@
  * tissue_parameters.cc.
  */
 #include <suturesim/core/error.h>
+#include <suturesim/io/checkpoint.h>
 #include <suturesim/tissue/tissue_model.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -229,6 +230,41 @@ namespace suturesim::tissue
   {
     solution   = saved_solution;
     cell_mixed = saved_cell_mixed;
+  }
+
+  nlohmann::json
+  TissueModel::local_state() const
+  {
+    std::vector<double> u, mixed;
+    for (const auto i : locally_owned_dofs)
+      u.push_back(solution[i]);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
+          mixed.insert(mixed.end(), field->begin(), field->end());
+    return {{"dofs", n_dofs()}, {"u", io::pack_doubles(u)}, {"mixed", io::pack_doubles(mixed)}};
+  }
+
+  void
+  TissueModel::restore_local_state(const nlohmann::json &state)
+  {
+    const std::vector<double> u = io::unpack_doubles(state.at("u")), mixed = io::unpack_doubles(state.at("mixed"));
+    if (state.at("dofs").get<types::global_dof_index>() != n_dofs() || u.size() != locally_owned_dofs.n_elements())
+      throw InputError("--restart: the checkpoint's tissue has " + std::to_string(state.at("dofs").get<std::uint64_t>()) +
+                       " DoFs, this mesh " + std::to_string(n_dofs()) + " (the mesh is built from the scene: was it changed?)");
+    std::size_t k = 0;
+    for (const auto i : locally_owned_dofs)
+      solution[i] = u[k++];
+    solution.compress(VectorOperation::insert);
+    solution_ghost = solution;
+    k              = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
+          for (double &v : *field)
+            v = k < mixed.size() ? mixed[k++] : v;
+    if (k != mixed.size())
+      throw InputError("--restart: the checkpoint's mixed fields do not fit this mesh");
   }
 
   void

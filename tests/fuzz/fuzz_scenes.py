@@ -18,6 +18,8 @@ Verdicts:
                             or an option ('error: --set ...'); otherwise a failure
   exit 3                    fine for a short run (a solve failed) with one 'error: '
                             line on stderr; a failure for --validate
+  exit 6                    fine for a short run (it ended without what its scene asked
+                            for) with one 'incomplete: ' line on stderr
   anything else             a failure: exit 4 (internal error), 1 (sanitizer), a signal,
                             a timeout, a sanitizer report in any case
 Failures are printed and their mutants kept in <work>/failures/. Exit status: 0 when
@@ -344,6 +346,11 @@ def verdict(kind, code, out, err, mutant, data):
             return "exit %d, the line does not start with 'error: '" % code
         if code == 2 and not error_line_names_input(lines[0], mutant, data):
             return "exit 2, the error line names neither '<file>:<line>:' nor an option"
+        return None
+    if code == 6 and kind == "run":
+        lines = [l for l in nonempty(err) if not l.startswith("suturesim: ")]
+        if len(lines) != 1 or not lines[0].startswith("incomplete: "):
+            return "exit 6 without exactly one 'incomplete: ' line on stderr"
         return None
     if code == 3:
         return "exit 3 (solver failure) from --validate"

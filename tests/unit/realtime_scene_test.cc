@@ -190,6 +190,59 @@ TEST(RealtimeScene, NeedlePassPuncturesAtTheThresholdAndRecordsTheForceCurves)
 
 namespace
 {
+  /// A run that ended without what its pass is for: exit 6, status "incomplete" with
+  /// @p reason among summary.json's "incomplete", one "incomplete:" line and no error
+  /// line, the run's record otherwise whole (issue 26: never a silent run with missing
+  /// metrics).
+  void
+  expect_incomplete(const RunResult &r, const std::string &reason)
+  {
+    EXPECT_EQ(r.exit_code, 6) << r.output;
+    ASSERT_TRUE(r.has_summary) << r.output;
+    EXPECT_EQ(r.summary["status"], "incomplete");
+    ASSERT_TRUE(r.summary.contains("incomplete")) << r.summary.dump(1);
+    EXPECT_NE(r.summary["incomplete"][0].get<std::string>().find(reason), std::string::npos) << r.summary.dump(1);
+    EXPECT_EQ(lines_starting(r.output, "error"), 0u) << r.output;
+    EXPECT_EQ(lines_starting(r.output, "incomplete: "), 1u) << r.output;
+    EXPECT_EQ(lines_starting(r.output, "incomplete: " + r.summary["incomplete"][0].get<std::string>()), 1u)
+      << r.output;
+    EXPECT_TRUE(std::filesystem::exists(r.directory + "/forces.csv"));
+  }
+} // namespace
+
+TEST(RealtimeScene, ASutureTooShortForThePassEndsIncompleteWithTheReason)
+{
+  // a 10 mm suture on the 16 mm pass and its 31 mm pull: the far end is drawn out
+  // through the entry hole (the pierce point "released"); the pass's metrics are there
+  const auto r = run_suturesim("short_suture", {source_path("parameters/needle_pass.prm"), "--set",
+                                                "Suture/Straight/Length=0.01", "--set",
+                                                "Mesh/Geo parameters=h: 0.002, hexahedra: 0"});
+  expect_incomplete(r, "the suture's far end was drawn out of the tissue at t = ");
+  EXPECT_NE(r.summary["incomplete"][0].get<std::string>().find("too short for this pass"), std::string::npos);
+  EXPECT_TRUE(r.summary["metrics"].contains("puncture_force_exit"));
+  // the full-length suture of the same pass is complete (NeedlePassPuncturesAtTheThreshold...)
+}
+
+TEST(RealtimeScene, ANeedleThatNeverPuncturesEndsIncomplete)
+{
+  // a threshold of 100 N the tissue never reaches before the tip has turned past the
+  // planned exit (t = 1.2 s); the same pass cut before its planned exit is complete
+  const Args pass{source_path("parameters/needle_pass.prm"), "--set", "Puncture/Threshold=100", "--set",
+                  "Mesh/Geo parameters=h: 0.002, hexahedra: 0"};
+  const auto r = run_suturesim("never_punctures", join(pass, {"--set", "Time/End time=1.2"}));
+  expect_incomplete(r, "the needle never punctured the tissue, though its tip had turned past the planned exit");
+  EXPECT_NE(r.summary["incomplete"][0].get<std::string>().find("below Puncture/Threshold = 100 N"), std::string::npos);
+  EXPECT_FALSE(r.summary["metrics"].contains("puncture_force_entry"));
+  const double exit_time = r.summary["needle"]["pass"]["t_tip_exit"];
+  ASSERT_LT(exit_time, 1.2);
+  const auto early = run_suturesim("never_punctures_early",
+                                   join(pass, {"--set", "Time/End time=" + std::to_string(0.9 * exit_time)}));
+  EXPECT_EQ(early.exit_code, 0) << early.output;
+  EXPECT_EQ(early.summary["status"], "completed");
+}
+
+namespace
+{
   /// Pierce points 0..n-1 of a run's forces.csv keep their anchors (material points of
   /// the needle and thread, ζ_a) ascending from the tip whenever
   /// two neighbours both exist (seed 001 sec. 4.2, seed 002 sec. 4: no point passes another).

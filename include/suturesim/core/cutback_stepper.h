@@ -31,6 +31,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace suturesim
 {
@@ -59,6 +60,18 @@ namespace suturesim
     unsigned    iterations = 0; ///< the solve's Newton iterations (adaptive steps)
   };
 
+  /// Where a run of run_with_cutbacks() stands after an accepted step, the next step's
+  /// size chosen: enough to go on from there as if it had never stopped (a checkpoint's,
+  /// io/checkpoint.h).
+  struct StepperState
+  {
+    double              t  = 0; ///< s
+    double              dt = 0; ///< the next step's size, s
+    unsigned            steps = 0;
+    std::vector<double> recent; ///< the last accepted steps (the pace's ring), s
+    double              recent_sum = 0;
+  };
+
   struct StepHooks
   {
     /// Solves from the current state (the last accepted one) to @p t_new = t + @p dt.
@@ -77,6 +90,9 @@ namespace suturesim
     /// core/interruption.h, or steps that collapsed): write the state and return where it
     /// is ("": nowhere new).
     std::function<std::string(double t)> keep;
+    /// Optional: after each accepted step, before a stop signal is heeded, the state the
+    /// run would go on from (for checkpoints).
+    std::function<void(const StepperState &state)> accepted;
   };
 
   /// Runs from @p t_start to the end time; returns the number of accepted steps. When
@@ -89,6 +105,9 @@ namespace suturesim
   /// @ref StepControl::max_steps = N, once the steps taken plus those still to go at the
   /// mean step of the last 200 exceed N the run stops (keep, then a SolverError naming
   /// the pace): a bounded number of steps, relative to the run's own step budget.
+  ///
+  /// @p resume: go on from that state (a restart) instead of from @p t_start.
   unsigned
-  run_with_cutbacks(const StepControl &control, const StepHooks &hooks, double t_start = 0);
+  run_with_cutbacks(const StepControl &control, const StepHooks &hooks, double t_start = 0,
+                    const StepperState *resume = nullptr);
 } // namespace suturesim

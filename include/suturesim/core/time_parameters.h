@@ -32,6 +32,11 @@ namespace suturesim
     /// the nominal steps exceed it, stopped during it when the steps taken and those
     /// still to go at the recent pace do (core/cutback_stepper.h)
     double maximum_steps = 1e6;
+    /// checkpoints of the runs that write them (the accurate needle pass and stitch,
+    /// io/checkpoint.h): every this many accepted steps and minutes of wall time (0: not
+    /// by that count)
+    unsigned checkpoint_steps   = 0;
+    double   checkpoint_minutes = 0;
 
     /// Declares into the current subsection ("Time"); @p integrators (name →
     /// description) are the choices of "Integrator", of every body.

@@ -35,6 +35,8 @@
 
 #include <Eigen/Core>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <string>
 #include <vector>
 
@@ -76,6 +78,12 @@ namespace suturesim::coupling
     Vector3d    position = Vector3d::Zero(); ///< of the tip, m
     double      force = 0;                   ///< normal force at the event, N
   };
+
+  /// An event as JSON (a checkpoint's, io/checkpoint.h) and back.
+  nlohmann::json
+  event_state(const PunctureEvent &event);
+  PunctureEvent
+  event_from(const nlohmann::json &state);
 
   class NeedlePuncture
   {
@@ -157,6 +165,13 @@ namespace suturesim::coupling
     {
       return prm;
     }
+
+    /// The touch and its history (phase, touched point, events, the last force and tip),
+    /// for a checkpoint (io/checkpoint.h); restore() takes them back.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
 
     /// The current position of a surface point.
     Vector3d

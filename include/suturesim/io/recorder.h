@@ -23,6 +23,12 @@
 
 namespace suturesim::io
 {
+  /// The first setting in which two parameters.prm texts differ, as "'Path/Key = a'
+  /// then, 'Path/Key = b' now" ("": none), leaving out those a restart may change
+  /// (Time/End time, Time/Checkpoint ...).
+  std::string
+  first_difference(const std::string &before, const std::string &now);
+
   class Recorder
   {
   public:
@@ -35,12 +41,12 @@ namespace suturesim::io
       return dir;
     }
 
-    /// Removes outputs of an earlier run in the same folder.
+    /// Removes outputs of an earlier run in the same folder, its checkpoint among them.
     void
     clear_stale_outputs() const;
 
     void
-    write_parameters(const dealii::ParameterHandler &prm) const;
+    write_parameters(const dealii::ParameterHandler &prm);
 
     /// Column names, each with its unit in brackets, e.g. "time [s]".
     void
@@ -71,9 +77,60 @@ namespace suturesim::io
       return root;
     }
 
+    /// Restart (suturesim --restart, io/checkpoint.h), in place of write_parameters():
+    /// reads the folder's checkpoint, checks that it was written with the parameters of
+    /// @p prm (Time/End time and the checkpoint settings may differ), writes them to
+    /// parameters.prm and takes up the
+    /// record it holds: the .pvd series, forces.csv cut back to the checkpoint's rows
+    /// (set_columns() then appends), summary.json's contents (restore_summary()).
+    /// summary.json is removed until the run ends. InputError naming --restart when none
+    /// fits.
+    void
+    resume(const dealii::ParameterHandler &prm);
+
+    /// Whether this run goes on from a checkpoint (resume()).
+    bool
+    resuming() const
+    {
+      return !resumed.first.is_null();
+    }
+
+    /// The scenario's part of the checkpoint resume() read: what every process holds
+    /// alike, and this process's own.
+    const nlohmann::json &
+    resumed_state() const
+    {
+      return resumed.first.at("scenario");
+    }
+    const nlohmann::json &
+    resumed_local_state() const
+    {
+      return resumed.second;
+    }
+
+    /// summary.json's contents as the checkpoint resume() read holds them (the scenario
+    /// calls it once its record is set up again).
+    void
+    restore_summary()
+    {
+      json = resumed.first.at("record").at("summary");
+    }
+
+    /// Writes a checkpoint (collective): the scenario's @p shared state and this
+    /// process's @p local one, with the record so far.
+    void
+    checkpoint(const nlohmann::json &shared, const nlohmann::json &local);
+
   private:
+    /// resume(), JSON errors left to it.
+    void
+    take_up(const dealii::ParameterHandler &prm);
+
     std::string                                                       dir;
+    MPI_Comm                                                          comm;
     bool                                                              root;
+    std::string                                                       parameters; ///< parameters.prm's text
+    std::pair<nlohmann::json, nlohmann::json>                         resumed;
     std::ofstream                                                     csv;
     std::size_t                                                       n_columns = 0;
     std::map<std::string, std::vector<std::pair<double, std::string>>> series_files;

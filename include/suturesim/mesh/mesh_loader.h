@@ -34,6 +34,7 @@ namespace suturesim::mesh
     unsigned                      global_refinements = 0;
     /// the most active cells the refined mesh may have (Mesh/Maximum cells)
     double                        maximum_cells = 1e6;
+    double                        gmsh_time_limit = 600; ///< s, meshing a .geo
     LocalRefinement               local;
     /// Boundaries whose refined faces are put on the .geo's surfaces (gmsh_geometry.h).
     std::vector<std::string>      snap_to_geometry;

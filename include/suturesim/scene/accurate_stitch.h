@@ -70,6 +70,17 @@ namespace suturesim::scene
     void
     advance();
 
+    /// The state of the last accepted step, for a checkpoint (io/checkpoint.h): what every
+    /// process holds alike (needle, suture, contacts, closure, the loads recorded), and
+    /// this process's part of the tissue. restore() takes both back, in place of
+    /// solve_initial().
+    nlohmann::json
+    snapshot() const;
+    nlohmann::json
+    local_snapshot() const;
+    void
+    restore(const nlohmann::json &shared, const nlohmann::json &local);
+
     /// This step's solver account (summary.json "steps").
     nlohmann::json
     step_statistics(double dt, unsigned cutbacks) const;

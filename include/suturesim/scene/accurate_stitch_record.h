@@ -41,6 +41,13 @@ namespace suturesim::scene
     void
     finish(double t);
 
+    /// Where the record stands (its peak pull, its last output), for a checkpoint
+    /// (io/checkpoint.h); restore() takes it back with summary.json's contents.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
+
     /// The time of the last state written, s (−1: none).
     double
     last_written() const

@@ -19,6 +19,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -67,6 +69,15 @@ namespace suturesim::scene
     /// The planned pass (motion = pass), for its times and points.
     tools::SurgicalPass
     planned_pass() const;
+
+    /// Refuses, through @p pass (the scope of Needle/Pass), a planned pass whose entry
+    /// point lies farther from the tissue's surface than half the bite depth δ: a pass
+    /// planned for a flat surface through E reaches δ below E, so an entry point δ above
+    /// the tissue misses it and one δ/2 away only grazes it (or starts deep inside).
+    /// @p triangles index @p vertices, the surface in its reference state (m).
+    void
+    check_entry_on_surface(const std::vector<std::array<std::uint32_t, 3>> &triangles,
+                           const Eigen::Matrix3Xd &vertices, const ParameterScope &pass) const;
 
     /// Declares "Needle", "Puncture" and "Pierce points" into the current (root) subsection.
     static void

@@ -18,6 +18,8 @@
  *   realtime                                the realtime models and haptic loop
  *   metrics                                 the run's measurements (SI units)
  *   steps                                   per accepted step: the solver's account
+ *   incomplete                              why a run that ended did not do what its
+ *                                           scene asked (absent: it did)
  *   solver, timings                         totals, wall time per section
  */
 
@@ -70,9 +72,18 @@ namespace suturesim::scene
     /// The needle: its punctures and passages as "events" (in time order), the first
     /// entry and exit puncture forces and @p peak_pull_force under "metrics", the needle
     /// and its pass under "needle"; the realtime @p pierce_model when given.
+    /// A run that reached @p t without what its pass is for is incomplete (incomplete()):
+    /// a needle that never punctured although its tip had turned past the planned exit,
+    /// or a suture whose far end was drawn out of the tissue (too short for the pass).
     void
     needle(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events, double peak_pull_force,
-           const std::string &pierce_model = "");
+           double t, const std::string &pierce_model = "");
+
+    /// Marks the run incomplete: it ran to its end, but did not do what the scene asked,
+    /// for @p reason ("incomplete": the reasons; main() then finishes with status
+    /// "incomplete" and exit code 6).
+    void
+    incomplete(const std::string &reason);
 
     /// One accepted step's solver account at time @p t.
     void

@@ -33,6 +33,14 @@ namespace suturesim::scene
     virtual void
     run(io::Recorder &recorder) = 0;
 
+    /// Whether the scenario writes checkpoints and goes on from one (io/checkpoint.h,
+    /// Time/Checkpoint steps, suturesim --restart); the others refuse both.
+    virtual bool
+    writes_checkpoints() const
+    {
+      return false;
+    }
+
     struct Entry
     {
       std::string name;

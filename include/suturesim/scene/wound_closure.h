@@ -121,6 +121,13 @@ namespace suturesim::scene
     void
     write(nlohmann::json &metrics) const;
 
+    /// What update() has gathered, for a checkpoint (io/checkpoint.h); restore() takes it
+    /// back.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
+
   private:
     const ClosureParameters &prm;
     std::vector<double>      initial, last, least;

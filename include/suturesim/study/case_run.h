@@ -26,8 +26,9 @@ namespace suturesim::study
 {
   struct CaseOutcome
   {
-    /// completed | failed | refused | crashed | not run; and, set by the metrics,
-    /// incomplete (completed without a metric the reference has)
+    /// completed | failed | refused | crashed | not run | interrupted; incomplete: the
+    /// run said so (exit 6: it ended without what its scene asked for), or, set by the
+    /// metrics, it completed without a metric the reference has
     std::string status = "not run";
     std::string reason;             ///< the run's error line, when not completed
     int         exit_code         = -1;

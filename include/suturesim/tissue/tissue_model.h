@@ -35,6 +35,8 @@
 
 #include <Eigen/Core>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -116,6 +118,14 @@ namespace suturesim::tissue
     save_state();
     void
     restore_state();
+
+    /// This process's part of the state, for a checkpoint (io/checkpoint.h): the values
+    /// of its DoFs and its cells' mixed fields p̃, J̃, in the order of this mesh, partition
+    /// and numbering; restore_local_state() takes them back on the same.
+    nlohmann::json
+    local_state() const;
+    void
+    restore_local_state(const nlohmann::json &state);
 
     /// Reaction forces on every Dirichlet boundary at the current state and time. In
     /// dynamics, pass v and v̇: the support then also carries M v̇ + C v.

@@ -1,5 +1,6 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/coupling/accurate/suture_contact.h>
+#include <suturesim/io/state_json.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -57,17 +58,7 @@ namespace suturesim::coupling
         return false;
       }
     list = std::move(found);
-    slot.assign(nodes.size(), -1);
-    X.clear();
-    for (std::size_t k = 0; k < list.size(); ++k)
-      {
-        const auto           &v = triangles[list[k].triangle];
-        const Eigen::Vector3d Xq =
-          list[k].weights[0] * reference.col(v[0]) + list[k].weights[1] * reference.col(v[1]) +
-          list[k].weights[2] * reference.col(v[2]);
-        X.emplace_back(Xq[0], Xq[1], Xq[2]);
-        slot[list[k].node] = static_cast<int>(k);
-      }
+    adopt(nodes.size());
     seen.clear();
     for (std::size_t k = 0; k < list.size(); ++k)
       {
@@ -128,5 +119,48 @@ namespace suturesim::coupling
         for (unsigned j = 0; j < 3; ++j)
           df_dx[i][j] = -prm.stiffness * c.normal[i] * c.normal[j];
       }
+  }
+  void
+  SutureContact::adopt(const std::size_t n_nodes)
+  {
+    slot.assign(n_nodes, -1);
+    X.clear();
+    for (std::size_t k = 0; k < list.size(); ++k)
+      {
+        const auto           &v = triangles[list[k].triangle];
+        const Eigen::Vector3d Xq =
+          list[k].weights[0] * reference.col(v[0]) + list[k].weights[1] * reference.col(v[1]) +
+          list[k].weights[2] * reference.col(v[2]);
+        X.emplace_back(Xq[0], Xq[1], Xq[2]);
+        slot[list[k].node] = static_cast<int>(k);
+      }
+  }
+
+  nlohmann::json
+  SutureContact::snapshot() const
+  {
+    nlohmann::json contacts = nlohmann::json::array();
+    for (std::size_t k = 0; k < list.size(); ++k)
+      contacts.push_back({{"node", list[k].node},
+                          {"triangle", list[k].triangle},
+                          {"weights", io::to_array(list[k].weights)},
+                          {"normal", io::to_array(list[k].normal)},
+                          {"seen", {seen[k][0], seen[k][1], seen[k][2]}}});
+    return {{"nodes", slot.size()}, {"contacts", contacts}};
+  }
+
+  void
+  SutureContact::restore(const nlohmann::json &j)
+  {
+    list.clear();
+    seen.clear();
+    for (const auto &c : j.at("contacts"))
+      {
+        list.push_back({c.at("node").get<std::size_t>(), c.at("triangle").get<std::uint32_t>(),
+                        io::vector3(c.at("weights")), io::vector3(c.at("normal"))});
+        const Eigen::Vector3d q = io::vector3(c.at("seen"));
+        seen.emplace_back(q[0], q[1], q[2]);
+      }
+    adopt(j.at("nodes").get<std::size_t>());
   }
 } // namespace suturesim::coupling

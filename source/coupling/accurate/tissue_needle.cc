@@ -1,5 +1,6 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/coupling/pierce_order.h>
+#include <suturesim/io/state_json.h>
 #include <suturesim/rod/rotation.h>
 
 #include <algorithm>
@@ -608,5 +609,68 @@ namespace suturesim::coupling
             inside[i] = inside[i] || (zeta > pierce[k].anchor - margin && zeta < pierce[k + 1].anchor + margin);
           }
     return inside;
+  }
+  nlohmann::json
+  TissueNeedle::snapshot() const
+  {
+    const auto vec = [](const auto &v) { return nlohmann::json{v[0], v[1], v[2]}; };
+    nlohmann::json points = nlohmann::json::array(), events = nlohmann::json::array();
+    for (const auto &p : pierce)
+      points.push_back({{"X", vec(p.X)},
+                        {"anchor", p.anchor},
+                        {"carrier", p.carrier},
+                        {"exit", p.exit},
+                        {"multiplier", vec(p.multiplier)},
+                        {"zeta", p.zeta},
+                        {"normal", p.normal},
+                        {"friction", p.friction},
+                        {"slip_speed", p.slip_speed},
+                        {"slipping", p.slipping}});
+    for (const auto &e : log)
+      events.push_back(event_state(e));
+    return {{"puncture", puncture->snapshot()},
+            {"pierce", points},
+            {"events", events},
+            {"pose", {{"position", io::to_array(current.position)}, {"orientation", io::to_array(current.orientation)}}},
+            {"time", time},
+            {"last_time", last_time},
+            {"touch_value", touch_value}};
+  }
+
+  void
+  TissueNeedle::restore(const nlohmann::json &j)
+  {
+    const auto tensor = [](const nlohmann::json &v) {
+      dealii::Tensor<1, 3> t;
+      for (unsigned d = 0; d < 3; ++d)
+        t[d] = v.at(d).get<double>();
+      return t;
+    };
+    puncture->restore(j.at("puncture"));
+    pierce.clear();
+    for (const auto &p : j.at("pierce"))
+      {
+        AccuratePiercePoint a;
+        a.X          = dealii::Point<3>(tensor(p.at("X")));
+        a.anchor     = p.at("anchor").get<double>();
+        a.carrier    = p.at("carrier").get<double>();
+        a.exit       = p.at("exit").get<bool>();
+        a.multiplier = tensor(p.at("multiplier"));
+        a.zeta       = p.at("zeta").get<double>();
+        a.normal     = p.at("normal").get<double>();
+        a.friction   = p.at("friction").get<double>();
+        a.slip_speed = p.at("slip_speed").get<double>();
+        a.slipping   = p.at("slipping").get<bool>();
+        pierce.push_back(a);
+      }
+    log.clear();
+    for (const auto &e : j.at("events"))
+      log.push_back(event_from(e));
+    current.position    = io::vector3(j.at("pose").at("position"));
+    current.orientation = io::quaternion(j.at("pose").at("orientation"));
+    time                = j.at("time").get<double>();
+    last_time           = j.at("last_time").get<double>();
+    touch_value         = j.at("touch_value").get<double>();
+    rebuild_points();
   }
 } // namespace suturesim::coupling

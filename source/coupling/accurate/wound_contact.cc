@@ -1,6 +1,8 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/coupling/accurate/wound_contact.h>
 
+#include <nlohmann/json.hpp>
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -78,6 +80,14 @@ namespace suturesim::coupling
     if (next == active)
       return false;
     active = next;
+    adopt();
+    seen = X;
+    return true;
+  }
+
+  void
+  WoundContact::adopt()
+  {
     // P of each loaded pair, then their Q
     X.clear();
     for (const bool on_b : {false, true})
@@ -90,8 +100,27 @@ namespace suturesim::coupling
                                          : Eigen::Vector3d(reference.col(c.vertex));
           X.emplace_back(v[0], v[1], v[2]);
         }
-    seen = X;
-    return true;
+  }
+
+  nlohmann::json
+  WoundContact::snapshot() const
+  {
+    nlohmann::json positions = nlohmann::json::array();
+    for (const auto &p : seen)
+      positions.push_back({p[0], p[1], p[2]});
+    return {{"active", active}, {"seen", positions}, {"touching", touching}, {"pressing", pressing}};
+  }
+
+  void
+  WoundContact::restore(const nlohmann::json &j)
+  {
+    active = j.at("active").get<std::vector<std::size_t>>();
+    adopt();
+    seen.clear();
+    for (const auto &p : j.at("seen"))
+      seen.emplace_back(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+    touching = j.at("touching").get<unsigned>();
+    pressing = j.at("pressing").get<double>();
   }
 
   double

@@ -5,6 +5,7 @@
  * scene/accurate_stitch_record.h; quasi-static steps under core/cutback_stepper.h.
  */
 #include <suturesim/core/error.h>
+#include <suturesim/io/checkpoint.h>
 #include <suturesim/scene/accurate_stitch_record.h>
 #include <suturesim/scene/scenario.h>
 #include <suturesim/scene/timed_run.h>
@@ -60,7 +61,25 @@ namespace suturesim::scene
                                   : "")
                 << "\n";
 
-          double     t = 0;
+          double       t = 0;
+          unsigned     steps = 0, total_iterations = 0, failed_attempts = 0;
+          StepperState stepper;
+          io::CheckpointSchedule schedule(scene.time.checkpoint_steps, scene.time.checkpoint_minutes, MPI_COMM_WORLD);
+          const auto             checkpoint = [&] {
+            recorder.checkpoint({{"t", t},
+                                 {"steps", steps},
+                                 {"newton_iterations_total", total_iterations},
+                                 {"failed_attempts", failed_attempts},
+                                 {"stepper",
+                                  {{"t", stepper.t},
+                                   {"dt", stepper.dt},
+                                   {"steps", stepper.steps},
+                                   {"recent", io::pack_doubles(stepper.recent)},
+                                   {"recent_sum", stepper.recent_sum}}},
+                                 {"stitch", stitch.snapshot()},
+                                 {"record", record.snapshot()}},
+                                stitch.local_snapshot());
+          };
           const auto fail = [&](const double tn, const std::string &reason) {
             // the state is the last accepted one again: keep it
             const std::string where = record.keep(t);
@@ -71,12 +90,37 @@ namespace suturesim::scene
               << (where.empty() ? "" : " in " + where);
             throw SolverError(s.str());
           };
-          std::string failure;
-          if (!stitch.solve_initial(failure))
-            fail(0, failure);
-          record.record(0, stitch.step_statistics(0, 0));
+          if (recorder.resuming())
+            {
+              // a restart: the state of the checkpoint, as the run had it after that step
+              try
+                {
+                  const auto &state = recorder.resumed_state();
+                  stitch.restore(state.at("stitch"), recorder.resumed_local_state());
+                  record.restore(state.at("record"));
+                  t                = state.at("t").get<double>();
+                  steps            = state.at("steps").get<unsigned>();
+                  total_iterations = state.at("newton_iterations_total").get<unsigned>();
+                  failed_attempts  = state.at("failed_attempts").get<unsigned>();
+                  const auto &from = state.at("stepper");
+                  stepper = {from.at("t").get<double>(), from.at("dt").get<double>(), from.at("steps").get<unsigned>(),
+                             io::unpack_doubles(from.at("recent")), from.at("recent_sum").get<double>()};
+                }
+              catch (const nlohmann::json::exception &e)
+                {
+                  throw InputError("--restart " + recorder.directory() + ": the checkpoint does not fit this scene (" +
+                                   e.what() + ")");
+                }
+              pcout << "suturesim: restarting from the checkpoint after step " << steps << " at t = " << t << " s\n";
+            }
+          else
+            {
+              std::string failure;
+              if (!stitch.solve_initial(failure))
+                fail(0, failure);
+              record.record(0, stitch.step_statistics(0, 0));
+            }
 
-          unsigned  steps = 0, total_iterations = 0, failed_attempts = 0;
           StepHooks hooks;
           hooks.attempt = [&](const double tn, const double dt) { return stitch.attempt(tn, dt); };
           hooks.undo    = [&](const StepAttempt &attempt, const double tn, const double dt) {
@@ -105,15 +149,24 @@ namespace suturesim::scene
           hooks.fail = [&](const double tn, unsigned, const std::string &reason) { fail(tn, reason); };
           hooks.next_event = [&](const double tn) { return stitch.next_event(tn); };
           hooks.keep = [&](const double tn) {
+            // a run stopped early can go on from here: the checkpoint before the state is
+            // written out of turn, so that a restart's outputs are the uninterrupted run's
+            checkpoint();
             const std::string where = record.keep(tn);
             record.finish(tn);
-            return where;
+            return (where.empty() ? recorder.directory() : where) + " (suturesim --restart " + recorder.directory() +
+                   " goes on from it)";
+          };
+          hooks.accepted = [&](const StepperState &state) {
+            stepper = state;
+            if (schedule.due())
+              checkpoint();
           };
           // a step that overshoots the puncture threshold is halved up to 8 more times
           const auto &time = scene.time;
           run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size, time.target_iterations,
                              time.maximum_steps},
-                            hooks);
+                            hooks, 0, recorder.resuming() ? &stepper : nullptr);
 
           record.finish(t);
           // failed_attempts: steps whose solve failed and was halved (events' refinements
@@ -121,6 +174,12 @@ namespace suturesim::scene
           RunSummary(recorder.summary())
             .solver({{"steps", steps}, {"newton_iterations_total", total_iterations}, {"failed_attempts", failed_attempts}});
         });
+      }
+
+      bool
+      writes_checkpoints() const override
+      {
+        return true;
       }
 
     private:

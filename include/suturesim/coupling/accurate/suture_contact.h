@@ -33,6 +33,8 @@
 
 #include <Eigen/Core>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <vector>
 
 namespace suturesim::coupling
@@ -84,6 +86,13 @@ namespace suturesim::coupling
     double
     total_force(const std::vector<rod::Vec3> &nodes) const;
 
+    /// The contacts of the last accepted state, for a checkpoint (io/checkpoint.h);
+    /// restore() takes them back.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
+
     const std::vector<Contact> &
     contacts() const
     {
@@ -118,6 +127,9 @@ namespace suturesim::coupling
     /// surface point @p q, N.
     double
     pressure(const Contact &c, const Eigen::Vector3d &p, const Eigen::Vector3d &q) const;
+    /// The contacts' material points X and the nodes' slots, from list.
+    void
+    adopt(std::size_t n_nodes);
 
     SutureContactParameters             prm;
     const std::vector<mesh::Triangle>  &triangles;

@@ -280,6 +280,14 @@ namespace suturesim::coupling
     /// where the thread is meant to run inside the tissue.
     std::vector<char>
     thread_nodes_in_tracts() const;
+    /// The state of the last accepted step (the touch, the pierce points with their
+    /// anchors, multipliers and record, the events, the pose), for a checkpoint
+    /// (io/checkpoint.h); restore() takes it back, the points rebuilt from it.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
+
     /// Touches, punctures and releases so far, in time order.
     std::vector<PunctureEvent>
     all_events() const;

@@ -33,6 +33,8 @@
 
 #include <Eigen/Core>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <array>
 #include <vector>
 
@@ -68,6 +70,13 @@ namespace suturesim::coupling
     /// must locate points() again).
     bool
     detect(const Eigen::Matrix3Xd &surface);
+
+    /// The loaded pairs and their last equilibrium, for a checkpoint (io/checkpoint.h);
+    /// restore() takes them back.
+    nlohmann::json
+    snapshot() const;
+    void
+    restore(const nlohmann::json &snapshot);
 
     /// Where the contact's points are among the tissue's point loads: index of its first.
     void
@@ -119,6 +128,9 @@ namespace suturesim::coupling
     equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) override;
 
   private:
+    /// The loaded pairs' points X: P of each, then their Q.
+    void
+    adopt();
     /// Gap of loaded pair j with P at @p p and Q at @p q, m.
     double
     gap(std::size_t j, const dealii::Point<3> &p, const dealii::Point<3> &q) const;
