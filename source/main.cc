@@ -189,11 +189,14 @@ main(int argc, char **argv)
     }
   catch (const io::WriteError &e)
     {
-      // no summary.json: the run's outputs are not complete (io/checked_output.h). Only
-      // rank 0 writes files, so the other ranks would wait for it in their next
-      // collective call: with several, the job ends here.
-      if (root)
-        std::cerr << "error: " << e.what() << std::endl;
+      // no summary.json: the run's outputs are not complete (io/checked_output.h). Rank 0
+      // writes the record, every rank its part of a checkpoint (io/checkpoint.h): the
+      // others would wait for the one that failed in their next collective call, so with
+      // several the job ends here, and the rank that failed says so.
+      std::cerr << "error: " << e.what();
+      if (!root)
+        std::cerr << " (MPI rank " << dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) << ")";
+      std::cerr << std::endl;
       if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
         MPI_Abort(MPI_COMM_WORLD, 5);
       return 5;

@@ -38,12 +38,14 @@ namespace suturesim
     double              recent_sum = 0;
     if (resume)
       {
+        if (resume->recent.size() != pace_window)
+          throw InputError("a checkpoint's step history holds " + std::to_string(resume->recent.size()) +
+                           " steps, not the " + std::to_string(pace_window) + " this version keeps");
         t          = resume->t;
         dt         = resume->dt;
         steps      = resume->steps;
+        recent     = resume->recent;
         recent_sum = resume->recent_sum;
-        if (resume->recent.size() == pace_window)
-          recent = resume->recent;
       }
     while (t < T * (1 - 1e-12))
       {

@@ -184,16 +184,17 @@ namespace suturesim::coupling
     last_force = 0;
     return true;
   }
+
   nlohmann::json
   event_state(const PunctureEvent &e)
   {
-    return {{"kind", e.kind}, {"time", e.time}, {"position", io::to_array(e.position)}, {"force", e.force}};
+    return {{"kind", e.kind}, {"time", e.time}, {"position", io::triple(e.position)}, {"force", e.force}};
   }
 
   PunctureEvent
   event_from(const nlohmann::json &j)
   {
-    return {j.at("kind").get<std::string>(), j.at("time").get<double>(), io::vector3(j.at("position")),
+    return {j.at("kind").get<std::string>(), j.at("time").get<double>(), io::triple_as<Eigen::Vector3d>(j.at("position")),
             j.at("force").get<double>()};
   }
 
@@ -206,13 +207,13 @@ namespace suturesim::coupling
     return {{"phase", int(state)},
             {"touch",
              {{"triangle", contact.point.triangle},
-              {"weights", io::to_array(contact.point.weights)},
-              {"reference", io::to_array(contact.reference)},
-              {"normal", io::to_array(contact.normal)},
+              {"weights", io::triple(contact.point.weights)},
+              {"reference", io::triple(contact.reference)},
+              {"normal", io::triple(contact.normal)},
               {"exit", contact.exit}}},
             {"events", events},
             {"last_force", last_force},
-            {"last_tip", io::to_array(last_tip)},
+            {"last_tip", io::triple(last_tip)},
             {"looked", looked}};
   }
 
@@ -222,15 +223,15 @@ namespace suturesim::coupling
     state                  = Phase(j.at("phase").get<int>());
     const auto &touch      = j.at("touch");
     contact.point.triangle = touch.at("triangle").get<std::uint32_t>();
-    contact.point.weights  = io::vector3(touch.at("weights"));
-    contact.reference      = io::vector3(touch.at("reference"));
-    contact.normal         = io::vector3(touch.at("normal"));
+    contact.point.weights  = io::triple_as<Eigen::Vector3d>(touch.at("weights"));
+    contact.reference      = io::triple_as<Eigen::Vector3d>(touch.at("reference"));
+    contact.normal         = io::triple_as<Eigen::Vector3d>(touch.at("normal"));
     contact.exit           = touch.at("exit").get<bool>();
     log.clear();
     for (const auto &e : j.at("events"))
       log.push_back(event_from(e));
     last_force = j.at("last_force").get<double>();
-    last_tip   = io::vector3(j.at("last_tip"));
+    last_tip   = io::triple_as<Eigen::Vector3d>(j.at("last_tip"));
     looked     = j.at("looked").get<bool>();
   }
 } // namespace suturesim::coupling

@@ -24,8 +24,9 @@ namespace suturesim::io
     fs::path
     existing(const std::string &directory)
     {
-      const fs::path current = fs::path(directory) / "checkpoint";
-      return fs::exists(current) || !fs::exists(fs::path(directory) / "checkpoint.old")
+      const fs::path  current = fs::path(directory) / "checkpoint";
+      std::error_code error;
+      return fs::exists(current, error) || !fs::exists(fs::path(directory) / "checkpoint.old", error)
                ? current
                : fs::path(directory) / "checkpoint.old";
     }
@@ -75,8 +76,8 @@ namespace suturesim::io
     const fs::path fresh = fs::path(directory) / "checkpoint.new";
     if (rank == 0)
       {
-        fs::remove_all(fresh);
         std::error_code error;
+        fs::remove_all(fresh, error);
         fs::create_directories(fresh, error);
         if (error)
           throw WriteError(fresh.string() + ": cannot be written (" + error.message() + ")");
@@ -92,13 +93,17 @@ namespace suturesim::io
     MPI_Barrier(comm);
     if (rank == 0)
       {
-        // the last complete one stays until the new one is in its place
-        const fs::path current = fs::path(directory) / "checkpoint", old = fs::path(directory) / "checkpoint.old";
-        fs::remove_all(old);
-        if (fs::exists(current))
+        // the last complete one stays until the new one is in its place; a run stopped
+        // between the two renames left it as checkpoint.old
+        const fs::path  current = fs::path(directory) / "checkpoint", old = fs::path(directory) / "checkpoint.old";
+        std::error_code error;
+        if (!fs::exists(current, error) && fs::exists(old, error))
+          rename_checked(old, current);
+        fs::remove_all(old, error);
+        if (fs::exists(current, error))
           rename_checked(current, old);
         rename_checked(fresh, current);
-        fs::remove_all(old);
+        fs::remove_all(old, error);
       }
     MPI_Barrier(comm);
   }
@@ -132,9 +137,9 @@ namespace suturesim::io
         state.first          = read("shared.cbor");
         const unsigned count = dealii::Utilities::MPI::n_mpi_processes(comm);
         if (state.first.value("processes", 0u) != count)
-          throw InputError("--restart " + directory + ": the checkpoint was written by " +
-                           std::to_string(state.first.value("processes", 0u)) + " MPI processes, this run has " +
-                           std::to_string(count) + " (the tissue's partition must be the same)");
+          throw InputError("--restart " + directory + ": MPI processes: " +
+                           std::to_string(state.first.value("processes", 0u)) + " in the checkpoint, " +
+                           std::to_string(count) + " in this run (the tissue's partition must be the same)");
         state.second = read(rank_file(dealii::Utilities::MPI::this_mpi_process(comm)));
       }
     catch (const InputError &e)
@@ -150,8 +155,9 @@ namespace suturesim::io
   void
   remove_checkpoint(const std::string &directory)
   {
+    std::error_code error;
     for (const char *name : {"checkpoint", "checkpoint.new", "checkpoint.old"})
-      fs::remove_all(fs::path(directory) / name);
+      fs::remove_all(fs::path(directory) / name, error);
   }
 
   nlohmann::json

@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace suturesim::io
@@ -19,37 +21,42 @@ namespace suturesim::io
 
   namespace
   {
-    /// The settings of a parameters.prm text as "Subsection/Key = value" lines, without
-    /// those a restart may change.
-    std::vector<std::string>
+    /// The settings of a parameters.prm text, "Subsection/Key" → value, without those a
+    /// restart may change: the end time, the checkpoints, and the guards a stopped run
+    /// may need raised (Time/Maximum steps, Mesh/Gmsh time limit).
+    std::map<std::string, std::string>
     settings(const std::string &text)
     {
-      std::vector<std::string> path, lines;
-      std::istringstream       in(text);
+      const auto trim = [](std::string t) {
+        t.erase(0, t.find_first_not_of(' '));
+        t.erase(t.find_last_not_of(' ') + 1);
+        return t;
+      };
+      std::vector<std::string>           path;
+      std::map<std::string, std::string> values;
+      std::istringstream                 in(text);
       for (std::string line; std::getline(in, line);)
         {
-          line.erase(0, line.find_first_not_of(' '));
+          line = trim(line);
           if (line.rfind("subsection ", 0) == 0)
             path.push_back(line.substr(11));
           else if (line == "end" && !path.empty())
             path.pop_back();
           else if (line.rfind("set ", 0) == 0 && line.find('=') != std::string::npos)
             {
-              // "set Key   = value   # default: ..." (the PRM writer aligns the '=')
-              const auto trim = [](std::string t) {
-                t.erase(0, t.find_first_not_of(' '));
-                t.erase(t.find_last_not_of(' ') + 1);
-                return t;
-              };
+              // "set Key   = value   # default: ..." (the PRM writer aligns the '=' and
+              // notes a default that differs); a value may hold a '#' of its own
               std::string key = trim(line.substr(4, line.find('=') - 4));
               for (auto p = path.rbegin(); p != path.rend(); ++p)
                 key = *p + "/" + key;
-              const std::string value = trim(line.substr(line.find('=') + 1, line.find('#') - line.find('=') - 1));
-              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0)
-                lines.push_back(key + " = " + value);
+              std::string value = line.substr(line.find('=') + 1);
+              value             = trim(value.substr(0, value.rfind(" # default:")));
+              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0 && key != "Time/Maximum steps" &&
+                  key != "Mesh/Gmsh time limit")
+                values[key] = value;
             }
         }
-      return lines;
+      return values;
     }
   } // namespace
 
@@ -57,10 +64,13 @@ namespace suturesim::io
   first_difference(const std::string &before, const std::string &now)
   {
     const auto a = settings(before), b = settings(now);
-    for (std::size_t k = 0; k < std::max(a.size(), b.size()); ++k)
-      if (k >= a.size() || k >= b.size() || a[k] != b[k])
-        return "'" + (k < a.size() ? a[k] : std::string("nothing")) + "' then, '" +
-               (k < b.size() ? b[k] : std::string("nothing")) + "' now";
+    for (const auto &[key, value] : b)
+      if (a.count(key) == 0 || a.at(key) != value)
+        return "'" + key + " = " + (a.count(key) ? a.at(key) : std::string("(none)")) + "' then, '" + key + " = " +
+               value + "' now";
+    for (const auto &[key, value] : a)
+      if (b.count(key) == 0)
+        return "'" + key + " = " + value + "' then, none now";
     return "";
   }
 
@@ -145,39 +155,81 @@ namespace suturesim::io
     resumed = read_checkpoint(dir, comm);
     std::ostringstream text;
     prm.print_parameters(text, dealii::ParameterHandler::PRM);
-    const auto       &record     = resumed.first.at("record");
-    const std::string difference = first_difference(record.at("parameters").get<std::string>(), text.str());
-    if (!difference.empty())
+    const auto  &record    = resumed.first.at("record");
+    const double t         = record.at("t").get<double>();
+    const auto   csv_bytes = record.at("forces_csv_bytes").get<std::uintmax_t>();
+    series_files           = record.at("series").get<decltype(series_files)>();
+    // every check before the folder is touched, rank 0's file checks shared with all
+    std::string refusal = first_difference(record.at("parameters").get<std::string>(), text.str());
+    if (!refusal.empty())
+      refusal = "the checkpoint was written with other parameters (" + refusal +
+                "); a restart runs the checkpoint's scene, only Time/End time, Time/Maximum steps, Mesh/Gmsh "
+                "time limit and the checkpoint settings may change";
+    else if (const double end = prm.get_double({"Time"}, "End time"); !(end > t * (1 + 1e-12)))
+      refusal = "Time/End time = " + std::to_string(end) + " s is not after the checkpoint's t = " +
+                std::to_string(t) + " s";
+    const fs::path  forces = fs::path(dir) / "forces.csv";
+    std::error_code error;
+    if (root && refusal.empty() && !fs::exists(forces, error))
+      refusal = "forces.csv is missing";
+    else if (root && refusal.empty() && fs::file_size(forces, error) < csv_bytes)
+      refusal = "forces.csv is shorter than the checkpoint's record";
+    refusal = dealii::Utilities::MPI::broadcast(comm, refusal, 0);
+    if (!refusal.empty())
       {
         resumed = {};
-        throw InputError("--restart " + dir + ": the checkpoint was written with other parameters (" + difference +
-                         "); a restart runs the checkpoint's scene, only Time/End time may change");
+        throw InputError("--restart " + dir + ": " + refusal);
       }
     write_parameters(prm);
-    series_files = record.at("series").get<decltype(series_files)>();
-    const auto csv_bytes = record.at("forces_csv_bytes").get<std::uintmax_t>();
     if (!root)
       return;
-    const fs::path forces = fs::path(dir) / "forces.csv";
-    std::error_code error;
-    if (fs::file_size(forces, error) < csv_bytes || error)
-      throw InputError("--restart " + dir + ": forces.csv is shorter than the checkpoint's record");
+    // the record as it was at the checkpoint: forces.csv's rows, the series, no summary
     fs::resize_file(forces, csv_bytes, error);
     if (error)
       throw WriteError(forces.string() + ": cannot be written (" + error.message() + ")");
-    fs::remove(fs::path(dir) / "summary.json");
+    fs::remove(fs::path(dir) / "summary.json", error);
+    std::set<std::string> listed;
+    for (const auto &[series, files] : series_files)
+      {
+        for (const auto &file : files)
+          listed.insert(file.second);
+        std::ostringstream pvd;
+        dealii::DataOutBase::write_pvd_record(pvd, files);
+        write_whole((fs::path(dir) / (series + ".pvd")).string(), pvd.str());
+      }
+    // states written after the checkpoint: not the run's any more
+    for (const auto &entry : fs::directory_iterator(dir, error))
+      if ((entry.path().extension() == ".vtu" || entry.path().extension() == ".pvtu") &&
+          listed.count(entry.path().filename().string()) == 0)
+        fs::remove(entry.path(), error);
   }
 
   void
-  Recorder::checkpoint(const nlohmann::json &shared, const nlohmann::json &local)
+  Recorder::restore_summary()
   {
+    // the run's record so far, by the binary and on the processes that finish it
+    const nlohmann::json now = json;
+    json                     = resumed.first.at("record").at("summary");
+    for (const char *key : {"version", "commit", "mpi_processes", "threads"})
+      json[key] = now[key];
+    json["restarted_from"] = {{"t", resumed.first.at("record").at("t")}};
+  }
+
+  void
+  Recorder::checkpoint(const double t, const nlohmann::json &shared, const nlohmann::json &local)
+  {
+    std::error_code      error;
+    const std::uintmax_t bytes = root ? fs::file_size(fs::path(dir) / "forces.csv", error) : 0;
+    if (error)
+      throw WriteError((fs::path(dir) / "forces.csv").string() + ": cannot be read back (" + error.message() + ")");
     nlohmann::json state;
     state["processes"] = dealii::Utilities::MPI::n_mpi_processes(comm);
     state["scenario"]  = shared;
-    state["record"]    = {{"parameters", parameters},
+    state["record"]    = {{"t", t},
+                          {"parameters", parameters},
                           {"summary", json},
                           {"series", series_files},
-                          {"forces_csv_bytes", root ? fs::file_size(fs::path(dir) / "forces.csv") : 0}};
+                          {"forces_csv_bytes", bytes}};
     write_checkpoint(dir, state, local, comm);
   }
 

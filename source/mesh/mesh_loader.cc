@@ -10,16 +10,17 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <regex>
 #include <set>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include <sys/wait.h>
@@ -284,13 +285,13 @@ namespace suturesim::mesh
           const pid_t done = waitpid(pid, &status, WNOHANG);
           if (done == pid)
             return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-          if (done < 0)
-            return -1;
-          if (std::chrono::steady_clock::now() > deadline)
+          const bool lost = done < 0 && errno != EINTR;
+          if (lost || std::chrono::steady_clock::now() > deadline)
             {
               kill(pid, SIGKILL);
-              waitpid(pid, &status, 0);
-              return gmsh_timed_out;
+              while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+                ;
+              return lost ? -1 : gmsh_timed_out;
             }
           std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }

@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/io/state_json.h>
 #include <suturesim/scene/accurate_stitch.h>
 
 #include <deal.II/base/mpi.h>
@@ -438,14 +439,14 @@ namespace suturesim::scene
             {"coupling_rounds", rounds},
             {"residual_norms", report.residual_norms}};
   }
+
   nlohmann::json
   AccurateStitch::snapshot() const
   {
-    const auto     vec = [](const auto &v) { return nlohmann::json{v[0], v[1], v[2]}; };
     nlohmann::json j{{"needle", needle->snapshot()},
                      {"grasped", grasped},
-                     {"grasped_at", vec(grasped_at)},
-                     {"load", {vec(load.first), vec(load.second)}},
+                     {"grasped_at", io::triple(grasped_at)},
+                     {"load", {io::triple(load.first), io::triple(load.second)}},
                      {"end_tension", end_tension},
                      {"stabilization_force", stabilization_force}};
     if (suture)
@@ -477,12 +478,6 @@ namespace suturesim::scene
   void
   AccurateStitch::restore(const nlohmann::json &j, const nlohmann::json &local)
   {
-    const auto tensor = [](const nlohmann::json &v) {
-      Tensor<1, 3> t;
-      for (unsigned d = 0; d < 3; ++d)
-        t[d] = v.at(d).get<double>();
-      return t;
-    };
     model->restore_local_state(local);
     needle->restore(j.at("needle"));
     if (suture)
@@ -494,8 +489,7 @@ namespace suturesim::scene
           suture->set_node(i, rod::Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]),
                            rod::Quat(q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]));
         grasped = j.at("grasped").get<bool>();
-        const auto &at = j.at("grasped_at");
-        grasped_at     = rod::Vec3(at[0].get<double>(), at[1].get<double>(), at[2].get<double>());
+        grasped_at = io::triple_as<rod::Vec3>(j.at("grasped_at"));
         // the grasper's hold, as hold_suture() set it at the grasp
         if (grasped)
           {
@@ -509,7 +503,7 @@ namespace suturesim::scene
       faces->restore(j.at("faces"));
     if (closure)
       closure->restore(j.at("closure"));
-    load                = {tensor(j.at("load").at(0)), tensor(j.at("load").at(1))};
+    load                = {io::triple_as<Tensor<1, 3>>(j.at("load").at(0)), io::triple_as<Tensor<1, 3>>(j.at("load").at(1))};
     end_tension         = j.at("end_tension").get<double>();
     stabilization_force = j.at("stabilization_force").get<double>();
     points_changed      = false;

@@ -139,7 +139,8 @@ namespace suturesim::scene
   AccurateStitchRecord::finish(const double t)
   {
     auto &metrics = summary.metrics();
-    summary.needle(stitch.np, stitch.needle->all_events(), peak_pull, t);
+    summary.needle(stitch.np, stitch.needle->all_events(), peak_pull);
+    summary.pass_outcome(stitch.np, stitch.needle->all_events(), t, stitch.suture.has_value());
     metrics["simulated_time"] = t;
     if (stitch.suture)
       {
@@ -161,6 +162,7 @@ namespace suturesim::scene
     if (stitch.closure)
       stitch.closure->write(metrics);
   }
+
   nlohmann::json
   AccurateStitchRecord::snapshot() const
   {

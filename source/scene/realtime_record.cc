@@ -239,8 +239,11 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < world.tool_ends.size(); ++k)
       metrics[world.tool_ends[k].name + "_force_magnitude"] = rw.tool_forces()[world.first_end_tool + k].force.norm();
     if (world.needle)
-      summary.needle(scene.needle, world.needle->events(rw), world.needle->peak_pull_force(), rw.time(),
-                     rw.needle()->pierce_model());
+      {
+        const auto events = world.needle->events(rw);
+        summary.needle(scene.needle, events, world.needle->peak_pull_force(), rw.needle()->pierce_model());
+        summary.pass_outcome(scene.needle, events, rw.time(), scene.needle.attach_suture && rw.suture() != nullptr);
+      }
     for (const auto &[name, index] : world.probes)
       {
         const auto u = rw.probe_displacement(index);

@@ -92,7 +92,7 @@ namespace suturesim::scene
 
   void
   RunSummary::needle(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
-                     const double peak_pull_force, const double t, const std::string &pierce_model)
+                     const double peak_pull_force, const std::string &pierce_model)
   {
     auto &list    = json["events"];
     list          = nlohmann::json::array();
@@ -129,6 +129,13 @@ namespace suturesim::scene
       }
     if (!pierce_model.empty())
       json["pierce_model"] = pierce_model;
+  }
+
+  void
+  RunSummary::pass_outcome(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
+                           const double t, const bool suture)
+  {
+    const nlohmann::json &metrics = json["metrics"];
     // what the pass is for, not reached: no puncture, or the suture drawn out of its hole
     if (np.motion == "pass" && t >= np.planned_pass().t_tip_exit && !metrics.contains("puncture_force_entry"))
       {
@@ -144,7 +151,7 @@ namespace suturesim::scene
         incomplete(why.str());
       }
     // the first hole it left says it (a later one the same)
-    if (np.attach_suture)
+    if (suture)
       for (const auto &e : events)
         if (e.kind == "released")
           {

@@ -151,6 +151,7 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < prm.pairs.size(); ++k)
       metrics["gaps"][prm.pairs[k].name] = {{"initial", initial[k]}, {"final", last[k]}, {"least", least[k]}};
   }
+
   nlohmann::json
   ClosureMonitor::snapshot() const
   {

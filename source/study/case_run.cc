@@ -178,7 +178,7 @@ namespace suturesim::study
           return std::nullopt;
         auto o             = j.get<CaseOutcome>();
         o.reused           = true;
-        const bool started  = o.status == "completed" || o.status == "failed";
+        const bool started  = o.status == "completed" || o.status == "failed" || o.status == "incomplete";
         if (started && (!fs::exists(dir / "parameters.prm") || !fs::exists(dir / "summary.json")))
           return std::nullopt;
         return o;

@@ -232,6 +232,25 @@ namespace suturesim::tissue
     cell_mixed = saved_cell_mixed;
   }
 
+  namespace
+  {
+    /// This process's cells as a checkpoint recognises them: their number and the sum
+    /// of their centres (the same mesh, partition and order give the same bits).
+    nlohmann::json
+    cell_fingerprint(const DoFHandler<3> &dof_handler)
+    {
+      std::size_t cells = 0;
+      Point<3>    sum;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            ++cells;
+            sum += cell->center();
+          }
+      return {cells, sum[0], sum[1], sum[2]};
+    }
+  } // namespace
+
   nlohmann::json
   TissueModel::local_state() const
   {
@@ -242,16 +261,28 @@ namespace suturesim::tissue
       if (cell->is_locally_owned())
         for (const auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           mixed.insert(mixed.end(), field->begin(), field->end());
-    return {{"dofs", n_dofs()}, {"u", io::pack_doubles(u)}, {"mixed", io::pack_doubles(mixed)}};
+    return {{"dofs", n_dofs()},
+            {"cells", cell_fingerprint(dof_handler)},
+            {"u", io::pack_doubles(u)},
+            {"mixed", io::pack_doubles(mixed)}};
   }
 
   void
   TissueModel::restore_local_state(const nlohmann::json &state)
   {
     const std::vector<double> u = io::unpack_doubles(state.at("u")), mixed = io::unpack_doubles(state.at("mixed"));
-    if (state.at("dofs").get<types::global_dof_index>() != n_dofs() || u.size() != locally_owned_dofs.n_elements())
-      throw InputError("--restart: the checkpoint's tissue has " + std::to_string(state.at("dofs").get<std::uint64_t>()) +
-                       " DoFs, this mesh " + std::to_string(n_dofs()) + " (the mesh is built from the scene: was it changed?)");
+    std::size_t               owned_cells = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      owned_cells += cell->is_locally_owned();
+    // the same mesh and partition on every process, or none takes the state
+    const bool fits = state.at("dofs").get<types::global_dof_index>() == n_dofs() &&
+                      state.at("cells") == cell_fingerprint(dof_handler) &&
+                      u.size() == locally_owned_dofs.n_elements() &&
+                      mixed.size() == 2 * std::tuple_size_v<PressureCoefficients> * owned_cells;
+    if (Utilities::MPI::min(int(fits), comm) == 0)
+      throw InputError("--restart: the checkpoint's tissue mesh is not this one (" +
+                       std::to_string(state.at("dofs").get<std::uint64_t>()) + " DoFs there, " +
+                       std::to_string(n_dofs()) + " here, or other cells): was the mesh or its .geo changed?");
     std::size_t k = 0;
     for (const auto i : locally_owned_dofs)
       solution[i] = u[k++];
@@ -262,9 +293,7 @@ namespace suturesim::tissue
       if (cell->is_locally_owned())
         for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           for (double &v : *field)
-            v = k < mixed.size() ? mixed[k++] : v;
-    if (k != mixed.size())
-      throw InputError("--restart: the checkpoint's mixed fields do not fit this mesh");
+            v = mixed[k++];
   }
 
   void

@@ -22,7 +22,7 @@ namespace
   struct Stopped
   {
     int            exit_code = -1;
-    std::string    output;
+    std::string    output, directory;
     nlohmann::json summary;
     std::vector<std::vector<double>> rows;
   };
@@ -57,6 +57,7 @@ namespace
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
       }
     Stopped s;
+    s.directory = dir.string();
     EXPECT_TRUE(signalled) << "the run ended before it was signalled";
     s.output    = read_text(log);
     s.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -123,6 +124,7 @@ namespace
   restart(const std::vector<std::string> &args, const fs::path &dir)
   {
     Stopped s;
+    s.directory = dir.string();
     s.exit_code = run_logged(join(join({suturesim_binary()}, args), {"--restart", dir.string()}),
                              dir.string() + "_restart.log", s.output, {"OPENBLAS_NUM_THREADS=1"});
     RunResult r;
@@ -188,6 +190,16 @@ namespace
     for (const char *part : {"metrics", "events", "steps"})
       expect_same_numbers(restarted.summary[part], whole.summary[part], part);
     expect_same_numbers(restarted.summary["solver"]["steps"], whole.summary["solver"]["steps"], "solver/steps");
+    // the series list the uninterrupted run's states, no more (after deal.II's comment
+    // with the time the file was written)
+    const auto collection = [](const std::string &file) {
+      const std::string text = read_text(file);
+      return text.substr(std::min(text.size(), text.find("<VTKFile")));
+    };
+    for (const char *series : {"tissue.pvd", "suture.pvd"})
+      EXPECT_EQ(collection((fs::path(restarted.directory) / series).string()),
+                collection((fs::path(whole.directory) / series).string()))
+        << series;
     const auto rows = read_forces(whole);
     ASSERT_EQ(restarted.rows.size(), rows.size());
     for (std::size_t i = 0; i < rows.size(); ++i)
@@ -239,6 +251,26 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
             std::string::npos)
     << other.output;
   EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  // so are an end time not after the checkpoint, another process count, and a
+  // checkpoint that cannot be read
+  const auto early = restart(join(every_25, {"--set", "Time/End time=1.0"}), dir);
+  EXPECT_EQ(early.exit_code, 2) << early.output;
+  EXPECT_NE(early.output.find("Time/End time = 1.000000 s is not after the checkpoint's t = "), std::string::npos)
+    << early.output;
+  std::string mpi_output;
+  const int   mpi = run_logged(join(join(mpi_launcher(2), join({suturesim_binary()}, every_25)), {"--restart", dir.string()}),
+                               dir.string() + "_np2.log", mpi_output, mpi_environment());
+  EXPECT_EQ(mpi, 2) << mpi_output;
+  EXPECT_NE(mpi_output.find("MPI processes: 1 in the checkpoint, 2 in this run"), std::string::npos)
+    << mpi_output;
+  const fs::path broken = scratch_path() / "restart_broken";
+  fs::remove_all(broken);
+  fs::copy(dir, broken, fs::copy_options::recursive);
+  std::ofstream(broken / "checkpoint" / "shared.cbor", std::ios::trunc) << "not CBOR";
+  const auto garbled = restart(every_25, broken);
+  EXPECT_EQ(garbled.exit_code, 2) << garbled.output;
+  EXPECT_NE(garbled.output.find("shared.cbor is not a checkpoint"), std::string::npos) << garbled.output;
+  EXPECT_TRUE(fs::exists(dir / "summary.json"));
 
   const auto restarted = restart(every_25, dir);
   const std::size_t steps = whole.summary["solver"]["steps"].get<std::size_t>();
@@ -246,6 +278,7 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
             std::string::npos)
     << restarted.output;
   expect_as_uninterrupted(restarted, whole);
+  EXPECT_TRUE(restarted.summary.contains("restarted_from")) << restarted.summary.dump();
 }
 
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)

@@ -220,7 +220,13 @@ TEST(RealtimeScene, ASutureTooShortForThePassEndsIncompleteWithTheReason)
   expect_incomplete(r, "the suture's far end was drawn out of the tissue at t = ");
   EXPECT_NE(r.summary["incomplete"][0].get<std::string>().find("too short for this pass"), std::string::npos);
   EXPECT_TRUE(r.summary["metrics"].contains("puncture_force_exit"));
-  // the full-length suture of the same pass is complete (NeedlePassPuncturesAtTheThreshold...)
+  // the full-length suture of the same pass is complete (NeedlePassPuncturesAtTheThreshold...);
+  // so is the needle alone, which leaves its holes at the swage as a pass does
+  const auto alone = run_suturesim("needle_alone", {source_path("parameters/needle_pass.prm"), "--set", "Bodies=tissue",
+                                                    "--set", "Mesh/Geo parameters=h: 0.002, hexahedra: 0"});
+  EXPECT_EQ(alone.exit_code, 0) << alone.output;
+  EXPECT_EQ(alone.summary["status"], "completed");
+  EXPECT_NE(alone.summary["events"].dump().find("\"released\""), std::string::npos) << alone.summary["events"].dump();
 }
 
 TEST(RealtimeScene, ANeedleThatNeverPuncturesEndsIncomplete)

@@ -32,22 +32,12 @@ namespace
     return last;
   }
 
-  std::size_t
-  count_lines_starting(const std::string &text, const std::string &prefix)
-  {
-    std::size_t        n = 0;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);)
-      n += line.rfind(prefix, 0) == 0;
-    return n;
-  }
-
   /// What every failed run shows: exit 3, one error line, summary.json "failed".
   void
   expect_failed(const RunResult &r)
   {
     EXPECT_EQ(r.exit_code, 3) << r.output;
-    EXPECT_EQ(count_lines_starting(r.output, "error: "), 1u) << r.output;
+    EXPECT_EQ(lines_starting(r.output, "error: "), 1u) << r.output;
     ASSERT_TRUE(r.has_summary) << r.output;
     EXPECT_EQ(r.summary["status"], "failed");
     ASSERT_TRUE(r.summary.contains("error"));
@@ -123,7 +113,7 @@ TEST(SolverFailure, RunawayRodDynamicsStopWithinABoundedNumberOfSteps)
                                 "Time/Generalized-alpha/Spectral radius=1", "--set", "Suture/Damping=0", "--set",
                                 "Suture/Loads/End force=0,0,-50", "--set", "Time/Max cutbacks=20"});
   EXPECT_EQ(r.exit_code, 3) << r.output;
-  EXPECT_EQ(count_lines_starting(r.output, "error: "), 1u) << r.output;
+  EXPECT_EQ(lines_starting(r.output, "error: "), 1u) << r.output;
   ASSERT_TRUE(r.has_summary) << r.output;
   EXPECT_EQ(r.summary["status"], "failed");
   const std::string error = r.summary.value("error", "");

@@ -254,6 +254,27 @@ TEST(StudyRun, SnakemakeExportGivesTheSameTableAsJobs)
   EXPECT_EQ(without_costs(snake), without_costs(read_csv(jobs.folder + "/cases.csv")));
 }
 
+TEST(StudyRun, ACaseThatEndsWithoutWhatItsSceneAskedIsIncompleteWithTheReason)
+{
+  // the run's own "incomplete" (exit 6, scene/run_summary.h) becomes the row's status,
+  // its one line the reason
+  const auto r = run_study("study_needle_incomplete", source_path("tests/data/studies/needle_incomplete.prm"), {});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto &c : r.study.at("cases"))
+    if (!c["is_reference"].get<bool>())
+      rows[c["name"].get<std::string>()] = c;
+  ASSERT_EQ(rows.size(), 2u) << r.study.dump(1);
+  for (const auto &[name, c] : rows)
+    if (name.find("100") != std::string::npos)
+      {
+        EXPECT_EQ(c["status"], "incomplete") << c.dump();
+        EXPECT_NE(c.value("reason", "").find("the needle never punctured the tissue"), std::string::npos) << c.dump();
+      }
+    else
+      EXPECT_EQ(c["status"], "completed") << c.dump();
+}
+
 TEST(StudyRun, ErrorsFoundAfterTheRunsNameTheStudyLine)
 {
   const auto dir = scratch_path() / "bad_studies";

@@ -13,7 +13,8 @@
  *
  * It is written whole into DIR/checkpoint.new/ and then renamed over DIR/checkpoint/, so
  * a checkpoint/ that exists is complete: a run killed while writing one keeps the one
- * before. The mesh is not stored: it is a function of the scene, built again the same
+ * before (against a killed process; the files are not synced to disk, so a machine
+ * that crashes may lose the last one). The mesh is not stored: it is a function of the scene, built again the same
  * way, and its partition a function of the process count, which a restart must repeat
  * (checked). This is where suturesim differs from ASPECT's checkpoints, which store the
  * p4est forest and transfer the vectors to any process count: here the mesh never
@@ -26,6 +27,8 @@
 
 #include <chrono>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace suturesim::io
 {

@@ -5,7 +5,8 @@
  * summary.json (scene, model, status, metrics, timings, solver statistics, version),
  * forces.csv (header names each column with its unit) and *.pvd series of .vtu files.
  * Formats go through libraries (nlohmann::json, deal.II DataOutBase). Only MPI rank 0
- * writes these files; the .vtu files are written collectively by the models.
+ * writes these files; the .vtu files are written collectively by the models, and each
+ * process writes its own part of a checkpoint (io/checkpoint.h).
  *
  * A run that fails leaves summary.json with "status": "failed" and the reason, so no
  * failed run looks complete; stale outputs of an earlier run are removed first.
@@ -83,8 +84,10 @@ namespace suturesim::io
     /// parameters.prm and takes up the
     /// record it holds: the .pvd series, forces.csv cut back to the checkpoint's rows
     /// (set_columns() then appends), summary.json's contents (restore_summary()).
-    /// summary.json is removed until the run ends. InputError naming --restart when none
-    /// fits.
+    /// summary.json is removed until the run ends, the .pvd series are written as they
+    /// were, and states written after the checkpoint are removed. InputError naming
+    /// --restart, before anything is changed, when the checkpoint does not fit (other
+    /// parameters, an End time not after it, forces.csv missing or shorter).
     void
     resume(const dealii::ParameterHandler &prm);
 
@@ -109,17 +112,15 @@ namespace suturesim::io
     }
 
     /// summary.json's contents as the checkpoint resume() read holds them (the scenario
-    /// calls it once its record is set up again).
+    /// calls it once its record is set up again), with this run's version, commit and
+    /// processes and "restarted_from": {"t"}.
     void
-    restore_summary()
-    {
-      json = resumed.first.at("record").at("summary");
-    }
+    restore_summary();
 
-    /// Writes a checkpoint (collective): the scenario's @p shared state and this
-    /// process's @p local one, with the record so far.
+    /// Writes a checkpoint (collective) of the state at @p t (s): the scenario's @p shared
+    /// state and this process's @p local one, with the record so far.
     void
-    checkpoint(const nlohmann::json &shared, const nlohmann::json &local);
+    checkpoint(double t, const nlohmann::json &shared, const nlohmann::json &local);
 
   private:
     /// resume(), JSON errors left to it.

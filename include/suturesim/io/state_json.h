@@ -1,9 +1,10 @@
 #pragma once
 /**
  * @file
- * Eigen's small vectors and quaternions as JSON arrays, for the states a checkpoint holds
- * (io/checkpoint.h). Header-only, so that the realtime library's classes (plain
- * C++/Eigen) can describe their state too.
+ * Small vectors and quaternions as JSON arrays, for the states a checkpoint holds
+ * (io/checkpoint.h). Header-only and free of deal.II, so that the realtime library's
+ * classes (plain C++/Eigen) can describe their state too; deal.II's Point and Tensor
+ * go through the same templates.
  */
 
 #include <Eigen/Core>
@@ -13,21 +14,28 @@
 
 namespace suturesim::io
 {
-  inline nlohmann::json
-  to_array(const Eigen::Vector3d &v)
+  /// A vector of three components (Eigen's, deal.II's Point or Tensor) as a JSON array.
+  template <class Vector>
+  nlohmann::json
+  triple(const Vector &v)
   {
     return {v[0], v[1], v[2]};
   }
 
-  inline Eigen::Vector3d
-  vector3(const nlohmann::json &j)
+  /// triple() back.
+  template <class Vector>
+  Vector
+  triple_as(const nlohmann::json &j)
   {
-    return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+    Vector v;
+    for (unsigned d = 0; d < 3; ++d)
+      v[d] = j.at(d).get<double>();
+    return v;
   }
 
-  /// (w, x, y, z)
+  /// A quaternion as (w, x, y, z).
   inline nlohmann::json
-  to_array(const Eigen::Quaterniond &q)
+  quaternion_array(const Eigen::Quaterniond &q)
   {
     return {q.w(), q.x(), q.y(), q.z()};
   }

@@ -72,12 +72,17 @@ namespace suturesim::scene
     /// The needle: its punctures and passages as "events" (in time order), the first
     /// entry and exit puncture forces and @p peak_pull_force under "metrics", the needle
     /// and its pass under "needle"; the realtime @p pierce_model when given.
-    /// A run that reached @p t without what its pass is for is incomplete (incomplete()):
-    /// a needle that never punctured although its tip had turned past the planned exit,
-    /// or a suture whose far end was drawn out of the tissue (too short for the pass).
     void
     needle(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events, double peak_pull_force,
-           double t, const std::string &pierce_model = "");
+           const std::string &pierce_model = "");
+
+    /// A pass that reached @p t without what it is for is incomplete (incomplete()): its
+    /// tip turned past the planned exit without a puncture, or, with a @p suture on the
+    /// needle, the suture's far end was drawn out of the tissue (too short for the pass;
+    /// without one, the needle leaving its holes is the end of the pass).
+    void
+    pass_outcome(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events, double t,
+                 bool suture);
 
     /// Marks the run incomplete: it ran to its end, but did not do what the scene asked,
     /// for @p reason ("incomplete": the reasons; main() then finishes with status

@@ -120,6 +120,7 @@ namespace suturesim::coupling
           df_dx[i][j] = -prm.stiffness * c.normal[i] * c.normal[j];
       }
   }
+
   void
   SutureContact::adopt(const std::size_t n_nodes)
   {
@@ -143,9 +144,9 @@ namespace suturesim::coupling
     for (std::size_t k = 0; k < list.size(); ++k)
       contacts.push_back({{"node", list[k].node},
                           {"triangle", list[k].triangle},
-                          {"weights", io::to_array(list[k].weights)},
-                          {"normal", io::to_array(list[k].normal)},
-                          {"seen", {seen[k][0], seen[k][1], seen[k][2]}}});
+                          {"weights", io::triple(list[k].weights)},
+                          {"normal", io::triple(list[k].normal)},
+                          {"seen", io::triple(seen[k])}});
     return {{"nodes", slot.size()}, {"contacts", contacts}};
   }
 
@@ -157,9 +158,8 @@ namespace suturesim::coupling
     for (const auto &c : j.at("contacts"))
       {
         list.push_back({c.at("node").get<std::size_t>(), c.at("triangle").get<std::uint32_t>(),
-                        io::vector3(c.at("weights")), io::vector3(c.at("normal"))});
-        const Eigen::Vector3d q = io::vector3(c.at("seen"));
-        seen.emplace_back(q[0], q[1], q[2]);
+                        io::triple_as<Eigen::Vector3d>(c.at("weights")), io::triple_as<Eigen::Vector3d>(c.at("normal"))});
+        seen.push_back(io::triple_as<dealii::Point<3>>(c.at("seen")));
       }
     adopt(j.at("nodes").get<std::size_t>());
   }

@@ -610,17 +610,17 @@ namespace suturesim::coupling
           }
     return inside;
   }
+
   nlohmann::json
   TissueNeedle::snapshot() const
   {
-    const auto vec = [](const auto &v) { return nlohmann::json{v[0], v[1], v[2]}; };
     nlohmann::json points = nlohmann::json::array(), events = nlohmann::json::array();
     for (const auto &p : pierce)
-      points.push_back({{"X", vec(p.X)},
+      points.push_back({{"X", io::triple(p.X)},
                         {"anchor", p.anchor},
                         {"carrier", p.carrier},
                         {"exit", p.exit},
-                        {"multiplier", vec(p.multiplier)},
+                        {"multiplier", io::triple(p.multiplier)},
                         {"zeta", p.zeta},
                         {"normal", p.normal},
                         {"friction", p.friction},
@@ -631,7 +631,7 @@ namespace suturesim::coupling
     return {{"puncture", puncture->snapshot()},
             {"pierce", points},
             {"events", events},
-            {"pose", {{"position", io::to_array(current.position)}, {"orientation", io::to_array(current.orientation)}}},
+            {"pose", {{"position", io::triple(current.position)}, {"orientation", io::quaternion_array(current.orientation)}}},
             {"time", time},
             {"last_time", last_time},
             {"touch_value", touch_value}};
@@ -640,22 +640,16 @@ namespace suturesim::coupling
   void
   TissueNeedle::restore(const nlohmann::json &j)
   {
-    const auto tensor = [](const nlohmann::json &v) {
-      dealii::Tensor<1, 3> t;
-      for (unsigned d = 0; d < 3; ++d)
-        t[d] = v.at(d).get<double>();
-      return t;
-    };
     puncture->restore(j.at("puncture"));
     pierce.clear();
     for (const auto &p : j.at("pierce"))
       {
         AccuratePiercePoint a;
-        a.X          = dealii::Point<3>(tensor(p.at("X")));
+        a.X          = io::triple_as<dealii::Point<3>>(p.at("X"));
         a.anchor     = p.at("anchor").get<double>();
         a.carrier    = p.at("carrier").get<double>();
         a.exit       = p.at("exit").get<bool>();
-        a.multiplier = tensor(p.at("multiplier"));
+        a.multiplier = io::triple_as<dealii::Tensor<1, 3>>(p.at("multiplier"));
         a.zeta       = p.at("zeta").get<double>();
         a.normal     = p.at("normal").get<double>();
         a.friction   = p.at("friction").get<double>();
@@ -666,7 +660,7 @@ namespace suturesim::coupling
     log.clear();
     for (const auto &e : j.at("events"))
       log.push_back(event_from(e));
-    current.position    = io::vector3(j.at("pose").at("position"));
+    current.position    = io::triple_as<Eigen::Vector3d>(j.at("pose").at("position"));
     current.orientation = io::quaternion(j.at("pose").at("orientation"));
     time                = j.at("time").get<double>();
     last_time           = j.at("last_time").get<double>();

@@ -1,7 +1,6 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/coupling/accurate/wound_contact.h>
-
-#include <nlohmann/json.hpp>
+#include <suturesim/io/state_json.h>
 
 #include <Eigen/Geometry>
 
@@ -107,7 +106,7 @@ namespace suturesim::coupling
   {
     nlohmann::json positions = nlohmann::json::array();
     for (const auto &p : seen)
-      positions.push_back({p[0], p[1], p[2]});
+      positions.push_back(io::triple(p));
     return {{"active", active}, {"seen", positions}, {"touching", touching}, {"pressing", pressing}};
   }
 
@@ -118,7 +117,7 @@ namespace suturesim::coupling
     adopt();
     seen.clear();
     for (const auto &p : j.at("seen"))
-      seen.emplace_back(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+      seen.push_back(io::triple_as<dealii::Point<3>>(p));
     touching = j.at("touching").get<unsigned>();
     pressing = j.at("pressing").get<double>();
   }

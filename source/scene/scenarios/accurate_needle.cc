@@ -66,9 +66,8 @@ namespace suturesim::scene
           StepperState stepper;
           io::CheckpointSchedule schedule(scene.time.checkpoint_steps, scene.time.checkpoint_minutes, MPI_COMM_WORLD);
           const auto             checkpoint = [&] {
-            recorder.checkpoint({{"t", t},
-                                 {"steps", steps},
-                                 {"newton_iterations_total", total_iterations},
+            recorder.checkpoint(t,
+                                {{"newton_iterations_total", total_iterations},
                                  {"failed_attempts", failed_attempts},
                                  {"stepper",
                                   {{"t", stepper.t},
@@ -98,13 +97,13 @@ namespace suturesim::scene
                   const auto &state = recorder.resumed_state();
                   stitch.restore(state.at("stitch"), recorder.resumed_local_state());
                   record.restore(state.at("record"));
-                  t                = state.at("t").get<double>();
-                  steps            = state.at("steps").get<unsigned>();
                   total_iterations = state.at("newton_iterations_total").get<unsigned>();
                   failed_attempts  = state.at("failed_attempts").get<unsigned>();
                   const auto &from = state.at("stepper");
                   stepper = {from.at("t").get<double>(), from.at("dt").get<double>(), from.at("steps").get<unsigned>(),
                              io::unpack_doubles(from.at("recent")), from.at("recent_sum").get<double>()};
+                  t       = stepper.t;
+                  steps   = stepper.steps;
                 }
               catch (const nlohmann::json::exception &e)
                 {
