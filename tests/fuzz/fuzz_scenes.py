@@ -137,12 +137,17 @@ def keys_of(lines):
     return keys
 
 
+def random_line(rng, lines, pattern):
+    """The index of a random line matching pattern, None when none does."""
+    matching = [i for i, l in enumerate(lines) if pattern.match(l)]
+    return rng.choice(matching) if matching else None
+
+
 def mutate_replace_value(rng, data):
     lines = lines_of(data)
-    sets = [i for i, l in enumerate(lines) if SET_LINE.match(l)]
-    if not sets:
+    i = random_line(rng, lines, SET_LINE)
+    if i is None:
         return None
-    i = rng.choice(sets)
     head, value = SET_LINE.match(lines[i]).groups()
     value = value.split(b"#", 1)[0]
     hostile = rng.choice(HOSTILE)
@@ -224,10 +229,9 @@ def mutate_flip_byte(rng, data):
 
 def mutate_drop_end(rng, data):
     lines = lines_of(data)
-    ends = [i for i, l in enumerate(lines) if END_LINE.match(l)]
-    if not ends:
+    i = random_line(rng, lines, END_LINE)
+    if i is None:
         return None
-    i = rng.choice(ends)
     del lines[i]
     return b"\n".join(lines), "drop the 'end' of line %d" % (i + 1)
 

@@ -19,6 +19,24 @@ namespace suturesim::scene
 
   namespace
   {
+    /// Where the steps stand, for a checkpoint (io/checkpoint.h), and back.
+    nlohmann::json
+    stepper_state(const StepperState &s)
+    {
+      return {{"t", s.t},
+              {"dt", s.dt},
+              {"steps", s.steps},
+              {"recent", io::pack_doubles(s.recent)},
+              {"recent_sum", s.recent_sum}};
+    }
+
+    StepperState
+    stepper_from(const nlohmann::json &j)
+    {
+      return {j.at("t").get<double>(), j.at("dt").get<double>(), j.at("steps").get<unsigned>(),
+              io::unpack_doubles(j.at("recent")), j.at("recent_sum").get<double>()};
+    }
+
     class AccurateNeedle : public Scenario
     {
     public:
@@ -69,12 +87,7 @@ namespace suturesim::scene
             recorder.checkpoint(t,
                                 {{"newton_iterations_total", total_iterations},
                                  {"failed_attempts", failed_attempts},
-                                 {"stepper",
-                                  {{"t", stepper.t},
-                                   {"dt", stepper.dt},
-                                   {"steps", stepper.steps},
-                                   {"recent", io::pack_doubles(stepper.recent)},
-                                   {"recent_sum", stepper.recent_sum}}},
+                                 {"stepper", stepper_state(stepper)},
                                  {"stitch", stitch.snapshot()},
                                  {"record", record.snapshot()}},
                                 stitch.local_snapshot());
@@ -99,11 +112,9 @@ namespace suturesim::scene
                   record.restore(state.at("record"));
                   total_iterations = state.at("newton_iterations_total").get<unsigned>();
                   failed_attempts  = state.at("failed_attempts").get<unsigned>();
-                  const auto &from = state.at("stepper");
-                  stepper = {from.at("t").get<double>(), from.at("dt").get<double>(), from.at("steps").get<unsigned>(),
-                             io::unpack_doubles(from.at("recent")), from.at("recent_sum").get<double>()};
-                  t       = stepper.t;
-                  steps   = stepper.steps;
+                  stepper          = stepper_from(state.at("stepper"));
+                  t                = stepper.t;
+                  steps            = stepper.steps;
                 }
               catch (const nlohmann::json::exception &e)
                 {
