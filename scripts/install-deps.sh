@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev      # summary.json
   libgtest-dev googletest libbenchmark-dev
   gmsh                    # .geo -> .msh at run time
+  util-linux              # prlimit: gmsh run under Mesh/Gmsh memory limit
   libgmsh-dev             # gmsh API: tetrahedral meshes for the realtime path
   openmpi-bin             # mpirun for the parallel regression test
   numdiff

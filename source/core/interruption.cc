@@ -62,6 +62,12 @@ namespace suturesim
   }
 
   int
+  stop_received()
+  {
+    return received;
+  }
+
+  int
   stop_requested()
   {
     const int local = received;

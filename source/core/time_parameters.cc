@@ -1,23 +1,12 @@
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/time_parameters.h>
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace suturesim
 {
-  namespace
-  {
-    /// Refuses @p steps above @p maximum (Time/Maximum steps), naming @p key.
-    void
-    check_step_count(const double steps, const double maximum, const std::string &key, const ParameterScope &scope)
-    {
-      std::ostringstream why;
-      why << "gives " << steps << " steps to End time, above Time/Maximum steps = " << maximum
-          << " (raise it to run this)";
-      scope.require(steps <= maximum, key, why.str());
-    }
-  } // namespace
-
   void
   TimeParameters::declare(dealii::ParameterHandler &prm, const std::map<std::string, std::string> &integrators)
   {
@@ -55,6 +44,12 @@ namespace suturesim
                       "that the steps taken plus those still to go at the pace of its last 200 "
                       "exceed it stops with status failed (a diverging solution). Raise it for "
                       "a longer run. Unit: 1. Range: >= 1.");
+    prm.declare_entry("Maximum outputs", "1e4", dealii::Patterns::Double(1),
+                      "A guard against a run that would fill the disk or the folder: a scene "
+                      "whose output states (VTU files per body: End time / Output interval, or "
+                      "one per step when it is 0) are more than this is refused before it "
+                      "starts. Raise it (or Output interval) for more states. Unit: 1. "
+                      "Range: >= 1.");
     prm.declare_entry("Checkpoint steps", "0", dealii::Patterns::Integer(0),
                       "Checkpoints of the accurate needle pass and stitch (the run's folder, "
                       "checkpoint/; suturesim --restart DIR goes on from the last): every this many "
@@ -65,7 +60,8 @@ namespace suturesim
                       "not by time. Unit: min. Range: >= 0.");
     prm.declare_entry("Output interval", default_text(d.output_interval), dealii::Patterns::Double(0),
                       "Simulated time between VTU outputs; 0 writes every step (quasi-"
-                      "static) or every 'Step size' (IDA). Unit: s. Range: >= 0.");
+                      "static) or every 'Step size' (IDA); the realtime path writes the first and "
+                      "last states alone. Unit: s. Range: >= 0.");
   }
 
   void
@@ -82,9 +78,33 @@ namespace suturesim
     scope.require(step_size > 0, "Step size", "must be > 0 s");
     scope.require(step_size <= end_time, "Step size", "must not exceed the end time");
     maximum_steps      = prm.get_double("Maximum steps");
+    maximum_outputs    = prm.get_double("Maximum outputs");
     checkpoint_steps   = prm.get_integer("Checkpoint steps");
     checkpoint_minutes = prm.get_double("Checkpoint minutes");
-    check_step_count(end_time / step_size, maximum_steps, "Step size", scope);
+    check_counts(end_time / step_size, scope, "Step size");
+  }
+
+  double
+  TimeParameters::output_states(const double steps, const bool every_step_when_zero) const
+  {
+    if (output_interval <= 0)
+      return every_step_when_zero ? 1 + steps : 2;
+    return 1 + std::min(steps, std::ceil(end_time / output_interval));
+  }
+
+  void
+  TimeParameters::check_counts(const double steps, const ParameterScope &scope, const std::string &steps_key,
+                               const std::string &what, const bool every_step_when_zero) const
+  {
+    std::ostringstream why;
+    why << "gives " << steps << " " << what << " to End time, above Time/Maximum steps = " << maximum_steps
+        << " (raise it to run this)";
+    scope.require(steps <= maximum_steps, steps_key, why.str());
+    const double states = output_states(steps, every_step_when_zero);
+    why.str("");
+    why << "gives " << states << " output states (VTU files per body) to End time, above Time/Maximum outputs = "
+        << maximum_outputs << " (raise it, or Output interval, to write them)";
+    scope.require(states <= maximum_outputs, "Output interval", why.str());
   }
 
   bool

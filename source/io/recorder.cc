@@ -21,9 +21,14 @@ namespace suturesim::io
 
   namespace
   {
+    /// The resource limits (docs/input_errors.md, "Resource guards"): a stopped run may
+    /// need them raised, and they change no result, so a restart may change them.
+    const std::set<std::string> resource_limits{"Time/Maximum steps",   "Time/Maximum outputs",
+                                                "Mesh/Maximum cells",   "Mesh/Gmsh time limit",
+                                                "Mesh/Gmsh memory limit", "Tissue/Linear solver/Maximum memory"};
+
     /// The settings of a parameters.prm text, "Subsection/Key" → value, without those a
-    /// restart may change: the end time, the checkpoints, and the guards a stopped run
-    /// may need raised (Time/Maximum steps, Mesh/Gmsh time limit).
+    /// restart may change: the end time, the checkpoints and the resource limits.
     std::map<std::string, std::string>
     settings(const std::string &text)
     {
@@ -51,8 +56,7 @@ namespace suturesim::io
                 key = *p + "/" + key;
               std::string value = line.substr(line.find('=') + 1);
               value             = trim(value.substr(0, value.rfind(" # default:")));
-              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0 && key != "Time/Maximum steps" &&
-                  key != "Mesh/Gmsh time limit")
+              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0 && !resource_limits.count(key))
                 values[key] = value;
             }
         }
@@ -163,8 +167,9 @@ namespace suturesim::io
     std::string refusal = first_difference(record.at("parameters").get<std::string>(), text.str());
     if (!refusal.empty())
       refusal = "the checkpoint was written with other parameters (" + refusal +
-                "); a restart runs the checkpoint's scene, only Time/End time, Time/Maximum steps, Mesh/Gmsh "
-                "time limit and the checkpoint settings may change";
+                "); a restart runs the checkpoint's scene, only Time/End time, the checkpoint settings and the "
+                "resource limits (Time/Maximum steps and outputs, Mesh/Maximum cells, Mesh/Gmsh time and memory "
+                "limit, Tissue/Linear solver/Maximum memory) may change";
     else if (const double end = prm.get_double({"Time"}, "End time"); !(end > t * (1 + 1e-12)))
       refusal = "Time/End time = " + std::to_string(end) + " s is not after the checkpoint's t = " +
                 std::to_string(t) + " s";

@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/core/interruption.h>
 #include <suturesim/core/process.h>
 #include <suturesim/mesh/gmsh_geometry.h>
 #include <suturesim/mesh/mesh_loader.h>
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -97,6 +99,12 @@ namespace suturesim::mesh
                       "A guard against a .geo meshed far finer than meant (e.g. Geo parameters "
                       "h: 1e-5): gmsh is stopped after this much wall time and the run refused. "
                       "Raise it for a larger mesh. Unit: s. Range: > 0.");
+    prm.declare_entry("Gmsh memory limit",
+                      "8e9",
+                      Patterns::Double(0),
+                      "A guard against a .geo meshed far finer than meant: gmsh's address "
+                      "space is limited to this, so that it fails instead of exhausting the "
+                      "machine's memory. Raise it for a larger mesh. Unit: B. Range: > 0.");
     prm.declare_entry("Snap to geometry",
                       "",
                       Patterns::List(Patterns::Anything()),
@@ -120,7 +128,9 @@ namespace suturesim::mesh
     global_refinements  = prm.get_integer("Global refinements");
     maximum_cells       = prm.get_double("Maximum cells");
     gmsh_time_limit     = prm.get_double("Gmsh time limit");
+    gmsh_memory_limit   = prm.get_double("Gmsh memory limit");
     scope.require(gmsh_time_limit > 0, "Gmsh time limit", "must be > 0 s");
+    scope.require(gmsh_memory_limit > 0, "Gmsh memory limit", "must be > 0 B");
     scope.require(scale > 0, "Scale", "must be > 0");
     scope.require(thickness > 0, "Thickness", "must be > 0 m");
     local.parse(prm, scope);
@@ -258,15 +268,26 @@ namespace suturesim::mesh
   {
     /// gmsh did not finish within Mesh/Gmsh time limit (run_gmsh()).
     constexpr int gmsh_timed_out = -2;
+    /// gmsh stopped because this process received a stop signal: this minus the signal.
+    constexpr int gmsh_stopped = -1000;
 
     /// Runs gmsh on the scene's .geo with an argument vector (no shell: a file name or a
     /// geo-parameter key is never read as a command), its output into @p log, stopped
-    /// after Mesh/Gmsh time limit. Returns gmsh's exit status, -1 if it could not be
-    /// started or did not exit normally, gmsh_timed_out when it was stopped.
+    /// after Mesh/Gmsh time limit or a stop signal to this process. Returns gmsh's exit
+    /// status, -1 if it could not be started or did not exit normally, gmsh_timed_out or
+    /// gmsh_stopped minus the signal when it was stopped.
     int
     run_gmsh(const MeshParameters &p, const std::string &msh, const std::string &log)
     {
-      std::vector<std::string> args{SUTURESIM_GMSH, "-3", "-format", "msh22", "-nt", "1"};
+      // gmsh's address space limited before it starts: util-linux's prlimit sets the
+      // soft limit and executes gmsh in its place (posix_spawn sets no limits, and one
+      // set from here after the start would race gmsh's own start-up)
+      std::ostringstream limit;
+      if (p.gmsh_memory_limit >= 0x1p63)
+        limit << "--as=unlimited:";
+      else
+        limit << "--as=" << static_cast<unsigned long long>(p.gmsh_memory_limit) << ":";
+      std::vector<std::string> args{"prlimit", limit.str(), SUTURESIM_GMSH, "-3", "-format", "msh22", "-nt", "1"};
       const auto               setnumber = setnumber_arguments(p.geo_parameters);
       args.insert(args.end(), setnumber.begin(), setnumber.end());
       args.insert(args.end(), {"-o", msh, p.file});
@@ -283,51 +304,86 @@ namespace suturesim::mesh
       for (int status = 0;;)
         {
           const pid_t done = waitpid(pid, &status, WNOHANG);
+          // Ctrl-C (which a terminal sends gmsh too) or SIGTERM: the run stops here
+          const int stop = stop_received();
           if (done == pid)
-            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+            return stop != 0 ? gmsh_stopped - stop : WIFEXITED(status) ? WEXITSTATUS(status) : -1;
           const bool lost = done < 0 && errno != EINTR;
-          if (lost || std::chrono::steady_clock::now() > deadline)
+          if (lost || stop != 0 || std::chrono::steady_clock::now() > deadline)
             {
               kill(pid, SIGKILL);
               while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
                 ;
-              return lost ? -1 : gmsh_timed_out;
+              return lost ? -1 : stop != 0 ? gmsh_stopped - stop : gmsh_timed_out;
             }
           std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
     }
   } // namespace
 
-  std::string
-  mesh_file(const MeshParameters &p, const std::string &work_directory)
+  namespace
   {
-    if (fs::path(p.file).extension() != ".geo")
-      return p.file;
-    const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
-    const std::string log = (fs::path(work_directory) / "gmsh.log").string();
-    int               status = 0;
-    if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-      {
-        fs::remove(msh);
-        status = run_gmsh(p, msh, log);
-        if (status == 0 && !fs::exists(msh))
-          status = -1;
-      }
-    // Every rank learns the outcome, so that all throw together (no rank left waiting).
-    MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
-    if (status == gmsh_timed_out)
-      {
-        std::ostringstream why;
-        why << "gmsh did not mesh " << p.file << " within " << p.gmsh_time_limit
-            << " s (a mesh finer than meant? see Mesh/Geo parameters); raise it for a larger mesh";
-        if (p.scope)
-          p.scope->fail("Gmsh time limit", why.str());
-        throw InputError("Mesh/Gmsh time limit: " + why.str());
-      }
-    if (status != 0)
-      throw InputError(p.file + ": gmsh failed (exit " + std::to_string(status) + "); see " + log);
-    return msh;
-  }
+    /// The first error gmsh's @p log reports (gmsh's "Error   : ..." or the loader's
+    /// "... error ..."), at most 300 characters; "" when none.
+    std::string
+    gmsh_error(const std::string &log)
+    {
+      std::ifstream in(log);
+      for (std::string line; std::getline(in, line);)
+        if (line.rfind("Info", 0) != 0 && line.rfind("Warning", 0) != 0 &&
+            (line.rfind("Error", 0) == 0 || line.find("error") != std::string::npos ||
+             line.find("bad_alloc") != std::string::npos))
+          return one_line(line.substr(0, 300));
+      return "";
+    }
+
+    /// @p p's .geo meshed by gmsh (run_gmsh()) into @p work_directory/mesh.msh.
+    std::string
+    meshed_geo(const MeshParameters &p, const std::string &work_directory)
+    {
+      const std::string msh = (fs::path(work_directory) / "mesh.msh").string();
+      const std::string log = (fs::path(work_directory) / "gmsh.log").string();
+      int               status = 0;
+      if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+        {
+          fs::remove(msh);
+          status = run_gmsh(p, msh, log);
+          if (status == 0 && !fs::exists(msh))
+            status = -1;
+        }
+      // Every rank learns the outcome, so that all throw together (no rank left waiting).
+      MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (status <= gmsh_stopped)
+        throw Interrupted(gmsh_stopped - status, 0, "");
+      if (status == gmsh_timed_out)
+        {
+          std::ostringstream why;
+          why << "gmsh did not mesh " << p.file << " within " << p.gmsh_time_limit
+              << " s (a mesh finer than meant? see Mesh/Geo parameters); raise it for a larger mesh";
+          if (p.scope)
+            p.scope->fail("Gmsh time limit", why.str());
+          throw InputError("Mesh/Gmsh time limit: " + why.str());
+        }
+      if (status != 0)
+        {
+          const std::string said = gmsh_error(log);
+          std::ostringstream why;
+          why << p.file << ": gmsh failed (exit " << status << ")" << (said.empty() ? "" : ": " + said) << "; see "
+              << log;
+          // out of memory, or not even loaded: its address space was too small
+          const bool memory = said.find("alloc") != std::string::npos || said.find("memory") != std::string::npos ||
+                              said.find("map segment") != std::string::npos;
+          if (!memory)
+            throw InputError(why.str());
+          why << "; its address space is limited to Mesh/Gmsh memory limit = " << p.gmsh_memory_limit
+              << " B (raise it for a larger mesh)";
+          if (p.scope)
+            p.scope->fail("Gmsh memory limit", why.str());
+          throw InputError("Mesh/Gmsh memory limit: " + why.str());
+        }
+      return msh;
+    }
+  } // namespace
 
   namespace
   {
@@ -401,7 +457,71 @@ namespace suturesim::mesh
         }
       return cells;
     }
+
+    /// The volume elements of the gmsh ASCII mesh @p file (format 2 or 4), counted from
+    /// its $Elements section element by element; 0 when it has no such section or is
+    /// binary (the reader then says what is wrong, or reads it uncounted). Counted before
+    /// the file is read, so that a mesh far larger than meant is refused before it fills
+    /// the memory; lines are skipped, never held (a file of one huge line allocates
+    /// nothing).
+    double
+    msh_volume_elements(const std::string &file)
+    {
+      constexpr auto rest = std::numeric_limits<std::streamsize>::max();
+      std::ifstream  in(file);
+      std::string    word;
+      double         version = 0;
+      int            binary  = 0;
+      for (; in; in.ignore(rest, '\n'))
+        if (in.peek() == '$' && in >> std::setw(64) >> word)
+          {
+            if (word == "$Elements")
+              break;
+            if (word == "$MeshFormat")
+              in >> version >> binary;
+          }
+      if (!in || binary != 0)
+        return 0;
+      double cells = 0, count = 0;
+      if (version >= 4)
+        {
+          // blocks "entityDim entityTag elementType count" (4.0: "entityTag entityDim
+          // ..."), each followed by its elements, one per line
+          double blocks = 0, total = 0, first = 0, second = 0, type = 0;
+          in >> blocks >> total >> first >> second;
+          for (double b = 0; b < blocks && in >> first >> second >> type >> count; ++b)
+            {
+              if ((version < 4.1 ? second : first) == 3)
+                cells += count;
+              in.ignore(rest, '\n');
+              for (double e = 0; e < count && in; ++e)
+                in.ignore(rest, '\n');
+            }
+          return cells;
+        }
+      // format 2: "number type tags ...", the types of gmsh's volume elements (linear and
+      // higher-order tetrahedra, hexahedra, prisms, pyramids)
+      static const std::set<int> volume_types{4, 5, 6, 7, 11, 12, 13, 14, 17, 18, 19, 29, 30, 31, 92, 93};
+      long                       number = 0;
+      int                        type   = 0;
+      in >> count;
+      for (double e = 0; e < count && in >> number >> type; ++e, in.ignore(rest, '\n'))
+        cells += volume_types.count(type);
+      return cells;
+    }
   } // namespace
+
+  std::string
+  mesh_file(const MeshParameters &p, const std::string &work_directory)
+  {
+    const bool        geo = fs::path(p.file).extension() == ".geo";
+    const std::string msh = geo ? meshed_geo(p, work_directory) : p.file;
+    const double      cells = msh_volume_elements(msh);
+    const bool        from_parameters = geo && p.scope && p.scope->parameter_file().given("Mesh/Geo parameters");
+    check_cell_count(p, cells, from_parameters ? "Geo parameters" : "File",
+                     fs::path(p.file).filename().string() + (geo ? " meshed by gmsh" : ""));
+    return msh;
+  }
 
   MeshInfo
   create_mesh(const MeshParameters                            &p,

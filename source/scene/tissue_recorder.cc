@@ -89,6 +89,10 @@ namespace suturesim::scene
   TissueRecorder::totals(const nlohmann::json &solver)
   {
     write_surface();
-    RunSummary(recorder.summary()).solver(solver);
+    nlohmann::json totals                   = solver;
+    const auto    &linear                   = model.linear_solver().statistics();
+    totals["factorization_memory_estimate"] = linear.factorization_memory_estimate;
+    totals["factorization_memory"]          = linear.factorization_memory;
+    RunSummary(recorder.summary()).solver(totals);
   }
 } // namespace suturesim::scene

@@ -1,7 +1,12 @@
 #include <suturesim/core/error.h>
 #include <suturesim/tissue/linear_solver.h>
 
+#include <deal.II/base/mpi.h>
+
+#include <unistd.h>
+
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -65,6 +70,14 @@ namespace suturesim::tissue
                       std::to_string(d.max_iterations),
                       dealii::Patterns::Integer(1),
                       "Maximum Krylov iterations. Unit: 1. Range: >= 1.");
+    prm.declare_entry("Maximum memory",
+                      "0",
+                      dealii::Patterns::Double(0),
+                      "A guard for 'direct': the most memory its factorisation may take, all "
+                      "processes together, as MUMPS's analysis estimates it before the first "
+                      "factorisation; a larger one is refused (use a coarser mesh, processes on "
+                      "more nodes, or cg/gmres). 0: each node's available memory (MemAvailable) "
+                      "for its processes' share. Unit: B. Range: >= 0.");
     prm.declare_entry("PETSc options",
                       d.petsc_options,
                       dealii::Patterns::Anything(),
@@ -82,6 +95,7 @@ namespace suturesim::tissue
     tolerance      = prm.get_double("Relative tolerance");
     max_iterations = prm.get_integer("Max iterations");
     petsc_options  = prm.get("PETSc options");
+    maximum_memory = prm.get_double("Maximum memory");
     scope.require(tolerance > 0, "Relative tolerance", "must be > 0");
     this->scope = std::make_shared<const ParameterScope>(scope);
   }
@@ -112,6 +126,7 @@ namespace suturesim::tissue
     symmetric = yes;
     if (prm.method == "direct" && prm.factorization == "auto")
       {
+        memory_checked = false; // LU takes about twice Cholesky's memory
         PC pc;
         check(KSPGetPC(ksp, &pc), "KSPGetPC");
         set_factorization(pc, symmetric);
@@ -274,6 +289,125 @@ namespace suturesim::tissue
     }
   } // namespace
 
+  namespace
+  {
+    /// The memory this node has available, B: /proc/meminfo's MemAvailable (free memory
+    /// and what the kernel can reclaim), else the free pages.
+    double
+    available_memory()
+    {
+      std::ifstream in("/proc/meminfo");
+      std::string   key, rest;
+      double        kilobytes = 0;
+      while (in >> key >> kilobytes && std::getline(in, rest))
+        if (key == "MemAvailable:")
+          return 1024 * kilobytes;
+      return static_cast<double>(sysconf(_SC_AVPHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGESIZE));
+    }
+
+    /// A MUMPS size of the factor @p F in bytes (MUMPS gives millions of bytes):
+    /// INFOG(@p i), the same on every process, or this process's INFO(@p i) if @p local.
+    double
+    mumps_bytes(Mat F, const PetscInt i, const bool local = false)
+    {
+      PetscInt megabytes = 0;
+      check(local ? MatMumpsGetInfo(F, i, &megabytes) : MatMumpsGetInfog(F, i, &megabytes), "MatMumpsGetInfo");
+      return 1e6 * static_cast<double>(megabytes);
+    }
+
+    /// Whether @p pc factorises with MUMPS (PETSc options may choose another package).
+    bool
+    uses_mumps(PC pc)
+    {
+      MatSolverType package = nullptr;
+      check(PCFactorGetMatSolverType(pc, &package), "PCFactorGetMatSolverType");
+      return package != nullptr && std::string(package) == MATSOLVERMUMPS;
+    }
+
+    /// MUMPS's analysis alone of @p A (Cholesky or LU as @p pc will factorise it, with
+    /// its options): {INFOG(17), this process's INFO(15)} in bytes, the factorisation's
+    /// memory estimated over all processes and on this one; {0, 0} when the analysis
+    /// failed (the factorisation then says why). Collective.
+    std::pair<double, double>
+    mumps_estimate(PC pc, Mat A)
+    {
+      PCType      type   = nullptr;
+      const char *prefix = nullptr;
+      check(PCGetType(pc, &type), "PCGetType");
+      check(PCGetOptionsPrefix(pc, &prefix), "PCGetOptionsPrefix");
+      const bool cholesky = std::string(type) == PCCHOLESKY;
+      struct Factor // destroyed on every path out, a throw among them
+      {
+        Mat F = nullptr;
+        ~Factor()
+        {
+          MatDestroy(&F);
+        }
+      } factor;
+      check(MatGetFactor(A, MATSOLVERMUMPS, cholesky ? MAT_FACTOR_CHOLESKY : MAT_FACTOR_LU, &factor.F), "MatGetFactor");
+      check(MatSetOptionsPrefix(factor.F, prefix), "MatSetOptionsPrefix"); // the user's -mat_mumps_icntl_* apply
+      MatFactorInfo info;
+      check(MatFactorInfoInitialize(&info), "MatFactorInfoInitialize");
+      // MUMPS orders the matrix itself (PETSc passes it no ordering); a failure is
+      // returned, not printed: the factorisation reports it
+      check(PetscPushErrorHandler(PetscReturnErrorHandler, nullptr), "PetscPushErrorHandler");
+      const PetscErrorCode code = cholesky ? MatCholeskyFactorSymbolic(factor.F, A, nullptr, &info)
+                                           : MatLUFactorSymbolic(factor.F, A, nullptr, nullptr, &info);
+      check(PetscPopErrorHandler(), "PetscPopErrorHandler");
+      PetscInt infog1 = -1;
+      if (code == 0)
+        check(MatMumpsGetInfog(factor.F, 1, &infog1), "MatMumpsGetInfog");
+      if (infog1 < 0)
+        return {0, 0};
+      return {mumps_bytes(factor.F, 17), mumps_bytes(factor.F, 15, true)};
+    }
+  } // namespace
+
+  void
+  LinearSolver::check_memory(Mat A)
+  {
+    memory_checked = true;
+    PC pc;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    if (!uses_mumps(pc))
+      return;
+    auto [total, mine] = mumps_estimate(pc, A);
+    // one decision on every process, whatever each one's analysis returned
+    total                               = dealii::Utilities::MPI::min(total, comm);
+    stats.factorization_memory_estimate = total;
+    if (total == 0)
+      return;
+    PetscInt rows = 0;
+    check(MatGetSize(A, &rows, nullptr), "MatGetSize");
+    std::ostringstream why;
+    why << "MUMPS's analysis estimates ";
+    if (prm.maximum_memory > 0)
+      {
+        if (total <= prm.maximum_memory)
+          return;
+        why << total << " B for the factorisation of the " << rows << "-DoF tangent (INFOG(17), all processes), above "
+            << "this limit, " << prm.maximum_memory << " B";
+      }
+    else
+      {
+        // each node against its own memory: the processes sharing it, summed
+        MPI_Comm node;
+        MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+        const double need = dealii::Utilities::MPI::sum(mine, node), available = available_memory();
+        MPI_Comm_free(&node);
+        const double over = dealii::Utilities::MPI::max(need > available ? need / available : 0.0, comm);
+        if (over == 0)
+          return;
+        why << "a factorisation of the " << rows << "-DoF tangent that needs " << over
+            << " times the memory available on a node (INFO(15) of its processes against its MemAvailable)";
+      }
+    why << ": use a coarser mesh, processes on more nodes, or Method = cg or gmres"
+        << (prm.maximum_memory > 0 ? ", or raise it" : ", or set this to allow it");
+    if (prm.scope)
+      prm.scope->fail("Maximum memory", why.str());
+    throw InputError("Tissue/Linear solver/Maximum memory: " + why.str());
+  }
+
   void
   LinearSolver::solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                       dealii::PETScWrappers::MPI::Vector             &x,
@@ -295,7 +429,17 @@ namespace suturesim::tissue
         check(MatNullSpaceDestroy(&nsp), "MatNullSpaceDestroy");
       }
     if (prm.method == "direct")
-      factorize(ksp, mat);
+      {
+        if (!memory_checked)
+          check_memory(mat);
+        factorize(ksp, mat);
+        Mat F;
+        PC  pc;
+        check(KSPGetPC(ksp, &pc), "KSPGetPC");
+        check(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+        if (uses_mumps(pc))
+          stats.factorization_memory = mumps_bytes(F, 19);
+      }
     else
       check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
     if (prm.method != "direct")
@@ -386,6 +530,8 @@ namespace suturesim::tissue
     DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
     for (std::size_t j = 0; j < B.size(); ++j)
       rhs.set(static_cast<PetscInt>(j), B[j]);
+    if (!memory_checked)
+      check_memory(A);
     factorize(ksp, A);
     check(KSPMatSolve(ksp, rhs.mat, sol.mat), "KSPMatSolve");
     KSPConvergedReason reason;

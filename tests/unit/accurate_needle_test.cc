@@ -83,6 +83,10 @@ TEST(AccurateNeedle, AdaptiveStepsGrowOnTheApproachAndStillLandThePuncturesAtThe
     longest = std::max(longest, step["dt"].get<double>());
   EXPECT_GT(longest, 0.02 * 1.5) << "the steps never grew";
   EXPECT_LT(adaptive.summary["solver"]["steps"].get<unsigned>(), fixed.summary["solver"]["steps"].get<unsigned>());
+  // the factorisation's memory as MUMPS estimated it before (the resource guard's) and made it
+  const double estimate = adaptive.summary["solver"]["factorization_memory_estimate"];
+  EXPECT_GT(estimate, 0);
+  EXPECT_LE(estimate, adaptive.summary["solver"]["factorization_memory"].get<double>());
 }
 
 namespace

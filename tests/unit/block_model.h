@@ -30,10 +30,10 @@ namespace suturesim::test_support
       : tria(MPI_COMM_WORLD)
       , timer(MPI_COMM_WORLD, std::cout, dealii::TimerOutput::never, dealii::TimerOutput::wall_times)
     {
-      dealii::ParameterHandler prm;
       scene::Simulation::declare_parameters(prm);
-      const ParameterFile  file(prm, "subsection Tissue\n" + tissue + "end\n", "block.prm", ".");
-      const ParameterScope root(file, "");
+      // kept: the parameters' scopes name their entries from it in later errors
+      file.emplace(prm, "subsection Tissue\n" + tissue + "end\n", "block.prm", ".");
+      const ParameterScope root(*file, "");
       prm.enter_subsection("Tissue");
       parameters.parse(prm, root.subsection("Tissue"));
       prm.enter_subsection("Material");
@@ -54,6 +54,8 @@ namespace suturesim::test_support
       model->setup();
     }
 
+    dealii::ParameterHandler                  prm;
+    std::optional<ParameterFile>              file;
     tissue::TissueParameters                  parameters;
     std::optional<tissue::Material>           material;
     tissue::BoundaryConditions                bc;

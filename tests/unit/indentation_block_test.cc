@@ -77,6 +77,10 @@ TEST(IndentationBlock, BothMixedUpdatesReachTheSameSolution)
   EXPECT_NEAR(a.back(), last, 1e-9 * std::abs(last)) << "step-44 at one global refinement";
   EXPECT_LT(newton.summary["solver"]["newton_iterations_total"].get<unsigned>(),
             exact.summary["solver"]["newton_iterations_total"].get<unsigned>());
+  // the factorisation's memory as MUMPS estimated it before (the resource guard's) and made it
+  const double estimate = newton.summary["solver"]["factorization_memory_estimate"];
+  EXPECT_GT(estimate, 0);
+  EXPECT_LE(estimate, newton.summary["solver"]["factorization_memory"].get<double>());
 }
 
 TEST(IndentationBlock, TwoThreadsGiveTheOneThreadResult)

@@ -84,7 +84,7 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
   std::printf("[ input errors ] %zu malformed scenes in tests/data/bad, %d BadScene cases\n", files.size(),
               suite->total_test_count());
   EXPECT_EQ(static_cast<std::size_t>(suite->total_test_count()), files.size());
-  EXPECT_EQ(files.size(), 138u);
+  EXPECT_EQ(files.size(), 143u);
 }
 
 // A write that fails ends the run with one line naming the file, exit 5, and no

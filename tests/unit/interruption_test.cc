@@ -97,6 +97,45 @@ TEST(Interruption, SigintStopsARealtimeRunBetweenTicksWithStatusInterrupted)
   EXPECT_NE(s.output.find("suturesim: interrupted by SIGINT"), std::string::npos) << s.output;
 }
 
+// Before the first step: a stop while gmsh meshes the scene's .geo (a mesh at h = 0.2 mm
+// that takes gmsh minutes) stops gmsh and the run at once, as an interruption, not as a
+// gmsh failure (exit 2, which it was). Only suturesim is signalled here; from a terminal
+// gmsh gets Ctrl-C too.
+TEST(Interruption, SigintWhileGmshMeshesStopsBothAtOnce)
+{
+  const fs::path dir = scratch_path() / "interrupt_gmsh";
+  fs::remove_all(dir);
+  const std::vector<std::string> argv{suturesim_binary(),
+                                      suturesim::test_support::source_path("parameters/skin_pad_pull.prm"),
+                                      "--set", "Model=accurate", "--set", "Mesh/Geo parameters=h: 0.0002, hexahedra: 1",
+                                      "--output", dir.string()};
+  const std::string log = dir.string() + ".log";
+  const pid_t       pid = suturesim::start_process(argv, log);
+  int               status = 0, waited = 0;
+  bool              signalled = false;
+  for (; waited < 1200 && waitpid(pid, &status, WNOHANG) != pid; ++waited) // 120 s at most
+    {
+      if (!signalled && fs::exists(dir / "gmsh.log") && fs::file_size(dir / "gmsh.log") > 0)
+        {
+          std::this_thread::sleep_for(std::chrono::milliseconds(300)); // gmsh under way
+          kill(pid, SIGINT);
+          signalled = true;
+          waited    = 1150; // then 5 s at most
+        }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  ASSERT_TRUE(signalled) << read_text(log);
+  if (waited >= 1200)
+    kill(pid, SIGKILL); // the failure below says so
+  const std::string output = read_text(log);
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 130) << output;
+  EXPECT_NE(output.find("suturesim: interrupted by SIGINT"), std::string::npos) << output;
+  std::ifstream summary(dir / "summary.json");
+  nlohmann::json json;
+  ASSERT_TRUE(summary >> json) << output;
+  EXPECT_EQ(json["status"], "interrupted");
+}
+
 // The implicit solvers ask after each accepted step (core/cutback_stepper.h): the
 // accurate suture alone, SIGTERM.
 TEST(Interruption, SigtermStopsAnAccurateRunAfterAnAcceptedStep)
@@ -104,7 +143,7 @@ TEST(Interruption, SigtermStopsAnAccurateRunAfterAnAcceptedStep)
   const double end_time = 100;
   const auto   s = run_and_stop("interrupt_accurate",
                                 {suturesim::test_support::source_path("parameters/suture_swing.prm"), "--set",
-                                 "Time/End time=" + std::to_string(end_time)},
+                                 "Time/End time=" + std::to_string(end_time), "--set", "Time/Maximum outputs=1e5"},
                                 SIGTERM, 5);
   expect_stopped(s, SIGTERM, "SIGTERM", end_time);
   const std::string error = s.summary.value("error", "");

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <string>
 
 using namespace suturesim;
@@ -79,6 +80,51 @@ TEST(LinearSolver, KrylovMethodsWithAlgebraicMultigridGiveTheDirectSolution)
       ++compared;
     }
   EXPECT_EQ(compared, 4u);
+}
+
+// The direct method's resource guard (LinearSolver::check_memory()): MUMPS's analysis
+// estimates the factorisation's memory before it is made, and a limit below it refuses
+// the solve as bad input naming Tissue/Linear solver/Maximum memory. The estimate is
+// checked against what the factorisation then allocated (INFOG(19)): MUMPS allocates
+// what its analysis estimated (measured equal here, 15 MB), so an estimate read from the
+// wrong entry or in the wrong unit falls outside [1/2, 1].
+TEST(LinearSolver, TheFactorisationsMemoryIsEstimatedBeforeItIsMadeAndBounded)
+{
+  const std::string tissue = " set Element degree = 1\n set Formulation = mixed\n"
+                             " subsection Material\n  set Model = neo-Hookean\n  set Bulk modulus = 29.6e6\n"
+                             "  subsection neo-Hookean\n   set Shear modulus = 2.22e6\n  end\n end\n"
+                             " subsection Boundary conditions\n  set Fixed = bottom\n  set Traction = top\n"
+                             "  subsection Traction function\n"
+                             "   set Function expression = 0; 0; -2e5 * t\n  end\n end\n";
+  const dealii::Point<3>      upper(0.02, 0.02, 0.01);
+  const std::vector<unsigned> cells{12, 12, 6};
+  double                      estimate = 0;
+  {
+    test_support::BlockModel block(tissue, upper, cells);
+    ASSERT_TRUE(block.model->solve_static(1.0).converged);
+    const auto &stats = block.model->linear_solver().statistics();
+    estimate          = stats.factorization_memory_estimate;
+    std::printf("[ linear solver ] factorisation memory: %.3g B estimated by MUMPS's analysis, %.3g B allocated\n",
+                estimate, stats.factorization_memory);
+    ASSERT_GT(stats.factorization_memory, 0);
+    EXPECT_LE(estimate, stats.factorization_memory);
+    EXPECT_GE(estimate, 0.5 * stats.factorization_memory);
+  }
+  std::ostringstream limit;
+  limit << " subsection Linear solver\n  set Maximum memory = " << 0.5 * estimate << "\n end\n";
+  test_support::BlockModel block(tissue + limit.str(), upper, cells);
+  std::string              message;
+  try
+    {
+      block.model->solve_static(1.0);
+    }
+  catch (const InputError &e)
+    {
+      message = e.what();
+    }
+  std::printf("[ linear solver ] with half of it as the limit: %s\n", message.c_str());
+  EXPECT_NE(message.find("Maximum memory: MUMPS's analysis estimates"), std::string::npos) << message;
+  EXPECT_NE(message.find("above this limit"), std::string::npos) << message;
 }
 
 namespace

@@ -41,4 +41,9 @@ namespace suturesim
   /// atomic read, cheap enough for every haptic tick.
   int
   stop_requested();
+
+  /// The signal this process received (0: none), not combined among processes: for a
+  /// wait on one rank only (gmsh meshing on rank 0), which then shares its outcome.
+  int
+  stop_received();
 } // namespace suturesim

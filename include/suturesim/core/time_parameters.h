@@ -32,6 +32,10 @@ namespace suturesim
     /// the nominal steps exceed it, stopped during it when the steps taken and those
     /// still to go at the recent pace do (core/cutback_stepper.h)
     double maximum_steps = 1e6;
+    /// the most output states (VTU files per body) a run may write (Time/Maximum
+    /// outputs): refused before the run when End time / Output interval, or the steps
+    /// when it is 0, exceed it
+    double maximum_outputs = 1e4;
     /// checkpoints of the runs that write them (the accurate needle pass and stitch,
     /// io/checkpoint.h): every this many accepted steps and minutes of wall time (0: not
     /// by that count)
@@ -44,6 +48,21 @@ namespace suturesim
     declare(dealii::ParameterHandler &prm, const std::map<std::string, std::string> &integrators);
     void
     parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+
+    /// The resource guard of a run of @p steps nominal steps (End time / Step size, or
+    /// End time x Realtime/Rate): refuses them above Time/Maximum steps, naming
+    /// @p steps_key and saying they are @p what, and the output states they give
+    /// (output_states()) above Time/Maximum outputs, naming Output interval.
+    void
+    check_counts(double steps, const ParameterScope &scope, const std::string &steps_key,
+                 const std::string &what = "steps", bool every_step_when_zero = true) const;
+
+    /// The output states a run of @p steps nominal steps writes, the initial state and
+    /// the last included: End time / Output interval, at most one per step; when the
+    /// interval is 0, one per step if @p every_step_when_zero (the accurate path), else
+    /// the first and last alone (the realtime path).
+    double
+    output_states(double steps, bool every_step_when_zero = true) const;
 
     /// Whether a state at @p t is due for output after the last one at @p last_output
     /// (< 0: none yet): every state when the interval is 0, then one per interval, and

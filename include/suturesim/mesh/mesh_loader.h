@@ -35,6 +35,9 @@ namespace suturesim::mesh
     /// the most active cells the refined mesh may have (Mesh/Maximum cells)
     double                        maximum_cells = 1e6;
     double                        gmsh_time_limit = 600; ///< s, meshing a .geo
+    /// gmsh's address space, B (Mesh/Gmsh memory limit): a .geo meshed far finer than
+    /// meant then fails in gmsh instead of exhausting the machine
+    double                        gmsh_memory_limit = 8e9;
     LocalRefinement               local;
     /// Boundaries whose refined faces are put on the .geo's surfaces (gmsh_geometry.h).
     std::vector<std::string>      snap_to_geometry;
@@ -66,8 +69,10 @@ namespace suturesim::mesh
   };
 
   /// The gmsh mesh file of @p parameters: a .msh as given, a .geo meshed by the gmsh CLI
-  /// (with its Geo parameters) into @p work_directory/mesh.msh. InputError naming the
-  /// file and gmsh's log when gmsh fails.
+  /// (with its Geo parameters, under Mesh/Gmsh time limit and Gmsh memory limit) into
+  /// @p work_directory/mesh.msh. InputError naming the file and gmsh's log when gmsh
+  /// fails, and naming Mesh/Maximum cells when the file holds more volume elements
+  /// (counted before it is read).
   std::string
   mesh_file(const MeshParameters &parameters, const std::string &work_directory);
 

@@ -43,6 +43,9 @@ namespace suturesim::tissue
       double      tolerance       = 1e-10;
       unsigned    max_iterations  = 2000;
       std::string petsc_options   = "";
+      /// the most memory the direct method's factorisation may take, all processes
+      /// together, B; 0: each node's available memory (check_memory())
+      double maximum_memory = 0;
       /// Where these were read, for errors that name their entry.
       std::shared_ptr<const ParameterScope> scope;
 
@@ -58,6 +61,11 @@ namespace suturesim::tissue
       unsigned    iterations = 0;
       double      residual   = 0;
       std::string converged_reason;
+      /// the direct method's factorisation, all processes together, B: as MUMPS's
+      /// analysis estimated it before the first (INFOG(17)) and as the last allocated
+      /// (INFOG(19)); 0 for the Krylov methods
+      double factorization_memory_estimate = 0;
+      double factorization_memory          = 0;
     };
 
     LinearSolver(const Parameters &parameters, MPI_Comm comm);
@@ -115,11 +123,24 @@ namespace suturesim::tissue
     }
 
   private:
+    /// The resource guard of the direct method, before its first factorisation of @p A
+    /// (and again when Factorization auto turns to LU): MUMPS's analysis alone, with the
+    /// scene's MUMPS options, estimates the factorisation's memory (MUMPS 5 users' guide,
+    /// "Information parameters": INFOG(17) over all processes, INFO(15) on each). An
+    /// estimate above Maximum memory (all processes), or when it is 0 above a node's
+    /// available memory (/proc/meminfo's MemAvailable against the INFO(15) of the
+    /// processes sharing the node), is an InputError naming Maximum memory on every
+    /// process: refused before the memory is taken rather than the process killed by
+    /// the kernel once it is. Nothing is checked when PETSc options chose another package.
+    void
+    check_memory(Mat A);
+
     Parameters                                       prm;
     MPI_Comm                                         comm;
     KSP                                              ksp = nullptr;
     std::vector<dealii::PETScWrappers::MPI::Vector>  null_space_modes;
     Statistics                                       stats;
     bool                                             symmetric = true;
+    bool                                             memory_checked = false;
   };
 } // namespace suturesim::tissue

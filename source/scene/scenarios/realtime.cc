@@ -14,7 +14,6 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
-#include <sstream>
 
 namespace suturesim::scene
 {
@@ -34,7 +33,8 @@ namespace suturesim::scene
         prm.enter_subsection("Time");
         scene.time.end_time        = prm.get_double("End time");
         scene.time.output_interval = prm.get_double("Output interval");
-        const double maximum_steps = prm.get_double("Maximum steps");
+        scene.time.maximum_steps   = prm.get_double("Maximum steps");
+        scene.time.maximum_outputs = prm.get_double("Maximum outputs");
         scene.scope("Time").require(scene.time.end_time > 0, "End time", "must be > 0 s");
         scene.scope("Time").require(prm.get_double("Max step size") == 0, "Max step size",
                                     "the realtime step is the haptic step 1/Rate (Realtime/Rate)");
@@ -48,11 +48,8 @@ namespace suturesim::scene
         settings.parse(prm);
         // the guard of TimeParameters::parse() for the haptic step: End time = 1e308 at
         // 1 kHz overflowed the step count
-        std::ostringstream steps;
-        steps << "gives " << scene.time.end_time * settings.rate
-              << " haptic steps at Realtime/Rate, above Time/Maximum steps = " << maximum_steps
-              << " (raise it to run this)";
-        scene.scope("Time").require(scene.time.end_time * settings.rate <= maximum_steps, "End time", steps.str());
+        scene.time.check_counts(scene.time.end_time * settings.rate, scene.scope("Time"), "End time",
+                                "haptic steps at Realtime/Rate", false);
         models = std::make_unique<RealtimeModels>(prm, realtime, settings, scene.has_tissue(), scene.has_suture());
         prm.leave_subsection();
         if (scene.has_tissue() && scene.has_suture() && settings.contact)
