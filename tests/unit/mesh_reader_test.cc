@@ -230,6 +230,31 @@ TEST(GmshReader, ReadsTheBlockGeoThroughGmshIntoAClosedMeshOfItsVolume)
   EXPECT_FALSE(mesh::vertices_with_tag(surface, bottom).empty());
 }
 
+// No shell between suturesim and gmsh (issue 26): a .geo named with a quote and a space,
+// as a patient's file may be, meshes, and neither a file name nor a Geo parameters key
+// written as a shell command runs anything. Through a shell (std::system, as before)
+// the quoted name failed with "Unterminated quoted string" and the other two created
+// the marker file in the working folder.
+TEST(GmshReader, AFileNameOrGeoParameterIsAnArgumentNeverACommand)
+{
+  const std::string dir    = work_folder("file_names");
+  const fs::path    marker = fs::current_path() / "INJECTED_marker";
+  fs::remove(marker);
+  const std::map<std::string, double> tetrahedra{{"h", 0.01}, {"hexahedra", 0}};
+  for (const std::string name : {"patient's block.geo", "x';touch INJECTED_marker;'.geo"})
+    {
+      const fs::path geo = fs::path(dir) / name;
+      fs::copy_file(test_support::source_path("meshes/block.geo"), geo);
+      const auto mesh = mesh::read_simplex_mesh(gmsh_source(geo.string(), tetrahedra), dir);
+      EXPECT_GT(mesh.tetrahedra.size(), 10u) << name;
+    }
+  auto with_key                                     = tetrahedra;
+  with_key["zz;touch INJECTED_marker;true"]         = 1;
+  const auto mesh = mesh::read_simplex_mesh(gmsh_source(test_support::source_path("meshes/block.geo"), with_key), dir);
+  EXPECT_GT(mesh.tetrahedra.size(), 10u);
+  EXPECT_FALSE(fs::exists(marker)) << "a name or key ran as a command";
+}
+
 TEST(GmshReader, TheAccuratePathReadsHexahedraWithBoundaryIdsAndNames)
 {
   const std::string                               dir = work_folder("hexahedra");
