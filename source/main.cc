@@ -8,13 +8,16 @@
 #include <suturesim/scene/simulation.h>
 #include <suturesim/study/study_command.h>
 
+#include <deal.II/base/exceptions.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/multithread_info.h>
 
 #include <chrono>
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <sstream>
 
 #ifndef SUTURESIM_SOURCE_DIR
 #  define SUTURESIM_SOURCE_DIR "."
@@ -222,8 +225,22 @@ main(int argc, char **argv)
     }
   catch (const std::exception &e)
     {
-      // anything else is suturesim's own fault: one line, and a summary that says so
-      const std::string what = std::string("internal error: ") + e.what();
+      // anything else is suturesim's own fault: one line on the terminal (of a deal.II
+      // exception its additional information, not its block and stack trace), the whole
+      // text in the run's folder, and a summary that says so
+      std::ostringstream brief;
+      if (const auto *dealii_error = dynamic_cast<const dealii::ExceptionBase *>(&e))
+        dealii_error->print_info(brief);
+      else
+        brief << e.what();
+      std::string what = "internal error: " + one_line(brief.str()).substr(0, 300);
+      if (recorder && root)
+        {
+          const std::string report = recorder->directory() + "/error.log";
+          std::ofstream     out(report);
+          if (out << e.what() << '\n' && out.flush())
+            what += "; the full report is in " + report;
+        }
       if (recorder)
         recorder->finish("failed", what);
       if (root)
