@@ -189,6 +189,13 @@ namespace suturesim::scene
   }
 
   void
+  RunSummary::factorization(const tissue::LinearSolver::Statistics &linear)
+  {
+    solver({{"factorization_memory_estimate", linear.factorization_memory_estimate},
+            {"factorization_memory", linear.factorization_memory}});
+  }
+
+  void
   RunSummary::timings(const dealii::TimerOutput &timer)
   {
     auto &t = json["timings"];

@@ -89,10 +89,8 @@ namespace suturesim::scene
   TissueRecorder::totals(const nlohmann::json &solver)
   {
     write_surface();
-    nlohmann::json totals                   = solver;
-    const auto    &linear                   = model.linear_solver().statistics();
-    totals["factorization_memory_estimate"] = linear.factorization_memory_estimate;
-    totals["factorization_memory"]          = linear.factorization_memory;
-    RunSummary(recorder.summary()).solver(totals);
+    RunSummary summary(recorder.summary());
+    summary.solver(solver);
+    summary.factorization(model.linear_solver().statistics());
   }
 } // namespace suturesim::scene

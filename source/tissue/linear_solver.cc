@@ -409,6 +409,21 @@ namespace suturesim::tissue
   }
 
   void
+  LinearSolver::factor(Mat A)
+  {
+    if (!memory_checked)
+      check_memory(A);
+    factorize(ksp, A);
+    PC pc;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    if (!uses_mumps(pc))
+      return;
+    Mat F;
+    check(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
+    stats.factorization_memory = mumps_bytes(F, 19);
+  }
+
+  void
   LinearSolver::solve(const dealii::PETScWrappers::MPI::SparseMatrix &A,
                       dealii::PETScWrappers::MPI::Vector             &x,
                       const dealii::PETScWrappers::MPI::Vector       &b,
@@ -429,17 +444,7 @@ namespace suturesim::tissue
         check(MatNullSpaceDestroy(&nsp), "MatNullSpaceDestroy");
       }
     if (prm.method == "direct")
-      {
-        if (!memory_checked)
-          check_memory(mat);
-        factorize(ksp, mat);
-        Mat F;
-        PC  pc;
-        check(KSPGetPC(ksp, &pc), "KSPGetPC");
-        check(PCFactorGetMatrix(pc, &F), "PCFactorGetMatrix");
-        if (uses_mumps(pc))
-          stats.factorization_memory = mumps_bytes(F, 19);
-      }
+      factor(mat);
     else
       check(KSPSetOperators(ksp, mat, mat), "KSPSetOperators");
     if (prm.method != "direct")
@@ -530,9 +535,7 @@ namespace suturesim::tissue
     DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
     for (std::size_t j = 0; j < B.size(); ++j)
       rhs.set(static_cast<PetscInt>(j), B[j]);
-    if (!memory_checked)
-      check_memory(A);
-    factorize(ksp, A);
+    factor(A);
     check(KSPMatSolve(ksp, rhs.mat, sol.mat), "KSPMatSolve");
     KSPConvergedReason reason;
     check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");

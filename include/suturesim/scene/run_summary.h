@@ -98,6 +98,12 @@ namespace suturesim::scene
     void
     solver(const nlohmann::json &totals);
 
+    /// The direct method's factorisation memory, estimated before it (the resource
+    /// guard's) and as made: "solver"'s factorization_memory_estimate and
+    /// factorization_memory, B.
+    void
+    factorization(const tissue::LinearSolver::Statistics &linear);
+
     /// Wall time per section of @p timer, s.
     void
     timings(const dealii::TimerOutput &timer);

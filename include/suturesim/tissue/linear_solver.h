@@ -135,6 +135,12 @@ namespace suturesim::tissue
     void
     check_memory(Mat A);
 
+    /// The direct method's factorisation of @p A for solve() and solve_columns():
+    /// check_memory() before the first, then factorize() (a no-op while @p A is
+    /// unchanged), and the memory MUMPS allocated into the statistics (INFOG(19)).
+    void
+    factor(Mat A);
+
     Parameters                                       prm;
     MPI_Comm                                         comm;
     KSP                                              ksp = nullptr;

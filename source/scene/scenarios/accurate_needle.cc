@@ -181,13 +181,9 @@ namespace suturesim::scene
           record.finish(t);
           // failed_attempts: steps whose solve failed and was halved (events' refinements
           // of a step that overshot a threshold are not failures)
-          const auto &linear = stitch.model->linear_solver().statistics();
-          RunSummary(recorder.summary())
-            .solver({{"steps", steps},
-                     {"newton_iterations_total", total_iterations},
-                     {"failed_attempts", failed_attempts},
-                     {"factorization_memory_estimate", linear.factorization_memory_estimate},
-                     {"factorization_memory", linear.factorization_memory}});
+          RunSummary summary(recorder.summary());
+          summary.solver({{"steps", steps}, {"newton_iterations_total", total_iterations}, {"failed_attempts", failed_attempts}});
+          summary.factorization(stitch.model->linear_solver().statistics());
         });
       }
 
