@@ -65,6 +65,7 @@ int
 main(int argc, char **argv)
 {
   using namespace suturesim;
+  select_blas_kernels(argv); // may run the program again, before anything has started
   // A study starts its cases as processes of their own: it is not an MPI process itself.
   if (argc > 1 && std::string(argv[1]) == "study")
     return study::study_command(std::vector<std::string>(argv + 2, argv + argc));

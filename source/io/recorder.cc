@@ -1,3 +1,4 @@
+#include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
 #include <suturesim/core/version.h>
 #include <suturesim/io/checked_output.h>
@@ -111,6 +112,8 @@ namespace suturesim::io
     json["mpi_processes"] = dealii::Utilities::MPI::n_mpi_processes(comm);
     // threads per process for the accurate path's assembly (main.cc)
     json["threads"] = dealii::MultithreadInfo::n_threads();
+    // what the dense kernels of MUMPS ran on (core/blas_threads.h): timings depend on it
+    json["blas_kernels"] = blas_kernels();
   }
 
   void
@@ -215,7 +218,7 @@ namespace suturesim::io
     // the run's record so far, by the binary and on the processes that finish it
     const nlohmann::json now = json;
     json                     = resumed.first.at("record").at("summary");
-    for (const char *key : {"version", "commit", "mpi_processes", "threads"})
+    for (const char *key : {"version", "commit", "mpi_processes", "threads", "blas_kernels"})
       json[key] = now[key];
     json["restarted_from"] = {{"t", resumed.first.at("record").at("t")}};
   }

@@ -4,6 +4,8 @@
 // enforcement of the pierce ties).
 #include "run_scene.h"
 
+#include <suturesim/core/blas_threads.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -199,6 +201,10 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
       std::printf("[ mpi ] load radius %s m: %zu rows, %zu columns: largest difference %.2e (SI units)\n",
                   radius.c_str(), a.size(), names.size(), worst);
       EXPECT_EQ(parallel.summary["mpi_processes"].get<int>(), 2);
+      // an MPI rank runs itself again for the BLAS kernels as a serial run does
+      // (core/blas_threads.h): both record the kernels of the test process
+      EXPECT_EQ(serial.summary["blas_kernels"], suturesim::blas_kernels());
+      EXPECT_EQ(parallel.summary["blas_kernels"], suturesim::blas_kernels());
     }
 }
 
@@ -464,12 +470,14 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   const auto &m = r.summary["metrics"];
   EXPECT_NEAR(m["simulated_time"].get<double>(), 7.5, 1e-9);
   EXPECT_GT(r.summary["wall_time_seconds"].get<double>(), 0.0);
-  // The steps whose first attempt fails, pinned with the regression values below (the
-  // count is as deterministic as they are): two, a suture solve shortly after the grasp
-  // and a coupled solve in the tightening, each recovered by halving the step. Which
-  // steps fail moves with round-off; that both solves are that close to their limits is
-  // the open point (docs/interrupted_stitch.md, "Regression values of the stitch").
-  EXPECT_EQ(r.summary["solver"]["failed_attempts"].get<unsigned>(), 2u);
+  // The steps whose first attempt fails, each recovered by halving the step: at most
+  // two, the suture's own solve in the slack thread after the grasp (500 iterations).
+  // Which steps fail moves with round-off where the regression values below do not:
+  // with OpenBLAS's Prescott kernels two (at 2.587 and 2.717 s), with its SkylakeX ones
+  // none, the tensions 6.4e-13 and 8e-14 apart (measured 2026-11-28, Intel Xeon). That
+  // the solve is that close to its limit is the open point
+  // (docs/interrupted_stitch.md, "Regression values of the stitch").
+  EXPECT_LE(r.summary["solver"]["failed_attempts"].get<unsigned>(), 2u);
   ASSERT_FALSE(m["closure_tension"].is_null()) << "least gap " << m["gaps"]["mid"]["least"];
   ASSERT_FALSE(m["tie_off_tension"].is_null());
   EXPECT_GT(m["closure_time"].get<double>(), 2.5);
@@ -484,11 +492,13 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
 
   // Then the regression values of this deterministic run, from `suturesim
   // parameters/stitch_interrupted.prm --set Model=accurate --output DIR`
-  // (OPENBLAS_NUM_THREADS=1). Spread measured on this machine (AMD EPYC, OpenBLAS 0.3.21,
-  // MUMPS 5.5): OpenBLAS's Cooperlake, Haswell and Prescott kernels and 2 MPI processes
+  // (OPENBLAS_NUM_THREADS=1). Spread measured on an AMD EPYC (OpenBLAS 0.3.21, MUMPS
+  // 5.5): OpenBLAS's Cooperlake, Haswell and Prescott kernels and 2 MPI processes
   // against 1 move the closure tension by at most 2.0e-16, the tie-off tension by
   // 2.6e-15 and the final gap by 3.8e-12 relative, the closure and tie-off times not at
-  // all. Tolerances: 1e-12 relative on the tensions (~400 times their spread), 1e-9 on
+  // all; on an Intel Xeon (model 0xCF) the SkylakeX kernels against Prescott's, which
+  // stored these values, by 6.4e-13 and 8e-14 (the steps differ in the slack phase,
+  // above). Tolerances: 1e-12 relative on the tensions, 1e-9 on
   // the final gap (~260 times), 1e-9 s on the times (a step earlier or later moves the
   // tie-off by 20 ms, the tension by per cents; the closure is read at the gap's
   // crossing, interpolated within its step). A change of the code that sums the same terms in

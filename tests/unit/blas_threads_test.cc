@@ -27,3 +27,17 @@ TEST(BlasThreads, OneThreadUnlessTheUserAsksForMore)
   if (saved)
     setenv("OPENBLAS_NUM_THREADS", saved->c_str(), 1);
 }
+
+TEST(BlasKernels, FitForTheCpuNotOpenBlasGenericFallback)
+{
+  // main() chose them (tests/unit/main.cc, as the program's main does): on a CPU with
+  // AVX2 and FMA the generic Prescott kernels are the fallback for a model OpenBLAS does
+  // not know, 5x slower in dgemm here (core/blas_threads.h)
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("avx2") || !__builtin_cpu_supports("fma"))
+    GTEST_SKIP() << "a CPU without AVX2 and FMA: Prescott may be its right kernels";
+  EXPECT_NE(suturesim::blas_kernels(), "");
+  EXPECT_NE(suturesim::blas_kernels(), "Prescott");
+  // chosen once: nothing better is left to run again for
+  EXPECT_EQ(suturesim::better_blas_kernels(), "");
+}
