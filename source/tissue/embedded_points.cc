@@ -162,6 +162,7 @@ namespace suturesim::tissue
     const auto &X = l.points();
     weight.assign(X.size(), {});
     mine.assign(X.size(), false);
+    spread_point.assign(X.size(), false);
     any_spread = false;
     for (std::size_t k = 0; k < X.size(); ++k)
       {
@@ -188,22 +189,8 @@ namespace suturesim::tissue
             s << "embedded point (" << X[k] << ") m: no tissue within its spread radius " << rho << " m";
             throw std::invalid_argument(s.str());
           }
-        any_spread = any_spread || rho > 0;
-      }
-  }
-
-  void
-  EmbeddedPoints::add_couplings(DynamicSparsityPattern &dsp, const IndexSet &owned) const
-  {
-    std::vector<types::global_dof_index> columns;
-    for (const auto &w : weight)
-      {
-        columns.clear();
-        for (const Weight &e : w)
-          columns.push_back(e.dof);
-        for (const Weight &e : w)
-          if (owned.is_element(e.dof))
-            dsp.add_entries(e.dof, columns.begin(), columns.end(), true);
+        spread_point[k] = rho > 0;
+        any_spread      = any_spread || rho > 0;
       }
   }
 
@@ -233,6 +220,25 @@ namespace suturesim::tissue
     for (const Weight &e : weight[k])
       if (owned.is_element(e.dof) && !c.is_constrained(e.dof))
         rhs(e.dof) += e.value * f[e.component];
+  }
+
+  std::vector<std::size_t>
+  EmbeddedPoints::low_rank_points() const
+  {
+    std::vector<std::size_t> points;
+    for (std::size_t k = 0; k < weight.size(); ++k)
+      if (low_rank(k))
+        points.push_back(k);
+    return points;
+  }
+
+  bool
+  EmbeddedPoints::symmetric() const
+  {
+    for (std::size_t k = 0; k < weight.size(); ++k)
+      if (!spread_point[k] && !(k < condensed.size() && condensed[k]) && !loads->symmetric_at(k))
+        return false;
+    return true;
   }
 
   void
@@ -284,16 +290,23 @@ namespace suturesim::tissue
           }
       }
     Utilities::MPI::sum(shared, comm, shared);
-    skew.assign(n, Tensor<2, 3>());
-    for (std::size_t k = 0; k < std::min(n, condensed.size()); ++k)
-      if (condensed[k])
+    low.assign(n, Tensor<2, 3>());
+    for (std::size_t k = 0; k < n; ++k)
+      if (spread_point[k])
+        for (unsigned a = 0; a < 3; ++a)
+          for (unsigned b = 0; b < 3; ++b)
+            {
+              low[k][a][b] = shared[block * k + at_A + 3 * a + b];
+              shared[block * k + at_A + 3 * a + b] = 0; // nothing of it in K nor its fixed columns
+            }
+      else if (k < condensed.size() && condensed[k])
         for (unsigned a = 0; a < 3; ++a)
           for (unsigned b = 0; b < a; ++b)
             {
               double &A_ab = shared[block * k + at_A + 3 * a + b], &A_ba = shared[block * k + at_A + 3 * b + a];
               const double s = 0.5 * (A_ab - A_ba), mean = 0.5 * (A_ab + A_ba);
-              skew[k][a][b]  = s;
-              skew[k][b][a]  = -s;
+              low[k][a][b]   = s;
+              low[k][b][a]   = -s;
               A_ab = A_ba = mean; // the same bits in both triangles
             }
 
@@ -305,8 +318,10 @@ namespace suturesim::tissue
         const double *f = &shared[block * k + at_f], *A = &shared[block * k + at_A], *Wg = &shared[block * k + at_Wg];
         const double *fixed = &shared[first[k]];
         // the tangent's rows of this point differ only by their factor W_I and its
-        // component: the free columns, their W_J and A's entries once per point
-        if (K != nullptr)
+        // component: the free columns, their W_J and A's entries once per point; none
+        // for a spread point, whose couplings K's pattern does not hold
+        const bool with_K = K != nullptr && !spread_point[k];
+        if (with_K)
           {
             columns.clear();
             WJ.clear();
@@ -334,7 +349,7 @@ namespace suturesim::tissue
             if (fixed[i] > 0)
               continue;
             double b = I.value * f[I.component];
-            if (K != nullptr)
+            if (with_K)
               {
                 for (unsigned d = 0; d < 3; ++d)
                   b += I.value * A[3 * I.component + d] * Wg[d];

@@ -112,8 +112,6 @@ namespace suturesim::tissue
     // Constrained rows keep their pattern (zeroed by the constraints) so that the mass
     // matrix of the dynamics shares it.
     DoFTools::make_sparsity_pattern(dof_handler, dsp, constraints, true);
-    if (embedded && embedded->spread())
-      embedded->add_couplings(dsp, locally_owned_dofs);
     SparsityTools::distribute_sparsity_pattern(dsp, locally_owned_dofs, comm,
                                                locally_relevant_dofs);
     system_matrix.reinit(locally_owned_dofs, locally_owned_dofs, dsp, comm);
@@ -197,19 +195,18 @@ namespace suturesim::tissue
   TissueModel::set_point_loads(const PointLoads *loads)
   {
     point_loads = loads;
-    solver->set_symmetric(!loads || loads->symmetric_tangent(), "a point load's tangent");
     if (!loads)
-      return;
+      {
+        solver->set_symmetric(true);
+        return;
+      }
     if (!embedded)
       embedded = std::make_unique<EmbeddedPoints>(mapping, fe, dof_handler, comm);
-    const bool had_couplings = embedded->spread();
     embedded->locate(*loads, constraints);
+    solver->set_symmetric(embedded->symmetric(), "a point load's tangent");
     if (embedded->spread() && mass_matrix.m() > 0)
       throw InputError("a spread pierce load (Pierce points/Accurate/Load radius > 0) with tissue dynamics: "
-                       "the dynamics' matrices do not carry its couplings; use a quasi-static scene or radius 0");
-    // a spread point couples DoFs of several cells: the pattern is rebuilt with them
-    if (had_couplings || embedded->spread())
-      make_system_matrix();
+                       "the dynamics' solve does not add its low-rank tangent; use a quasi-static scene or radius 0");
   }
 
   Point<3>

@@ -10,6 +10,8 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
+
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -47,11 +49,7 @@ namespace suturesim::tissue
           return;
         points = embedded.get();
         points->set_condensed(coupled);
-        std::vector<bool> in(loads->points().size(), false);
-        for (const std::size_t k : coupled)
-          in.at(k) = true;
-        for (std::size_t k = 0; k < in.size(); ++k)
-          symmetric = symmetric && (in[k] || loads->symmetric_at(k));
+        symmetric = points->symmetric();
       }
       ~Condensing()
       {
@@ -65,14 +63,14 @@ namespace suturesim::tissue
   } // namespace
 
   unsigned
-  TissueModel::coupled_update(const std::vector<std::size_t> &coupled, const Eigen::MatrixXd &G,
-                              const double tolerance, Vector &update)
+  TissueModel::low_rank_update(const std::vector<std::size_t> &points, const Eigen::MatrixXd &G,
+                               const double tolerance, Vector &update)
   {
     // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
     update = 0;
     solver->solve(system_matrix, update, system_rhs, 0, tolerance);
     const unsigned    iterations = solver->statistics().iterations;
-    const std::size_t m          = coupled.size();
+    const std::size_t m          = points.size();
     if (m == 0)
       return iterations;
     // the points read the cells' DoFs, hanging ones among them on a locally refined mesh:
@@ -87,7 +85,7 @@ namespace suturesim::tissue
     Eigen::VectorXd Nz0(3 * m);
     for (std::size_t j = 0; j < m; ++j)
       for (unsigned d = 0; d < 3; ++d)
-        Nz0[3 * j + d] = z0_at[coupled[j]][d];
+        Nz0[3 * j + d] = z0_at[points[j]][d];
     // Nᵀ's columns, unit forces at the points, solved in one call
     std::vector<Vector> Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
     for (std::size_t j = 0; j < m; ++j)
@@ -95,7 +93,7 @@ namespace suturesim::tissue
         {
           Tensor<1, 3> unit;
           unit[d] = 1;
-          embedded->add_point_force(coupled[j], unit, constraints, unit_forces[3 * j + d]);
+          embedded->add_point_force(points[j], unit, constraints, unit_forces[3 * j + d]);
           unit_forces[3 * j + d].compress(VectorOperation::add);
         }
     solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);
@@ -108,15 +106,15 @@ namespace suturesim::tissue
         const auto zat = point_values(ghost, false);
         for (std::size_t i = 0; i < m; ++i)
           for (unsigned e = 0; e < 3; ++e)
-            NZ(3 * i + e, k) = zat[coupled[i]][e];
+            NZ(3 * i + e, k) = zat[points[i]][e];
       }
-    // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the points' skew
-    // parts
+    // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the parts of the
+    // points' own tangents that K leaves out
     Eigen::MatrixXd G_S = G;
     for (std::size_t j = 0; j < m; ++j)
       for (unsigned a = 0; a < 3; ++a)
         for (unsigned b = 0; b < 3; ++b)
-          G_S(3 * j + a, 3 * j + b) -= embedded->skew_tangent(coupled[j])[a][b];
+          G_S(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(points[j])[a][b];
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
     const Eigen::VectorXd c = (I + G_S * NZ).partialPivLu().solve(G_S * Nz0);
     for (std::size_t k = 0; k < 3 * m; ++k)
@@ -132,11 +130,18 @@ namespace suturesim::tissue
     Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm);
     const std::vector<std::size_t> coupled = body.coupled_points();
     // The coupled points' ∂f/∂x enters K by its symmetric part and the Woodbury update
-    // by its skew part S (coupled_update()): the same system, and a symmetric K for
+    // by its skew part S (low_rank_update()): the same system, and a symmetric K for
     // Cholesky (half LU's work) when no other point's tangent is non-symmetric.
     const Condensing condensing(embedded, point_loads, coupled);
     solver->set_symmetric(condensing.symmetric, "a point load's tangent");
-    Eigen::MatrixXd G;
+    // the update's points: the coupled ones (their body's G first), then the other
+    // points whose tangent K leaves out (spread ones), with no body
+    std::vector<std::size_t> low_rank = coupled;
+    if (point_loads)
+      for (const std::size_t k : embedded->low_rank_points())
+        if (std::find(coupled.begin(), coupled.end(), k) == coupled.end())
+          low_rank.push_back(k);
+    Eigen::MatrixXd G, G_all = Eigen::MatrixXd::Zero(3 * low_rank.size(), 3 * low_rank.size());
     double          r_ref = 0, du_norm = std::numeric_limits<double>::infinity(), du_max = du_norm;
     Timer           clock;
 
@@ -187,7 +192,8 @@ namespace suturesim::tissue
             {
               const double target =
                 std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
-              report.linear_iterations += coupled_update(coupled, G, 0.01 * target, update);
+              G_all.topLeftCorner(G.rows(), G.cols()) = G;
+              report.linear_iterations += low_rank_update(low_rank, G_all, 0.01 * target, update);
             }
           catch (const SolverError &e)
             {

@@ -92,8 +92,11 @@ namespace suturesim::tissue
     NewtonReport            report;
     Vector                  update(locally_owned_dofs, comm), trial(locally_owned_dofs, comm);
 
-    // the whole tangent, as a coupled solve may have left the solver symmetric
-    solver->set_symmetric(!point_loads || point_loads->symmetric_tangent(), "a point load's tangent");
+    // the tangent without a coupled solve's condensed points (it may have left the
+    // solver symmetric); spread points add theirs as a low-rank update
+    solver->set_symmetric(!point_loads || embedded->symmetric(), "a point load's tangent");
+    const std::vector<std::size_t> low_rank = point_loads ? embedded->low_rank_points() : std::vector<std::size_t>();
+    const Eigen::MatrixXd          no_body  = Eigen::MatrixXd::Zero(3 * low_rank.size(), 3 * low_rank.size());
     solution_ghost = solution;
     double gap     = make_constraints(t, solution_ghost, constraints);
     Timer  clock;
@@ -119,13 +122,12 @@ namespace suturesim::tissue
         clock.restart();
         {
           TimerOutput::Scope scope(timer, "linear solve");
-          update = 0;
           try
             {
               // The update need not be more accurate than the residual this step aims at.
               const double target =
                 std::max({np.absolute_residual_tolerance, force_floor, np.residual_tolerance * r_ref});
-              solver->solve(system_matrix, update, system_rhs, 0, 0.01 * target);
+              report.linear_iterations += low_rank_update(low_rank, no_body, 0.01 * target, update);
             }
           catch (const SolverError &e)
             {
@@ -133,7 +135,6 @@ namespace suturesim::tissue
               report.iterations = it;
               return report;
             }
-          report.linear_iterations += solver->statistics().iterations;
         }
         report.solve_seconds += clock.wall_time();
         // The constrained entries of the update are the inhomogeneities g − u.

@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <map>
+#include <vector>
 
 using namespace suturesim;
 using namespace dealii;
@@ -71,7 +72,9 @@ namespace
 TEST(PointLoads, SpringAtAnEmbeddedPointBalancesAndNewtonStaysQuadratic)
 {
   // as a point load and spread over ρ = 3 mm (its weights across a dozen cells of 5 mm:
-  // the tangent's couplings beyond one cell)
+  // its tangent a rank-3 update added by the solve, EmbeddedPoints::low_rank(), and K's
+  // pattern the cells' couplings alone, as the point load's, whose cell holds them)
+  std::vector<std::size_t> nonzeros;
   for (const double rho : {0.0, 0.003})
     {
       test_support::BlockModel block(" set Element degree = 2\n"
@@ -92,6 +95,8 @@ TEST(PointLoads, SpringAtAnEmbeddedPointBalancesAndNewtonStaysQuadratic)
       ASSERT_TRUE(report.converged) << report.failure;
       // quadratic: once in the asymptotic range each residual is below C r²
       expect_quadratic(report.residual_norms);
+      nonzeros.push_back(model.tangent().n_nonzero_elements());
+      ASSERT_EQ(nonzeros.back(), nonzeros.front()) << "a spread point's dense block in K";
 
       const Point<3>     x = model.point_position(0);
       const Tensor<1, 3> f = spring.k * (spring.target - x);

@@ -7,7 +7,7 @@
  * coordinates, no remeshing) by constant weights W_kI over displacement DoFs I:
  *   position  x_k = X_k + Σ_I W_kI u_I e_c(I),
  *   residual  r_I −= W_kI f_c(I)(x_k),
- *   tangent   K_IJ −= W_kI (∂f/∂x)_c(I)c(J) W_kJ,
+ *   tangent   K_IJ −= W_kI (∂f/∂x)_c(I)c(J) W_kJ   (in K, or as a low-rank update),
  * so that R = f_int − f_ext keeps its sign convention and Newton stays quadratic when
  * ∂f/∂x is exact (a penalty spring: f = −k d, ∂f/∂x = −k: K gains +k W_I W_J). The
  * same weights interpolate the point's motion and spread its force, so the coupling
@@ -25,7 +25,9 @@
  * Gauss rule iterated until its points are no further than ρ/4 apart, so that the
  * weights are resolved on any mesh and their mesh limit is the kernel's. Hanging-node
  * constraints are folded into the weights; rows and columns that the solve's
- * constraints fix (Dirichlet values) are left to those constraints.
+ * constraints fix (Dirichlet values) are left to those constraints. A spread point's
+ * tangent is not assembled into K but added by the solve as a rank-3 update
+ * (EmbeddedPoints::low_rank()): in K it would be a dense block over the ball.
  */
 
 #include <deal.II/base/mpi.h>
@@ -35,7 +37,6 @@
 #include <deal.II/fe/fe.h>
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/affine_constraints.h>
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
 
@@ -102,40 +103,59 @@ namespace suturesim::tissue
     void
     locate(const PointLoads &loads, const dealii::AffineConstraints<double> &constraints);
 
-    /// Whether some point's weights reach beyond one cell's DoFs, so that the matrix
-    /// needs the couplings of add_couplings() on top of the cells' own.
+    /// Whether some point is spread (ρ > 0).
     bool
     spread() const
     {
       return any_spread;
     }
 
-    /// Adds to @p dsp, in the rows @p owned, the couplings among each point's DoFs.
-    void
-    add_couplings(dealii::DynamicSparsityPattern &dsp, const dealii::IndexSet &owned) const;
-
     /// Adds the loads at displacements @p u (collective) to the residual @p full
     /// (R = f_int − f_ext, every owned row), to the right-hand side @p rhs (−R, the rows
     /// @p c leaves free) and, if given, to the tangent @p K (those rows and columns; a
-    /// fixed column's inhomogeneity moved to @p rhs as AffineConstraints does).
+    /// fixed column's inhomogeneity moved to @p rhs as AffineConstraints does), except
+    /// the low-rank part of the points' ∂f/∂x (low_rank()), kept for the solve.
     void
     assemble(const Vector &u, const dealii::AffineConstraints<double> &c, Matrix *K, Vector &rhs,
              Vector &full);
 
-    /// Points whose ∂f/∂x = A enters assemble()'s tangent (and its fixed columns'
-    /// right-hand side) by its symmetric part ½(A + Aᵀ) only; the rest, S = ½(A − Aᵀ),
-    /// is kept (skew_tangent()) for a solve that adds it as a low-rank update
-    /// Nᵀ(−S)N: TissueModel::solve_coupled() does, so that friction on the thread leaves
-    /// a symmetric matrix for MUMPS's Cholesky. Empty (the default): the whole A.
+    /// Points named here (the coupled solve's, TissueModel::solve_coupled()) have the
+    /// skew part S = ½(A − Aᵀ) of their ∂f/∂x = A left to the low-rank update
+    /// (low_rank()), so that friction on the thread leaves a symmetric matrix for MUMPS's
+    /// Cholesky; empty (the default): none.
     void
     set_condensed(const std::vector<std::size_t> &points);
 
-    /// S of point @p k at the last assemble(): zero unless set_condensed() named it.
-    const dealii::Tensor<2, 3> &
-    skew_tangent(std::size_t k) const
+    /// Whether assemble() leaves part of point @p k's ∂f/∂x = A out of the tangent K, as
+    /// L_k (low_rank_tangent()), for the solve to add as the low-rank update Nᵀ(−L)N by
+    /// the Sherman–Morrison–Woodbury identity (TissueModel::low_rank_update()):
+    ///  - a spread point (ρ > 0), the whole of A: its weights span every DoF within ρ, and
+    ///    W A Wᵀ in K would couple them all, a dense block of (3n)² entries for n nodes in
+    ///    the ball (about 1 900 DoFs per point for Q2 cells of 0.75 mm and ρ = 2 mm) that
+    ///    MUMPS factorises as a dense front, in a pattern rebuilt whenever the points
+    ///    move (docs/accurate_tissue.md, "Spread loads as a low-rank update");
+    ///  - a point set_condensed() names, its skew part S.
+    bool
+    low_rank(std::size_t k) const
     {
-      return skew[k];
+      return spread_point[k] || (k < condensed.size() && condensed[k]);
     }
+
+    /// Every point low_rank() names, in order.
+    std::vector<std::size_t>
+    low_rank_points() const;
+
+    /// L_k of point @p k at the last assemble(): A for a spread point, S for a condensed
+    /// one, zero for the rest.
+    const dealii::Tensor<2, 3> &
+    low_rank_tangent(std::size_t k) const
+    {
+      return low[k];
+    }
+
+    /// Whether the tangent assemble() adds is symmetric: every ∂f/∂x it keeps is.
+    bool
+    symmetric() const;
 
     /// Adds the nodal forces of a force @p f at point @p k, Σ_I W_kI f, into the owned
     /// rows of @p rhs that @p constraints leave free.
@@ -194,8 +214,9 @@ namespace suturesim::tissue
     const PointLoads                *loads = nullptr;
     std::vector<std::vector<Weight>> weight;
     std::vector<bool>                mine; ///< this rank evaluates the point's force law
+    std::vector<bool>                spread_point; ///< ρ > 0
     std::vector<bool>                condensed;
-    std::vector<dealii::Tensor<2, 3>> skew;
+    std::vector<dealii::Tensor<2, 3>> low; ///< low_rank_tangent()
     bool                             any_spread = false;
   };
 } // namespace suturesim::tissue

@@ -237,6 +237,13 @@ namespace suturesim::tissue
       return *solver;
     }
 
+    /// The tangent K the last assembly left (its pattern is the cells' couplings only).
+    const dealii::PETScWrappers::MPI::SparseMatrix &
+    tangent() const
+    {
+      return system_matrix;
+    }
+
   private:
     /// Constraints at time t with inhomogeneity g(t) − u (so that one Newton update
     /// lands on the boundary values); returns max |g − u| over Dirichlet DoFs.
@@ -296,15 +303,16 @@ namespace suturesim::tissue
     std::vector<dealii::Point<3>>
     point_values(const Vector &v, bool displacement) const;
 
-    /// The coupled iteration's update (solve_coupled()): (K + Nᵀ (G − S) N) Δu = −R by
-    /// the Sherman–Morrison–Woodbury identity, Δu = z0 − Z (I + (G − S) N Z)⁻¹ (G − S) N z0
-    /// with z0 = K⁻¹(−R) and Z = K⁻¹Nᵀ (one call for the 3m columns of the points
-    /// @p coupled) from one factorisation of the assembled K; S their skew parts, which
-    /// K leaves out (EmbeddedPoints::set_condensed()). Returns the Krylov iterations of
-    /// z0's solve, to @p tolerance; throws SolverError.
+    /// The Newton update (K + Nᵀ (G − L) N) Δu = −R by the Sherman–Morrison–Woodbury
+    /// identity, Δu = z0 − Z (I + (G − L) N Z)⁻¹ (G − L) N z0 with z0 = K⁻¹(−R) and
+    /// Z = K⁻¹Nᵀ (one call for the 3m columns of the @p points) from one factorisation of
+    /// the assembled K: G (3m × 3m) the stiffness of a body condensed onto the points
+    /// (solve_coupled(); zero for none), L their tangents' parts that K leaves out
+    /// (EmbeddedPoints::low_rank()). No points: Δu = z0. Returns the Krylov iterations
+    /// of z0's solve, to @p tolerance; throws SolverError.
     unsigned
-    coupled_update(const std::vector<std::size_t> &coupled, const Eigen::MatrixXd &G, double tolerance,
-                   Vector &update);
+    low_rank_update(const std::vector<std::size_t> &points, const Eigen::MatrixXd &G, double tolerance,
+                    Vector &update);
 
     /// g, ġ, g̈ at the locally owned Dirichlet DoFs (order of owned_dirichlet).
     void
@@ -320,8 +328,8 @@ namespace suturesim::tissue
     void
     assemble_mass_matrix();
 
-    /// The tangent's sparsity: the cells' couplings under the constraints, plus those of
-    /// spread point loads (EmbeddedPoints::add_couplings()).
+    /// The tangent's sparsity: the cells' couplings under the constraints (point loads
+    /// stay within their cell's; spread ones are a low-rank update).
     void
     make_system_matrix();
 
