@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 namespace suturesim
 {
@@ -49,7 +51,11 @@ namespace suturesim
   select_blas_kernels(char **argv)
   {
     const std::string kernels = better_blas_kernels();
-    if (kernels.empty() || setenv("OPENBLAS_CORETYPE", kernels.c_str(), 1) != 0)
+    // started through the dynamic loader (ld-linux*.so program ...), /proc/self/exe is
+    // the loader, which would take argv[0] for its own: keep the kernels loaded
+    std::error_code   error;
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe", error).filename().string();
+    if (kernels.empty() || error || self.rfind("ld-", 0) == 0 || setenv("OPENBLAS_CORETYPE", kernels.c_str(), 1) != 0)
       return;
     execv("/proc/self/exe", argv);
     // not executed again (a system without /proc): this process keeps the kernels it

@@ -13,6 +13,7 @@
 // distorted hexahedron at a finite strain: the kernel of every Newton iteration, without
 // the global matrix, so its time is the time per cell.
 // Run: build/tests/benchmarks/tissue_benchmark --benchmark_filter=...
+#include <suturesim/core/blas_threads.h>
 #include <suturesim/io/recorder.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
@@ -156,6 +157,7 @@ BENCHMARK_CAPTURE(run_block, amg_cg, std::string("cg"))
 int
 main(int argc, char **argv)
 {
+  suturesim::select_blas_kernels(argv); // timed on the kernels the program uses
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();

@@ -20,7 +20,7 @@
  * 0.096 s with the SkylakeX (AVX-512) kernels (docs/accurate_tissue.md, "BLAS kernels"),
  * and MUMPS's factorisation is mostly dgemm on its fronts. OpenBLAS reads
  * OPENBLAS_CORETYPE only while it loads, so select_blas_kernels() sets it and runs the
- * program again.
+ * program again. To keep any kernels (Prescott's among them), set OPENBLAS_CORETYPE.
  */
 
 #include <string>
@@ -50,7 +50,8 @@ namespace suturesim
   /// kernels, sets OPENBLAS_CORETYPE to them and executes this program again with the
   /// same @p argv (its process, MPI rank and environment unchanged otherwise); returns
   /// only when there is nothing to do or the execution failed (the run then goes on
-  /// with the kernels it has). Processes this one starts inherit the choice.
+  /// with the kernels it has, as when the program was started through the dynamic loader,
+  /// which /proc/self/exe then names). Processes this one starts inherit the choice.
   void
   select_blas_kernels(char **argv);
 } // namespace suturesim
