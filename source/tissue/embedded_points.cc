@@ -236,7 +236,7 @@ namespace suturesim::tissue
   EmbeddedPoints::symmetric() const
   {
     for (std::size_t k = 0; k < weight.size(); ++k)
-      if (!spread_point[k] && !(k < condensed.size() && condensed[k]) && !loads->symmetric_at(k))
+      if (!low_rank(k) && !loads->symmetric_at(k))
         return false;
     return true;
   }
