@@ -392,6 +392,61 @@ namespace suturesim::rod
     return step;
   }
 
+  Eigen::VectorXd
+  RodModel::direction(System &s, const NewtonParameters &prm) const
+  {
+    Eigen::VectorXd newton = solve_linear(s);
+    if (!prm.trust_region || prm.max_displacement <= 0 || prm.max_rotation <= 0 || !newton.allFinite() ||
+        capped_step(newton, prm) >= 1)
+      return newton;
+    // σ at which the step becomes a gradient step of about the caps' length: the larger
+    // of |r_x| Δx and |r_θ| Δθ over the nodes (N m)
+    const std::size_t n  = n_nodes();
+    const double      dx = prm.max_displacement, dq = prm.max_rotation;
+    double            gradient = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      for (unsigned c = 0; c < 6; ++c)
+        if (!fixed[i][c])
+          gradient = std::max(gradient, std::abs(s.r[6 * i + c]) * (c < 3 ? dx : dq));
+    const auto shifted = [&](const double sigma) {
+      const auto shift = [&](const double sign) {
+        for (std::size_t i = 0; i < n; ++i)
+          for (unsigned c = 0; c < 6; ++c)
+            if (!fixed[i][c])
+              s.J.diagonal(i)(c, c) += sign * sigma / (c < 3 ? dx * dx : dq * dq);
+      };
+      shift(1);
+      Eigen::VectorXd delta = solve_linear(s);
+      shift(-1);
+      return delta;
+    };
+    const auto fits = [&](const Eigen::VectorXd &delta) {
+      return delta.allFinite() && capped_step(delta, prm) >= 1 && delta.dot(s.r) < 0;
+    };
+    double          hi   = std::max(gradient, std::numeric_limits<double>::min());
+    Eigen::VectorXd best = shifted(hi);
+    for (unsigned k = 0; k < 30 && !fits(best); ++k)
+      best = shifted(hi *= 4);
+    if (!fits(best))
+      return newton; // left to the caps
+    // bisection on log σ between a σ too small (its step longer than the caps) and hi,
+    // to a factor of 1.1
+    double lo = 1e-8 * hi;
+    while (hi > 1.1 * lo)
+      {
+        const double          mid   = std::sqrt(lo * hi);
+        const Eigen::VectorXd delta = shifted(mid);
+        if (fits(delta))
+          {
+            hi   = mid;
+            best = delta;
+          }
+        else
+          lo = mid;
+      }
+    return best;
+  }
+
   bool
   RodModel::take_full_step(System &s, const Eigen::VectorXd &delta, double step, const NodalTerms *extra)
   {
@@ -499,7 +554,7 @@ namespace suturesim::rod
                                 " iterations (residual " + std::to_string(norm) + " N)";
                 return result;
               }
-            const Eigen::VectorXd delta = solve_linear(s);
+            const Eigen::VectorXd delta = direction(s, prm);
             if (!delta.allFinite())
               {
                 result.reason = "linear solve produced NaN";

@@ -260,6 +260,13 @@ namespace suturesim::rod
                       "capped step). Full steps cycle where a pierce point's slip reverses "
                       "across its stick band (docs/interrupted_stitch.md). 0: never. Unit: 1. "
                       "Range: 0-1000.");
+    prm.declare_entry("Trust region", d.newton.trust_region ? "true" : "false", Patterns::Bool(),
+                      "Accurate path with tissue and suture (whose solve caps a correction at "
+                      "half the shortest element and 0.25 rad): a Newton correction longer "
+                      "than the caps is replaced by the Levenberg-Marquardt step of a trust "
+                      "region of the caps' size, which turns towards the residual where the "
+                      "slack thread's Jacobian is indefinite; false: the Newton correction "
+                      "scaled down to the caps (docs/interrupted_stitch.md). Unit: none.");
     prm.declare_entry("Trace failures", "false", Patterns::Bool(),
                       "Accurate path with tissue and suture: every iteration of each suture "
                       "solve that fails goes to suture_newton_trace.csv in the output folder, "
@@ -432,6 +439,7 @@ namespace suturesim::rod
     newton.tolerance         = prm.get_double("Tolerance");
     newton.line_search_steps = prm.get_integer("Line search steps");
     newton.stall_window      = prm.get_integer("Stall window");
+    newton.trust_region      = prm.get_bool("Trust region");
     trace_failures           = prm.get_bool("Trace failures");
     prm.leave_subsection();
     scope.subsection("Newton").require(newton.tolerance > 0, "Tolerance", "must be > 0");

@@ -3,9 +3,12 @@
 // residual; the Newton observer sees every iterate with the step it takes and the state
 // the solve stops in; SutureNewtonTrace writes a failed solve's iterations with each
 // part's norm (scene/suture_newton_trace.h); full steps that cycle between the slip
-// branches of a friction law are handed to the energy line search, which converges.
+// branches of a friction law are handed to the energy line search, which converges; a
+// correction longer than the caps is replaced by the trust-region step, which lays a
+// slack thread where the scaled-down Newton correction crawls.
 #include "run_scene.h"
 
+#include <suturesim/rod/cross_section.h>
 #include <suturesim/rod/rod_model.h>
 #include <suturesim/scene/suture_newton_trace.h>
 
@@ -187,4 +190,93 @@ TEST(SutureNewtonTrace, AStallOfFullStepsIsHandedToTheEnergyLineSearch)
   EXPECT_LT(result.iterations, 200u);
   const double y = held.rod.positions().back()[1];
   EXPECT_LT(std::abs(FrictionHeldTip::k_t * (y - FrictionHeldTip::a)), FrictionHeldTip::F); // it sticks
+}
+
+namespace
+{
+  /// A thread of 40 elements of 0.5 mm (the stitch's suture: a 3-0 monofilament of
+  /// 3 GPa, 0.225 mm across), straight and stress free along x, clamped at its first
+  /// node and held in position at its last; its nodes are then laid on a circular arc
+  /// of the thread's length whose chord is @p chord, their rotations left as they were,
+  /// so that each element is sheared by up to half the arc's angle: a slack thread far
+  /// from equilibrium, as the stitch's thread is when its ends jump. Solved with the
+  /// stitch's caps (half an element, 0.25 rad).
+  NewtonResult
+  lay_slack_thread(const double chord, const bool trust_region, std::vector<Vec3> *laid = nullptr)
+  {
+    const std::size_t n = 40;
+    const double      h = 0.5e-3, length = n * h;
+    std::vector<Vec3> x;
+    for (std::size_t i = 0; i <= n; ++i)
+      x.push_back(Vec3(i * h, 0, 0));
+    const CrossSection section;
+    RodModel rod(x, std::vector<Quat>(x.size(), Quat::Identity()), section.stiffness(), section.mass_per_length(),
+                 section.rotational_inertia_per_length());
+    rod.constrain(0, {{true, true, true, true, true, true}});
+    rod.constrain(n, {{true, true, true, false, false, false}});
+    // the arc's angle θ: 2 (L/θ) sin(θ/2) = chord, by Newton's method from θ = 2
+    double theta = 2;
+    for (int k = 0; k < 50; ++k)
+      theta -= (2 * length / theta * std::sin(theta / 2) - chord) /
+               (length / theta * std::cos(theta / 2) - 2 * length / (theta * theta) * std::sin(theta / 2));
+    const double radius = length / theta;
+    for (std::size_t i = 1; i <= n; ++i)
+      {
+        const double a = theta * (double(i) / n - 0.5);
+        rod.set_node(i, Vec3(chord / 2 + radius * std::sin(a), 0, radius * (std::cos(a) - std::cos(theta / 2))),
+                     Quat::Identity());
+      }
+    NewtonParameters prm;
+    prm.max_iterations   = 500;
+    prm.max_displacement = 0.5 * h;
+    prm.max_rotation     = 0.25;
+    prm.trust_region     = trust_region;
+    const NewtonResult result = rod.solve(prm, nullptr);
+    if (laid)
+      *laid = rod.positions();
+    return result;
+  }
+} // namespace
+
+TEST(SutureNewtonTrace, ATrustRegionStepLaysASlackThreadWhereTheCappedNewtonCorrectionCrawls)
+{
+  // chords of 15, 10 and 5 mm of a 20 mm thread: arcs of 146°, 217° and 284°
+  for (const double chord : {15e-3, 10e-3, 5e-3})
+    {
+      const NewtonResult capped = lay_slack_thread(chord, false);
+      std::vector<Vec3>  laid;
+      const NewtonResult trust  = lay_slack_thread(chord, true, &laid);
+      std::printf("[ trust ] chord %.0f mm: capped Newton %s in %u iterations, trust region %s in %u\n", chord * 1e3,
+                  capped.converged ? "converged" : "failed", capped.iterations,
+                  trust.converged ? "converged" : "failed", trust.iterations);
+      ASSERT_TRUE(trust.converged) << trust.reason;
+      EXPECT_LE(trust.iterations, 100u);
+      // the configuration is one the trust region is there for: the capped Newton
+      // correction needs several times the iterations (it fails on the 10 mm chord)
+      EXPECT_GT(capped.iterations, 2 * trust.iterations);
+      // the thread is laid where it was put: its last node held, in the arc's plane
+      EXPECT_NEAR(laid.back()[0], chord, 1e-12);
+      for (const Vec3 &p : laid)
+        EXPECT_NEAR(p[1], 0, 1e-9);
+    }
+}
+
+TEST(SutureNewtonTrace, ACorrectionWithinTheCapsIsTheNewtonCorrection)
+{
+  // the trust region only replaces corrections the caps would cut: on the loaded rod,
+  // whose corrections stay within generous caps, the iterates are Newton's to round-off
+  std::vector<std::vector<double>> norms(2);
+  for (const bool trust : {false, true})
+    {
+      LoadedRod        loaded;
+      NewtonParameters prm;
+      prm.max_displacement = 1;
+      prm.max_rotation     = 10;
+      prm.trust_region     = trust;
+      prm.observer         = [&](const NewtonIterate &it) { norms[trust].push_back(it.residual); };
+      ASSERT_TRUE(loaded.rod.solve(prm, &loaded.both).converged);
+    }
+  ASSERT_EQ(norms[0].size(), norms[1].size());
+  for (std::size_t k = 0; k < norms[0].size(); ++k)
+    EXPECT_EQ(norms[0][k], norms[1][k]);
 }

@@ -82,6 +82,17 @@ namespace suturesim::rod
     /// iteration; a longer correction is scaled down (0 = no cap).
     double max_displacement = 0;
     double max_rotation     = 0;
+    /// With both caps set: a Newton correction longer than they allow is replaced by
+    /// the Levenberg–Marquardt step (J + σD) δ = −r, D = diag(1/Δx², 1/Δθ²) per node
+    /// from the caps Δx and Δθ, with the least σ whose step fits within the caps and
+    /// descends (δ·r < 0): the step of a trust region of fixed size, the caps (Nocedal
+    /// & Wright, Numerical Optimization, 2nd ed., §4.3; no ratio test adapts it). A
+    /// scaled-down Newton correction keeps its direction, which on a slack or
+    /// compressed thread (an indefinite J) is dominated by its softest modes: its
+    /// directions turned nodes by tens to hundreds of radians, and the solve crawled at
+    /// the cap for 500 iterations (docs/interrupted_stitch.md). false: the scaled-down
+    /// Newton correction.
+    bool trust_region = true;
     /// Full steps only: after this many iterations in a row without the residual
     /// falling below 0.99 of its least value so far, the solve goes on with the energy
     /// line search (line_search(), 4 trials, from the capped step). Full steps cycle
@@ -303,6 +314,10 @@ namespace suturesim::rod
     /// The fraction of @p delta NewtonParameters' caps on displacement and turn allow.
     double
     capped_step(const Eigen::VectorXd &delta, const NewtonParameters &parameters) const;
+    /// The Newton correction of the assembled @p system, or, when it is longer than the
+    /// caps allow, the trust-region step within them (NewtonParameters::trust_region).
+    Eigen::VectorXd
+    direction(System &system, const NewtonParameters &parameters) const;
     /// Takes @p step of @p delta (halved while an element would turn by π) and
     /// assembles at the new state; false when no halving helps (state unchanged).
     bool

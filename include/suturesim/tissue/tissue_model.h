@@ -109,8 +109,10 @@ namespace suturesim::tissue
     /// solve_static() with @p body solved along (tissue/condensed_body.h): at every
     /// iterate the body is brought to equilibrium with the tissue's points held, and
     /// the Newton update solves (K + Nᵀ G N) Δu = −R by the Sherman–Morrison–Woodbury
-    /// formula, with 3m more solves of the factorised K (m coupled points). Full steps,
-    /// halved only when an element inverts. Implemented in tissue_model_coupled.cc.
+    /// formula, with 3m more solves of the factorised K (m points: the coupled ones,
+    /// then the other spread ones whose tangents K leaves out; low_rank_update()). Full
+    /// steps, halved only when an element inverts. Implemented in
+    /// tissue_model_coupled.cc.
     NewtonReport
     solve_coupled(double t, double force_floor, CondensedBody &body);
 
