@@ -2,7 +2,7 @@
 // list that joins it to the needle's point loads (tissue/point_load_list.h), on the
 // boundary of a tetrahedral box: which nodes are contacts, the penalty on both sides
 // (equal and opposite), their Jacobians against central differences, and when the set
-// changes.
+// changes (a grow-only detection keeps each contact on its triangle).
 #include "../realtime/test_meshes.h"
 
 #include <suturesim/coupling/accurate/suture_contact.h>
@@ -83,6 +83,52 @@ TEST(SutureContact, NodesNearTheSurfaceAreContactsAndOnlyThoseWithinTheRadiusAre
   skip[5] = 0;
   EXPECT_TRUE(contact.detect(box.mesh.vertices, nodes, skip));
   EXPECT_EQ(contact.contacts().size(), 4u);
+}
+
+TEST(SutureContact, AGrowOnlyDetectionKeepsEachContactOnItsTriangleAndOnlyAddsNodes)
+{
+  const Box     box;
+  SutureContact contact(SutureContactParameters{k, r, depth}, box.surface.triangles, box.mesh.vertices);
+  // nodes 0 and 1 over the top at 0.5 r, node 2 far above, node 3 skipped for now
+  std::vector<Vec3> nodes{{0.003, 0.004, top + 0.5 * r}, {0.006, 0.004, top + 0.5 * r}, {0.005, 0.005, top + 0.01},
+                          {0.007, 0.007, top}};
+  contact.set_suture(&nodes);
+  std::vector<char> skip{0, 0, 0, 1};
+  ASSERT_TRUE(contact.detect(box.mesh.vertices, nodes, skip));
+  ASSERT_EQ(contact.contacts().size(), 2u);
+  const auto triangle0 = contact.contacts()[0].triangle;
+  // node 0 slides 2.5 mm over the top, onto another triangle; node 1 lifts out of the
+  // band (2 r above); node 3 comes in
+  nodes[0][0] += 2.5e-3;
+  nodes[1][2] = top + 2 * r;
+  skip[3]     = 0;
+  {
+    SutureContact fresh(SutureContactParameters{k, r, depth}, box.surface.triangles, box.mesh.vertices);
+    fresh.set_suture(&nodes);
+    ASSERT_TRUE(fresh.detect(box.mesh.vertices, nodes, skip));
+    ASSERT_EQ(fresh.contact_of(0), 0);
+    ASSERT_NE(fresh.contacts()[0].triangle, triangle0); // the slide does change triangle
+    ASSERT_EQ(fresh.contact_of(1), -1);
+  }
+  ASSERT_TRUE(contact.detect(box.mesh.vertices, nodes, skip, true)); // node 3 is new
+  ASSERT_EQ(contact.contacts().size(), 3u);
+  EXPECT_EQ(contact.contact_of(0), 0);
+  EXPECT_EQ(contact.contacts()[0].triangle, triangle0); // kept on its triangle
+  EXPECT_EQ(contact.contact_of(1), 1);                  // kept, out of the band
+  EXPECT_EQ(contact.contact_of(3), 2);
+  // the kept contact out of the band carries no force
+  contact.set_tissue_positions(contact.points());
+  suturesim::rod::Vec6 residual = suturesim::rod::Vec6::Zero();
+  suturesim::rod::Mat6 jacobian = suturesim::rod::Mat6::Zero();
+  contact.add_node_terms(1, nodes[1], residual, jacobian);
+  EXPECT_EQ(residual.norm(), 0.0);
+  // nothing new: unchanged, however the nodes moved
+  EXPECT_FALSE(contact.detect(box.mesh.vertices, nodes, skip, true));
+  // a fresh detection drops node 1 and moves node 0 to its new triangle
+  EXPECT_TRUE(contact.detect(box.mesh.vertices, nodes, skip));
+  EXPECT_EQ(contact.contacts().size(), 2u);
+  EXPECT_EQ(contact.contact_of(1), -1);
+  EXPECT_NE(contact.contacts()[0].triangle, triangle0);
 }
 
 TEST(SutureContact, BothSidesJacobiansMatchCentralDifferences)

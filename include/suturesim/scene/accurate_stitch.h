@@ -144,6 +144,7 @@ namespace suturesim::scene
     void
     hold_suture(double t);
     /// New contacts of the suture against the surface at @p at; true when they changed.
+    /// From the sixth round of a step on, the set only grows (SutureContact::detect()).
     bool
     detect_contacts(const Eigen::Matrix3Xd &at);
     /// The faces' loaded pairs for the surface at @p at; true when they changed.

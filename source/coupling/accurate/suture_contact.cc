@@ -23,7 +23,7 @@ namespace suturesim::coupling
 
   bool
   SutureContact::detect(const Eigen::Matrix3Xd &surface, const std::vector<rod::Vec3> &nodes,
-                        const std::vector<char> &skip)
+                        const std::vector<char> &skip, const bool grow_only)
   {
     // the tissue moves little between detections: a lazy refit with a slack of r
     tree.update(surface, prm.radius);
@@ -42,6 +42,15 @@ namespace suturesim::coupling
           }
         if (near.found() && near.signed_distance < 1.25 * prm.radius && near.signed_distance > -prm.depth)
           found.push_back({i, near.triangle, near.weights, near.normal});
+      }
+    if (grow_only)
+      {
+        std::vector<Contact> kept = list;
+        for (const Contact &c : found)
+          if (std::none_of(list.begin(), list.end(), [&](const Contact &l) { return l.node == c.node; }))
+            kept.push_back(c);
+        std::sort(kept.begin(), kept.end(), [](const Contact &a, const Contact &b) { return a.node < b.node; });
+        found = std::move(kept);
       }
     const bool changed =
       found.size() != list.size() ||

@@ -65,8 +65,14 @@ namespace suturesim::coupling
     /// New contacts for suture nodes @p nodes against the surface at @p surface (current
     /// vertex positions), skipping nodes with @p skip[i] != 0. Returns true when the set
     /// of contacts (node, triangle) changed: the tissue must locate points() again.
+    /// With @p grow_only, the listed contacts stay, each on its triangle, and only nodes
+    /// not yet listed are added: a set that can only grow settles within a step, where a
+    /// node at an edge of the surface can otherwise be pushed along one triangle's normal
+    /// onto the other's and back, round after round. A kept contact whose node has left
+    /// the band carries no force (its gap is positive).
     bool
-    detect(const Eigen::Matrix3Xd &surface, const std::vector<rod::Vec3> &nodes, const std::vector<char> &skip);
+    detect(const Eigen::Matrix3Xd &surface, const std::vector<rod::Vec3> &nodes, const std::vector<char> &skip,
+           bool grow_only = false);
 
     /// Where the suture sees the tissue points of the contacts (one per points(), m): the
     /// caller sets them from the tissue's solution before each suture solve.
