@@ -192,7 +192,11 @@ namespace suturesim::scene
   RunSummary::factorization(const tissue::LinearSolver::Statistics &linear)
   {
     solver({{"factorization_memory_estimate", linear.factorization_memory_estimate},
-            {"factorization_memory", linear.factorization_memory}});
+            {"factorization_memory", linear.factorization_memory},
+            {"factorizations", linear.factorizations},
+            {"reused_solves", linear.reused_solves},
+            {"reuse_iterations", linear.reuse_iterations},
+            {"reuse_failures", linear.reuse_failures}});
   }
 
   void

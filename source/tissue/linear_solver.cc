@@ -3,6 +3,10 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <Eigen/LU>
+// PetscObjectStateGet(), documented (level advanced) but declared only here in PETSc 3.18
+#include <petsc/private/petscimpl.h>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -64,12 +68,21 @@ namespace suturesim::tissue
     prm.declare_entry("Relative tolerance",
                       dealii::Patterns::Tools::to_string(d.tolerance),
                       dealii::Patterns::Double(0, 1),
-                      "Relative residual tolerance of the Krylov methods. Unit: 1. Range: "
-                      "(0, 1).");
+                      "Relative residual tolerance of the Krylov methods and of the GMRES "
+                      "that reuses a factorisation (Reuse iterations). Unit: 1. Range: (0, 1).");
     prm.declare_entry("Max iterations",
                       std::to_string(d.max_iterations),
                       dealii::Patterns::Integer(1),
                       "Maximum Krylov iterations. Unit: 1. Range: >= 1.");
+    prm.declare_entry("Reuse iterations",
+                      std::to_string(d.reuse_iterations),
+                      dealii::Patterns::Integer(0, 100),
+                      "With 'direct': a Newton iteration first solves its system by GMRES "
+                      "preconditioned with the factorisation of an earlier tangent (kept "
+                      "over iterations and steps), to the same tolerance as a fresh "
+                      "factorisation's update, and factorises its own tangent only when "
+                      "GMRES needs more than this many iterations; 0: every tangent is "
+                      "factorised. Unit: 1. Range: 0-100.");
     prm.declare_entry("Maximum memory",
                       "0",
                       dealii::Patterns::Double(0),
@@ -95,6 +108,7 @@ namespace suturesim::tissue
     tolerance      = prm.get_double("Relative tolerance");
     max_iterations = prm.get_integer("Max iterations");
     petsc_options  = prm.get("PETSc options");
+    reuse_iterations = static_cast<unsigned>(prm.get_integer("Reuse iterations"));
     maximum_memory = prm.get_double("Maximum memory");
     scope.require(tolerance > 0, "Relative tolerance", "must be > 0");
     this->scope = std::make_shared<const ParameterScope>(scope);
@@ -127,6 +141,7 @@ namespace suturesim::tissue
     if (prm.method == "direct" && prm.factorization == "auto")
       {
         memory_checked = false; // LU takes about twice Cholesky's memory
+        factored       = false; // the new type drops the factor
         PC pc;
         check(KSPGetPC(ksp, &pc), "KSPGetPC");
         set_factorization(pc, symmetric);
@@ -188,6 +203,8 @@ namespace suturesim::tissue
   {
     if (ksp != nullptr)
       KSPDestroy(&ksp);
+    if (reuse_ksp != nullptr)
+      KSPDestroy(&reuse_ksp);
   }
 
   void
@@ -413,7 +430,18 @@ namespace suturesim::tissue
   {
     if (!memory_checked)
       check_memory(A);
-    factorize(ksp, A);
+    PetscObjectState state = 0;
+    check(PetscObjectStateGet(reinterpret_cast<PetscObject>(A), &state), "PetscObjectStateGet");
+    if (!factored || A != factored_mat || state != factored_state)
+      {
+        factored = false;
+        factorize(ksp, A);
+        factored       = true;
+        factored_mat   = A;
+        factored_state = state;
+        ++epoch;
+        ++stats.factorizations;
+      }
     PC pc;
     check(KSPGetPC(ksp, &pc), "KSPGetPC");
     if (!uses_mumps(pc))
@@ -547,5 +575,187 @@ namespace suturesim::tissue
         sol.get(static_cast<PetscInt>(j), X[j]);
         X[j].compress(dealii::VectorOperation::insert);
       }
+  }
+
+  namespace
+  {
+    /// The system of LinearSolver::solve_reusing() as PETSc shells: the operator
+    /// A + U W Uᵀ and the preconditioner (A₀ + U W Uᵀ)⁻¹ from A₀'s factor F and
+    /// Z₀ = A₀⁻¹ U.
+    struct LowRankSystem
+    {
+      Mat                                  A = nullptr, F = nullptr;
+      std::vector<Vec>                     U, Z;
+      Eigen::MatrixXd                      W;
+      Eigen::PartialPivLU<Eigen::MatrixXd> M; ///< I + W Uᵀ Z₀
+
+      /// Uᵀ v
+      Eigen::VectorXd
+      project(const Vec v) const
+      {
+        Eigen::VectorXd t(static_cast<Eigen::Index>(U.size()));
+        check(VecMDot(v, static_cast<PetscInt>(U.size()), U.data(), t.data()), "VecMDot");
+        return t;
+      }
+    };
+
+    PetscErrorCode
+    low_rank_mult(Mat shell, Vec x, Vec y)
+    {
+      LowRankSystem *s = nullptr;
+      PetscCall(MatShellGetContext(shell, &s));
+      PetscCall(MatMult(s->A, x, y));
+      if (s->U.empty())
+        return 0;
+      const Eigen::VectorXd c = s->W * s->project(x);
+      PetscCall(VecMAXPY(y, static_cast<PetscInt>(s->U.size()), c.data(), s->U.data()));
+      return 0;
+    }
+
+    PetscErrorCode
+    woodbury_apply(PC pc, Vec y, Vec x)
+    {
+      LowRankSystem *s = nullptr;
+      PetscCall(PCShellGetContext(pc, &s));
+      PetscCall(MatSolve(s->F, y, x));
+      if (s->U.empty())
+        return 0;
+      const Eigen::VectorXd c = -s->M.solve(s->W * s->project(x));
+      PetscCall(VecMAXPY(x, static_cast<PetscInt>(s->Z.size()), c.data(), s->Z.data()));
+      return 0;
+    }
+
+    /// Whether @p a and @p b hold equal vectors. Collective.
+    bool
+    same(const std::vector<dealii::PETScWrappers::MPI::Vector> &a,
+         const std::vector<dealii::PETScWrappers::MPI::Vector> &b)
+    {
+      if (a.size() != b.size())
+        return false;
+      for (std::size_t k = 0; k < a.size(); ++k)
+        {
+          PetscBool equal = PETSC_FALSE;
+          check(VecEqual(a[k], b[k], &equal), "VecEqual");
+          if (!equal)
+            return false;
+        }
+      return true;
+    }
+  } // namespace
+
+  bool
+  LinearSolver::can_reuse() const
+  {
+    return prm.method == "direct" && prm.reuse_iterations > 0 && factored;
+  }
+
+  void
+  LinearSolver::keep_columns(const std::vector<dealii::PETScWrappers::MPI::Vector> &U,
+                             const std::vector<dealii::PETScWrappers::MPI::Vector> &Z)
+  {
+    if (!can_reuse())
+      return;
+    kept_U     = U;
+    kept_Z     = Z;
+    kept_epoch = epoch;
+  }
+
+  bool
+  LinearSolver::solve_reusing(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                              const std::vector<dealii::PETScWrappers::MPI::Vector> &U,
+                              const Eigen::MatrixXd                                 &W,
+                              const dealii::PETScWrappers::MPI::Vector              &b,
+                              dealii::PETScWrappers::MPI::Vector                    &x,
+                              const double                                           absolute_tolerance)
+  {
+    if (!can_reuse())
+      return false;
+    LowRankSystem s;
+    PC            pc;
+    check(KSPGetPC(ksp, &pc), "KSPGetPC");
+    check(PCFactorGetMatrix(pc, &s.F), "PCFactorGetMatrix");
+    if (kept_epoch != epoch || !same(U, kept_U))
+      {
+        // Z₀ = A₀⁻¹ U with the kept factor, all columns in one block solve
+        kept_U = U;
+        kept_Z = U;
+        if (!U.empty())
+          {
+            DenseColumns rhs(comm, U[0], U.size()), sol(comm, U[0], U.size());
+            for (std::size_t j = 0; j < U.size(); ++j)
+              rhs.set(static_cast<PetscInt>(j), U[j]);
+            check(MatMatSolve(s.F, rhs.mat, sol.mat), "MatMatSolve");
+            for (std::size_t j = 0; j < U.size(); ++j)
+              {
+                sol.get(static_cast<PetscInt>(j), kept_Z[j]);
+                kept_Z[j].compress(dealii::VectorOperation::insert);
+              }
+          }
+        kept_epoch = epoch;
+      }
+    s.A = A;
+    for (std::size_t k = 0; k < U.size(); ++k)
+      {
+        s.U.push_back(U[k]);
+        s.Z.push_back(kept_Z[k]);
+      }
+    s.W = W;
+    Eigen::MatrixXd UZ(U.size(), U.size());
+    for (std::size_t k = 0; k < U.size(); ++k)
+      UZ.col(static_cast<Eigen::Index>(k)) = s.project(s.Z[k]);
+    s.M = (Eigen::MatrixXd::Identity(W.rows(), W.cols()) + W * UZ).partialPivLu();
+
+    PetscInt local = 0, global = 0;
+    check(VecGetLocalSize(b, &local), "VecGetLocalSize");
+    check(VecGetSize(b, &global), "VecGetSize");
+    struct Shell // destroyed on every path out
+    {
+      Mat mat = nullptr;
+      ~Shell()
+      {
+        MatDestroy(&mat);
+      }
+    } shell;
+    check(MatCreateShell(comm, local, local, global, global, &s, &shell.mat), "MatCreateShell");
+    check(MatShellSetOperation(shell.mat, MATOP_MULT, reinterpret_cast<void (*)(void)>(low_rank_mult)),
+          "MatShellSetOperation");
+    if (reuse_ksp == nullptr)
+      {
+        check(KSPCreate(comm, &reuse_ksp), "KSPCreate");
+        check(KSPSetType(reuse_ksp, KSPGMRES), "KSPSetType");
+        check(KSPGMRESSetRestart(reuse_ksp, static_cast<PetscInt>(prm.reuse_iterations)), "KSPGMRESSetRestart");
+        check(KSPSetPCSide(reuse_ksp, PC_RIGHT), "KSPSetPCSide");
+        check(KSPSetNormType(reuse_ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+        PC shell_pc;
+        check(KSPGetPC(reuse_ksp, &shell_pc), "KSPGetPC");
+        check(PCSetType(shell_pc, PCSHELL), "PCSetType");
+        check(PCShellSetApply(shell_pc, woodbury_apply), "PCShellSetApply");
+      }
+    PC shell_pc;
+    check(KSPGetPC(reuse_ksp, &shell_pc), "KSPGetPC");
+    check(PCShellSetContext(shell_pc, &s), "PCShellSetContext");
+    check(KSPSetOperators(reuse_ksp, shell.mat, shell.mat), "KSPSetOperators");
+    check(KSPSetTolerances(reuse_ksp, prm.tolerance, absolute_tolerance, 1e30,
+                           static_cast<PetscInt>(prm.reuse_iterations)),
+          "KSPSetTolerances");
+    check(KSPSolve(reuse_ksp, b, x), "KSPSolve");
+    KSPConvergedReason reason;
+    PetscInt           its;
+    PetscReal          rnorm;
+    check(KSPGetConvergedReason(reuse_ksp, &reason), "KSPGetConvergedReason");
+    check(KSPGetIterationNumber(reuse_ksp, &its), "KSPGetIterationNumber");
+    check(KSPGetResidualNorm(reuse_ksp, &rnorm), "KSPGetResidualNorm");
+    stats.iterations = static_cast<unsigned>(its);
+    stats.residual   = rnorm;
+    stats.converged_reason = KSPConvergedReasons[reason];
+    stats.reuse_iterations += static_cast<unsigned>(its);
+    if (reason <= 0)
+      {
+        ++stats.reuse_failures;
+        return false;
+      }
+    ++stats.reused_solves;
+    x.compress(dealii::VectorOperation::insert);
+    return true;
   }
 } // namespace suturesim::tissue

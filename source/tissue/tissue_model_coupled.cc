@@ -66,28 +66,10 @@ namespace suturesim::tissue
   TissueModel::low_rank_update(const std::vector<std::size_t> &points, const Eigen::MatrixXd &G,
                                const double tolerance, Vector &update)
   {
-    // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
-    update = 0;
-    solver->solve(system_matrix, update, system_rhs, 0, tolerance);
-    const unsigned    iterations = solver->statistics().iterations;
-    const std::size_t m          = points.size();
-    if (m == 0)
-      return iterations;
-    // the points read the cells' DoFs, hanging ones among them on a locally refined mesh:
-    // z0 takes its constrained values (the boundary's motion too), each column of Z the
-    // homogeneous ones, P z (a solve leaves a constrained row at its right-hand side's
-    // value, not at the interpolation of its parents); distribute(z) = P z + g
-    Vector g(locally_owned_dofs, comm), ghost(locally_owned_dofs, locally_relevant_dofs, comm);
-    constraints.distribute(update);
-    constraints.distribute(g);
-    ghost                = update;
-    const auto      z0_at = point_values(ghost, false);
-    Eigen::VectorXd Nz0(3 * m);
-    for (std::size_t j = 0; j < m; ++j)
-      for (unsigned d = 0; d < 3; ++d)
-        Nz0[3 * j + d] = z0_at[points[j]][d];
-    // Nᵀ's columns, unit forces at the points, solved in one call
-    std::vector<Vector> Z(3 * m, Vector(locally_owned_dofs, comm)), unit_forces(Z);
+    // Nᵀ's columns U, unit forces at the points, and G with the parts of the points' own
+    // tangents that K leaves out
+    const std::size_t   m = points.size();
+    std::vector<Vector> unit_forces(3 * m, Vector(locally_owned_dofs, comm));
     for (std::size_t j = 0; j < m; ++j)
       for (unsigned d = 0; d < 3; ++d)
         {
@@ -96,7 +78,56 @@ namespace suturesim::tissue
           embedded->add_point_force(points[j], unit, constraints, unit_forces[3 * j + d]);
           unit_forces[3 * j + d].compress(VectorOperation::add);
         }
+    Eigen::MatrixXd G_S = G;
+    for (std::size_t j = 0; j < m; ++j)
+      for (unsigned a = 0; a < 3; ++a)
+        for (unsigned b = 0; b < 3; ++b)
+          G_S(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(points[j])[a][b];
+    Vector g(locally_owned_dofs, comm), ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    constraints.distribute(g);
+
+    // With a kept factorisation: (K + U G Uᵀ) Δu = −R − U G N g by GMRES (the rows of a
+    // solved Δu's constrained DoFs are overwritten by distribute(), so N Δu = Uᵀ Δu + N g)
+    if (solver->can_reuse())
+      {
+        ghost            = g;
+        const auto g_at  = point_values(ghost, false);
+        Eigen::VectorXd Ng(3 * m);
+        for (std::size_t j = 0; j < m; ++j)
+          for (unsigned d = 0; d < 3; ++d)
+            Ng[3 * j + d] = g_at[points[j]][d];
+        const Eigen::VectorXd c = G_S * Ng;
+        Vector                b(system_rhs);
+        for (std::size_t k = 0; k < 3 * m; ++k)
+          b.add(-c[k], unit_forces[k]);
+        if (solver->solve_reusing(system_matrix, unit_forces, G_S, b, update, tolerance))
+          return solver->statistics().iterations;
+      }
+
+    // z0 = K⁻¹ (−R), then Z = K⁻¹ Nᵀ with the same factorisation
+    update = 0;
+    solver->solve(system_matrix, update, system_rhs, 0, tolerance);
+    const unsigned iterations = solver->statistics().iterations;
+    if (m == 0)
+      {
+        solver->keep_columns({}, {});
+        return iterations;
+      }
+    // the points read the cells' DoFs, hanging ones among them on a locally refined mesh:
+    // z0 takes its constrained values (the boundary's motion too), each column of Z the
+    // homogeneous ones, P z (a solve leaves a constrained row at its right-hand side's
+    // value, not at the interpolation of its parents); distribute(z) = P z + g
+    constraints.distribute(update);
+    ghost                = update;
+    const auto      z0_at = point_values(ghost, false);
+    Eigen::VectorXd Nz0(3 * m);
+    for (std::size_t j = 0; j < m; ++j)
+      for (unsigned d = 0; d < 3; ++d)
+        Nz0[3 * j + d] = z0_at[points[j]][d];
+    // U's columns solved in one call, kept as solved for a later solve_reusing()
+    std::vector<Vector> Z(3 * m, Vector(locally_owned_dofs, comm));
     solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);
+    solver->keep_columns(unit_forces, Z);
     Eigen::MatrixXd NZ(3 * m, 3 * m);
     for (std::size_t k = 0; k < 3 * m; ++k)
       {
@@ -108,13 +139,7 @@ namespace suturesim::tissue
           for (unsigned e = 0; e < 3; ++e)
             NZ(3 * i + e, k) = zat[points[i]][e];
       }
-    // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0, G with the parts of the
-    // points' own tangents that K leaves out
-    Eigen::MatrixXd G_S = G;
-    for (std::size_t j = 0; j < m; ++j)
-      for (unsigned a = 0; a < 3; ++a)
-        for (unsigned b = 0; b < 3; ++b)
-          G_S(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(points[j])[a][b];
+    // Woodbury: (K + Nᵀ G N)⁻¹ b = z0 − Z (I + G N Z)⁻¹ G N z0
     const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(3 * m, 3 * m);
     const Eigen::VectorXd c = (I + G_S * NZ).partialPivLu().solve(G_S * Nz0);
     for (std::size_t k = 0; k < 3 * m; ++k)

@@ -14,9 +14,11 @@
 #include <deal.II/lac/petsc_vector.h>
 #include <deal.II/lac/vector.h>
 
+#include <Eigen/LU>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -266,4 +268,157 @@ TEST(LinearSolver, ManyRightHandSidesInOneCallGiveTheColumnByColumnSolutions)
         // fallback is the same loop as solve()
         EXPECT_LT(worst, 1e-12) << method << ", c = " << c;
       }
+}
+
+// A Newton iteration that reuses an earlier tangent's factorisation
+// (LinearSolver::solve_reusing(); Tissue/Linear solver/Reuse iterations) solves the
+// current system (A + U W Uᵀ) x = b to its tolerance: GMRES preconditioned with the
+// kept factor of A₀, extended exactly by the current low-rank term (Woodbury, Z₀ = A₀⁻¹U
+// kept or solved again for a new U). Checked on the stencil above (c = 0.3: LU, c = 0:
+// Cholesky) perturbed as a tangent is from one iteration to the next, against
+// the system's residual and against the solution of a fresh factorisation of A + U W Uᵀ
+// by Woodbury with A's own factor; an unchanged matrix takes one iteration (the
+// preconditioner is then the exact inverse), and a matrix far from A₀ is refused
+// (false) rather than solved loosely.
+namespace
+{
+  /// x = (A + U W Uᵀ)⁻¹ b by Woodbury with a fresh factorisation of A.
+  dealii::PETScWrappers::MPI::Vector
+  woodbury_reference(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                     const std::vector<dealii::PETScWrappers::MPI::Vector> &U,
+                     const Eigen::MatrixXd &W, const dealii::PETScWrappers::MPI::Vector &b, const bool symmetric)
+  {
+    tissue::LinearSolver::Parameters prm;
+    tissue::LinearSolver             solver(prm, MPI_COMM_WORLD);
+    solver.set_symmetric(symmetric);
+    dealii::PETScWrappers::MPI::Vector              x(b);
+    std::vector<dealii::PETScWrappers::MPI::Vector> Z(U);
+    solver.solve(A, x, b);
+    solver.solve_columns(A, Z, U);
+    const auto      k = static_cast<Eigen::Index>(U.size());
+    Eigen::MatrixXd UZ(k, k);
+    Eigen::VectorXd Ux(k);
+    for (Eigen::Index i = 0; i < k; ++i)
+      {
+        Ux[i] = U[i] * x;
+        for (Eigen::Index j = 0; j < k; ++j)
+          UZ(i, j) = U[i] * Z[j];
+      }
+    const Eigen::VectorXd c = (Eigen::MatrixXd::Identity(k, k) + W * UZ).partialPivLu().solve(W * Ux);
+    for (Eigen::Index j = 0; j < k; ++j)
+      x.add(-c[j], Z[j]);
+    return x;
+  }
+
+  /// |(A + U W Uᵀ) x − b|₂
+  double
+  low_rank_residual(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                    const std::vector<dealii::PETScWrappers::MPI::Vector> &U, const Eigen::MatrixXd &W,
+                    const dealii::PETScWrappers::MPI::Vector &x, const dealii::PETScWrappers::MPI::Vector &b)
+  {
+    dealii::PETScWrappers::MPI::Vector r(b);
+    A.vmult(r, x);
+    Eigen::VectorXd Ux(static_cast<Eigen::Index>(U.size()));
+    for (std::size_t i = 0; i < U.size(); ++i)
+      Ux[static_cast<Eigen::Index>(i)] = U[i] * x;
+    const Eigen::VectorXd c = W * Ux;
+    for (std::size_t i = 0; i < U.size(); ++i)
+      r.add(c[static_cast<Eigen::Index>(i)], U[i]);
+    r -= b;
+    return r.l2_norm();
+  }
+} // namespace
+
+TEST(LinearSolver, AKeptFactorisationSolvesTheNextTangentToTheSameTolerance)
+{
+  const unsigned         n     = 120;
+  const dealii::IndexSet owned = owned_rows(n);
+  for (const double c : {0.3, 0.0})
+    {
+      const bool                               symmetric = c == 0;
+      // the stencil shifted to a condition number of about 10, so that the tolerance
+      // below is far above round-off
+      dealii::PETScWrappers::MPI::SparseMatrix A;
+      tridiagonal(A, owned, n);
+      fill_stencil(A, owned, n, c, n);
+      for (const auto i : owned)
+        A.add(i, i, 0.5);
+      A.compress(dealii::VectorOperation::add);
+      tissue::LinearSolver::Parameters prm;
+      prm.reuse_iterations = 20;
+      prm.tolerance        = 1e-13; // GMRES's relative tolerance: the absolute one below decides
+      tissue::LinearSolver solver(prm, MPI_COMM_WORLD);
+      solver.set_symmetric(symmetric);
+      EXPECT_FALSE(solver.can_reuse()); // nothing factorised yet
+
+      // six columns of U with support spread over the rows, a W like a condensed
+      // body's stiffness (symmetric, or not with c ≠ 0)
+      std::vector<dealii::PETScWrappers::MPI::Vector> U(6, dealii::PETScWrappers::MPI::Vector(owned, MPI_COMM_WORLD));
+      for (unsigned k = 0; k < U.size(); ++k)
+        {
+          for (const auto i : owned)
+            U[k](i) = std::exp(-0.01 * std::pow(double(i) - 20.0 * k - 10.0, 2));
+          U[k].compress(dealii::VectorOperation::insert);
+        }
+      Eigen::MatrixXd W(6, 6);
+      for (Eigen::Index i = 0; i < 6; ++i)
+        for (Eigen::Index j = 0; j < 6; ++j)
+          W(i, j) = 0.1 * std::cos(1.0 + i + 2.0 * j) + (i == j ? 0.5 : 0.0);
+      if (symmetric)
+        W = (0.5 * (W + W.transpose())).eval();
+      dealii::PETScWrappers::MPI::Vector b(owned, MPI_COMM_WORLD), x(b);
+      for (const auto i : owned)
+        b(i) = 1.0 + std::sin(i + 1.0);
+      b.compress(dealii::VectorOperation::insert);
+
+      // A₀ factorised by a solve, its columns kept as the coupled solve keeps them
+      std::vector<dealii::PETScWrappers::MPI::Vector> Z(U);
+      solver.solve(A, x, b);
+      solver.solve_columns(A, Z, U);
+      solver.keep_columns(U, Z);
+      ASSERT_TRUE(solver.can_reuse());
+      const double tolerance = 1e-12 * b.l2_norm();
+
+      // the same matrix: the preconditioner is the exact inverse
+      ASSERT_TRUE(solver.solve_reusing(A, U, W, b, x, tolerance));
+      EXPECT_LE(solver.statistics().iterations, 1u);
+      EXPECT_LT(low_rank_residual(A, U, W, x, b), tolerance);
+
+      // the next tangent: every entry moved by up to 1 % (symmetrically), and a new U (its
+      // last column moved), so Z₀ is solved again with the kept factor
+      std::vector<std::array<double, 3>> moved;
+      for (const auto i : owned)
+        for (unsigned j = (i > 0 ? i - 1 : 0); j <= std::min<unsigned>(i + 1, n - 1); ++j)
+          moved.push_back({{double(i), double(j), A.el(i, j) * (1 + 0.01 * std::sin(3.0 * (i + j)))}});
+      for (const auto &[i, j, value] : moved)
+        A.set(static_cast<unsigned>(i), static_cast<unsigned>(j), value);
+      A.compress(dealii::VectorOperation::insert);
+      for (const auto i : owned)
+        U[5](i) = std::exp(-0.01 * std::pow(double(i) - 95.0, 2));
+      U[5].compress(dealii::VectorOperation::insert);
+      const unsigned factorizations = solver.statistics().factorizations;
+      ASSERT_TRUE(solver.solve_reusing(A, U, W, b, x, tolerance)) << "c = " << c;
+      const unsigned iterations = solver.statistics().iterations;
+      EXPECT_EQ(solver.statistics().factorizations, factorizations); // no new factorisation
+      EXPECT_LT(low_rank_residual(A, U, W, x, b), tolerance) << "c = " << c;
+      dealii::PETScWrappers::MPI::Vector difference = woodbury_reference(A, U, W, b, symmetric);
+      difference -= x;
+      const double error = difference.linfty_norm() / x.linfty_norm();
+      std::printf("[ linear solver ] c = %.1f: the next tangent with a kept factorisation: %u GMRES iterations, "
+                  "against a fresh factorisation %.2e\n", c, iterations, error);
+      EXPECT_GT(iterations, 1u);
+      EXPECT_LT(error, 1e-10) << "c = " << c;
+
+      // a matrix far from A₀ (its diagonal halved): refused within the limit, not solved loosely
+      std::vector<double> diagonal;
+      for (const auto i : owned)
+        diagonal.push_back(A.el(i, i));
+      unsigned row = 0;
+      for (const auto i : owned)
+        A.set(i, i, 0.5 * diagonal[row++]);
+      A.compress(dealii::VectorOperation::insert);
+      EXPECT_FALSE(solver.solve_reusing(A, U, W, b, x, tolerance)) << "c = " << c;
+      EXPECT_EQ(solver.statistics().reuse_failures, 1u);
+      EXPECT_EQ(solver.statistics().reused_solves, 2u);
+    }
 }

@@ -100,7 +100,8 @@ namespace suturesim::scene
 
     /// The direct method's factorisation memory, estimated before it (the resource
     /// guard's) and as made: "solver"'s factorization_memory_estimate and
-    /// factorization_memory, B.
+    /// factorization_memory, B; and its counts: factorizations, reused_solves,
+    /// reuse_iterations, reuse_failures (LinearSolver::Statistics).
     void
     factorization(const tissue::LinearSolver::Statistics &linear);
 

@@ -26,6 +26,8 @@
 
 #include <petscksp.h>
 
+#include <Eigen/Core>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +45,9 @@ namespace suturesim::tissue
       double      tolerance       = 1e-10;
       unsigned    max_iterations  = 2000;
       std::string petsc_options   = "";
+      /// the most GMRES iterations solve_reusing() may spend with a kept factorisation
+      /// before the tangent is factorised afresh; 0: every tangent is factorised
+      unsigned reuse_iterations = 0;
       /// the most memory the direct method's factorisation may take, all processes
       /// together, B; 0: each node's available memory (check_memory())
       double maximum_memory = 0;
@@ -66,6 +71,14 @@ namespace suturesim::tissue
       /// (INFOG(19)); 0 for the Krylov methods
       double factorization_memory_estimate = 0;
       double factorization_memory          = 0;
+      /// the direct method's numerical factorisations, the solves solve_reusing() made
+      /// with a kept one, their GMRES iterations in all, and its attempts that did not
+      /// converge within Reuse iterations (each followed by a factorisation); all since
+      /// construction
+      unsigned factorizations   = 0;
+      unsigned reused_solves    = 0;
+      unsigned reuse_iterations = 0;
+      unsigned reuse_failures   = 0;
     };
 
     LinearSolver(const Parameters &parameters, MPI_Comm comm);
@@ -110,6 +123,37 @@ namespace suturesim::tissue
                   const std::vector<dealii::PETScWrappers::MPI::Vector> &B,
                   double                                                 absolute_tolerance = 0);
 
+    /// Whether solve_reusing() may be tried: the direct method with Reuse iterations > 0
+    /// and a factorisation kept from an earlier solve.
+    bool
+    can_reuse() const;
+
+    /// Solves (A + U W Uᵀ) x = b, W a small dense matrix (U's columns × U's columns), with
+    /// the factorisation of an earlier matrix A₀ kept: right-preconditioned GMRES whose
+    /// preconditioner is the exact inverse of A₀ + U W Uᵀ by the Sherman–Morrison–Woodbury
+    /// identity, (A₀ + U W Uᵀ)⁻¹ = A₀⁻¹ − Z₀ (I + W Uᵀ Z₀)⁻¹ W Uᵀ A₀⁻¹ with Z₀ = A₀⁻¹ U
+    /// (kept while U and the factorisation are; else one block solve). This is the
+    /// factorisation lagged over Newton iterations and steps with the Newton step still
+    /// solved to @p absolute_tolerance (PETSc's -snes_lag_preconditioner; Brown & Saad
+    /// 1990, "Hybrid Krylov methods for nonlinear systems of equations"): the tangent of
+    /// a quasi-static step changes little from one iteration to the next, and a
+    /// triangular solve costs a small part of a factorisation. Returns false, @p x
+    /// undefined, when GMRES did not reach @p absolute_tolerance (unpreconditioned
+    /// residual, all rows) within Reuse iterations: the caller then factorises A.
+    bool
+    solve_reusing(const dealii::PETScWrappers::MPI::SparseMatrix        &A,
+                  const std::vector<dealii::PETScWrappers::MPI::Vector> &U,
+                  const Eigen::MatrixXd                                 &W,
+                  const dealii::PETScWrappers::MPI::Vector              &b,
+                  dealii::PETScWrappers::MPI::Vector                    &x,
+                  double                                                 absolute_tolerance);
+
+    /// Keeps Z = A⁻¹ U from the factorisation the last solve made (the columns as the
+    /// solve returned them), for solve_reusing() with the same U.
+    void
+    keep_columns(const std::vector<dealii::PETScWrappers::MPI::Vector> &U,
+                 const std::vector<dealii::PETScWrappers::MPI::Vector> &Z);
+
     const Statistics &
     statistics() const
     {
@@ -148,5 +192,16 @@ namespace suturesim::tissue
     Statistics                                       stats;
     bool                                             symmetric = true;
     bool                                             memory_checked = false;
+    /// whether the PC holds a factorisation, of which matrix and in which state
+    /// (PETSc refactorises when either changes), and a count of the new ones
+    bool             factored       = false;
+    Mat              factored_mat   = nullptr;
+    PetscObjectState factored_state = 0;
+    unsigned         epoch          = 0;
+    /// solve_reusing()'s GMRES, and the U and Z₀ = A₀⁻¹U it keeps for the factorisation
+    /// of epoch kept_epoch
+    KSP                                             reuse_ksp  = nullptr;
+    std::vector<dealii::PETScWrappers::MPI::Vector> kept_U, kept_Z;
+    unsigned                                        kept_epoch = 0;
   };
 } // namespace suturesim::tissue
