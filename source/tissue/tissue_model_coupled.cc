@@ -171,10 +171,24 @@ namespace suturesim::tissue
     Timer           clock;
 
     // the state of an iterate: the body in equilibrium with the points where it puts
-    // them (its response condensed onto them), then the tissue's residual and tangent;
-    // false (with report.failure) when the body's solve fails or an element inverts
+    // them (its response condensed onto them), then the tissue's residual, and its
+    // tangent only while the boundary still moves (the iteration then goes on); false
+    // (with report.failure) when the body's solve fails or an element inverts. Once the
+    // boundary is reached, the tangent waits for the convergence test (tangent()): the
+    // last iterate of every solve and every rejected trial need the residual alone, at
+    // a sixth of the tangent's cost (docs/interrupted_stitch.md, "Scale").
     double     r_norm = 0, gap = 0;
-    const auto state  = [&](const Vector &u) {
+    bool       has_tangent = false;
+    const auto assemble_at = [&](const bool with_matrix) {
+      clock.restart();
+      const bool ok = assemble(t, solution_ghost, with_matrix, constraints);
+      report.assembly_seconds += clock.wall_time();
+      has_tangent = ok && with_matrix;
+      if (!ok)
+        report.failure = "an element is inverted";
+      return ok;
+    };
+    const auto state = [&](const Vector &u) {
       solution_ghost = u;
       std::string failure;
       if (!body.equilibrate(point_values(solution_ghost, true), G, failure))
@@ -183,14 +197,8 @@ namespace suturesim::tissue
           return false;
         }
       gap = make_constraints(t, solution_ghost, constraints);
-      clock.restart();
-      const bool ok = assemble(t, solution_ghost, true, constraints);
-      report.assembly_seconds += clock.wall_time();
-      if (!ok)
-        {
-          report.failure = "an element is inverted";
-          return false;
-        }
+      if (!assemble_at(!boundary_reached(gap)))
+        return false;
       r_norm = free_residual_norm();
       return true;
     };
@@ -210,6 +218,11 @@ namespace suturesim::tissue
         // nothing about the new boundary state
         const bool bc_moving = !boundary_reached(gap);
 
+        if (!has_tangent && !assemble_at(true))
+          {
+            report.iterations = it;
+            return report;
+          }
         clock.restart();
         {
           TimerOutput::Scope scope(timer, "linear solve");

@@ -242,9 +242,11 @@ namespace
   /// solve_static factorises the whole non-symmetric K by LU.
   void
   expect_coupled_newton_reaches_the_partitioned_solution(const Refinement &refine, const double circulation = 0,
-                                                         const double rho = 0)
+                                                         const double rho = 0, const unsigned reuse = 0)
   {
     test_support::BlockModel block(" set Element degree = 2\n"
+                                   " subsection Linear solver\n  set Reuse iterations = " + std::to_string(reuse) +
+                                     "\n end\n"
                                    " subsection Newton\n  set Line search = false\n  set Residual tolerance = 1e-12\n end\n"
                                    " subsection Material\n  set Model = neo-Hookean\n  set Bulk modulus = 1e6\n"
                                    "  subsection neo-Hookean\n   set Shear modulus = 2e5\n  end\n end\n"
@@ -259,6 +261,13 @@ namespace
 
     const auto coupled = model.solve_coupled(1.0, 0, star);
     ASSERT_TRUE(coupled.converged) << coupled.failure;
+    const auto &linear = model.linear_solver().statistics();
+    std::printf("[ coupled Newton ] %u factorisations, %u solves with a kept one (%u GMRES iterations), %u refused\n",
+                linear.factorizations, linear.reused_solves, linear.reuse_iterations, linear.reuse_failures);
+    if (reuse > 0)
+      {
+        EXPECT_GT(linear.reused_solves, 0u); // the kept factorisation did solve iterations
+      }
     const std::vector<Point<3>> y_coupled{model.point_position(0), model.point_position(1)};
     const auto                  &r = coupled.residual_norms;
     unsigned                     quadratic = 0;
@@ -356,4 +365,22 @@ TEST(Condensation, CoupledNewtonWithSpreadPointsAddsTheirWholeTangentAsALowRankU
       tria.execute_coarsening_and_refinement();
     },
     150, 0.003);
+}
+
+TEST(Condensation, CoupledNewtonWithAKeptFactorisationKeepsItsRateAndSolution)
+{
+  // The spread points' case above with Tissue/Linear solver/Reuse iterations = 10: the
+  // iterations after the first solve their system by GMRES with the first tangent's
+  // factor, extended by the current low-rank term (LinearSolver::solve_reusing()), to
+  // the tolerance of a fresh factorisation's update; the rate stays quadratic and the
+  // solution the partitioned iteration's to 1e-13 m.
+  expect_coupled_newton_reaches_the_partitioned_solution(
+    [](parallel::distributed::Triangulation<3> &tria) {
+      for (const auto &cell : tria.active_cell_iterators())
+        for (const Point<3> &X : {Point<3>(0.0071, 0.0093, 0.01), Point<3>(0.0131, 0.0107, 0.01)})
+          if (cell->point_inside(X))
+            cell->set_refine_flag();
+      tria.execute_coarsening_and_refinement();
+    },
+    150, 0.003, 10);
 }
