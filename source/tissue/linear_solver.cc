@@ -26,6 +26,22 @@ namespace suturesim::tissue
                           std::to_string(code) + ")");
     }
 
+    /// The outcome of @p ksp's last solve into @p stats (iterations, residual, reason).
+    KSPConvergedReason
+    outcome(KSP ksp, LinearSolver::Statistics &stats)
+    {
+      KSPConvergedReason reason;
+      PetscInt           its;
+      PetscReal          rnorm;
+      check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+      check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
+      check(KSPGetResidualNorm(ksp, &rnorm), "KSPGetResidualNorm");
+      stats.iterations       = static_cast<unsigned>(its);
+      stats.residual         = rnorm;
+      stats.converged_reason = KSPConvergedReasons[reason];
+      return reason;
+    }
+
     /// A PETSc error handler that keeps the first message in @p context (a std::string)
     /// instead of printing PETSc's block of lines.
     PetscErrorCode
@@ -484,20 +500,12 @@ namespace suturesim::tissue
             "KSPSetTolerances");
     check(KSPSolve(ksp, b, x), "KSPSolve");
 
-    KSPConvergedReason reason;
-    PetscInt           its;
-    PetscReal          rnorm;
-    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-    check(KSPGetIterationNumber(ksp, &its), "KSPGetIterationNumber");
-    check(KSPGetResidualNorm(ksp, &rnorm), "KSPGetResidualNorm");
-    stats.iterations       = static_cast<unsigned>(its);
-    stats.residual         = rnorm;
-    stats.converged_reason = KSPConvergedReasons[reason];
+    const KSPConvergedReason reason = outcome(ksp, stats);
     if (reason < 0)
       throw SolverError("linear solver (" + prm.method + (prm.method == "direct" ? "" : "+" +
                         prm.preconditioner) + ") failed: " + stats.converged_reason +
-                        " after " + std::to_string(its) + " iterations, residual " +
-                        std::to_string(rnorm));
+                        " after " + std::to_string(stats.iterations) + " iterations, residual " +
+                        std::to_string(stats.residual));
     x.compress(dealii::VectorOperation::insert);
   }
 
@@ -739,16 +747,8 @@ namespace suturesim::tissue
                            static_cast<PetscInt>(prm.reuse_iterations)),
           "KSPSetTolerances");
     check(KSPSolve(reuse_ksp, b, x), "KSPSolve");
-    KSPConvergedReason reason;
-    PetscInt           its;
-    PetscReal          rnorm;
-    check(KSPGetConvergedReason(reuse_ksp, &reason), "KSPGetConvergedReason");
-    check(KSPGetIterationNumber(reuse_ksp, &its), "KSPGetIterationNumber");
-    check(KSPGetResidualNorm(reuse_ksp, &rnorm), "KSPGetResidualNorm");
-    stats.iterations = static_cast<unsigned>(its);
-    stats.residual   = rnorm;
-    stats.converged_reason = KSPConvergedReasons[reason];
-    stats.reuse_iterations += static_cast<unsigned>(its);
+    const KSPConvergedReason reason = outcome(reuse_ksp, stats);
+    stats.reuse_iterations += stats.iterations;
     if (reason <= 0)
       {
         ++stats.reuse_failures;

@@ -85,18 +85,22 @@ namespace suturesim::tissue
           G_S(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(points[j])[a][b];
     Vector g(locally_owned_dofs, comm), ghost(locally_owned_dofs, locally_relevant_dofs, comm);
     constraints.distribute(g);
+    // N v: a distributed vector's values at the points
+    const auto at_points = [&](const Vector &v) {
+      ghost           = v;
+      const auto at   = point_values(ghost, false);
+      Eigen::VectorXd Nv(3 * m);
+      for (std::size_t j = 0; j < m; ++j)
+        for (unsigned d = 0; d < 3; ++d)
+          Nv[3 * j + d] = at[points[j]][d];
+      return Nv;
+    };
 
     // With a kept factorisation: (K + U G Uᵀ) Δu = −R − U G N g by GMRES (the rows of a
     // solved Δu's constrained DoFs are overwritten by distribute(), so N Δu = Uᵀ Δu + N g)
     if (solver->can_reuse())
       {
-        ghost            = g;
-        const auto g_at  = point_values(ghost, false);
-        Eigen::VectorXd Ng(3 * m);
-        for (std::size_t j = 0; j < m; ++j)
-          for (unsigned d = 0; d < 3; ++d)
-            Ng[3 * j + d] = g_at[points[j]][d];
-        const Eigen::VectorXd c = G_S * Ng;
+        const Eigen::VectorXd c = G_S * at_points(g);
         Vector                b(system_rhs);
         for (std::size_t k = 0; k < 3 * m; ++k)
           b.add(-c[k], unit_forces[k]);
@@ -118,12 +122,7 @@ namespace suturesim::tissue
     // homogeneous ones, P z (a solve leaves a constrained row at its right-hand side's
     // value, not at the interpolation of its parents); distribute(z) = P z + g
     constraints.distribute(update);
-    ghost                = update;
-    const auto      z0_at = point_values(ghost, false);
-    Eigen::VectorXd Nz0(3 * m);
-    for (std::size_t j = 0; j < m; ++j)
-      for (unsigned d = 0; d < 3; ++d)
-        Nz0[3 * j + d] = z0_at[points[j]][d];
+    const Eigen::VectorXd Nz0 = at_points(update);
     // U's columns solved in one call, kept as solved for a later solve_reusing()
     std::vector<Vector> Z(3 * m, Vector(locally_owned_dofs, comm));
     solver->solve_columns(system_matrix, Z, unit_forces, 1e-14);

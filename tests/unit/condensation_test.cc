@@ -348,6 +348,20 @@ TEST(Condensation, CoupledNewtonCondensesTheSkewPartOfANonSymmetricPointLaw)
   expect_coupled_newton_reaches_the_partitioned_solution({}, 150);
 }
 
+namespace
+{
+  /// The two top cells that hold the points, refined once.
+  void
+  refine_at_the_points(parallel::distributed::Triangulation<3> &tria)
+  {
+    for (const auto &cell : tria.active_cell_iterators())
+      for (const Point<3> &X : {Point<3>(0.0071, 0.0093, 0.01), Point<3>(0.0131, 0.0107, 0.01)})
+        if (cell->point_inside(X))
+          cell->set_refine_flag();
+    tria.execute_coarsening_and_refinement();
+  }
+} // namespace
+
 TEST(Condensation, CoupledNewtonWithSpreadPointsAddsTheirWholeTangentAsALowRankUpdate)
 {
   // The points spread over ρ = 3 mm across the refined cells and their coarse
@@ -357,13 +371,7 @@ TEST(Condensation, CoupledNewtonWithSpreadPointsAddsTheirWholeTangentAsALowRankU
   // solve_static with no body. A part left out or counted twice would cost the
   // quadratic rate; the two solutions agree to 1e-13 m.
   expect_coupled_newton_reaches_the_partitioned_solution(
-    [](parallel::distributed::Triangulation<3> &tria) {
-      for (const auto &cell : tria.active_cell_iterators())
-        for (const Point<3> &X : {Point<3>(0.0071, 0.0093, 0.01), Point<3>(0.0131, 0.0107, 0.01)})
-          if (cell->point_inside(X))
-            cell->set_refine_flag();
-      tria.execute_coarsening_and_refinement();
-    },
+    refine_at_the_points,
     150, 0.003);
 }
 
@@ -375,12 +383,6 @@ TEST(Condensation, CoupledNewtonWithAKeptFactorisationKeepsItsRateAndSolution)
   // the tolerance of a fresh factorisation's update; the rate stays quadratic and the
   // solution the partitioned iteration's to 1e-13 m.
   expect_coupled_newton_reaches_the_partitioned_solution(
-    [](parallel::distributed::Triangulation<3> &tria) {
-      for (const auto &cell : tria.active_cell_iterators())
-        for (const Point<3> &X : {Point<3>(0.0071, 0.0093, 0.01), Point<3>(0.0131, 0.0107, 0.01)})
-          if (cell->point_inside(X))
-            cell->set_refine_flag();
-      tria.execute_coarsening_and_refinement();
-    },
+    refine_at_the_points,
     150, 0.003, 10);
 }
