@@ -63,11 +63,32 @@ namespace suturesim::tissue
   } // namespace
 
   unsigned
-  TissueModel::low_rank_update(const std::vector<std::size_t> &points, const Eigen::MatrixXd &G,
+  TissueModel::low_rank_update(const std::vector<std::size_t> &all_points, const Eigen::MatrixXd &G,
                                const double tolerance, Vector &update)
   {
-    // Nᵀ's columns U, unit forces at the points, and G with the parts of the points' own
-    // tangents that K leaves out
+    // G with the parts of the points' own tangents that K leaves out, G_S; a point whose
+    // rows and columns of G_S are zero (a wound-contact pair apart, a suture contact
+    // point not touching) adds nothing to Nᵀ G_S N, and its columns would cost three
+    // solves: only the others enter the update
+    Eigen::MatrixXd G_all = G;
+    for (std::size_t j = 0; j < all_points.size(); ++j)
+      for (unsigned a = 0; a < 3; ++a)
+        for (unsigned b = 0; b < 3; ++b)
+          G_all(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(all_points[j])[a][b];
+    std::vector<Eigen::Index> rows;
+    std::vector<std::size_t>  points;
+    for (std::size_t j = 0; j < all_points.size(); ++j)
+      {
+        const auto at = static_cast<Eigen::Index>(3 * j);
+        if (G_all.middleRows(at, 3).isZero(0) && G_all.middleCols(at, 3).isZero(0))
+          continue;
+        points.push_back(all_points[j]);
+        for (Eigen::Index d = 0; d < 3; ++d)
+          rows.push_back(at + d);
+      }
+    const Eigen::MatrixXd G_S = G_all(rows, rows);
+
+    // Nᵀ's columns U: unit forces at the points
     const std::size_t   m = points.size();
     std::vector<Vector> unit_forces(3 * m, Vector(locally_owned_dofs, comm));
     for (std::size_t j = 0; j < m; ++j)
@@ -78,11 +99,6 @@ namespace suturesim::tissue
           embedded->add_point_force(points[j], unit, constraints, unit_forces[3 * j + d]);
           unit_forces[3 * j + d].compress(VectorOperation::add);
         }
-    Eigen::MatrixXd G_S = G;
-    for (std::size_t j = 0; j < m; ++j)
-      for (unsigned a = 0; a < 3; ++a)
-        for (unsigned b = 0; b < 3; ++b)
-          G_S(3 * j + a, 3 * j + b) -= embedded->low_rank_tangent(points[j])[a][b];
     Vector g(locally_owned_dofs, comm), ghost(locally_owned_dofs, locally_relevant_dofs, comm);
     constraints.distribute(g);
     // N v: a distributed vector's values at the points

@@ -307,13 +307,15 @@ namespace suturesim::tissue
 
     /// The Newton update (K + Nᵀ (G − L) N) Δu = −R by the Sherman–Morrison–Woodbury
     /// identity, Δu = z0 − Z (I + (G − L) N Z)⁻¹ (G − L) N z0 with z0 = K⁻¹(−R) and
-    /// Z = K⁻¹Nᵀ (one call for the 3m columns of the @p points) from one factorisation of
+    /// Z = K⁻¹Nᵀ (one call for the 3m columns of the @p all_points) from one factorisation of
     /// the assembled K: G (3m × 3m) the stiffness of a body condensed onto the points
     /// (solve_coupled(); zero for none), L their tangents' parts that K leaves out
-    /// (EmbeddedPoints::low_rank()). No points: Δu = z0. Returns the Krylov iterations
-    /// of z0's solve, to @p tolerance; throws SolverError.
+    /// (EmbeddedPoints::low_rank()). Points whose rows and columns of G − L are zero
+    /// (contact pairs apart) are left out of N: they add nothing, and each would cost
+    /// three columns of Z. No points left: Δu = z0. Returns the Krylov iterations of
+    /// z0's solve, to @p tolerance; throws SolverError.
     unsigned
-    low_rank_update(const std::vector<std::size_t> &points, const Eigen::MatrixXd &G, double tolerance,
+    low_rank_update(const std::vector<std::size_t> &all_points, const Eigen::MatrixXd &G, double tolerance,
                     Vector &update);
 
     /// g, ġ, g̈ at the locally owned Dirichlet DoFs (order of owned_dirichlet).
