@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <sstream>
 
@@ -455,7 +456,6 @@ namespace suturesim::tissue
         factored       = true;
         factored_mat   = A;
         factored_state = state;
-        ++epoch;
         ++stats.factorizations;
       }
     PC pc;
@@ -551,6 +551,25 @@ namespace suturesim::tissue
         check(MatDenseRestoreColumnVecRead(mat, j, &column), "MatDenseRestoreColumnVecRead");
       }
     };
+
+    /// X = A⁻¹ B for all the columns of @p B at once: @p solve (rhs, sol) solves the
+    /// dense block rhs into sol (a factor's triangular solves see every column in one
+    /// pass over the factor).
+    void
+    solve_block(MPI_Comm comm, const std::function<void(Mat, Mat)> &solve,
+                const std::vector<dealii::PETScWrappers::MPI::Vector> &B,
+                std::vector<dealii::PETScWrappers::MPI::Vector>       &X)
+    {
+      DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
+      for (std::size_t j = 0; j < B.size(); ++j)
+        rhs.set(static_cast<PetscInt>(j), B[j]);
+      solve(rhs.mat, sol.mat);
+      for (std::size_t j = 0; j < X.size(); ++j)
+        {
+          sol.get(static_cast<PetscInt>(j), X[j]);
+          X[j].compress(dealii::VectorOperation::insert);
+        }
+    }
   } // namespace
 
   void
@@ -568,21 +587,15 @@ namespace suturesim::tissue
       }
     if (B.empty())
       return;
-    DenseColumns rhs(comm, B[0], B.size()), sol(comm, B[0], B.size());
-    for (std::size_t j = 0; j < B.size(); ++j)
-      rhs.set(static_cast<PetscInt>(j), B[j]);
     factor(A);
-    check(KSPMatSolve(ksp, rhs.mat, sol.mat), "KSPMatSolve");
-    KSPConvergedReason reason;
-    check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-    if (reason < 0)
-      throw SolverError(std::string("linear solver (direct) failed on ") + std::to_string(B.size()) +
-                        " right-hand sides: " + KSPConvergedReasons[reason]);
-    for (std::size_t j = 0; j < X.size(); ++j)
-      {
-        sol.get(static_cast<PetscInt>(j), X[j]);
-        X[j].compress(dealii::VectorOperation::insert);
-      }
+    solve_block(comm, [&](Mat rhs, Mat sol) {
+      check(KSPMatSolve(ksp, rhs, sol), "KSPMatSolve");
+      KSPConvergedReason reason;
+      check(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
+      if (reason < 0)
+        throw SolverError(std::string("linear solver (direct) failed on ") + std::to_string(B.size()) +
+                          " right-hand sides: " + KSPConvergedReasons[reason]);
+    }, B, X);
   }
 
   namespace
@@ -597,13 +610,13 @@ namespace suturesim::tissue
       Eigen::MatrixXd                      W;
       Eigen::PartialPivLU<Eigen::MatrixXd> M; ///< I + W Uᵀ Z₀
 
-      /// Uᵀ v
-      Eigen::VectorXd
-      project(const Vec v) const
+      /// t = Uᵀ v; PETSc's error code (this runs inside PETSc's callbacks, which must
+      /// not throw)
+      PetscErrorCode
+      project(const Vec v, Eigen::VectorXd &t) const
       {
-        Eigen::VectorXd t(static_cast<Eigen::Index>(U.size()));
-        check(VecMDot(v, static_cast<PetscInt>(U.size()), U.data(), t.data()), "VecMDot");
-        return t;
+        t.resize(static_cast<Eigen::Index>(U.size()));
+        return VecMDot(v, static_cast<PetscInt>(U.size()), U.data(), t.data());
       }
     };
 
@@ -615,7 +628,9 @@ namespace suturesim::tissue
       PetscCall(MatMult(s->A, x, y));
       if (s->U.empty())
         return 0;
-      const Eigen::VectorXd c = s->W * s->project(x);
+      Eigen::VectorXd t;
+      PetscCall(s->project(x, t));
+      const Eigen::VectorXd c = s->W * t;
       PetscCall(VecMAXPY(y, static_cast<PetscInt>(s->U.size()), c.data(), s->U.data()));
       return 0;
     }
@@ -628,7 +643,9 @@ namespace suturesim::tissue
       PetscCall(MatSolve(s->F, y, x));
       if (s->U.empty())
         return 0;
-      const Eigen::VectorXd c = -s->M.solve(s->W * s->project(x));
+      Eigen::VectorXd t;
+      PetscCall(s->project(x, t));
+      const Eigen::VectorXd c = -s->M.solve(s->W * t);
       PetscCall(VecMAXPY(x, static_cast<PetscInt>(s->Z.size()), c.data(), s->Z.data()));
       return 0;
     }
@@ -663,9 +680,9 @@ namespace suturesim::tissue
   {
     if (!can_reuse())
       return;
-    kept_U     = U;
-    kept_Z     = Z;
-    kept_epoch = epoch;
+    kept_U             = U;
+    kept_Z             = Z;
+    kept_factorization = stats.factorizations;
   }
 
   bool
@@ -682,24 +699,15 @@ namespace suturesim::tissue
     PC            pc;
     check(KSPGetPC(ksp, &pc), "KSPGetPC");
     check(PCFactorGetMatrix(pc, &s.F), "PCFactorGetMatrix");
-    if (kept_epoch != epoch || !same(U, kept_U))
+    if (kept_factorization != stats.factorizations || !same(U, kept_U))
       {
-        // Z₀ = A₀⁻¹ U with the kept factor, all columns in one block solve
+        // Z₀ = A₀⁻¹ U with the kept factor
         kept_U = U;
         kept_Z = U;
         if (!U.empty())
-          {
-            DenseColumns rhs(comm, U[0], U.size()), sol(comm, U[0], U.size());
-            for (std::size_t j = 0; j < U.size(); ++j)
-              rhs.set(static_cast<PetscInt>(j), U[j]);
-            check(MatMatSolve(s.F, rhs.mat, sol.mat), "MatMatSolve");
-            for (std::size_t j = 0; j < U.size(); ++j)
-              {
-                sol.get(static_cast<PetscInt>(j), kept_Z[j]);
-                kept_Z[j].compress(dealii::VectorOperation::insert);
-              }
-          }
-        kept_epoch = epoch;
+          solve_block(comm, [&](Mat rhs, Mat sol) { check(MatMatSolve(s.F, rhs, sol), "MatMatSolve"); }, U,
+                      kept_Z);
+        kept_factorization = stats.factorizations;
       }
     s.A = A;
     for (std::size_t k = 0; k < U.size(); ++k)
@@ -710,7 +718,11 @@ namespace suturesim::tissue
     s.W = W;
     Eigen::MatrixXd UZ(U.size(), U.size());
     for (std::size_t k = 0; k < U.size(); ++k)
-      UZ.col(static_cast<Eigen::Index>(k)) = s.project(s.Z[k]);
+      {
+        Eigen::VectorXd t;
+        check(s.project(s.Z[k], t), "VecMDot");
+        UZ.col(static_cast<Eigen::Index>(k)) = t;
+      }
     s.M = (Eigen::MatrixXd::Identity(W.rows(), W.cols()) + W * UZ).partialPivLu();
 
     PetscInt local = 0, global = 0;

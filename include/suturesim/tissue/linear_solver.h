@@ -193,15 +193,14 @@ namespace suturesim::tissue
     bool                                             symmetric = true;
     bool                                             memory_checked = false;
     /// whether the PC holds a factorisation, of which matrix and in which state
-    /// (PETSc refactorises when either changes), and a count of the new ones
+    /// (PETSc refactorises when either changes)
     bool             factored       = false;
     Mat              factored_mat   = nullptr;
     PetscObjectState factored_state = 0;
-    unsigned         epoch          = 0;
     /// solve_reusing()'s GMRES, and the U and Z₀ = A₀⁻¹U it keeps for the factorisation
-    /// of epoch kept_epoch
-    KSP                                             reuse_ksp  = nullptr;
+    /// numbered kept_factorization (Statistics::factorizations when it was made)
+    KSP                                             reuse_ksp          = nullptr;
     std::vector<dealii::PETScWrappers::MPI::Vector> kept_U, kept_Z;
-    unsigned                                        kept_epoch = 0;
+    unsigned                                        kept_factorization = 0;
   };
 } // namespace suturesim::tissue
