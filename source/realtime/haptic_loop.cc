@@ -15,6 +15,7 @@ namespace suturesim::realtime
     , next_tick(std::chrono::steady_clock::now())
   {
     times.reserve(expected_steps);
+    whole.reserve(expected_steps);
   }
 
   const std::vector<ToolForce> &
@@ -25,36 +26,62 @@ namespace suturesim::realtime
         next_tick += period;
         std::this_thread::sleep_until(next_tick);
       }
-    const auto                     start  = std::chrono::steady_clock::now();
+    started                              = std::chrono::steady_clock::now();
     const std::vector<ToolForce> &result = world.step(poses);
-    const auto                     spent  = std::chrono::steady_clock::now() - start;
+    const auto                    spent  = std::chrono::steady_clock::now() - started;
     if (spent > period)
       ++misses;
     times.push_back(std::chrono::duration<float, std::micro>(spent).count());
     return result;
   }
 
+  void
+  HapticLoop::end_tick()
+  {
+    const auto spent = std::chrono::steady_clock::now() - started;
+    if (spent > period)
+      ++whole_misses;
+    whole.push_back(std::chrono::duration<float, std::micro>(spent).count());
+  }
+
+  namespace
+  {
+    /// Median, nearest-rank 99th percentile, maximum and mean of @p times (µs).
+    LoopStatistics
+    summarise(const std::vector<float> &times, const std::size_t misses, const std::chrono::nanoseconds period)
+    {
+      LoopStatistics s;
+      s.steps           = times.size();
+      s.deadline_misses = misses;
+      s.deadline_us     = std::chrono::duration<double, std::micro>(period).count();
+      if (times.empty())
+        return s;
+      std::vector<float> sorted(times);
+      std::sort(sorted.begin(), sorted.end());
+      const auto at = [&](const double q) {
+        // nearest rank
+        const std::size_t k =
+          std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
+        return double(sorted[k]);
+      };
+      s.median_us = sorted.size() % 2 ? sorted[sorted.size() / 2]
+                                      : 0.5 * (double(sorted[sorted.size() / 2 - 1]) + sorted[sorted.size() / 2]);
+      s.p99_us  = at(0.99);
+      s.max_us  = sorted.back();
+      s.mean_us = std::accumulate(sorted.begin(), sorted.end(), 0.0) / sorted.size();
+      return s;
+    }
+  } // namespace
+
   LoopStatistics
   HapticLoop::statistics() const
   {
-    LoopStatistics s;
-    s.steps           = times.size();
-    s.deadline_misses = misses;
-    s.deadline_us     = std::chrono::duration<double, std::micro>(period).count();
-    if (times.empty())
-      return s;
-    std::vector<float> sorted(times);
-    std::sort(sorted.begin(), sorted.end());
-    const auto at = [&](const double q) {
-      // nearest rank
-      const std::size_t k = std::min(sorted.size() - 1, std::size_t(std::ceil(q * sorted.size())) - (q > 0 ? 1 : 0));
-      return double(sorted[k]);
-    };
-    s.median_us = sorted.size() % 2 ? sorted[sorted.size() / 2]
-                                    : 0.5 * (double(sorted[sorted.size() / 2 - 1]) + sorted[sorted.size() / 2]);
-    s.p99_us  = at(0.99);
-    s.max_us  = sorted.back();
-    s.mean_us = std::accumulate(sorted.begin(), sorted.end(), 0.0) / sorted.size();
-    return s;
+    return summarise(times, misses, period);
+  }
+
+  LoopStatistics
+  HapticLoop::tick_statistics() const
+  {
+    return summarise(whole, whole_misses, period);
   }
 } // namespace suturesim::realtime

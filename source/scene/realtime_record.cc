@@ -184,7 +184,7 @@ namespace suturesim::scene
   }
 
   void
-  RealtimeRecord::finish(const rt::LoopStatistics &stats, const double wall_time)
+  RealtimeRecord::finish(const rt::LoopStatistics &stats, const rt::LoopStatistics &tick, const double wall_time)
   {
     const auto &scene                = world.scene;
     const auto &rw                   = *world.world;
@@ -197,6 +197,11 @@ namespace suturesim::scene
     metrics["step_time_mean_us"]     = stats.mean_us;
     metrics["deadline_us"]           = stats.deadline_us;
     metrics["deadline_misses"]       = stats.deadline_misses;
+    metrics["tick_time_median_us"]   = tick.median_us;
+    metrics["tick_time_p99_us"]      = tick.p99_us;
+    metrics["tick_time_max_us"]      = tick.max_us;
+    metrics["tick_time_mean_us"]     = tick.mean_us;
+    metrics["tick_deadline_misses"]  = tick.deadline_misses;
     metrics["final_time"]            = rw.time();
     metrics["simulated_time"]        = rw.time();
     metrics["wall_time"]             = wall_time;

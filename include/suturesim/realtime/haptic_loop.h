@@ -2,9 +2,12 @@
 /**
  * @file
  * The fixed-rate loop a haptic device runs: every 1/rate seconds, step(tool poses) →
- * tool forces. Each step's compute time is measured (steady clock) against the
- * deadline 1/rate; the statistics (median, 99th percentile, maximum, misses) are what
- * summary.json reports. With pacing on, the loop sleeps until the next tick, as a device
+ * tool forces. Two times are measured (steady clock) against the deadline 1/rate: the
+ * step alone (tick() to its return) and the whole tick, from the step's start to
+ * end_tick(), which the caller calls once the haptic thread's other work for the tick
+ * is done (the closure measured, the row recorded, a state written). The whole tick is
+ * what a device waits for. Their statistics (median, 99th percentile, maximum, misses)
+ * are what summary.json reports. With pacing on, the loop sleeps until the next tick, as a device
  * thread would; offline runs leave it off and step back to back.
  *
  * Haptic rendering wants ≥ 1 kHz ("1000 Hz is the gold standard", iMSTK documentation).
@@ -34,12 +37,22 @@ namespace suturesim::realtime
     /// @p expected_steps reserves the timing record (no allocation while stepping).
     HapticLoop(World &world, double rate, std::size_t expected_steps, bool pacing = false);
 
-    /// One tick: the world's step, timed.
+    /// One tick: the world's step, timed; the tick itself runs on until end_tick().
     const std::vector<ToolForce> &
     tick(const std::vector<ToolPose> &poses);
 
+    /// Ends the tick the last tick() began: its time from the step's start is the whole
+    /// tick's (tick_times()).
+    void
+    end_tick();
+
+    /// The step alone.
     LoopStatistics
     statistics() const;
+
+    /// The whole tick (tick() to end_tick()).
+    LoopStatistics
+    tick_statistics() const;
 
     /// Compute time of each step so far, µs.
     const std::vector<float> &
@@ -48,12 +61,20 @@ namespace suturesim::realtime
       return times;
     }
 
+    /// Whole time of each tick ended so far, µs.
+    const std::vector<float> &
+    tick_times() const
+    {
+      return whole;
+    }
+
   private:
     World                                &world;
     std::chrono::nanoseconds              period;
     bool                                  pacing;
     std::chrono::steady_clock::time_point next_tick;
-    std::vector<float>                    times;
-    std::size_t                           misses = 0;
+    std::chrono::steady_clock::time_point started; ///< the current tick's step began
+    std::vector<float>                    times, whole;
+    std::size_t                           misses = 0, whole_misses = 0;
   };
 } // namespace suturesim::realtime

@@ -36,9 +36,10 @@ namespace suturesim::scene
     {
       return last_written == world.world->time();
     }
-    /// The metrics at the end of the run.
+    /// The metrics at the end of the run: the step's times (@p step) and the whole
+    /// tick's (@p tick: the step, the closure, the row and the states written).
     void
-    finish(const realtime::LoopStatistics &statistics, double wall_time);
+    finish(const realtime::LoopStatistics &step, const realtime::LoopStatistics &tick, double wall_time);
 
   private:
     RealtimeWorld      &world;

@@ -108,6 +108,7 @@ namespace suturesim::scene
                 record.write_state();
                 next_output += interval;
               }
+            loop.end_tick();
             // a signal stops the run here, between two ticks (core/interruption.h)
             if (step < n_steps && (stop_signal = stop_requested()) != 0)
               break;
@@ -115,11 +116,13 @@ namespace suturesim::scene
         // The last state (the last good one after a divergence) is always written.
         if (!record.state_written())
           record.write_state();
-        const auto stats = loop.statistics();
-        record.finish(stats, std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+        const auto stats = loop.statistics(), tick = loop.tick_statistics();
+        record.finish(stats, tick,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
         std::cout << "suturesim: " << stats.steps << " steps, step time median " << stats.median_us << " us, p99 "
                   << stats.p99_us << " us, max " << stats.max_us << " us, " << stats.deadline_misses
-                  << " deadline misses (" << stats.deadline_us << " us)\n";
+                  << " deadline misses (" << stats.deadline_us << " us); whole tick median " << tick.median_us
+                  << " us, p99 " << tick.p99_us << " us, " << tick.deadline_misses << " misses\n";
         if (!failure.empty())
           throw SolverError(failure + "; outputs hold the last good state (t = " + std::to_string(rw.time()) + " s)");
         if (stop_signal != 0)
