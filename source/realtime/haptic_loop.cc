@@ -29,8 +29,6 @@ namespace suturesim::realtime
     started                              = std::chrono::steady_clock::now();
     const std::vector<ToolForce> &result = world.step(poses);
     const auto                    spent  = std::chrono::steady_clock::now() - started;
-    if (spent > period)
-      ++misses;
     times.push_back(std::chrono::duration<float, std::micro>(spent).count());
     return result;
   }
@@ -39,21 +37,21 @@ namespace suturesim::realtime
   HapticLoop::end_tick()
   {
     const auto spent = std::chrono::steady_clock::now() - started;
-    if (spent > period)
-      ++whole_misses;
     whole.push_back(std::chrono::duration<float, std::micro>(spent).count());
   }
 
   namespace
   {
-    /// Median, nearest-rank 99th percentile, maximum and mean of @p times (µs).
+    /// Median, nearest-rank 99th percentile, maximum and mean of @p times (µs), and the
+    /// times over the deadline @p period.
     LoopStatistics
-    summarise(const std::vector<float> &times, const std::size_t misses, const std::chrono::nanoseconds period)
+    summarise(const std::vector<float> &times, const std::chrono::nanoseconds period)
     {
       LoopStatistics s;
       s.steps           = times.size();
-      s.deadline_misses = misses;
       s.deadline_us     = std::chrono::duration<double, std::micro>(period).count();
+      s.deadline_misses = static_cast<std::size_t>(
+        std::count_if(times.begin(), times.end(), [&](const float t) { return t > s.deadline_us; }));
       if (times.empty())
         return s;
       std::vector<float> sorted(times);
@@ -76,12 +74,12 @@ namespace suturesim::realtime
   LoopStatistics
   HapticLoop::statistics() const
   {
-    return summarise(times, misses, period);
+    return summarise(times, period);
   }
 
   LoopStatistics
   HapticLoop::tick_statistics() const
   {
-    return summarise(whole, whole_misses, period);
+    return summarise(whole, period);
   }
 } // namespace suturesim::realtime

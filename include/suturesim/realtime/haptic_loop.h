@@ -75,6 +75,5 @@ namespace suturesim::realtime
     std::chrono::steady_clock::time_point next_tick;
     std::chrono::steady_clock::time_point started; ///< the current tick's step began
     std::vector<float>                    times, whole;
-    std::size_t                           misses = 0, whole_misses = 0;
   };
 } // namespace suturesim::realtime
