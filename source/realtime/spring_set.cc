@@ -27,6 +27,7 @@ namespace suturesim::realtime
     lambda.push_back(0);
     alpha_tilde.push_back(0);
     prepared_dt = 0;
+    ++changes;
   }
 
   void
@@ -44,6 +45,7 @@ namespace suturesim::realtime
     stiffness[s] = k;
     lambda[s]    = 0;
     prepared_dt  = 0; // α̃ of the new stiffness at the next prepare_projection()
+    ++changes;
   }
 
   std::size_t
@@ -77,6 +79,7 @@ namespace suturesim::realtime
     permute(rest);
     permute(stiffness);
     permute(lambda);
+    ++changes;
   }
 
   double
@@ -91,11 +94,18 @@ namespace suturesim::realtime
     return e;
   }
 
+  namespace
+  {
+    /// The identity: every spring, in storage order.
+    constexpr auto every = [](const std::size_t k) { return k; };
+  } // namespace
+
   void
   SpringSet::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
     const double *R = rest.data(), *K = stiffness.data();
-    add_tension_forces(x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); });
+    add_tension_forces(
+      x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); }, every, first.size());
   }
 
   void
@@ -104,20 +114,55 @@ namespace suturesim::realtime
     // C = L − l with ∇_b C = (x_b − x_a)/L: the tension is −λ/dt²
     const double *Lambda = lambda.data();
     const double  scale  = -1 / (dt * dt);
-    add_tension_forces(x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; });
+    add_tension_forces(
+      x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; }, every, first.size());
   }
 
-  template <typename Tension>
+  bool
+  SpringSet::elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &springs) const
+  {
+    springs.clear();
+    const auto flagged = [&](const std::uint32_t i) { return i < touched.size() && touched[i] != 0; };
+    for (std::size_t s = 0; s < first.size(); ++s)
+      if (flagged(first[s]) || flagged(second[s]))
+        springs.push_back(static_cast<std::uint32_t>(s));
+    return true;
+  }
+
   void
-  SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension) const
+  SpringSet::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &springs) const
+  {
+    const double        *R = rest.data(), *K = stiffness.data();
+    const std::uint32_t *S = springs.data();
+    add_tension_forces(
+      x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); },
+      [S](const std::size_t k) { return std::size_t(S[k]); }, springs.size());
+  }
+
+  void
+  SpringSet::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
+                                      const std::vector<std::uint32_t> &springs) const
+  {
+    const double        *Lambda = lambda.data();
+    const double         scale  = -1 / (dt * dt);
+    const std::uint32_t *S      = springs.data();
+    add_tension_forces(
+      x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; },
+      [S](const std::size_t k) { return std::size_t(S[k]); }, springs.size());
+  }
+
+  template <typename Tension, typename Spring>
+  void
+  SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
+                                const std::size_t n) const
   {
     // the hot kernel: raw pointers into the column-major 3 x n arrays
     const double        *X = x.data();
     double              *F = f.data();
     const std::uint32_t *I = first.data(), *J = second.data();
-    const std::size_t    n = first.size();
-    for (std::size_t s = 0; s < n; ++s)
+    for (std::size_t k = 0; k < n; ++k)
       {
+        const std::size_t s = spring(k);
         const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
         const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
         const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);

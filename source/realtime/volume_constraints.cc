@@ -79,29 +79,68 @@ namespace suturesim::realtime
     return e;
   }
 
+  namespace
+  {
+    /// The identity: every tetrahedron, in storage order.
+    constexpr auto every = [](const std::size_t k) { return k; };
+  } // namespace
+
+  template <typename Pressure, typename Tet>
+  void
+  VolumeConstraints::add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet,
+                                         const std::size_t n) const
+  {
+    std::array<Vector3d, 4> g;
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const std::size_t t = tet(k);
+        const double      p = pressure(t, volume(x, t, g));
+        for (unsigned v = 0; v < 4; ++v)
+          f.col(tets[t][v]) += p * g[v];
+      }
+  }
+
   void
   VolumeConstraints::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
-    std::array<Vector3d, 4> g;
-    for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        const double p = -stiffness[t] * (volume(x, t, g) - rest[t]);
-        for (unsigned k = 0; k < 4; ++k)
-          f.col(tets[t][k]) += p * g[k];
-      }
+    add_pressure_forces(
+      x, f, [this](const std::size_t t, const double V) { return -stiffness[t] * (V - rest[t]); }, every,
+      tets.size());
   }
 
   void
   VolumeConstraints::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
-    std::array<Vector3d, 4> g;
+    add_pressure_forces(
+      x, f, [this, dt](const std::size_t t, double) { return lambda[t] / (dt * dt); }, every, tets.size());
+  }
+
+  bool
+  VolumeConstraints::elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &tetrahedra) const
+  {
+    tetrahedra.clear();
     for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        volume(x, t, g);
-        const double p = lambda[t] / (dt * dt);
-        for (unsigned k = 0; k < 4; ++k)
-          f.col(tets[t][k]) += p * g[k];
-      }
+      if (std::any_of(tets[t].begin(), tets[t].end(),
+                      [&](const std::uint32_t i) { return i < touched.size() && touched[i] != 0; }))
+        tetrahedra.push_back(static_cast<std::uint32_t>(t));
+    return true;
+  }
+
+  void
+  VolumeConstraints::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const
+  {
+    add_pressure_forces(
+      x, f, [this](const std::size_t t, const double V) { return -stiffness[t] * (V - rest[t]); },
+      [&tetrahedra](const std::size_t k) { return std::size_t(tetrahedra[k]); }, tetrahedra.size());
+  }
+
+  void
+  VolumeConstraints::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
+                                              const std::vector<std::uint32_t> &tetrahedra) const
+  {
+    add_pressure_forces(
+      x, f, [this, dt](const std::size_t t, double) { return lambda[t] / (dt * dt); },
+      [&tetrahedra](const std::size_t k) { return std::size_t(tetrahedra[k]); }, tetrahedra.size());
   }
 
   void

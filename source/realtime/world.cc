@@ -361,13 +361,60 @@ namespace suturesim::realtime
       n.force.noalias() += sys.gravity * n.mass.transpose();
   }
 
-  Vector3d
-  World::reaction(const std::vector<std::uint32_t> &nodes)
+  World::ReactionSet
+  World::reaction_set(const std::vector<std::uint32_t> &nodes) const
   {
-    evaluate_forces();
-    Vector3d r = Vector3d::Zero();
+    ReactionSet set;
+    set.nodes = nodes;
+    set.touched.assign(sys.nodes.size(), 0);
     for (const auto i : nodes)
-      r -= sys.nodes.force.col(i);
+      set.touched.at(i) = 1;
+    set.elements.resize(sys.interactions.size());
+    set.listed.resize(sys.interactions.size());
+    set.revisions.resize(sys.interactions.size());
+    for (std::size_t k = 0; k < sys.interactions.size(); ++k)
+      {
+        set.listed[k]    = sys.interactions[k]->elements_touching(set.touched, set.elements[k]);
+        set.revisions[k] = sys.interactions[k]->revision();
+      }
+    set.force.resize(3, sys.nodes.size());
+    return set;
+  }
+
+  Vector3d
+  World::reaction(ReactionSet &set) const
+  {
+    const Nodes &n = sys.nodes;
+    Matrix3Xd   &f = set.force;
+    if (f.cols() != n.x.cols() || set.elements.size() != sys.interactions.size())
+      throw std::logic_error("World::reaction: the set was built for another system");
+    // the forces evaluate_forces() would give the set's nodes, from the elements touching them
+    f.setZero();
+    const bool   constraint = time_integrator->position_based();
+    const double dt         = h / n_substeps;
+    for (std::size_t k = 0; k < sys.interactions.size(); ++k)
+      {
+        const Interaction &i = *sys.interactions[k];
+        if (set.revisions[k] != i.revision())
+          {
+            set.listed[k]    = i.elements_touching(set.touched, set.elements[k]);
+            set.revisions[k] = i.revision();
+          }
+        if (!set.listed[k])
+          constraint ? i.add_constraint_forces(n.x, f, dt) : i.add_forces(n.x, f);
+        else
+          constraint ? i.add_constraint_forces_of(n.x, f, dt, set.elements[k]) : i.add_forces_of(n.x, f, set.elements[k]);
+      }
+    for (const auto &c : sys.contacts)
+      constraint ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
+    Vector3d r = Vector3d::Zero();
+    for (const auto i : set.nodes)
+      {
+        Vector3d fi = f.col(i) + n.external.col(i);
+        if (!sys.gravity.isZero())
+          fi += sys.gravity * n.mass[i];
+        r -= fi;
+      }
     return r;
   }
 

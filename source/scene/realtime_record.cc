@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace suturesim::scene
@@ -79,7 +80,10 @@ namespace suturesim::scene
     if (world.needle)
       world.needle->add_columns(columns);
     for (const auto &b : world.boundaries)
-      add_xyz(columns, b.name + "_reaction_", "N");
+      {
+        add_xyz(columns, b.name + "_reaction_", "N");
+        reactions.push_back(rw.reaction_set(b.nodes));
+      }
     for (const auto &[name, index] : world.probes)
       add_xyz(columns, name + "_displacement_", "m");
     if (world.closure)
@@ -92,7 +96,7 @@ namespace suturesim::scene
   }
 
   void
-  RealtimeRecord::row()
+  RealtimeRecord::row(const bool output)
   {
     const auto &rw  = *world.world;
     const auto &sys = rw.system();
@@ -103,9 +107,9 @@ namespace suturesim::scene
         values[c++] = rw.tool_forces()[world.first_end_tool + k].force[d];
     if (world.needle)
       world.needle->fill_row(rw, values, c);
-    for (const auto &b : world.boundaries)
+    for (auto &set : reactions)
       {
-        const auto r = world.world->reaction(b.nodes);
+        const auto r = rw.reaction(set);
         for (int d = 0; d < 3; ++d)
           values[c++] = r[d];
       }
@@ -118,7 +122,7 @@ namespace suturesim::scene
     for (const double g : world.gaps)
       values[c++] = g;
     values[c++] = sys.kinetic_energy();
-    values[c++] = sys.elastic_energy(sys.nodes.x);
+    values[c++] = output ? sys.elastic_energy(sys.nodes.x) : std::numeric_limits<double>::quiet_NaN();
     recorder.add_row(values);
     // the suture's longest link so far, squared (one vectorised pass per step; the stretch
     // |x_i+1 - x_i|/l - 1 is formed once, in finish())

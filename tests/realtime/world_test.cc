@@ -45,6 +45,36 @@ TEST(RealtimeWorld, XpbdToolFeelsTheWeightItHoldsEvenWithFewIterations)
   EXPECT_LT(f.head<2>().norm(), 1e-6 * weight);
 }
 
+namespace
+{
+  /// The system nodes of the box's fixed face (tag 1).
+  std::vector<std::uint32_t>
+  reactions_nodes(const World &world, const mesh::SimplexMesh &mesh)
+  {
+    return world.nodes_of_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+  }
+
+  /// −Σ over @p nodes of every interaction's and contact's force (as the integrator
+  /// applied them), the external loads and the weight: the reaction the long way.
+  Vector3d
+  whole_reaction(const World &world, const std::vector<std::uint32_t> &nodes)
+  {
+    const System &sys = world.system();
+    const bool    xpbd = world.integrator().position_based();
+    Matrix3Xd     f    = Matrix3Xd::Zero(3, sys.nodes.size());
+    for (const auto &i : sys.interactions)
+      xpbd ? i->add_constraint_forces(sys.nodes.x, f, world.dt()) : i->add_forces(sys.nodes.x, f);
+    for (const auto &c : sys.contacts)
+      xpbd ? c->add_constraint_forces(sys.nodes.x, f, world.dt()) : c->add_forces(sys.nodes.x, f);
+    f += sys.nodes.external;
+    f.noalias() += sys.gravity * sys.nodes.mass.transpose();
+    Vector3d r = Vector3d::Zero();
+    for (const auto i : nodes)
+      r -= f.col(i);
+    return r;
+  }
+} // namespace
+
 class NoAllocation
   : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string, std::string>>
 {};
@@ -90,6 +120,9 @@ TEST_P(NoAllocation, StepDoesNotAllocate)
       self_collision = p;
   ASSERT_EQ(self_collision != nullptr, self != "off");
   ASSERT_NE(world.surface_contact(), nullptr);
+  // the fixed boundary's reaction, as a forces.csv row records it every tick
+  auto reactions = world.reaction_set(
+    world.nodes_of_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1)));
   std::vector<ToolPose> poses(1);
   poses[0].position = world.system().nodes.x.col(s.end - 1);
   const auto move = [&] {
@@ -105,6 +138,7 @@ TEST_P(NoAllocation, StepDoesNotAllocate)
   for (int k = 0; k < 200; ++k)
     {
       move();
+      world.reaction(reactions);
       contacts += world.surface_contact()->active();
       self_pairs += self_collision ? self_collision->active() : 0;
     }
@@ -116,6 +150,12 @@ TEST_P(NoAllocation, StepDoesNotAllocate)
   EXPECT_GT(contacts, 0u);
   EXPECT_EQ(self_pairs > 0, self != "off");
   EXPECT_EQ(step.total(), 0u);
+  // the reaction from the elements touching the boundary is the sum over all, bit for bit
+  const Vector3d some = world.reaction(reactions), all = whole_reaction(world, reactions_nodes(world, mesh));
+  std::printf("[ reaction ] (%.17g, %.17g, %.17g) N\n", some[0], some[1], some[2]);
+  EXPECT_GT(some.norm(), 0);
+  for (int d = 0; d < 3; ++d)
+    EXPECT_EQ(some[d], all[d]) << "component " << d;
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -78,6 +78,18 @@ namespace suturesim::realtime
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    bool
+    elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &springs) const override;
+    std::size_t
+    revision() const override
+    {
+      return changes;
+    }
+    void
+    add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &springs) const override;
+    void
+    add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
+                             const std::vector<std::uint32_t> &springs) const override;
     void
     reset_multipliers() override;
     void
@@ -118,15 +130,17 @@ namespace suturesim::realtime
     }
 
   private:
-    /// f += t(s, L) (x_b − x_a)/L on a, the opposite on b: the one kernel of elastic and
-    /// constraint forces.
-    template <typename Tension>
+    /// f += t(s, L) (x_b − x_a)/L on a, the opposite on b, for the springs s = spring(k),
+    /// k < n: the one kernel of elastic and constraint forces, of all springs or a list.
+    template <typename Tension, typename Spring>
     void
-    add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension) const;
+    add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
+                       std::size_t n) const;
 
     std::string                label;
     std::vector<std::uint32_t> first, second;
     std::vector<double>        rest, stiffness, lambda;
+    std::size_t                changes = 0; ///< revision()
     /// α̃ = 1/(k dt²) for the step prepared_dt (prepare_projection)
     std::vector<double> alpha_tilde;
     double              prepared_dt = 0;

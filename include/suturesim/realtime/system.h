@@ -119,6 +119,37 @@ namespace suturesim::realtime
     virtual void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const = 0;
 
+    /// The elements (springs, tetrahedra, ...) with a node flagged in @p touched,
+    /// ascending, into @p elements: forces on those nodes come from them alone (a
+    /// boundary's reaction). False: the family does not list its elements, and callers
+    /// evaluate it whole.
+    virtual bool
+    elements_touching(const std::vector<char> &, std::vector<std::uint32_t> &) const
+    {
+      return false;
+    }
+    /// Counts changes of the family's elements or their nodes (seed 002's subdivision
+    /// reuses spring slots), so that lists from elements_touching() can be renewed.
+    virtual std::size_t
+    revision() const
+    {
+      return 0;
+    }
+    /// add_forces() of the listed @p elements only, in the same order, so that each node
+    /// receives bit for bit the sum add_forces() gives it from them. The default, for
+    /// families that list no elements, adds all.
+    virtual void
+    add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &) const
+    {
+      add_forces(x, f);
+    }
+    /// add_constraint_forces() of the listed @p elements only (as add_forces_of()).
+    virtual void
+    add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt, const std::vector<std::uint32_t> &) const
+    {
+      add_constraint_forces(x, f, dt);
+    }
+
     /// XPBD: constants of the sweeps that depend on the step only (α̃ = 1/(k dt²));
     /// implementations recompute them only when @p dt changes. The inverse masses enter
     /// each projection directly, since holds (tools, transient constraints) change them

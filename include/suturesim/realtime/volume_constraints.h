@@ -46,6 +46,13 @@ namespace suturesim::realtime
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    bool
+    elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &tetrahedra) const override;
+    void
+    add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const override;
+    void
+    add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
+                             const std::vector<std::uint32_t> &tetrahedra) const override;
     void
     reset_multipliers() override;
     void
@@ -60,6 +67,11 @@ namespace suturesim::realtime
     /// V and its gradients with respect to the four vertices.
     double
     volume(const Matrix3Xd &x, std::size_t t, std::array<Vector3d, 4> &g) const;
+    /// f += p(t, V) ∇V for the tetrahedra t = tet(k), k < n: the one loop of elastic and
+    /// constraint forces, of all tetrahedra or a list.
+    template <typename Pressure, typename Tet>
+    void
+    add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet, std::size_t n) const;
 
     std::vector<mesh::Tetrahedron> tets;
     std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ

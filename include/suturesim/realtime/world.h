@@ -215,10 +215,30 @@ namespace suturesim::realtime
       return forces;
     }
 
-    /// The force the holders of @p nodes (system indices) exert on the bodies (N): the
-    /// reaction of a fixed or prescribed boundary, in the accurate path's sign.
+    /// The nodes of a boundary and, per interaction, the elements that touch them
+    /// (Interaction::elements_touching): the reaction sums the forces of those alone.
+    class ReactionSet
+    {
+      friend class World;
+      std::vector<std::uint32_t>              nodes;
+      std::vector<char>                       touched;   ///< per system node
+      std::vector<std::vector<std::uint32_t>> elements;  ///< per interaction
+      std::vector<char>                       listed;    ///< per interaction: elements holds its list
+      std::vector<std::size_t>                revisions; ///< per interaction, of the list
+      Matrix3Xd                               force;     ///< scratch, 3 x nodes
+    };
+
+    /// The reaction set of @p nodes (system indices), built once: renewing its lists
+    /// allocates, and happens again only after a change of topology.
+    ReactionSet
+    reaction_set(const std::vector<std::uint32_t> &nodes) const;
+
+    /// The force the holders of the set's nodes exert on the bodies (N): the reaction of
+    /// a fixed or prescribed boundary, in the accurate path's sign. Bit for bit the sum
+    /// over all interactions (each node's additions in the same order), at the cost of
+    /// the elements touching the boundary; contacts are evaluated whole.
     Vector3d
-    reaction(const std::vector<std::uint32_t> &nodes);
+    reaction(ReactionSet &set) const;
 
     /// Interpolation of the tissue displacement at rest point @p X (m): the containing
     /// tetrahedron of the volume model, the nearest surface triangle of the surface

@@ -2,7 +2,8 @@
 /**
  * @file
  * The record of a realtime run: forces.csv every haptic step (tool forces, the needle's
- * columns, boundary reactions, probes, closure gaps, kinetic and elastic energy),
+ * columns, boundary reactions, probes, closure gaps, kinetic energy, and the elastic
+ * energy on the rows of the states written),
  * tissue.pvd (tetrahedra or triangles) and suture.pvd (tension per segment) at
  * Time/Output interval and the last state, summary.json with the models, the haptic
  * loop's step-time statistics and the run's metrics.
@@ -24,9 +25,10 @@ namespace suturesim::scene
     /// Describes the run in summary.json and sets the forces.csv columns.
     RealtimeRecord(RealtimeWorld &world, const RealtimeSettings &settings, io::Recorder &recorder);
 
-    /// A forces.csv row of the current state.
+    /// A forces.csv row of the current state; the elastic energy, a sweep over every
+    /// element, only on @p output rows (the states written), NaN ("nan") on the others.
     void
-    row();
+    row(bool output);
     /// tissue_*.vtu and suture_*.vtu of the current state.
     void
     write_state();
@@ -46,6 +48,7 @@ namespace suturesim::scene
     io::Recorder       &recorder;
     RunSummary          summary;
     std::vector<double> values;
+    std::vector<realtime::World::ReactionSet> reactions; ///< per boundary
     std::size_t         n_outputs    = 0;
     double              longest_link_squared = 0; ///< the suture's longest link so far, m²
     double              last_written = -1;

@@ -80,7 +80,7 @@ namespace suturesim::scene
 
         world.measure_closure();
         record.write_state();
-        record.row();
+        record.row(true);
         const auto                wall_start = std::chrono::steady_clock::now();
         rt::HapticLoop            loop(rw, rate, n_steps, settings.pacing);
         std::vector<rt::ToolPose> poses;
@@ -102,8 +102,9 @@ namespace suturesim::scene
                 break;
               }
             world.measure_closure();
-            record.row();
-            if (interval > 0 && t >= next_output - 1e-12 * end_time)
+            const bool output = interval > 0 && t >= next_output - 1e-12 * end_time;
+            record.row(output);
+            if (output)
               {
                 record.write_state();
                 next_output += interval;
