@@ -8,6 +8,7 @@ packages=(
   libdeal.ii-dev          # deal.II 9.4.1 with PETSc 3.18, SUNDIALS 6.4, p4est, MPI, muparser
   libeigen3-dev           # realtime path and rod solver
   nlohmann-json3-dev      # summary.json
+  zlib1g-dev              # the realtime tissue's compressed .vtu files (also a deal.II dependency)
   libgtest-dev googletest libbenchmark-dev
   gmsh                    # .geo -> .msh at run time
   util-linux              # prlimit: gmsh run under Mesh/Gmsh memory limit

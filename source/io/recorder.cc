@@ -265,19 +265,28 @@ namespace suturesim::io
   }
 
   void
-  Recorder::add_row(const std::vector<double> &values)
+  Recorder::add_row(const double *values, const std::size_t n, const bool flush)
   {
-    if (values.size() != n_columns)
+    if (n != n_columns)
       throw std::logic_error("forces.csv row has the wrong number of columns");
     if (!root)
       return;
     errno = 0;
     csv << std::setprecision(std::numeric_limits<double>::max_digits10);
-    for (std::size_t i = 0; i < values.size(); ++i)
+    for (std::size_t i = 0; i < n; ++i)
       csv << (i ? "," : "") << values[i];
     csv << '\n';
     // a row per realtime tick: the file's name is built only when the write failed
-    if (!csv.flush().good())
+    if (flush)
+      csv.flush();
+    if (!csv.good())
+      check_written(csv, (fs::path(dir) / "forces.csv").string());
+  }
+
+  void
+  Recorder::flush_rows()
+  {
+    if (root && !csv.flush().good())
       check_written(csv, (fs::path(dir) / "forces.csv").string());
   }
 

@@ -14,8 +14,8 @@ namespace suturesim::realtime
     , pacing(pace)
     , next_tick(std::chrono::steady_clock::now())
   {
-    times.reserve(expected_steps);
-    whole.reserve(expected_steps);
+    for (auto *v : {&times, &whole, &collision, &solve, &coupling, &recording})
+      v->reserve(expected_steps);
   }
 
   const std::vector<ToolForce> &
@@ -29,7 +29,12 @@ namespace suturesim::realtime
     started                              = std::chrono::steady_clock::now();
     const std::vector<ToolForce> &result = world.step(poses);
     const auto                    spent  = std::chrono::steady_clock::now() - started;
-    times.push_back(std::chrono::duration<float, std::micro>(spent).count());
+    const auto                    us     = [](const auto d) { return std::chrono::duration<float, std::micro>(d).count(); };
+    const auto                   &phases = world.phases();
+    times.push_back(us(spent));
+    collision.push_back(us(phases.collision));
+    coupling.push_back(us(phases.coupling));
+    solve.push_back(us(spent - phases.collision - phases.coupling));
     return result;
   }
 
@@ -38,6 +43,7 @@ namespace suturesim::realtime
   {
     const auto spent = std::chrono::steady_clock::now() - started;
     whole.push_back(std::chrono::duration<float, std::micro>(spent).count());
+    recording.push_back(whole.back() - times.back());
   }
 
   namespace
@@ -81,5 +87,12 @@ namespace suturesim::realtime
   HapticLoop::tick_statistics() const
   {
     return summarise(whole, period);
+  }
+
+  PhaseStatistics
+  HapticLoop::phase_statistics() const
+  {
+    return {summarise(collision, period), summarise(solve, period), summarise(coupling, period),
+            summarise(recording, period)};
   }
 } // namespace suturesim::realtime

@@ -58,14 +58,22 @@ namespace suturesim::realtime
   {
     Matrix3Xd &f = nodes.force;
     internal_forces(x, f);
+    detect_contacts(x, Contacts::all);
     for (const auto &c : contacts)
-      {
-        c->detect(x);
-        c->add_forces(x, f);
-      }
+      c->add_forces(x, f);
     f += nodes.external;
     if (!gravity.isZero())
       f.noalias() += gravity * nodes.mass.transpose();
+  }
+
+  void
+  System::detect_contacts(const Matrix3Xd &x, const Contacts which)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    for (const auto &c : contacts)
+      if (which == Contacts::all || c->has_projection() == (which == Contacts::projected))
+        c->detect(x);
+    detection_time += std::chrono::steady_clock::now() - start;
   }
 
   double

@@ -3,6 +3,7 @@
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/world.h>
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -254,10 +255,14 @@ namespace suturesim::realtime
       throw std::logic_error("World::step before initialize()");
     if (poses.size() != tools.size())
       throw std::invalid_argument("World::step: one pose per tool");
+    using clock     = std::chrono::steady_clock;
     Nodes       &n  = sys.nodes;
     const double dt = h / n_substeps;
+    sys.detection_time = clock::duration::zero();
+    step_phases        = StepPhases();
     for (unsigned k = 0; k < n_substeps; ++k)
       {
+        const auto   coupling_start = clock::now();
         const double tau = double(k + 1) / n_substeps;
         const double tk  = t + (k + 1) * dt;
         for (std::size_t j = 0; j < tools.size(); ++j)
@@ -278,9 +283,12 @@ namespace suturesim::realtime
           }
         if (suture_model)
           suture_model->before_step(sys, dt);
+        const auto solve_start = clock::now();
+        step_phases.coupling += solve_start - coupling_start;
         time_integrator->step(sys, dt);
 
         // collision constraints live for one step (seed 002)
+        const auto collision_start = clock::now();
         for (const auto i : transient_nodes)
           n.set_held(i, Nodes::transient, false);
         transient_nodes.clear();
@@ -289,7 +297,9 @@ namespace suturesim::realtime
         for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
           if (n.held[i] & Nodes::transient)
             transient_nodes.push_back(i);
+        step_phases.collision += clock::now() - collision_start;
       }
+    step_phases.collision += sys.detection_time;
 
     const std::string diagnosis = guard.check(sys, n_steps + 1);
     if (!diagnosis.empty())
@@ -308,6 +318,7 @@ namespace suturesim::realtime
         tools[j].pose  = poses[j];
       }
 
+    const auto forces_start = clock::now();
     if (!tools.empty())
       {
         // Tools holding suture nodes only feel the suture's own interactions and the
@@ -333,6 +344,7 @@ namespace suturesim::realtime
               }
           }
       }
+    step_phases.coupling += clock::now() - forces_start;
     return forces;
   }
 

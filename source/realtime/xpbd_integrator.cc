@@ -37,12 +37,10 @@ namespace suturesim::realtime
 
         // external forces: loads, and contacts that act by force
         n.force = n.external;
+        s.detect_contacts(n.x, System::Contacts::by_force);
         for (const auto &c : s.contacts)
           if (!c->has_projection())
-            {
-              c->detect(n.x);
-              c->add_forces(n.x, n.force);
-            }
+            c->add_forces(n.x, n.force);
         for (Eigen::Index i = 0; i < count; ++i)
           if (n.held[i])
             n.x.col(i) = n.target.col(i);
@@ -52,12 +50,10 @@ namespace suturesim::realtime
               n.x.col(i) += dt * n.v.col(i);
             }
 
+        s.detect_contacts(n.x, System::Contacts::projected);
         for (const auto &c : s.contacts)
           if (c->has_projection())
-            {
-              c->detect(n.x);
-              c->reset_multipliers();
-            }
+            c->reset_multipliers();
         for (const auto &i : s.interactions)
           {
             i->reset_multipliers();

@@ -93,6 +93,17 @@ namespace suturesim::scene
     columns.push_back("elastic_energy [J]");
     recorder.set_columns(columns);
     values.resize(columns.size());
+
+    // 16 s of rows at 1 kHz before one is dropped; two state slots (one written while the
+    // next is filled), sized by the state they will hold
+    RecordState prototype;
+    capture(prototype);
+    const std::size_t width = values.size();
+    writer = std::make_unique<BackgroundWriter<RecordState>>(
+      width, 16384, prototype, 2,
+      BackgroundWriter<RecordState>::Sinks{[this, width](const double *row) { recorder.add_row(row, width, false); },
+                                           [this](const RecordState &state) { write(state); },
+                                           [this] { recorder.flush_rows(); }});
   }
 
   void
@@ -123,7 +134,7 @@ namespace suturesim::scene
       values[c++] = g;
     values[c++] = sys.kinetic_energy();
     values[c++] = output ? sys.elastic_energy(sys.nodes.x) : std::numeric_limits<double>::quiet_NaN();
-    recorder.add_row(values);
+    writer->push_row(values.data());
     // the suture's longest link so far, squared (one vectorised pass per step; the stretch
     // |x_i+1 - x_i|/l - 1 is formed once, in finish())
     if (world.scene.has_suture())
@@ -139,60 +150,78 @@ namespace suturesim::scene
   }
 
   void
-  RealtimeRecord::write_state()
+  RealtimeRecord::capture(RecordState &s) const
   {
-    const auto  &rw     = *world.world;
-    const auto  &sys    = rw.system();
-    const double t      = rw.time();
-    last_written        = t;
-    const auto   suffix = [&](const std::string &series) {
-      std::ostringstream name;
-      name << series << "_" << std::setw(5) << std::setfill('0') << n_outputs << ".vtu";
-      return name.str();
-    };
+    const auto &rw  = *world.world;
+    const auto &sys = rw.system();
+    s.time          = rw.time();
     if (world.scene.has_tissue())
       {
-        const auto &tm   = *rw.tissue();
-        const auto  n    = sys.tissue.end;
-        const auto  X    = sys.nodes.reference.leftCols(n);
-        const auto  x    = sys.nodes.x.leftCols(n);
-        const auto  name = suffix("tissue");
-        if (!tm.volume_cells().empty())
-          {
-            io::SimplexData<4> data{x, tm.volume_cells(), {}, {}};
-            data.vector_fields = {{"displacement", x - X}, {"velocity", sys.nodes.v.leftCols(n)}};
-            io::write_simplex_vtu(recorder.directory() + "/" + name, data, t);
-          }
+        // assignments of equal sizes into a slot's matrices and vectors allocate nothing
+        const auto n = sys.tissue.end;
+        s.x          = sys.nodes.x.leftCols(n);
+        s.X          = sys.nodes.reference.leftCols(n);
+        s.v          = sys.nodes.v.leftCols(n);
+        s.tetrahedra = rw.tissue()->volume_cells();
+        if (s.tetrahedra.empty())
+          s.triangles = rw.tissue()->surface();
+      }
+    if (world.scene.has_suture())
+      {
+        s.suture = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
+        rw.suture()->segment_tension(sys, s.tension);
+      }
+  }
+
+  void
+  RealtimeRecord::write_state(const bool wait)
+  {
+    if (RecordState *slot = wait ? writer->wait_for_state() : writer->acquire_state())
+      {
+        capture(*slot);
+        writer->publish(slot);
+        last_written = world.world->time();
+      }
+  }
+
+  void
+  RealtimeRecord::write(const RecordState &s)
+  {
+    std::ostringstream number;
+    number << "_" << std::setw(5) << std::setfill('0') << n_outputs++ << ".vtu";
+    if (world.scene.has_tissue())
+      {
+        const auto name = "tissue" + number.str();
+        const auto file = recorder.directory() + "/" + name;
+        if (!s.tetrahedra.empty())
+          io::write_simplex_vtu(file, io::SimplexData<4>{s.x, s.tetrahedra, {{"displacement", s.x - s.X}, {"velocity", s.v}}, {}},
+                                s.time);
         else
-          {
-            io::SimplexData<3> data{x, tm.surface(), {}, {}};
-            data.vector_fields = {{"displacement", x - X}, {"velocity", sys.nodes.v.leftCols(n)}};
-            io::write_simplex_vtu(recorder.directory() + "/" + name, data, t);
-          }
-        recorder.add_vtu("tissue", t, name);
+          io::write_simplex_vtu(file, io::SimplexData<3>{s.x, s.triangles, {{"displacement", s.x - s.X}, {"velocity", s.v}}, {}},
+                                s.time);
+        recorder.add_vtu("tissue", s.time, name);
       }
     if (world.scene.has_suture())
       {
         io::PolylineData data;
-        for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
-          data.points.push_back(sys.nodes.x.col(i));
-        std::vector<double> tension;
-        rw.suture()->segment_tension(sys, tension);
+        for (Eigen::Index i = 0; i < s.suture.cols(); ++i)
+          data.points.push_back(s.suture.col(i));
         data.point_fields   = {{"radius", std::vector<double>(data.points.size(), world.scene.suture.section.radius)}};
-        data.segment_fields = {{"tension", tension}};
-        const auto name     = suffix("suture");
-        io::write_polyline_vtu(recorder.directory() + "/" + name, data, t);
-        recorder.add_vtu("suture", t, name);
+        data.segment_fields = {{"tension", s.tension}};
+        const auto name     = "suture" + number.str();
+        io::write_polyline_vtu(recorder.directory() + "/" + name, data, s.time);
+        recorder.add_vtu("suture", s.time, name);
       }
-    ++n_outputs;
   }
 
   void
-  RealtimeRecord::finish(const rt::LoopStatistics &stats, const rt::LoopStatistics &tick, const double wall_time)
+  RealtimeRecord::finish(const rt::LoopStatistics &stats, const rt::LoopStatistics &tick,
+                         const rt::PhaseStatistics &phases, const double wall_time)
   {
     const auto &scene                = world.scene;
     const auto &rw                   = *world.world;
     const auto &sys                  = rw.system();
+    writer->finish();
     auto       &metrics              = summary.metrics();
     metrics["steps"]                 = stats.steps;
     metrics["step_time_median_us"]   = stats.median_us;
@@ -206,6 +235,16 @@ namespace suturesim::scene
     metrics["tick_time_max_us"]      = tick.max_us;
     metrics["tick_time_mean_us"]     = tick.mean_us;
     metrics["tick_deadline_misses"]  = tick.deadline_misses;
+    const auto phase = [](const rt::LoopStatistics &p) { return nlohmann::json{{"median", p.median_us}, {"p99", p.p99_us}}; };
+    metrics["tick_phases_us"] = {{"collision", phase(phases.collision)},
+                                 {"solve", phase(phases.solve)},
+                                 {"coupling", phase(phases.coupling)},
+                                 {"recording", phase(phases.recording)}};
+    // what the writer thread could not take (a disk slower than the output rate), and
+    // its time in formatting, compressing and writing, off the haptic thread
+    metrics["recording"]             = {{"rows_dropped", writer->rows_dropped()},
+                                        {"states_dropped", writer->states_dropped()},
+                                        {"writer_busy_s", writer->busy_seconds()}};
     metrics["final_time"]            = rw.time();
     metrics["simulated_time"]        = rw.time();
     metrics["wall_time"]             = wall_time;

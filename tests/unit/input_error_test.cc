@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -87,6 +88,35 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
   EXPECT_EQ(files.size(), 143u);
 }
 
+namespace
+{
+  /// Runs suturesim with @p arguments into @p folder, whose file @p blocked is first made
+  /// a link to /dev/full (refusing every write with ENOSPC, as a full disk does); expects
+  /// exit 5 and exactly one error line, naming @p failing as not written. Returns the output.
+  std::string
+  expect_one_write_error(const fs::path &folder, const std::string &blocked, const std::string &failing,
+                         std::vector<std::string> arguments)
+  {
+    fs::remove_all(folder);
+    fs::create_directories(folder);
+    fs::create_symlink("/dev/full", folder / blocked);
+    arguments.insert(arguments.begin(), suturesim_binary());
+    arguments.insert(arguments.end(), {"--output", folder.string()});
+    std::string output;
+    const int   code = run_logged(arguments, folder.string() + ".log", output);
+    EXPECT_EQ(code, 5) << output;
+    EXPECT_NE(output.find("error: " + (folder / failing).string() + ": cannot be written (No space left on device)"),
+              std::string::npos)
+      << output;
+    std::size_t       errors = 0; // one error line, after the run's progress lines
+    std::stringstream in(output);
+    for (std::string line; std::getline(in, line);)
+      errors += line.rfind("error", 0) == 0 || line.find("terminate") != std::string::npos;
+    EXPECT_EQ(errors, 1u) << output;
+    return output;
+  }
+} // namespace
+
 // A write that fails ends the run with one line naming the file, exit 5, and no
 // summary.json (io/checked_output.h). The failure is injected: summary.json's temporary
 // file is a link to /dev/full, which refuses every write with ENOSPC as a full disk does.
@@ -94,25 +124,28 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
 TEST(InputErrors, AFailedWriteIsOneLineExitFiveAndNoSummary)
 {
   const auto folder = scratch_path() / "failed_write";
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  fs::create_symlink("/dev/full", folder / "summary.json.tmp");
-  std::string output;
-  const int   code = run_logged({suturesim_binary(), source_path("tests/data/cook_coarse.prm"), "--output", folder.string()},
-                                folder.string() + ".log", output);
-  EXPECT_EQ(code, 5) << output;
+  const auto output = expect_one_write_error(folder, "summary.json.tmp", "summary.json",
+                                             {source_path("tests/data/cook_coarse.prm")});
   EXPECT_FALSE(fs::exists(folder / "summary.json")) << output;
   EXPECT_FALSE(fs::exists(folder / "summary.json.tmp")) << "the temporary file is left behind";
   // the rest of the run was written: the failure is the summary's alone
   EXPECT_TRUE(fs::exists(folder / "forces.csv"));
-  EXPECT_NE(output.find("error: " + (folder / "summary.json").string() + ": cannot be written (No space left on device)"),
-            std::string::npos)
-    << output;
-  std::size_t       errors = 0; // one error line, after the run's progress lines
-  std::stringstream in(output);
-  for (std::string line; std::getline(in, line);)
-    errors += line.rfind("error", 0) == 0 || line.find("terminate") != std::string::npos;
-  EXPECT_EQ(errors, 1u) << output;
+}
+
+// The realtime path writes its .vtu and .pvd files on a writer thread
+// (core/background_writer.h): a write that fails there (tissue.pvd's temporary file a
+// link to /dev/full) still ends the run with the one line naming the file and exit 5:
+// the haptic loop stops at the next tick.
+TEST(InputErrors, AFailedWriteOnTheRealtimeWriterThreadIsOneLineExitFive)
+{
+  const auto folder = scratch_path() / "failed_realtime_write";
+  expect_one_write_error(folder, "tissue.pvd.tmp", "tissue.pvd",
+                         {benchmark_scene("realtime_seed004_scale"), "--set", "Time/End time=0.6"});
+  // the first state's .vtu was written before its series failed, and the run stopped
+  // there: no later state
+  EXPECT_TRUE(fs::exists(folder / "tissue_00000.vtu"));
+  EXPECT_FALSE(fs::exists(folder / "tissue.pvd"));
+  EXPECT_FALSE(fs::exists(folder / "tissue_00001.vtu"));
 }
 
 TEST(InputErrors, UnwritableOutputFolder)

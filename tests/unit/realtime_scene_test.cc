@@ -38,6 +38,18 @@ TEST(RealtimeScene, RunsTheSeed004ScaleSceneAndRecordsItsHapticStatistics)
               m[std::string("step_time_") + q + "_us"].get<double>())
       << q;
   EXPECT_GE(m["tick_deadline_misses"].get<unsigned>(), m["deadline_misses"].get<unsigned>());
+  // the tick's phases: each a part of every tick, so no order statistic above the tick's;
+  // contact is on and the row is recorded, so none of the four is empty
+  for (const char *phase : {"collision", "solve", "coupling", "recording"})
+    for (const char *q : {"median", "p99"})
+      {
+        const double t = m["tick_phases_us"][phase][q].get<double>();
+        EXPECT_GT(t, 0) << phase << " " << q;
+        EXPECT_LE(t, m[std::string("tick_time_") + q + "_us"].get<double>()) << phase << " " << q;
+      }
+  // the writer thread took every row and state
+  EXPECT_EQ(m["recording"]["rows_dropped"], 0);
+  EXPECT_EQ(m["recording"]["states_dropped"], 0);
   EXPECT_EQ(r.summary["realtime"]["suture_model"], "xpbd-rod");
   EXPECT_EQ(r.summary["suture"]["nodes"], 100);
   std::string header;

@@ -114,9 +114,17 @@ TEST(VtuOutput, RealtimeFilesHoldTheDeformedTissueAndTheThreadsTension)
   const Vtu last  = read_vtu(r.directory + "/tissue_00026.vtu");
   const double t  = last.get("FieldData", "TIME").values.at(0);
   EXPECT_NEAR(t, 2.6, 1e-6);
-  // tetrahedra as patches of their own four vertices
-  EXPECT_EQ(last.n_points, 4 * last.n_cells);
+  // tetrahedra on shared points: one point per tissue node (io/simplex_writer.h)
+  EXPECT_EQ(last.n_points, r.summary["mesh"]["vertices"].get<std::size_t>());
   EXPECT_GT(last.n_cells, 1000u);
+  const auto &connectivity = last.get("Cells", "connectivity").values;
+  ASSERT_EQ(connectivity.size(), 4 * last.n_cells);
+  EXPECT_EQ(last.get("Cells", "offsets").values.back(), double(4 * last.n_cells));
+  for (const double type : last.get("Cells", "types").values)
+    ASSERT_EQ(type, 10.0); // VTK_TETRA
+  for (const double p : connectivity)
+    ASSERT_LT(p, double(last.n_points));
+  EXPECT_EQ(first.get("Cells", "connectivity").values, connectivity);
   EXPECT_EQ(last.names("PointData"), (std::vector<std::string>{"displacement", "velocity"}));
   for (const auto &a : last.arrays)
     if (a.section == "PointData")
@@ -146,8 +154,9 @@ TEST(VtuOutput, RealtimeFilesHoldTheDeformedTissueAndTheThreadsTension)
       for (unsigned v = 0; v < 4; ++v)
         for (unsigned d = 0; d < 3; ++d)
           {
-            corners(d, v)      = X[3 * (4 * c + v) + d];
-            displacement(d, v) = u[3 * (4 * c + v) + d];
+            const auto p       = static_cast<std::size_t>(connectivity[4 * c + v]);
+            corners(d, v)      = X[3 * p + d];
+            displacement(d, v) = u[3 * p + d];
           }
       for (unsigned v = 0; v < 4; ++v)
         if (corners(2, v) == 0)

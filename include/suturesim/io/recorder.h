@@ -53,8 +53,19 @@ namespace suturesim::io
     void
     set_columns(const std::vector<std::string> &names);
 
+    /// A row of @p n values (n = the number of columns), flushed to the disk at once
+    /// unless @p flush is false: the realtime record's writer thread flushes every
+    /// 100 ms (flush_rows()) instead of once a haptic tick.
     void
-    add_row(const std::vector<double> &values);
+    add_row(const double *values, std::size_t n, bool flush = true);
+    void
+    add_row(const std::vector<double> &values)
+    {
+      add_row(values.data(), values.size());
+    }
+    /// Flushes the rows added without flushing; WriteError when a write failed.
+    void
+    flush_rows();
 
     /// Appends a .vtu (a file name inside the folder) to @p series.pvd and rewrites it,
     /// so the series is valid after every step.

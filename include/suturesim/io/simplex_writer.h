@@ -1,9 +1,13 @@
 #pragma once
 /**
  * @file
- * Tetrahedra or triangles with point data as a .vtu file, through deal.II's DataOutBase
- * (one simplex patch per cell, deal.II ≥ 9.3): the realtime path's tissue output. Vector
- * fields are marked as vectors, so ParaView's "Warp By Vector" applies to displacement.
+ * Tetrahedra or triangles with point data as a .vtu file (VTK XML UnstructuredGrid): the
+ * realtime path's tissue output. One point per mesh node, shared by the cells around it
+ * (deal.II's DataOutBase writes one patch of own vertices per cell, four times the
+ * points, and cannot share them), Float32 coordinates and fields, each array deflated by
+ * zlib at its fastest level (1) in blocks of 1 MiB, inline base64 with a UInt32 header
+ * (VTK file formats, "XML File Formats", Kitware: compressed binary data). Vector fields
+ * are marked as vectors, so ParaView's "Warp By Vector" applies to displacement.
  */
 
 #include <Eigen/Core>
@@ -24,8 +28,10 @@ namespace suturesim::io
     std::vector<std::pair<std::string, Eigen::VectorXd>>    scalar_fields; ///< per point
   };
 
-  /// Writes tetrahedra (n_vertices = 4) or triangles (3) to @p file_name; throws
-  /// std::runtime_error when the file cannot be written.
+  /// Writes tetrahedra (n_vertices = 4) or triangles (3) to @p file_name, with the time
+  /// @p time (s) as FieldData TIME; throws WriteError when the file cannot be written and
+  /// std::invalid_argument when a cell names a point that is not there or a field has
+  /// another number of points.
   template <std::size_t n_vertices>
   void
   write_simplex_vtu(const std::string &file_name, const SimplexData<n_vertices> &data, double time);

@@ -31,6 +31,16 @@ namespace suturesim::realtime
     double      deadline_us      = 0;
   };
 
+  /// The whole tick by phase: contact detection and collision responses (collision),
+  /// the tools, prescribed motions, loads and tool forces (coupling), the rest of the
+  /// step (solve: the integrator's sweeps, the divergence guard), and what the haptic
+  /// thread does after the step until end_tick() (recording: the closure measured, the
+  /// row and any state handed to the writer).
+  struct PhaseStatistics
+  {
+    LoopStatistics collision, solve, coupling, recording;
+  };
+
   class HapticLoop
   {
   public:
@@ -54,6 +64,10 @@ namespace suturesim::realtime
     LoopStatistics
     tick_statistics() const;
 
+    /// The whole tick's phases (ticks ended by end_tick()).
+    PhaseStatistics
+    phase_statistics() const;
+
     /// Compute time of each step so far, µs.
     const std::vector<float> &
     step_times() const
@@ -75,5 +89,6 @@ namespace suturesim::realtime
     std::chrono::steady_clock::time_point next_tick;
     std::chrono::steady_clock::time_point started; ///< the current tick's step began
     std::vector<float>                    times, whole;
+    std::vector<float>                    collision, solve, coupling, recording; ///< µs, per tick
   };
 } // namespace suturesim::realtime

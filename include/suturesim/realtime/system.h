@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -239,9 +240,24 @@ namespace suturesim::realtime
     /// Index of the suture's first interaction: the tissue's come before it.
     std::size_t                               first_suture_interaction = 0;
 
+    /// Time spent finding contacts (detect_contacts()) since it was last set to zero:
+    /// the haptic tick's collision phase (World::step).
+    std::chrono::steady_clock::duration detection_time{0};
+
     /// Sizes the work arrays; call after every node was added.
     void
     finalize();
+
+    /// Which contact sets detect_contacts() updates.
+    enum class Contacts
+    {
+      all,
+      by_force, ///< those XPBD applies as external forces (no projection)
+      projected ///< those XPBD projects as constraints
+    };
+    /// ContactSet::detect() of the sets @p which at @p x, timed into detection_time.
+    void
+    detect_contacts(const Matrix3Xd &x, Contacts which);
 
     /// Sum of the interactions' forces at @p x into @p f (overwritten), from interaction
     /// @p first on.

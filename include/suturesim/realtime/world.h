@@ -26,6 +26,7 @@
 
 #include <Eigen/Geometry>
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -215,6 +216,20 @@ namespace suturesim::realtime
       return forces;
     }
 
+    /// Where the last step's time went, besides the solve: contact detection and the
+    /// post-step collision responses (collision), and the tools, prescribed motions,
+    /// loads and the forces on the tools (coupling). The solve is the step's time less
+    /// these (HapticLoop).
+    struct StepPhases
+    {
+      std::chrono::steady_clock::duration collision{0}, coupling{0};
+    };
+    const StepPhases &
+    phases() const
+    {
+      return step_phases;
+    }
+
     /// The nodes of a boundary and, per interaction, the elements that touch them
     /// (Interaction::elements_touching): the reaction sums the forces of those alone.
     class ReactionSet
@@ -313,6 +328,7 @@ namespace suturesim::realtime
     std::size_t tissue_interactions = 0; ///< the tissue's interactions come first
     bool        tools_on_suture     = false;
 
+    StepPhases              step_phases;
     DivergenceGuard         guard;
     Matrix3Xd               good_x, good_v;
     std::vector<ToolForce>  forces;

@@ -110,15 +110,18 @@ namespace suturesim::scene
                 next_output += interval;
               }
             loop.end_tick();
+            // a failed write stops the run (record.finish() throws it; exit 5)
+            if (record.output_failed())
+              break;
             // a signal stops the run here, between two ticks (core/interruption.h)
             if (step < n_steps && (stop_signal = stop_requested()) != 0)
               break;
           }
         // The last state (the last good one after a divergence) is always written.
         if (!record.state_written())
-          record.write_state();
+          record.write_state(true);
         const auto stats = loop.statistics(), tick = loop.tick_statistics();
-        record.finish(stats, tick,
+        record.finish(stats, tick, loop.phase_statistics(),
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
         std::cout << "suturesim: " << stats.steps << " steps, step time median " << stats.median_us << " us, p99 "
                   << stats.p99_us << " us, max " << stats.max_us << " us, " << stats.deadline_misses
