@@ -1,11 +1,15 @@
 // Realtime-path kernels (README, "Realtime path"): the spring-force kernel in ns per
-// spring beside a memory-bandwidth probe measured in the same binary, the FTL and XPBD
-// suture steps at 50, 512 and 4096 nodes, and bounding-sphere refit against rebuild.
+// spring beside a memory-bandwidth probe measured in the same binary, the XPBD volume
+// sweep in ns per tetrahedron, the whole haptic tick on a seed-004-scale block, the FTL
+// and XPBD suture steps at 50, 512 and 4096 nodes, and bounding-sphere refit against
+// rebuild.
 // Plain C++ + Eigen: links the realtime library only.
 #include <suturesim/collision/triangle_sphere_tree.h>
+#include <suturesim/core/background_writer.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/tissue_model.h>
+#include <suturesim/realtime/volume_constraints.h>
 #include <suturesim/realtime/world.h>
 
 #include <benchmark/benchmark.h>
@@ -13,8 +17,10 @@
 #include "realtime/test_meshes.h"
 #include "realtime/test_worlds.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 using namespace suturesim;
@@ -122,6 +128,79 @@ namespace
     state.counters["ns_per_spring"] = seconds / (double(springs.size()) * state.iterations()) * 1e9;
   }
   BENCHMARK(SpringProjection)->Arg(10000)->Arg(1000000)->Unit(benchmark::kMicrosecond);
+
+  /// One XPBD sweep over the volume constraints of a box of @p n × @p n × n/4 cubes, six
+  /// tetrahedra each (18: 7 776 tetrahedra, the seed-004-scale block's size; 100:
+  /// 1.5 million, far beyond the caches), ns per tetrahedron.
+  void
+  VolumeProjection(benchmark::State &state)
+  {
+    const auto                 n    = static_cast<unsigned>(state.range(0));
+    const auto                 mesh = test_support::box_mesh(0.04, 0.04, 0.01, n, n, std::max(1u, n / 4));
+    std::vector<std::uint32_t> node(mesh.vertices.cols());
+    std::iota(node.begin(), node.end(), 0u);
+    VolumeConstraints volumes;
+    volumes.add_mesh(mesh, node, 1e5);
+    Matrix3Xd      x = mesh.vertices;
+    const VectorXd w = VectorXd::Ones(x.cols());
+    volumes.prepare_projection(1e-3);
+    const auto start = std::chrono::steady_clock::now();
+    for (auto _ : state)
+      {
+        volumes.project(x, w, 1e-3);
+        benchmark::DoNotOptimize(x.data());
+      }
+    const double seconds         = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.counters["tetrahedra"] = volumes.size();
+    state.counters["ns_per_tet"] = seconds / (double(volumes.size()) * state.iterations()) * 1e9;
+  }
+  BENCHMARK(VolumeProjection)->Arg(18)->Arg(100)->Unit(benchmark::kMicrosecond);
+
+  /// The haptic thread's whole tick on a block of the seed-004-scale benchmark's size
+  /// (a 18 × 18 × 4 box: 1 805 nodes, 7 776 tetrahedra, its bottom fixed) under a
+  /// 100-node suture folded onto itself, grasped at its end and dragged: the step (XPBD,
+  /// one tissue sweep and eight over the suture and contacts, contact and seed 002's
+  /// self-collision on), the bottom's reaction and the row handed to the writer thread,
+  /// which formats nothing here (its sink only counts).
+  void
+  HapticTick(benchmark::State &state, const std::string &integrator, const std::map<std::string, std::string> &values)
+  {
+    const auto mesh = test_support::box_mesh(0.04, 0.04, 0.01, 18, 18, 4);
+    auto       setup = test_support::block_under_folded_suture(mesh, "volume", integrator, values, "xpbd-rod",
+                                                                "transient-constraint", 99);
+    setup.substeps       = 1; // as the seed-004-scale scene: one step a tick
+    World world(std::move(setup));
+    const auto bottom = mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1);
+    world.fix_vertices(bottom);
+    const auto s = world.system().suture;
+    world.add_tool("grasper", {s.end - 1}, {world.system().nodes.x.col(s.end - 1)});
+    world.initialize();
+    auto                    reaction = world.reaction_set(world.nodes_of_vertices(bottom));
+    std::atomic<std::size_t> written{0};
+    struct NoState
+    {};
+    BackgroundWriter<NoState> writer(4, 16384, NoState{}, 1,
+                                     {[&written](const double *) { ++written; }, [](const NoState &) {}, [] {}});
+    std::vector<ToolPose> poses(1);
+    poses[0].position = world.system().nodes.x.col(s.end - 1);
+    double row[4]     = {};
+    for (auto _ : state)
+      {
+        poses[0].position += Vector3d(-2e-6, 1e-6, 0);
+        world.step(poses);
+        const Vector3d r = world.reaction(reaction);
+        row[0]           = world.time();
+        row[1] = r[0], row[2] = r[1], row[3] = r[2];
+        writer.push_row(row);
+      }
+    writer.finish();
+    state.counters["nodes"]        = world.system().nodes.size();
+    state.counters["contacts"]     = world.surface_contact()->active();
+    state.counters["rows_dropped"] = writer.rows_dropped();
+  }
+  BENCHMARK_CAPTURE(HapticTick, xpbd_1_plus_8, std::string("xpbd"),
+                    std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}})
+    ->Unit(benchmark::kMicrosecond);
 
   /// One haptic step of a suture alone, its end moved by a tool on a circle.
   void

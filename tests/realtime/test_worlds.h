@@ -80,6 +80,36 @@ namespace suturesim::test_support
     return g;
   }
 
+  /// A block tissue (@p mesh, its face of tag 1 to be fixed) under a soft suture of
+  /// @p links links, 30 mm long, laid along +x 0.2 mm above the top z = 10 mm and folded
+  /// back onto itself at its middle, so that suture–tissue contact and self-collision are
+  /// active from the first step; gravity on. The integrator and models by name.
+  inline realtime::WorldSetup
+  block_under_folded_suture(const mesh::SimplexMesh &mesh, const std::string &tissue, const std::string &integrator,
+                            const std::map<std::string, std::string> &integrator_values, const std::string &suture,
+                            const std::string &self, const unsigned links)
+  {
+    realtime::WorldSetup w;
+    w.mesh     = &mesh;
+    w.material = {6e3, 0.45, 1060, {}}; // E (Pa), ν, ρ (kg/m³), no regions
+    w.tissue   = make_model<realtime::TissueModel::Registry>(tissue);
+    w.suture   = make_model<realtime::SutureModel::Registry>(suture);
+    // soft enough for the force-based integrators at 1 kHz
+    w.suture_geometry = straight_suture(links, 0.03, Eigen::Vector3d(0.002, 0.01, 0.0102), Eigen::Vector3d::UnitX(),
+                                        1e-3, 1e-9, 1e-4, 1140);
+    for (std::size_t i = links / 2 + 1; i < w.suture_geometry.points.size(); ++i)
+      w.suture_geometry.points[i] = w.suture_geometry.points[links - i] + Eigen::Vector3d(0, 0.0002, 0.0002);
+    w.self_collision            = self;
+    w.self_collision_parameters = parameters_of(self);
+    w.contact                   = true;
+    w.contact_stiffness         = 1;
+    w.contact_depth             = 1e-3;
+    w.integrator                = make_model<realtime::Integrator::Registry>(integrator, integrator_values);
+    w.gravity                   = Eigen::Vector3d(0, 0, -9.81);
+    w.substeps                  = integrator == "symplectic-euler" ? 16 : 4; // below dt_crit
+    return w;
+  }
+
   /// The needle tests' pass through the top of the 40 × 40 × 10 mm block: in at
   /// (13, 20.1, 10) mm along +x, @p bite_depth deep, turning at 4 rad/s after a 0.5 mm
   /// approach, then pulled by (10, 0, 20) mm over 0.5 s.

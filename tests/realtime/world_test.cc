@@ -83,25 +83,8 @@ TEST_P(NoAllocation, StepDoesNotAllocate)
 {
   const auto [tissue, integrator, suture, self] = GetParam();
   const auto mesh = test_support::box_mesh(0.02, 0.02, 0.01, 4, 4, 2);
-  WorldSetup w;
-  w.mesh            = &mesh;
-  w.material        = {6e3, 0.45, 1060, {}}; // E (Pa), ν, ρ (kg/m³), no regions
-  w.tissue          = test_support::make_model<TissueModel::Registry>(tissue);
-  w.suture          = test_support::make_model<SutureModel::Registry>(suture);
-  // a suture soft enough for the force-based integrators at 1 kHz, folded onto itself
-  // over the tissue so that contact and self-collision are active
-  w.suture_geometry = test_support::straight_suture(40, 0.03, Vector3d(0.002, 0.01, 0.0102),
-                                                    Vector3d::UnitX(), 1e-3, 1e-9, 1e-4, 1140);
-  for (std::size_t i = 21; i < w.suture_geometry.points.size(); ++i)
-    w.suture_geometry.points[i] = w.suture_geometry.points[40 - i] + Vector3d(0, 0.0002, 0.0002);
-  w.self_collision            = self;
-  w.self_collision_parameters = test_support::parameters_of(self);
-  w.contact                   = true;
-  w.contact_stiffness         = 1;
-  w.contact_depth             = 1e-3;
-  w.integrator                = test_support::make_model<Integrator::Registry>(integrator);
-  w.gravity                   = Vector3d(0, 0, -9.81);
-  w.substeps                  = integrator == "symplectic-euler" ? 16 : 4; // below dt_crit
+  // a 40-link suture folded onto itself over the tissue: contact and self-collision act
+  WorldSetup w = test_support::block_under_folded_suture(mesh, tissue, integrator, {}, suture, self, 40);
   // the counter sees what the realtime library allocates (World's set-up is in it): an
   // allocator hook that failed to take would count nothing below, and pass
   test_support::start_counting_allocations();
