@@ -51,6 +51,26 @@ namespace suturesim::realtime
       f.col(nodes[s]) += stiffness[s] * (home.col(s) - x.col(nodes[s]));
   }
 
+  bool
+  HomeSprings::element_nodes(std::vector<std::uint32_t> &list, unsigned &per_element) const
+  {
+    per_element = 1;
+    list        = nodes;
+    return true;
+  }
+
+  void
+  HomeSprings::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *springs,
+                                const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
+  {
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const auto s = springs[k];
+        f += stiffness[s] * (home.col(s) - x.col(i));
+        H.diagonal().array() += stiffness[s];
+      }
+  }
+
   void
   HomeSprings::add_constraint_forces(const Matrix3Xd &, Matrix3Xd &f, const double dt) const
   {

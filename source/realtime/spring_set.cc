@@ -177,6 +177,36 @@ namespace suturesim::realtime
       }
   }
 
+  bool
+  SpringSet::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
+  {
+    per_element = 2;
+    nodes.clear();
+    for (std::size_t s = 0; s < first.size(); ++s)
+      nodes.insert(nodes.end(), {first[s], second[s]});
+    return true;
+  }
+
+  void
+  SpringSet::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *springs,
+                              const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
+  {
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const auto     s  = springs[k];
+        const Vector3d d  = x.col(second[s]) - x.col(first[s]);
+        const double   L2 = d.squaredNorm();
+        if (!(L2 > 0))
+          continue; // no direction: neither force nor a defined stiffness
+        const double L = std::sqrt(L2), k_s = stiffness[s], c = std::max(0.0, 1 - rest[s] / L);
+        // −∂E/∂x_first = k (L − L₀) d/L; the other end the opposite; with u = d/L,
+        // H = k [u uᵀ + c (I − u uᵀ)] = k c I + k (1 − c) d dᵀ/L²
+        f += ((i == first[s] ? k_s : -k_s) * (L - rest[s]) / L) * d;
+        H.noalias() += (k_s * (1 - c) / L2) * d * d.transpose();
+        H.diagonal().array() += k_s * c;
+      }
+  }
+
   void
   SpringSet::reset_multipliers()
   {

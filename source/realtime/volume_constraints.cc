@@ -143,6 +143,45 @@ namespace suturesim::realtime
       [&tetrahedra](const std::size_t k) { return std::size_t(tetrahedra[k]); }, tetrahedra.size());
   }
 
+  bool
+  VolumeConstraints::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
+  {
+    per_element = 4;
+    nodes.clear();
+    for (const auto &t : tets)
+      nodes.insert(nodes.end(), t.begin(), t.end());
+    return true;
+  }
+
+  void
+  VolumeConstraints::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
+                                      const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
+  {
+    // V is linear in x_i: V = ∇ᵢV · (x_i − x_b), x_b a vertex of the opposite face, and
+    // ∇ᵢV one cross product (the terms of volume() that involve the vertex only)
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const auto     t = tetrahedra[k];
+        const auto    &T = tets[t];
+        const Vector3d a = x.col(T[0]), b = x.col(T[1]), c = x.col(T[2]), d = x.col(T[3]);
+        Vector3d       g;
+        double         V;
+        if (i == T[0])
+          {
+            g = (c - b).cross(d - b) / -6;
+            V = g.dot(a - b);
+          }
+        else
+          {
+            g = i == T[1] ? (c - a).cross(d - a) / 6 : i == T[2] ? (d - a).cross(b - a) / 6 : (b - a).cross(c - a) / 6;
+            V = g.dot(x.col(i) - a);
+          }
+        const double p = stiffness[t] * (V - rest[t]);
+        f -= p * g;
+        H.noalias() += stiffness[t] * g * g.transpose();
+      }
+  }
+
   void
   VolumeConstraints::reset_multipliers()
   {

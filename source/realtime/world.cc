@@ -354,11 +354,14 @@ namespace suturesim::realtime
     Nodes &n = sys.nodes;
     if (time_integrator->position_based())
       {
-        // the forces the XPBD solve applied (its multipliers of the last substep)
-        const double dt = h / n_substeps;
+        // the forces the XPBD solve applied (its multipliers of the last substep); a
+        // primal tissue solve's interactions, their elastic forces
+        const double      dt      = h / n_substeps;
+        const std::size_t primal  = time_integrator->first_constraint_interaction(sys);
         n.force.setZero();
         for (std::size_t k = first_interaction; k < sys.interactions.size(); ++k)
-          sys.interactions[k]->add_constraint_forces(n.x, n.force, dt);
+          k < primal ? sys.interactions[k]->add_forces(n.x, n.force)
+                     : sys.interactions[k]->add_constraint_forces(n.x, n.force, dt);
         for (const auto &c : sys.contacts)
           c->add_constraint_forces(n.x, n.force, dt);
       }
@@ -402,11 +405,12 @@ namespace suturesim::realtime
       throw std::logic_error("World::reaction: the set was built for another system");
     // the forces evaluate_forces() would give the set's nodes, from the elements touching them
     f.setZero();
-    const bool   constraint = time_integrator->position_based();
-    const double dt         = h / n_substeps;
+    const double      dt     = h / n_substeps;
+    const std::size_t primal = time_integrator->first_constraint_interaction(sys);
     for (std::size_t k = 0; k < sys.interactions.size(); ++k)
       {
-        const Interaction &i = *sys.interactions[k];
+        const bool         constraint = time_integrator->position_based() && k >= primal;
+        const Interaction &i          = *sys.interactions[k];
         if (set.revisions[k] != i.revision())
           {
             set.listed[k]    = i.elements_touching(set.touched, set.elements[k]);
@@ -418,7 +422,7 @@ namespace suturesim::realtime
           constraint ? i.add_constraint_forces_of(n.x, f, dt, set.elements[k]) : i.add_forces_of(n.x, f, set.elements[k]);
       }
     for (const auto &c : sys.contacts)
-      constraint ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
+      time_integrator->position_based() ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
     Vector3d r = Vector3d::Zero();
     for (const auto i : set.nodes)
       {

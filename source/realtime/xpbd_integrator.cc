@@ -36,11 +36,7 @@ namespace suturesim::realtime
         n.previous               = n.x;
 
         // external forces: loads, and contacts that act by force
-        n.force = n.external;
-        s.detect_contacts(n.x, System::Contacts::by_force);
-        for (const auto &c : s.contacts)
-          if (!c->has_projection())
-            c->add_forces(n.x, n.force);
+        external_forces(s);
         for (Eigen::Index i = 0; i < count; ++i)
           if (n.held[i])
             n.x.col(i) = n.target.col(i);
@@ -60,25 +56,10 @@ namespace suturesim::realtime
             i->prepare_projection(dt);
           }
         for (unsigned it = 0; it < n_iterations; ++it)
-          {
-            for (const auto &i : s.interactions)
-              i->project(n.x, n.inverse_mass, dt);
-            for (const auto &c : s.contacts)
-              if (c->has_projection())
-                c->project(n.x, n.inverse_mass, dt);
-          }
+          project_constraints(s, dt);
         for (unsigned it = 0; it < suture_iterations; ++it)
-          {
-            for (auto i = s.first_suture_interaction; i < s.interactions.size(); ++i)
-              s.interactions[i]->project(n.x, n.inverse_mass, dt);
-            for (const auto &c : s.contacts)
-              if (c->has_projection())
-                c->project(n.x, n.inverse_mass, dt);
-          }
-
-        const double keep = std::max(0.0, 1 - damping * dt);
-        for (Eigen::Index i = 0; i < count; ++i)
-          n.v.col(i) = (n.held[i] ? 1.0 : keep) * (n.x.col(i) - n.previous.col(i)) / dt;
+          project_constraints(s, dt, s.first_suture_interaction);
+        update_velocities(n, dt, damping);
       }
 
       bool
@@ -96,10 +77,7 @@ namespace suturesim::realtime
       std::string
       settings() const override
       {
-        return std::to_string(n_iterations) + " iterations" +
-               (suture_iterations > 0
-                  ? " + " + std::to_string(suture_iterations) + " suture iterations"
-                  : "");
+        return sweep_settings(n_iterations, suture_iterations);
       }
 
     private:
@@ -108,6 +86,47 @@ namespace suturesim::realtime
       unsigned suture_iterations;
     };
 
+  } // namespace
+
+  void
+  external_forces(System &s)
+  {
+    Nodes &n = s.nodes;
+    n.force  = n.external;
+    s.detect_contacts(n.x, System::Contacts::by_force);
+    for (const auto &c : s.contacts)
+      if (!c->has_projection())
+        c->add_forces(n.x, n.force);
+  }
+
+  void
+  project_constraints(System &s, const double dt, const std::size_t first)
+  {
+    Nodes &n = s.nodes;
+    for (auto i = first; i < s.interactions.size(); ++i)
+      s.interactions[i]->project(n.x, n.inverse_mass, dt);
+    for (const auto &c : s.contacts)
+      if (c->has_projection())
+        c->project(n.x, n.inverse_mass, dt);
+  }
+
+  void
+  update_velocities(Nodes &n, const double dt, const double damping_rate)
+  {
+    const double keep = std::max(0.0, 1 - damping_rate * dt);
+    for (Eigen::Index i = 0; i < n.x.cols(); ++i)
+      n.v.col(i) = (n.held[i] ? 1.0 : keep) * (n.x.col(i) - n.previous.col(i)) / dt;
+  }
+
+  std::string
+  sweep_settings(const unsigned iterations, const unsigned suture_iterations)
+  {
+    return std::to_string(iterations) + " iterations" +
+           (suture_iterations > 0 ? " + " + std::to_string(suture_iterations) + " suture iterations" : "");
+  }
+
+  namespace
+  {
     const bool registered = Integrator::Registry::instance().add(
       {"xpbd",
        "extended position-based dynamics (Macklin et al. 2016; seed 004): every "

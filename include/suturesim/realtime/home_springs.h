@@ -56,6 +56,12 @@ namespace suturesim::realtime
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
     void
     add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
+    /// f = k (H − P), H = k I
+    void
+    add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *springs, std::size_t n, Vector3d &f,
+                     Eigen::Matrix3d &H) const override;
     void
     reset_multipliers() override;
     void

@@ -59,6 +59,15 @@ namespace suturesim::realtime
       return false;
     }
 
+    /// For position-based integrators: the first interaction solved as a constraint,
+    /// whose forces are its multipliers' (Interaction::add_constraint_forces); those
+    /// before it (a primal tissue solve: "vbd") exert their elastic forces.
+    virtual std::size_t
+    first_constraint_interaction(const System &) const
+    {
+      return 0;
+    }
+
     /// Solver iterations per step (XPBD), 0 for the force-based integrators.
     virtual unsigned
     iterations() const
@@ -74,6 +83,22 @@ namespace suturesim::realtime
       return "";
     }
   };
+
+  /// XPBD's parts the position-based integrators share (xpbd_integrator.cc):
+  /// nodes.force = the external loads and the forces of the contacts that act by force
+  /// (detected at the step's start);
+  void
+  external_forces(System &system);
+  /// one Gauss–Seidel sweep over the interactions from @p first on and the projected
+  /// contacts;
+  void
+  project_constraints(System &system, double dt, std::size_t first = 0);
+  /// v = (1 − c dt)(x − x_prev)/dt after the sweeps (held nodes undamped);
+  void
+  update_velocities(Nodes &nodes, double dt, double damping_rate);
+  /// "n iterations + m suture iterations" for the record.
+  std::string
+  sweep_settings(unsigned iterations, unsigned suture_iterations);
 
   /// Post-step strain limiting of every SpringSet in @p system; returns the number of
   /// springs corrected. Shared by the force-based integrators.

@@ -90,6 +90,13 @@ namespace suturesim::realtime
     void
     add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
                              const std::vector<std::uint32_t> &springs) const override;
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
+    /// f = ±k (L − L₀) n, H = k [n nᵀ + max(0, 1 − L₀/L)(I − n nᵀ)] (the exact Hessian
+    /// with its transverse part clipped at zero under compression: Chen et al. 2024, §3.4)
+    void
+    add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *springs, std::size_t n, Vector3d &f,
+                     Eigen::Matrix3d &H) const override;
     void
     reset_multipliers() override;
     void

@@ -151,6 +151,22 @@ namespace suturesim::realtime
       add_constraint_forces(x, f, dt);
     }
 
+    /// Vertex block descent (integrator "vbd"): the nodes of every element,
+    /// @p per_element apiece (2 for springs, 4 for tetrahedra), element by element into
+    /// @p nodes. False: the family has no vertex blocks.
+    virtual bool
+    element_nodes(std::vector<std::uint32_t> &, unsigned &) const
+    {
+      return false;
+    }
+    /// Vertex block descent: at @p x, over the @p n elements @p elements (indices into
+    /// the family, each with node @p i), f += −∂E/∂x_i and H += a positive
+    /// semi-definite ∂²E/∂x_i² (the exact block where it is one).
+    virtual void
+    add_vertex_block(const Matrix3Xd &, std::uint32_t, const std::uint32_t *, std::size_t, Vector3d &,
+                     Eigen::Matrix3d &) const
+    {}
+
     /// XPBD: constants of the sweeps that depend on the step only (α̃ = 1/(k dt²));
     /// implementations recompute them only when @p dt changes. The inverse masses enter
     /// each projection directly, since holds (tools, transient constraints) change them

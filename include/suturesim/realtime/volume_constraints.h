@@ -53,6 +53,12 @@ namespace suturesim::realtime
     void
     add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
                              const std::vector<std::uint32_t> &tetrahedra) const override;
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
+    /// f = −(K_v/V₀) C ∇ᵢV, H = (K_v/V₀) ∇ᵢV ∇ᵢVᵀ: exact, since V is linear in each vertex
+    void
+    add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n, Vector3d &f,
+                     Eigen::Matrix3d &H) const override;
     void
     reset_multipliers() override;
     void
