@@ -223,7 +223,7 @@ namespace suturesim::realtime
     else
       {
         dt_limit   = std::numeric_limits<double>::infinity();
-        limit_text = "none: XPBD is unconditionally stable";
+        limit_text = "none: position-based integration (xpbd, vbd) is unconditionally stable";
       }
 
     std::ostringstream cause;
@@ -239,7 +239,8 @@ namespace suturesim::realtime
       }
     else if (time_integrator->position_based())
       cause << "a constraint or contact stiffer than " << time_integrator->iterations()
-            << " XPBD iterations at dt = " << dt() << " s resolve";
+            << (time_integrator->first_constraint_interaction(sys) > 0 ? " vbd" : " XPBD") << " iterations at dt = " << dt()
+            << " s resolve";
     else
       cause << "a stiffness above the one estimated at set-up (large deformation or contact); "
                "dt = "

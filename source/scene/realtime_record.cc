@@ -157,7 +157,8 @@ namespace suturesim::scene
     s.time          = rw.time();
     if (world.scene.has_tissue())
       {
-        // assignments of equal sizes into a slot's matrices and vectors allocate nothing
+        // assignments of equal sizes into a slot's matrices and vectors allocate nothing;
+        // a surface grown by seed 002's subdivision reallocates each slot's triangles once
         const auto n = sys.tissue.end;
         s.x          = sys.nodes.x.leftCols(n);
         s.X          = sys.nodes.reference.leftCols(n);

@@ -112,14 +112,14 @@ namespace suturesim
     {
       for (;;)
         {
+          if (stopped.load(std::memory_order_acquire))
+            return nullptr;
           for (auto &s : slots)
             if (s.status.load(std::memory_order_acquire) == free)
               {
                 s.status.store(filling, std::memory_order_relaxed);
                 return &s.state;
               }
-          if (stopped.load(std::memory_order_acquire))
-            return nullptr;
           std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
     }
@@ -211,16 +211,19 @@ namespace suturesim
           tail.store(t + 1, std::memory_order_release);
           did = true;
         }
+      // the states in the order published: the next one only (a slot published later
+      // may be seen ready before it)
       for (;;)
         {
-          Slot *first = nullptr;
+          Slot *next = nullptr;
           for (auto &s : slots)
-            if (s.status.load(std::memory_order_acquire) == ready && (!first || s.sequence < first->sequence))
-              first = &s;
-          if (!first)
+            if (s.status.load(std::memory_order_acquire) == ready && s.sequence == next_to_write)
+              next = &s;
+          if (!next)
             break;
-          sink.state(first->state);
-          first->status.store(free, std::memory_order_release);
+          sink.state(next->state);
+          next->status.store(free, std::memory_order_release);
+          ++next_to_write;
           did = true;
         }
       return did;
@@ -267,7 +270,8 @@ namespace suturesim
     Sinks                      sink;
     std::atomic<std::uint64_t> head{0}, tail{0};
     std::atomic<bool>          stop{false}, stopped{false}; ///< stopped: the writer gave up on an error
-    std::uint64_t              next_sequence = 0;
+    std::uint64_t              next_sequence = 0; ///< producer: of the next state published
+    std::uint64_t              next_to_write = 0; ///< writer: of the next state to write
     std::size_t                row_drops = 0, state_drops = 0;
     std::exception_ptr         error;
     std::chrono::steady_clock::duration busy{0};

@@ -32,7 +32,8 @@ namespace suturesim::realtime
   };
 
   /// The whole tick by phase: contact detection and collision responses (collision),
-  /// the tools, prescribed motions, loads and tool forces (coupling), the rest of the
+  /// the tools, prescribed motions, loads, the suture model's preparation of the step
+  /// (SutureModel::before_step) and tool forces (coupling), the rest of the
   /// step (solve: the integrator's sweeps, the divergence guard), and what the haptic
   /// thread does after the step until end_tick() (recording: the closure measured, the
   /// row and any state handed to the writer).

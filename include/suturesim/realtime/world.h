@@ -218,7 +218,7 @@ namespace suturesim::realtime
 
     /// Where the last step's time went, besides the solve: contact detection and the
     /// post-step collision responses (collision), and the tools, prescribed motions,
-    /// loads and the forces on the tools (coupling). The solve is the step's time less
+    /// loads, SutureModel::before_step and the forces on the tools (coupling). The solve is the step's time less
     /// these (HapticLoop).
     struct StepPhases
     {

@@ -3,7 +3,7 @@
  * @file
  * The record of a realtime run: forces.csv every haptic step (tool forces, the needle's
  * columns, boundary reactions, probes, closure gaps, kinetic energy, and the elastic
- * energy on the rows of the states written),
+ * energy on the rows of the output ticks and the last step),
  * tissue.pvd (tetrahedra or triangles) and suture.pvd (tension per segment) at
  * Time/Output interval and the last state, summary.json with the models, the haptic
  * loop's step-time statistics and the run's metrics.
@@ -39,9 +39,14 @@ namespace suturesim::scene
   public:
     /// Describes the run in summary.json and sets the forces.csv columns.
     RealtimeRecord(RealtimeWorld &world, const RealtimeSettings &settings, io::Recorder &recorder);
+    /// The writer thread's sinks hold this record: it stays where it was made.
+    RealtimeRecord(const RealtimeRecord &) = delete;
+    RealtimeRecord &
+    operator=(const RealtimeRecord &) = delete;
 
     /// A forces.csv row of the current state; the elastic energy, a sweep over every
-    /// element, only on @p output rows (the states written), NaN ("nan") on the others.
+    /// element, only on @p output rows (the output ticks and the last), NaN ("nan") on
+    /// the others.
     /// Handed to the writer thread: the haptic thread formats and writes nothing.
     void
     row(bool output);

@@ -103,7 +103,7 @@ namespace suturesim::scene
               }
             world.measure_closure();
             const bool output = interval > 0 && t >= next_output - 1e-12 * end_time;
-            record.row(output);
+            record.row(output || step == n_steps); // the last state is always written
             if (output)
               {
                 record.write_state();
