@@ -98,24 +98,36 @@ namespace suturesim::realtime
   {
     /// The identity: every spring, in storage order.
     constexpr auto every = [](const std::size_t k) { return k; };
+    /// The springs of a list, in its order.
+    auto
+    listed(const std::vector<std::uint32_t> &springs)
+    {
+      return [S = springs.data()](const std::size_t k) { return std::size_t(S[k]); };
+    }
+    /// The elastic tension k (L − L₀).
+    auto
+    elastic(const double *K, const double *R)
+    {
+      return [K, R](const std::size_t s, const double L) { return K[s] * (L - R[s]); };
+    }
+    /// The tension the XPBD solve applied: C = L − l with ∇_b C = (x_b − x_a)/L, so −λ/dt².
+    auto
+    applied(const double *Lambda, const double dt)
+    {
+      return [Lambda, scale = -1 / (dt * dt)](const std::size_t s, double) { return scale * Lambda[s]; };
+    }
   } // namespace
 
   void
   SpringSet::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
-    const double *R = rest.data(), *K = stiffness.data();
-    add_tension_forces(
-      x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); }, every, first.size());
+    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), every, first.size());
   }
 
   void
   SpringSet::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
-    // C = L − l with ∇_b C = (x_b − x_a)/L: the tension is −λ/dt²
-    const double *Lambda = lambda.data();
-    const double  scale  = -1 / (dt * dt);
-    add_tension_forces(
-      x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; }, every, first.size());
+    add_tension_forces(x, f, applied(lambda.data(), dt), every, first.size());
   }
 
   bool
@@ -132,23 +144,14 @@ namespace suturesim::realtime
   void
   SpringSet::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &springs) const
   {
-    const double        *R = rest.data(), *K = stiffness.data();
-    const std::uint32_t *S = springs.data();
-    add_tension_forces(
-      x, f, [R, K](const std::size_t s, const double L) { return K[s] * (L - R[s]); },
-      [S](const std::size_t k) { return std::size_t(S[k]); }, springs.size());
+    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), listed(springs), springs.size());
   }
 
   void
   SpringSet::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
                                       const std::vector<std::uint32_t> &springs) const
   {
-    const double        *Lambda = lambda.data();
-    const double         scale  = -1 / (dt * dt);
-    const std::uint32_t *S      = springs.data();
-    add_tension_forces(
-      x, f, [Lambda, scale](const std::size_t s, double) { return scale * Lambda[s]; },
-      [S](const std::size_t k) { return std::size_t(S[k]); }, springs.size());
+    add_tension_forces(x, f, applied(lambda.data(), dt), listed(springs), springs.size());
   }
 
   template <typename Tension, typename Spring>

@@ -31,6 +31,27 @@ namespace suturesim::realtime
 {
   namespace
   {
+    /// Counting sort: the items 0…n−1 grouped by key(item) < n_groups (a negative key
+    /// leaves the item out), each group in item order, into @p items with the groups'
+    /// @p offsets (n_groups + 1).
+    template <typename Key>
+    void
+    group(const std::size_t n, const std::size_t n_groups, const Key &key, std::vector<std::uint32_t> &offsets,
+          std::vector<std::uint32_t> &items)
+    {
+      offsets.assign(n_groups + 1, 0);
+      for (std::size_t j = 0; j < n; ++j)
+        if (key(j) >= 0)
+          ++offsets[key(j) + 1];
+      for (std::size_t g = 0; g < n_groups; ++g)
+        offsets[g + 1] += offsets[g];
+      items.resize(offsets.back());
+      std::vector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+      for (std::size_t j = 0; j < n; ++j)
+        if (key(j) >= 0)
+          items[fill[key(j)]++] = static_cast<std::uint32_t>(j);
+    }
+
     /// Per interaction: for each node, the elements at it (compressed rows).
     struct Adjacency
     {
@@ -169,25 +190,22 @@ namespace suturesim::realtime
             if (!i.element_nodes(nodes_of[k], per[k]))
               throw ParameterError("Integrator", "'vbd' needs vertex blocks for every tissue interaction, and '" +
                                                    i.name() + "' has none; use 'xpbd'");
-            auto &a = adjacency[k];
+            // the element-node incidences grouped by node, each as its element
+            auto &a    = adjacency[k];
             a.revision = i.revision();
-            a.offsets.assign(n_nodes + 1, 0);
-            for (const auto v : nodes_of[k])
-              ++a.offsets[v + 1];
-            for (std::size_t v = 0; v < n_nodes; ++v)
-              a.offsets[v + 1] += a.offsets[v];
-            a.elements.resize(nodes_of[k].size());
-            std::vector<std::uint32_t> fill(a.offsets.begin(), a.offsets.end() - 1);
-            for (std::size_t j = 0; j < nodes_of[k].size(); ++j)
+            group(
+              nodes_of[k].size(), n_nodes, [&](const std::size_t j) { return std::int64_t(nodes_of[k][j]); },
+              a.offsets, a.elements);
+            for (auto &e : a.elements)
               {
-                a.elements[fill[nodes_of[k][j]]++] = static_cast<std::uint32_t>(j / per[k]);
-                in_colour[nodes_of[k][j]]          = 1;
+                in_colour[nodes_of[k][e]] = 1;
+                e /= per[k];
               }
           }
         // greedy colouring in node order: the smallest colour no neighbour has
-        std::vector<int>  colour(n_nodes, -1);
-        std::vector<char> taken;
-        int               n_colours = 0;
+        std::vector<std::int64_t> colour(n_nodes, -1);
+        std::vector<char>         taken;
+        std::int64_t              n_colours = 0;
         for (std::uint32_t v = 0; v < n_nodes; ++v)
           {
             if (!in_colour[v])
@@ -196,25 +214,13 @@ namespace suturesim::realtime
             for (std::size_t k = 0; k < tissue_end; ++k)
               for (auto e = adjacency[k].offsets[v]; e < adjacency[k].offsets[v + 1]; ++e)
                 for (unsigned j = 0; j < per[k]; ++j)
-                  {
-                    const int c = colour[nodes_of[k][per[k] * adjacency[k].elements[e] + j]];
-                    if (c >= 0)
-                      taken[c] = 1;
-                  }
-            colour[v] = int(std::find(taken.begin(), taken.end(), 0) - taken.begin());
+                  if (const auto c = colour[nodes_of[k][per[k] * adjacency[k].elements[e] + j]]; c >= 0)
+                    taken[c] = 1;
+            colour[v] = std::find(taken.begin(), taken.end(), 0) - taken.begin();
             n_colours = std::max(n_colours, colour[v] + 1);
           }
-        colour_offsets.assign(n_colours + 1, 0);
-        for (std::uint32_t v = 0; v < n_nodes; ++v)
-          if (colour[v] >= 0)
-            ++colour_offsets[colour[v] + 1];
-        for (int c = 0; c < n_colours; ++c)
-          colour_offsets[c + 1] += colour_offsets[c];
-        order.resize(colour_offsets.back());
-        std::vector<std::size_t> fill(colour_offsets.begin(), colour_offsets.end() - 1);
-        for (std::uint32_t v = 0; v < n_nodes; ++v)
-          if (colour[v] >= 0)
-            order[fill[colour[v]]++] = v;
+        group(
+          n_nodes, std::size_t(n_colours), [&](const std::size_t v) { return colour[v]; }, colour_offsets, order);
       }
 
       unsigned                   n_iterations;
@@ -224,7 +230,7 @@ namespace suturesim::realtime
       std::vector<Adjacency>     adjacency;
       std::vector<char>          in_colour;      ///< per node: a tissue node, moved by the descent
       std::vector<std::uint32_t> order;          ///< tissue nodes by colour
-      std::vector<std::size_t>   colour_offsets; ///< of each colour in order
+      std::vector<std::uint32_t> colour_offsets; ///< of each colour in order
       Matrix3Xd                  y;              ///< inertial targets x_prev + dt v
     };
 

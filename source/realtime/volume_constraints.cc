@@ -83,6 +83,24 @@ namespace suturesim::realtime
   {
     /// The identity: every tetrahedron, in storage order.
     constexpr auto every = [](const std::size_t k) { return k; };
+    /// The tetrahedra of a list, in its order.
+    auto
+    listed(const std::vector<std::uint32_t> &tetrahedra)
+    {
+      return [T = tetrahedra.data()](const std::size_t k) { return std::size_t(T[k]); };
+    }
+    /// The elastic pressure −(K_v/V₀)(V − V₀).
+    auto
+    elastic(const double *K, const double *V0)
+    {
+      return [K, V0](const std::size_t t, const double V) { return -K[t] * (V - V0[t]); };
+    }
+    /// The pressure the XPBD solve applied, λ/dt².
+    auto
+    applied(const double *Lambda, const double dt)
+    {
+      return [Lambda, dt](const std::size_t t, double) { return Lambda[t] / (dt * dt); };
+    }
   } // namespace
 
   template <typename Pressure, typename Tet>
@@ -103,16 +121,13 @@ namespace suturesim::realtime
   void
   VolumeConstraints::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
-    add_pressure_forces(
-      x, f, [this](const std::size_t t, const double V) { return -stiffness[t] * (V - rest[t]); }, every,
-      tets.size());
+    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), every, tets.size());
   }
 
   void
   VolumeConstraints::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
-    add_pressure_forces(
-      x, f, [this, dt](const std::size_t t, double) { return lambda[t] / (dt * dt); }, every, tets.size());
+    add_pressure_forces(x, f, applied(lambda.data(), dt), every, tets.size());
   }
 
   bool
@@ -129,18 +144,14 @@ namespace suturesim::realtime
   void
   VolumeConstraints::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const
   {
-    add_pressure_forces(
-      x, f, [this](const std::size_t t, const double V) { return -stiffness[t] * (V - rest[t]); },
-      [&tetrahedra](const std::size_t k) { return std::size_t(tetrahedra[k]); }, tetrahedra.size());
+    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), listed(tetrahedra), tetrahedra.size());
   }
 
   void
   VolumeConstraints::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
                                               const std::vector<std::uint32_t> &tetrahedra) const
   {
-    add_pressure_forces(
-      x, f, [this, dt](const std::size_t t, double) { return lambda[t] / (dt * dt); },
-      [&tetrahedra](const std::size_t k) { return std::size_t(tetrahedra[k]); }, tetrahedra.size());
+    add_pressure_forces(x, f, applied(lambda.data(), dt), listed(tetrahedra), tetrahedra.size());
   }
 
   bool

@@ -407,10 +407,11 @@ namespace suturesim::realtime
     // the forces evaluate_forces() would give the set's nodes, from the elements touching them
     f.setZero();
     const double      dt     = h / n_substeps;
+    const bool        xpbd   = time_integrator->position_based();
     const std::size_t primal = time_integrator->first_constraint_interaction(sys);
     for (std::size_t k = 0; k < sys.interactions.size(); ++k)
       {
-        const bool         constraint = time_integrator->position_based() && k >= primal;
+        const bool         constraint = xpbd && k >= primal;
         const Interaction &i          = *sys.interactions[k];
         if (set.revisions[k] != i.revision())
           {
@@ -423,7 +424,7 @@ namespace suturesim::realtime
           constraint ? i.add_constraint_forces_of(n.x, f, dt, set.elements[k]) : i.add_forces_of(n.x, f, set.elements[k]);
       }
     for (const auto &c : sys.contacts)
-      time_integrator->position_based() ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
+      xpbd ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
     Vector3d r = Vector3d::Zero();
     for (const auto i : set.nodes)
       {
