@@ -85,6 +85,15 @@ namespace suturesim::realtime
   }
 
   void
+  HomeSprings::warm_start(Matrix3Xd &x, const VectorXd &w, const double scale)
+  {
+    // C = x − home, ∇C = I: the node moves by w λ
+    lambda *= scale;
+    for (std::size_t s = 0; s < nodes.size(); ++s)
+      x.col(nodes[s]) += w[nodes[s]] * lambda.col(s);
+  }
+
+  void
   HomeSprings::project(Matrix3Xd &x, const VectorXd &w, const double dt)
   {
     for (std::size_t s = 0; s < nodes.size(); ++s)

@@ -211,6 +211,41 @@ namespace suturesim::realtime
 
   namespace
   {
+    /// ∂V/∂x_k of the tetrahedron (p0, p1, p2, p3) into g[k] and 6V − the terms shared
+    /// by the sweep and the warm start: with e_k = p_k − p0, g1 = e2 × e3 / 6,
+    /// g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3); returns V = e1 · g1.
+    /// Inline into the multi-versioned kernels (a call would not inherit their target).
+    [[gnu::always_inline]] inline double
+    volume_gradients(const double *p0, const double *p1, const double *p2, const double *p3,
+                     double (&g)[4][3])
+    {
+      const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+      const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
+      constexpr double sixth = 1.0 / 6;
+      g[1][0] = sixth * (e2[1] * e3[2] - e2[2] * e3[1]);
+      g[1][1] = sixth * (e2[2] * e3[0] - e2[0] * e3[2]);
+      g[1][2] = sixth * (e2[0] * e3[1] - e2[1] * e3[0]);
+      g[2][0] = sixth * (e3[1] * e1[2] - e3[2] * e1[1]);
+      g[2][1] = sixth * (e3[2] * e1[0] - e3[0] * e1[2]);
+      g[2][2] = sixth * (e3[0] * e1[1] - e3[1] * e1[0]);
+      g[3][0] = sixth * (e1[1] * e2[2] - e1[2] * e2[1]);
+      g[3][1] = sixth * (e1[2] * e2[0] - e1[0] * e2[2]);
+      g[3][2] = sixth * (e1[0] * e2[1] - e1[1] * e2[0]);
+      for (int d = 0; d < 3; ++d)
+        g[0][d] = -(g[1][d] + g[2][d] + g[3][d]);
+      return e1[0] * g[1][0] + e1[1] * g[1][1] + e1[2] * g[1][2];
+    }
+
+    /// p_k += s_k g_k for the four vertices.
+    [[gnu::always_inline]] inline void
+    move_vertices(double *const (&p)[4], const double (&s)[4], const double (&g)[4][3])
+    {
+      for (int k = 0; k < 4; ++k)
+        for (int d = 0; d < 3; ++d)
+          p[k][d] += s[k] * g[k][d];
+    }
+
     /// One Gauss–Seidel sweep over n volume constraints (the hot kernel: the gradient
     /// ∂V/∂x_k inline, one division). A free function: GCC multi-versions no virtual
     /// function.
@@ -220,47 +255,48 @@ namespace suturesim::realtime
     {
       for (std::size_t t = 0; t < n; ++t)
         {
-          const auto  &v  = tets[t];
-          double      *p0 = X + 3 * std::size_t(v[0]), *p1 = X + 3 * std::size_t(v[1]),
-                 *p2 = X + 3 * std::size_t(v[2]), *p3 = X + 3 * std::size_t(v[3]);
-          const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-          const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-          const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
-          constexpr double sixth = 1.0 / 6;
-          // g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3)
-          const double g1[3] = {sixth * (e2[1] * e3[2] - e2[2] * e3[1]),
-                                sixth * (e2[2] * e3[0] - e2[0] * e3[2]),
-                                sixth * (e2[0] * e3[1] - e2[1] * e3[0])};
-          const double g2[3] = {sixth * (e3[1] * e1[2] - e3[2] * e1[1]),
-                                sixth * (e3[2] * e1[0] - e3[0] * e1[2]),
-                                sixth * (e3[0] * e1[1] - e3[1] * e1[0])};
-          const double g3[3] = {sixth * (e1[1] * e2[2] - e1[2] * e2[1]),
-                                sixth * (e1[2] * e2[0] - e1[0] * e2[2]),
-                                sixth * (e1[0] * e2[1] - e1[1] * e2[0])};
-          const double g0[3] = {-(g1[0] + g2[0] + g3[0]), -(g1[1] + g2[1] + g3[1]),
-                                -(g1[2] + g2[2] + g3[2])};
-          const double c  = e1[0] * g1[0] + e1[1] * g1[1] + e1[2] * g1[2] - rest[t];
-          const double w0 = W[v[0]], w1 = W[v[1]], w2 = W[v[2]], w3 = W[v[3]];
-          // no lambda here: it would not inherit the kernel's target
-#define SUTURESIM_SQ(a) (a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
-          const double denominator = alpha[t] + w0 * SUTURESIM_SQ(g0) + w1 * SUTURESIM_SQ(g1) +
-                                     w2 * SUTURESIM_SQ(g2) + w3 * SUTURESIM_SQ(g3);
-#undef SUTURESIM_SQ
+          const auto  &v    = tets[t];
+          double *const p[4] = {X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
+                                X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3])};
+          double       g[4][3];
+          const double c = volume_gradients(p[0], p[1], p[2], p[3], g) - rest[t];
+          const double w[4] = {W[v[0]], W[v[1]], W[v[2]], W[v[3]]};
+          double       denominator = alpha[t];
+          for (int k = 0; k < 4; ++k)
+            denominator += w[k] * (g[k][0] * g[k][0] + g[k][1] * g[k][1] + g[k][2] * g[k][2]);
           if (denominator == 0)
             continue;
           const double d_lambda = (-c - alpha[t] * lambda[t]) / denominator;
           lambda[t] += d_lambda;
-          const double s0 = w0 * d_lambda, s1 = w1 * d_lambda, s2 = w2 * d_lambda, s3 = w3 * d_lambda;
-          for (int d = 0; d < 3; ++d)
-            {
-              p0[d] += s0 * g0[d];
-              p1[d] += s1 * g1[d];
-              p2[d] += s2 * g2[d];
-              p3[d] += s3 * g3[d];
-            }
+          move_vertices(p, {w[0] * d_lambda, w[1] * d_lambda, w[2] * d_lambda, w[3] * d_lambda}, g);
+        }
+    }
+
+    /// Interaction::warm_start() of n volume constraints: λ ← scale λ, x_k += w_k λ ∂V/∂x_k.
+    SUTURESIM_HOT_KERNEL void
+    warm_start_volumes(double *X, const double *W, const mesh::Tetrahedron *tets, double *lambda,
+                       const double scale, const std::size_t n)
+    {
+      for (std::size_t t = 0; t < n; ++t)
+        {
+          const double l = lambda[t] *= scale;
+          if (l == 0)
+            continue;
+          const auto  &v    = tets[t];
+          double *const p[4] = {X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
+                                X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3])};
+          double g[4][3];
+          volume_gradients(p[0], p[1], p[2], p[3], g);
+          move_vertices(p, {W[v[0]] * l, W[v[1]] * l, W[v[2]] * l, W[v[3]] * l}, g);
         }
     }
   } // namespace
+
+  void
+  VolumeConstraints::warm_start(Matrix3Xd &x, const VectorXd &w, const double scale)
+  {
+    warm_start_volumes(x.data(), w.data(), tets.data(), lambda.data(), scale, tets.size());
+  }
 
   void
   VolumeConstraints::project(Matrix3Xd &x, const VectorXd &w, double)

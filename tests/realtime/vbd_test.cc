@@ -153,3 +153,23 @@ TEST(VertexBlockDescent, OneSweepSettlesAtTheConvergedSagWhereXpbdsDoesNot)
   EXPECT_NEAR(vbd_1, converged, 0.01 * std::abs(converged));
   EXPECT_GT(std::abs(xpbd_1 / converged - 1), 0.2); // what the new integrator is for
 }
+
+TEST(XpbdWarmStart, OneSweepSettlesAtTheConvergedSag)
+{
+  // Warm-started XPBD (Interaction::warm_start): at a static equilibrium the last step's
+  // multipliers and the positions they imply already satisfy C + α̃λ = 0, so one sweep a
+  // step holds the converged state, where the cold start settles too soft (the same
+  // block and damping as above).
+  const std::map<std::string, std::string> cold{{"Damping rate", "50"}, {"Iterations", "1"}};
+  auto                                     warm = cold;
+  warm["Warm start"]                            = "true";
+  auto converged_settings                       = cold;
+  converged_settings["Iterations"]              = "40";
+  const double converged = settled_sag("xpbd", converged_settings);
+  const double cold_1    = settled_sag("xpbd", cold);
+  const double warm_1    = settled_sag("xpbd", warm);
+  std::printf("[ sag ] converged (xpbd, 40 sweeps) %.6e m; 1 sweep cold %.6e m (%+.1f %%), warm %.6e m (%+.2f %%)\n",
+              converged, cold_1, 100 * (cold_1 / converged - 1), warm_1, 100 * (warm_1 / converged - 1));
+  EXPECT_NEAR(warm_1, converged, 0.01 * std::abs(converged));
+  EXPECT_GT(std::abs(cold_1 / converged - 1), 0.2); // what the warm start is for
+}

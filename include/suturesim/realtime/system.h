@@ -113,6 +113,23 @@ namespace suturesim::realtime
     virtual void
     reset_multipliers() = 0;
 
+    /// XPBD warm start (integrator xpbd, `Warm start = true`): keeps the last step's
+    /// multipliers scaled by @p scale = (dt/dt_prev)², so that the forces λ/dt² carry
+    /// over, and moves the nodes by their inverse masses @p w along ∇C(x)ᵀλ to the
+    /// positions those multipliers imply (x = x̃ + M⁻¹∇Cᵀλ, the linearised first row of
+    /// Macklin et al. 2016, eq. 9). The sweeps then start from the last step's solution
+    /// instead of the unconstrained prediction: at a static equilibrium x* the warm
+    /// start lands on x* with C + α̃λ = 0, so every Δλ vanishes and one sweep holds the
+    /// converged state, where a cold start settles where one sweep's λ balances the load
+    /// (the warm starting of accumulated impulses in sequential-impulse solvers: Catto
+    /// 2005, "Iterative dynamics with temporal coherence", GDC). Families that do not
+    /// implement it start cold (reset_multipliers()).
+    virtual void
+    warm_start(Matrix3Xd &, const VectorXd &, double)
+    {
+      reset_multipliers();
+    }
+
     /// XPBD: f += ∇Cᵀλ/dt², the forces the last solve applied (Macklin, Müller &
     /// Chentanez 2016, §4). They equal add_forces() once the solve has converged; with
     /// few iterations of a stiff constraint they are the forces consistent with the

@@ -62,6 +62,8 @@ namespace suturesim::realtime
     void
     reset_multipliers() override;
     void
+    warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
     prepare_projection(double dt) override;
