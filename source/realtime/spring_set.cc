@@ -27,6 +27,7 @@ namespace suturesim::realtime
     lambda.push_back(0);
     alpha_tilde.push_back(0);
     prepared_dt = 0;
+    parallel.clear(); // the blocks hold for the springs partition() ordered
     ++changes;
   }
 
@@ -45,6 +46,7 @@ namespace suturesim::realtime
     stiffness[s] = k;
     lambda[s]    = 0;
     prepared_dt  = 0; // α̃ of the new stiffness at the next prepare_projection()
+    parallel.clear(); // the new ends may span blocks
     ++changes;
   }
 
@@ -61,14 +63,43 @@ namespace suturesim::realtime
   void
   SpringSet::sort()
   {
-    std::vector<std::array<std::uint32_t, 2>> ends(first.size());
-    std::uint32_t                             n_nodes = 0;
+    std::uint32_t n_nodes = 0;
+    for (const auto j : second)
+      n_nodes = std::max(n_nodes, j + 1);
+    reorder(independent_order(ends(), n_nodes));
+    parallel.clear();
+  }
+
+  std::vector<std::array<std::uint32_t, 2>>
+  SpringSet::ends() const
+  {
+    std::vector<std::array<std::uint32_t, 2>> e(first.size());
     for (std::size_t s = 0; s < first.size(); ++s)
+      e[s] = {first[s], second[s]};
+    return e;
+  }
+
+  bool
+  SpringSet::partition(const std::vector<std::uint32_t> &node_part, const std::vector<std::uint32_t> &local,
+                       const unsigned parts)
+  {
+    const auto blocked = block_order(ends(), node_part, parts);
+    reorder(blocked.order);
+    parallel = blocked.blocks;
+    const std::size_t interface = parallel[parts];
+    local_first.resize(interface);
+    local_second.resize(interface);
+    for (std::size_t s = 0; s < interface; ++s)
       {
-        ends[s] = {first[s], second[s]};
-        n_nodes = std::max(n_nodes, second[s] + 1);
+        local_first[s]  = local[first[s]];
+        local_second[s] = local[second[s]];
       }
-    const auto order = independent_order(ends, n_nodes);
+    return true;
+  }
+
+  void
+  SpringSet::reorder(const std::vector<std::size_t> &order)
+  {
     const auto permute = [&](auto &v) {
       auto copy = v;
       for (std::size_t s = 0; s < order.size(); ++s)
@@ -79,6 +110,7 @@ namespace suturesim::realtime
     permute(rest);
     permute(stiffness);
     permute(lambda);
+    permute(alpha_tilde);
     ++changes;
   }
 
@@ -299,6 +331,22 @@ namespace suturesim::realtime
   {
     project_distances(x.data(), w.data(), first.data(), second.data(), rest.data(),
                       alpha_tilde.data(), lambda.data(), first.size());
+  }
+
+  void
+  SpringSet::project_block(const unsigned p, Matrix3Xd &x, const VectorXd &w, double)
+  {
+    const std::size_t b = parallel[p];
+    project_distances(x.data(), w.data(), local_first.data() + b, local_second.data() + b, rest.data() + b,
+                      alpha_tilde.data() + b, lambda.data() + b, parallel[p + 1] - b);
+  }
+
+  void
+  SpringSet::project_range(Matrix3Xd &x, const VectorXd &w, double, const std::size_t begin,
+                           const std::size_t end)
+  {
+    project_distances(x.data(), w.data(), first.data() + begin, second.data() + begin, rest.data() + begin,
+                      alpha_tilde.data() + begin, lambda.data() + begin, end - begin);
   }
 
 

@@ -40,7 +40,27 @@ namespace suturesim::realtime
     std::uint32_t n_nodes = 0;
     for (const auto &v : tets)
       n_nodes = std::max(n_nodes, *std::max_element(v.begin(), v.end()) + 1);
-    const auto order = independent_order(tets, n_nodes);
+    reorder(independent_order(tets, n_nodes));
+    parallel.clear();
+  }
+
+  bool
+  VolumeConstraints::partition(const std::vector<std::uint32_t> &node_part, const std::vector<std::uint32_t> &local,
+                               const unsigned parts)
+  {
+    const auto blocked = block_order(tets, node_part, parts);
+    reorder(blocked.order);
+    parallel = blocked.blocks;
+    local_tets.resize(parallel[parts]);
+    for (std::size_t t = 0; t < local_tets.size(); ++t)
+      for (int k = 0; k < 4; ++k)
+        local_tets[t][k] = local[tets[t][k]];
+    return true;
+  }
+
+  void
+  VolumeConstraints::reorder(const std::vector<std::size_t> &order)
+  {
     const auto permute = [&](auto &v) {
       auto copy = v;
       for (std::size_t k = 0; k < order.size(); ++k)
@@ -49,6 +69,9 @@ namespace suturesim::realtime
     permute(tets);
     permute(rest);
     permute(stiffness);
+    permute(lambda);
+    permute(alpha_tilde);
+    ++changes;
   }
 
   double
@@ -303,6 +326,22 @@ namespace suturesim::realtime
   {
     project_volumes(x.data(), w.data(), tets.data(), rest.data(), alpha_tilde.data(),
                     lambda.data(), tets.size());
+  }
+
+  void
+  VolumeConstraints::project_block(const unsigned p, Matrix3Xd &x, const VectorXd &w, double)
+  {
+    const std::size_t b = parallel[p];
+    project_volumes(x.data(), w.data(), local_tets.data() + b, rest.data() + b, alpha_tilde.data() + b,
+                    lambda.data() + b, parallel[p + 1] - b);
+  }
+
+  void
+  VolumeConstraints::project_range(Matrix3Xd &x, const VectorXd &w, double, const std::size_t begin,
+                                   const std::size_t end)
+  {
+    project_volumes(x.data(), w.data(), tets.data() + begin, rest.data() + begin,
+                    alpha_tilde.data() + begin, lambda.data() + begin, end - begin);
   }
 
 

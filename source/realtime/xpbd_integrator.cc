@@ -16,8 +16,14 @@
  * Warm start (`Warm start = true`): the tissue's constraints keep their multipliers from
  * step to step (Interaction::warm_start), so that a few sweeps per step converge over the
  * steps instead of restarting from zero every step; the converged step is unchanged.
+ *
+ * Threads (`Threads` ≥ 2): the tissue's warm start and sweeps by domain decomposition
+ * (slab_sweep.h), the projected contacts found on a helper during the first sweep.
  */
 #include <suturesim/realtime/integrator.h>
+#include <suturesim/realtime/slab_sweep.h>
+
+#include <memory>
 
 namespace suturesim::realtime
 {
@@ -31,6 +37,7 @@ namespace suturesim::realtime
         , damping(p.real("Damping rate"))
         , suture_iterations(p.integer("Suture iterations"))
         , warm(p.boolean("Warm start"))
+        , slabs(p.integer("Threads") > 1 ? std::make_unique<SlabSweep>(p.integer("Threads")) : nullptr)
       {}
 
       void
@@ -51,25 +58,20 @@ namespace suturesim::realtime
               n.x.col(i) += dt * n.v.col(i);
             }
 
-        s.detect_contacts(n.x, System::Contacts::projected);
-        for (const auto &c : s.contacts)
-          if (c->has_projection())
-            c->reset_multipliers();
         // λ scales with dt² (λ = f dt²): a changed step carries the forces over
-        const double scale = previous_dt > 0 ? (dt / previous_dt) * (dt / previous_dt) : 0.0;
+        const double scale = warm && previous_dt > 0 ? (dt / previous_dt) * (dt / previous_dt) : 0.0;
         previous_dt        = dt;
-        for (std::size_t k = 0; k < s.interactions.size(); ++k)
+        if (slabs)
+          threaded_sweeps(s, dt, scale);
+        else
           {
-            // the tissue only: a stiff suture's large multipliers, applied along links
-            // that turned since, throw it off (measured: diverges at once)
-            if (warm && scale > 0 && k < s.first_suture_interaction)
-              s.interactions[k]->warm_start(n.x, n.inverse_mass, scale);
-            else
-              s.interactions[k]->reset_multipliers();
-            s.interactions[k]->prepare_projection(dt);
+            s.detect_contacts(n.x, System::Contacts::projected);
+            reset_contacts(s);
+            for (std::size_t k = 0; k < s.interactions.size(); ++k)
+              start_multipliers(*s.interactions[k], n, k < s.first_suture_interaction ? scale : 0.0, dt);
+            for (unsigned it = 0; it < n_iterations; ++it)
+              project_constraints(s, dt);
           }
-        for (unsigned it = 0; it < n_iterations; ++it)
-          project_constraints(s, dt);
         for (unsigned it = 0; it < suture_iterations; ++it)
           project_constraints(s, dt, s.first_suture_interaction);
         update_velocities(n, dt, damping);
@@ -90,15 +92,68 @@ namespace suturesim::realtime
       std::string
       settings() const override
       {
-        return sweep_settings(n_iterations, suture_iterations) + (warm ? ", warm-started" : "");
+        return sweep_settings(n_iterations, suture_iterations) + (warm ? ", warm-started" : "") +
+               (slabs ? ", " + std::to_string(slabs->threads()) + " threads" : "");
       }
 
     private:
-      unsigned n_iterations;
-      double   damping;
-      unsigned suture_iterations;
-      bool     warm;
-      double   previous_dt = 0; ///< s; 0 before the first step: nothing to warm-start from
+      /// A family's multipliers at the step's start: the last step's, scaled by
+      /// @p scale (warm start; the tissue only: a stiff suture's large multipliers,
+      /// applied along links that turned since, throw it off, measured: it diverges at
+      /// once), or zero when @p scale is 0.
+      static void
+      start_multipliers(Interaction &i, Nodes &n, const double scale, const double dt)
+      {
+        if (scale > 0)
+          i.warm_start(n.x, n.inverse_mass, scale);
+        else
+          i.reset_multipliers();
+        i.prepare_projection(dt);
+      }
+
+      static void
+      reset_contacts(System &s)
+      {
+        for (const auto &c : s.contacts)
+          if (c->has_projection())
+            c->reset_multipliers();
+      }
+
+      /// The sweeps with Threads > 1: the contacts found on a helper while this thread
+      /// starts the multipliers, the tissue's sweeps by slabs (slab_sweep.h). The
+      /// collision phase counts the time this thread waited for the detection.
+      void
+      threaded_sweeps(System &s, const double dt, const double scale)
+      {
+        Nodes &n = s.nodes;
+        if (!partitioned)
+          {
+            slabs->partition(s);
+            partitioned = true;
+          }
+        predicted            = n.x; // where a sequential step finds the contacts
+        const auto before    = s.detection_time;
+        const auto waited    = slabs->detect_contacts_beside(s, predicted, [&] {
+          for (std::size_t k = 0; k < s.interactions.size(); ++k)
+            start_multipliers(*s.interactions[k], n, k < s.first_suture_interaction ? scale : 0.0, dt);
+        });
+        s.detection_time = before + waited;
+        reset_contacts(s);
+        for (unsigned it = 0; it < n_iterations; ++it)
+          {
+            slabs->sweep(s, dt);
+            project_constraints(s, dt, s.first_suture_interaction);
+          }
+      }
+
+      unsigned                   n_iterations;
+      double                     damping;
+      unsigned                   suture_iterations;
+      bool                       warm;
+      double                     previous_dt = 0; ///< s; 0 before the first step: nothing to warm-start from
+      std::unique_ptr<SlabSweep> slabs;           ///< Threads > 1
+      bool                       partitioned = false;
+      Matrix3Xd                  predicted; ///< the positions the helper finds contacts at
     };
 
   } // namespace
@@ -161,6 +216,12 @@ namespace suturesim::realtime
                     "start settles where one sweep's multipliers balance the load (softer). "
                     "Tissue springs, volume and home constraints; the suture and contacts start "
                     "cold. Unit: none.");
+         d.add_integer("Threads", 1, 1, 64,
+                       "Threads of the step: 2 or more sweep the tissue's springs and volumes "
+                       "by domain decomposition (one slab of nodes per thread along the "
+                       "tissue's longest extent, then the constraints between slabs) and find "
+                       "the contacts on a helper meanwhile. The helpers spin between the "
+                       "step's phases: give each a core of its own. Unit: 1. Range: 1-64.");
          d.add_real("Damping rate", 0, 0, 1e9,
                     "Velocity damping v <- (1 - c dt) v after each step. Unit: 1/s. "
                     "Range: >= 0.");

@@ -205,6 +205,16 @@ namespace
   BENCHMARK_CAPTURE(HapticTick, vbd_1_plus_8, std::string("vbd"),
                     std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}})
     ->Unit(benchmark::kMicrosecond);
+  // the warm start, then also on two threads (slab_sweep.h): the ratios to xpbd_1_plus_8
+  // are what the two cost and save
+  BENCHMARK_CAPTURE(HapticTick, xpbd_1_plus_8_warm, std::string("xpbd"),
+                    std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}, {"Warm start", "true"}})
+    ->Unit(benchmark::kMicrosecond);
+  BENCHMARK_CAPTURE(HapticTick, xpbd_1_plus_8_warm_2_threads, std::string("xpbd"),
+                    std::map<std::string, std::string>{
+                      {"Iterations", "1"}, {"Suture iterations", "8"}, {"Warm start", "true"}, {"Threads", "2"}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 
   /// One haptic step of a suture alone, its end moved by a tool on a circle.
   void

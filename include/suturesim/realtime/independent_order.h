@@ -46,4 +46,42 @@ namespace suturesim::realtime
     });
     return order;
   }
+  /// An order of constraints in blocks for @p parts threads, given each node's part
+  /// @p node_part: block p (p < parts) holds the items whose nodes all lie in part p,
+  /// the last block the items that span parts; each block in independent_order(). Blocks
+  /// below parts share no node with each other, so threads may sweep them at once (a
+  /// domain decomposition: Gauss–Seidel within each block, the interface after them).
+  struct BlockOrder
+  {
+    std::vector<std::size_t> order;  ///< new position → old index
+    std::vector<std::size_t> blocks; ///< block k is [blocks[k], blocks[k + 1]), parts + 1 blocks
+  };
+
+  template <std::size_t n>
+  BlockOrder
+  block_order(const std::vector<std::array<std::uint32_t, n>> &items, const std::vector<std::uint32_t> &node_part,
+              const unsigned parts)
+  {
+    std::vector<std::vector<std::size_t>> members(parts + 1);
+    for (std::size_t c = 0; c < items.size(); ++c)
+      {
+        const std::uint32_t p    = node_part[items[c][0]];
+        bool                same = true;
+        for (const auto v : items[c])
+          same = same && node_part[v] == p;
+        members[same && p < parts ? p : parts].push_back(c);
+      }
+    BlockOrder result;
+    result.blocks.push_back(0);
+    for (const auto &m : members)
+      {
+        std::vector<std::array<std::uint32_t, n>> subset(m.size());
+        for (std::size_t k = 0; k < m.size(); ++k)
+          subset[k] = items[m[k]];
+        for (const auto k : independent_order(subset, node_part.size()))
+          result.order.push_back(m[k]);
+        result.blocks.push_back(result.order.size());
+      }
+    return result;
+  }
 } // namespace suturesim::realtime

@@ -31,6 +31,7 @@
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/system.h>
 
+#include <array>
 #include <vector>
 
 namespace suturesim::realtime
@@ -101,6 +102,18 @@ namespace suturesim::realtime
     reset_multipliers() override;
     void
     warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    bool
+    partition(const std::vector<std::uint32_t> &node_part, const std::vector<std::uint32_t> &local,
+              unsigned parts) override;
+    const std::vector<std::size_t> *
+    blocks() const override
+    {
+      return parallel.empty() ? nullptr : &parallel;
+    }
+    void
+    project_block(unsigned p, Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    project_range(Matrix3Xd &x, const VectorXd &w, double dt, std::size_t begin, std::size_t end) override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
@@ -139,6 +152,13 @@ namespace suturesim::realtime
     }
 
   private:
+    /// The springs' end pairs, for the orderings of independent_order.h.
+    std::vector<std::array<std::uint32_t, 2>>
+    ends() const;
+    /// Permutes every per-spring array: position s gets spring order[s].
+    void
+    reorder(const std::vector<std::size_t> &order);
+
     /// f += t(s, L) (x_b − x_a)/L on a, the opposite on b, for the springs s = spring(k),
     /// k < n: the one kernel of elastic and constraint forces, of all springs or a list.
     template <typename Tension, typename Spring>
@@ -149,6 +169,10 @@ namespace suturesim::realtime
     std::string                label;
     std::vector<std::uint32_t> first, second;
     std::vector<double>        rest, stiffness, lambda;
+    /// blocks() of the last partition(); emptied by add(), set() and sort()
+    std::vector<std::size_t> parallel;
+    /// the ends of the springs of blocks below the interface, as indices into their part
+    std::vector<std::uint32_t> local_first, local_second;
     std::size_t                changes = 0; ///< revision()
     /// α̃ = 1/(k dt²) for the step prepared_dt (prepare_projection)
     std::vector<double> alpha_tilde;

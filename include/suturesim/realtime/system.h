@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <stdexcept>
 #include <vector>
 
 namespace suturesim::realtime
@@ -197,6 +198,39 @@ namespace suturesim::realtime
     virtual void
     project(Matrix3Xd &x, const VectorXd &w, double dt) = 0;
 
+    /// XPBD on several threads (a domain decomposition): reorders the constraints into
+    /// blocks for @p parts threads, given each node's part @p node_part and its index
+    /// @p local within its part (independent_order.h, block_order()). Block p < parts
+    /// holds the constraints within part p, swept by thread p on its own copy of the
+    /// part's nodes (project_block()); the last block, the interface, sweeps after them
+    /// (project_range()). Nodes outside the family may have any part. False: the family
+    /// sweeps on one thread only.
+    virtual bool
+    partition(const std::vector<std::uint32_t> &, const std::vector<std::uint32_t> &, unsigned)
+    {
+      return false;
+    }
+    /// Offsets b of the blocks of the last partition(): [b[p], b[p + 1]) for p < parts,
+    /// then the interface [b[parts], b[parts + 1]); nullptr when there is none or a
+    /// topology change voided it.
+    virtual const std::vector<std::size_t> *
+    blocks() const
+    {
+      return nullptr;
+    }
+    /// project() of block @p p only, on @p x and @p w of part p's nodes in their local
+    /// order.
+    virtual void
+    project_block(unsigned, Matrix3Xd &, const VectorXd &, double)
+    {
+      throw std::logic_error(name() + ": no blocks to sweep");
+    }
+    /// project() of the constraints [@p begin, @p end) only.
+    virtual void
+    project_range(Matrix3Xd &, const VectorXd &, double, std::size_t, std::size_t)
+    {
+      throw std::logic_error(name() + ": no blocks to sweep");
+    }
     /// The largest |C| (constraint violation) relative to its natural scale (for
     /// convergence studies): strain for distances, ΔV/V₀ for volumes, ...
     virtual double

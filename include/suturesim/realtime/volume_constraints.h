@@ -63,6 +63,23 @@ namespace suturesim::realtime
     reset_multipliers() override;
     void
     warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    std::size_t
+    revision() const override
+    {
+      return changes;
+    }
+    bool
+    partition(const std::vector<std::uint32_t> &node_part, const std::vector<std::uint32_t> &local,
+              unsigned parts) override;
+    const std::vector<std::size_t> *
+    blocks() const override
+    {
+      return parallel.empty() ? nullptr : &parallel;
+    }
+    void
+    project_block(unsigned p, Matrix3Xd &x, const VectorXd &w, double dt) override;
+    void
+    project_range(Matrix3Xd &x, const VectorXd &w, double dt, std::size_t begin, std::size_t end) override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
@@ -72,6 +89,10 @@ namespace suturesim::realtime
     max_violation(const Matrix3Xd &x) const override;
 
   private:
+    /// Permutes every per-tetrahedron array: position k gets tetrahedron order[k].
+    void
+    reorder(const std::vector<std::size_t> &order);
+
     /// V and its gradients with respect to the four vertices.
     double
     volume(const Matrix3Xd &x, std::size_t t, std::array<Vector3d, 4> &g) const;
@@ -83,6 +104,10 @@ namespace suturesim::realtime
 
     std::vector<mesh::Tetrahedron> tets;
     std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ
+    std::vector<std::size_t>       parallel; ///< blocks() of the last partition()
+    /// the tetrahedra of blocks below the interface, as indices into their part
+    std::vector<mesh::Tetrahedron> local_tets;
+    std::size_t                    changes = 0; ///< revision(): add_mesh() and partition()
     std::vector<double>            alpha_tilde; ///< 1/(k dt²) for the step prepared_dt
     double                         prepared_dt = 0;
   };

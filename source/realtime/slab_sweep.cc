@@ -1,0 +1,80 @@
+#include <suturesim/realtime/slab_sweep.h>
+
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace suturesim::realtime
+{
+  SlabSweep::SlabSweep(const unsigned threads)
+    : team(threads)
+    , slabs(threads)
+  {
+    if (threads < 2)
+      throw std::invalid_argument("a slab sweep needs at least 2 threads");
+  }
+
+  void
+  SlabSweep::partition(System &s)
+  {
+    const Matrix3Xd &x = s.nodes.x;
+    std::vector<std::uint32_t> tissue(s.tissue.size());
+    std::iota(tissue.begin(), tissue.end(), s.tissue.begin);
+    Eigen::Index axis = 0;
+    if (!tissue.empty())
+      {
+        const auto block = x.middleCols(s.tissue.begin, s.tissue.size());
+        (block.rowwise().maxCoeff() - block.rowwise().minCoeff()).maxCoeff(&axis);
+      }
+    std::stable_sort(tissue.begin(), tissue.end(),
+                     [&](const std::uint32_t a, const std::uint32_t b) { return x(axis, a) < x(axis, b); });
+    // equal slabs
+    const unsigned             n = threads();
+    std::vector<std::uint32_t> part(x.cols(), n);
+    for (std::size_t k = 0; k < tissue.size(); ++k)
+      part[tissue[k]] = static_cast<std::uint32_t>(k * n / tissue.size());
+    std::vector<std::uint32_t> local(x.cols(), 0);
+    for (auto &slab : slabs)
+      slab.nodes.clear();
+    for (std::uint32_t i = 0; i < x.cols(); ++i) // ascending
+      if (part[i] < n)
+        {
+          local[i] = static_cast<std::uint32_t>(slabs[part[i]].nodes.size());
+          slabs[part[i]].nodes.push_back(i);
+        }
+    for (auto &slab : slabs)
+      {
+        slab.x.resize(3, slab.nodes.size());
+        slab.w.resize(slab.nodes.size());
+      }
+    for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+      s.interactions[k]->partition(part, local, n);
+  }
+
+  void
+  SlabSweep::sweep(System &s, const double dt)
+  {
+    Nodes &n = s.nodes;
+    team.run([&](const unsigned t) {
+      Slab &slab = slabs[t];
+      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+        {
+          slab.x.col(k) = n.x.col(slab.nodes[k]);
+          slab.w[k]     = n.inverse_mass[slab.nodes[k]];
+        }
+      for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+        if (s.interactions[k]->blocks() != nullptr)
+          s.interactions[k]->project_block(t, slab.x, slab.w, dt);
+      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+        n.x.col(slab.nodes[k]) = slab.x.col(k);
+    });
+    for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+      {
+        Interaction &c = *s.interactions[k];
+        if (const auto *b = c.blocks())
+          c.project_range(n.x, n.inverse_mass, dt, (*b)[threads()], b->back());
+        else
+          c.project(n.x, n.inverse_mass, dt);
+      }
+  }
+} // namespace suturesim::realtime

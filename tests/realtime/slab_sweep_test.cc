@@ -1,0 +1,136 @@
+// The threads of the realtime step: the worker team's hand-overs and the slabs' blocks
+// (slab_sweep.h, independent_order.h).
+#include <suturesim/core/worker_team.h>
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/independent_order.h>
+
+#include <gtest/gtest.h>
+
+#include "realtime/test_meshes.h"
+
+#include <algorithm>
+#include <atomic>
+#include <numeric>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+using namespace suturesim;
+
+TEST(WorkerTeam, RunGivesEveryThreadItsPartAndReturnsWhenAllAreDone)
+{
+  WorkerTeam team(3);
+  ASSERT_EQ(team.size(), 3u);
+  for (int round = 0; round < 200; ++round) // many hand-overs, each complete on return
+    {
+      std::vector<std::thread::id> who(3);
+      std::vector<int>             sum(3, 0);
+      team.run([&](const unsigned t) {
+        who[t] = std::this_thread::get_id();
+        for (int k = 0; k <= round % 50; ++k)
+          sum[t] += k;
+      });
+      for (unsigned t = 0; t < 3; ++t)
+        ASSERT_EQ(sum[t], (round % 50) * (round % 50 + 1) / 2) << "round " << round << " thread " << t;
+      EXPECT_EQ(who[0], std::this_thread::get_id()); // part 0 is the caller's
+      EXPECT_NE(who[1], who[0]);
+      EXPECT_NE(who[2], who[0]);
+      EXPECT_NE(who[1], who[2]);
+    }
+}
+
+TEST(WorkerTeam, StartRunsBesideTheCallerUntilWait)
+{
+  WorkerTeam       team(2);
+  std::atomic<int> stage{0};
+  const auto       job = [&](unsigned) {
+    while (stage.load() != 1) // waits for the caller: both run at once
+      std::this_thread::yield();
+    stage = 2;
+  };
+  team.start(job);
+  stage = 1;
+  team.wait();
+  EXPECT_EQ(stage.load(), 2);
+}
+
+TEST(WorkerTeam, AHelpersExceptionReachesTheCallerAndTheTeamGoesOn)
+{
+  WorkerTeam team(2);
+  EXPECT_THROW(team.run([](const unsigned t) {
+    if (t == 1)
+      throw std::runtime_error("helper failed");
+  }),
+               std::runtime_error);
+  int parts = 0;
+  team.run([&](unsigned) { __atomic_add_fetch(&parts, 1, __ATOMIC_RELAXED); });
+  EXPECT_EQ(parts, 2);
+}
+
+TEST(WorkerTeam, PartsCoverTheRangeInOrder)
+{
+  WorkerTeam team(3);
+  for (const std::size_t n : {0, 1, 2, 7, 100})
+    {
+      std::size_t next = 5;
+      for (unsigned t = 0; t < 3; ++t)
+        {
+          const auto [b, e] = team.part(5, 5 + n, t);
+          EXPECT_EQ(b, next);
+          EXPECT_GE(e, b);
+          next = e;
+        }
+      EXPECT_EQ(next, 5 + n);
+    }
+}
+
+TEST(BlockOrder, BlocksHoldTheirSlabsConstraintsAndTheInterfaceTheRest)
+{
+  // a block's tetrahedra, its nodes cut into three slabs along x
+  const auto mesh  = test_support::box_mesh(0.03, 0.01, 0.01, 6, 2, 2);
+  const auto parts = 3u;
+  std::vector<std::uint32_t> part(mesh.vertices.cols());
+  for (Eigen::Index i = 0; i < mesh.vertices.cols(); ++i)
+    part[i] = std::min(parts - 1, static_cast<unsigned>(mesh.vertices(0, i) / 0.03 * parts));
+  const auto blocked = realtime::block_order(mesh.tetrahedra, part, parts);
+  ASSERT_EQ(blocked.blocks.size(), parts + 2);
+  EXPECT_EQ(blocked.blocks.front(), 0u);
+  EXPECT_EQ(blocked.blocks.back(), mesh.tetrahedra.size());
+  // a permutation
+  auto sorted = blocked.order;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<std::size_t> all(mesh.tetrahedra.size());
+  std::iota(all.begin(), all.end(), 0);
+  EXPECT_EQ(sorted, all);
+  std::size_t spanning = 0;
+  for (unsigned p = 0; p <= parts; ++p)
+    {
+      if (p < parts)
+        {
+          EXPECT_GT(blocked.blocks[p + 1], blocked.blocks[p]) << "slab " << p << " has constraints";
+        }
+      for (auto k = blocked.blocks[p]; k < blocked.blocks[p + 1]; ++k)
+        {
+          const auto &t    = mesh.tetrahedra[blocked.order[k]];
+          bool        same = true;
+          for (const auto v : t)
+            same = same && part[v] == part[t[0]];
+          if (p < parts)
+            {
+              for (const auto v : t)
+                ASSERT_EQ(part[v], p) << "tetrahedron " << blocked.order[k] << " in block " << p;
+            }
+          else
+            {
+              EXPECT_FALSE(same) << "the interface holds only tetrahedra spanning slabs";
+              ++spanning;
+            }
+        }
+    }
+  EXPECT_GT(spanning, 0u);
+  // within a block consecutive tetrahedra share no node where the colouring allows
+  // (independent_order): the first two of block 0
+  const auto &a = mesh.tetrahedra[blocked.order[0]], &b = mesh.tetrahedra[blocked.order[1]];
+  for (const auto v : a)
+    EXPECT_EQ(std::count(b.begin(), b.end(), v), 0);
+}
