@@ -261,6 +261,20 @@ namespace suturesim::realtime
 
   namespace
   {
+    /// x_a −= w_a d, x_b += w_b d: a spring's correction along d (inline into the
+    /// multi-versioned kernels).
+    [[gnu::always_inline]] inline void
+    move_ends(double *xa, double *xb, const double wa, const double wb, const double dx, const double dy,
+              const double dz)
+    {
+      xa[0] -= wa * dx;
+      xa[1] -= wa * dy;
+      xa[2] -= wa * dz;
+      xb[0] += wb * dx;
+      xb[1] += wb * dy;
+      xb[2] += wb * dz;
+    }
+
     /// One Gauss–Seidel sweep over n distance constraints (the hot kernel: one square
     /// root and one division per spring). A free function: GCC multi-versions no
     /// virtual function.
@@ -283,12 +297,7 @@ namespace suturesim::realtime
           const double g = (-(L - R[s]) - A[s] * Lambda[s]) / den;
           Lambda[s] += g * L;
           const double wa = w_a * g, wb = w_b * g;
-          X[a] -= wa * dx;
-          X[a + 1] -= wa * dy;
-          X[a + 2] -= wa * dz;
-          X[b] += wb * dx;
-          X[b + 1] += wb * dy;
-          X[b + 2] += wb * dz;
+          move_ends(X + a, X + b, wa, wb, dx, dy, dz);
         }
     }
 
@@ -309,12 +318,7 @@ namespace suturesim::realtime
           if (!(L > 0))
             continue;
           const double g = l / L, wa = W[I[s]] * g, wb = W[J[s]] * g;
-          X[a] -= wa * dx;
-          X[a + 1] -= wa * dy;
-          X[a + 2] -= wa * dz;
-          X[b] += wb * dx;
-          X[b + 1] += wb * dy;
-          X[b + 2] += wb * dz;
+          move_ends(X + a, X + b, wa, wb, dx, dy, dz);
         }
     }
   } // namespace

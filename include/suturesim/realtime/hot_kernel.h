@@ -6,11 +6,12 @@
  * baseline, and picks one when the library loads (function multi-versioning through an
  * ifunc): the build stays portable while a recent processor runs the fused
  * multiply-adds (measured in tests/benchmarks/realtime_benchmark.cc). Elsewhere it is
- * empty.
+ * empty, and under ThreadSanitizer, whose run time is not yet set up when the loader
+ * calls the ifunc resolvers (the program crashes before main).
  */
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \
-  __GNUC__ >= 11
+  __GNUC__ >= 11 && !defined(__SANITIZE_THREAD__)
 #  define SUTURESIM_HOT_KERNEL __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #  define SUTURESIM_HOT_KERNEL
