@@ -22,8 +22,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <string>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace suturesim::realtime
@@ -117,8 +117,8 @@ namespace suturesim::realtime
     /// XPBD warm start (integrator xpbd, `Warm start = true`): keeps the last step's
     /// multipliers scaled by @p scale = (dt/dt_prev)², so that the forces λ/dt² carry
     /// over, and moves the nodes by their inverse masses @p w along ∇C(x)ᵀλ to the
-    /// positions those multipliers imply (x = x̃ + M⁻¹∇Cᵀλ, the linearised first row of
-    /// Macklin et al. 2016, eq. 9). The sweeps then start from the last step's solution
+    /// positions those multipliers imply (x = x̃ + M⁻¹∇Cᵀλ, XPBD's condition
+    /// M(x − x̃) = ∇C(x)ᵀλ: Macklin et al. 2016, §3). The sweeps then start from the last step's solution
     /// instead of the unconstrained prediction: at a static equilibrium x* the warm
     /// start lands on x* with C + α̃λ = 0, so every Δλ vanishes and one sweep holds the
     /// converged state, where a cold start settles where one sweep's λ balances the load
