@@ -26,17 +26,42 @@ namespace suturesim
   {
     if (threads == 0)
       throw std::invalid_argument("a worker team of 0 threads");
+    finished.store(threads - 1, std::memory_order_relaxed); // nothing posted: nothing to wait for
     helpers.reserve(threads - 1);
-    for (unsigned t = 1; t < threads; ++t)
-      helpers.emplace_back([this, t] { serve(t); });
+    try
+      {
+        for (unsigned t = 1; t < threads; ++t)
+          helpers.emplace_back([this, t] { serve(t); });
+      }
+    catch (...)
+      {
+        stop(); // the started helpers use this object
+        throw;
+      }
   }
 
   WorkerTeam::~WorkerTeam()
+  {
+    stop();
+  }
+
+  void
+  WorkerTeam::stop()
   {
     stopping.store(true, std::memory_order_release);
     epoch.fetch_add(1, std::memory_order_release);
     for (auto &h : helpers)
       h.join();
+    helpers.clear();
+  }
+
+  void
+  WorkerTeam::settle()
+  {
+    while (finished.load(std::memory_order_acquire) != helpers.size())
+      pause();
+    failed.store(false, std::memory_order_relaxed);
+    failure = nullptr;
   }
 
   void

@@ -6,13 +6,21 @@
 
 namespace suturesim::realtime
 {
-  SlabSweep::SlabSweep(const unsigned threads)
-    : team(threads)
-    , slabs(threads)
+  namespace
   {
-    if (threads < 2)
-      throw std::invalid_argument("a slab sweep needs at least 2 threads");
-  }
+    unsigned
+    at_least_two(const unsigned threads)
+    {
+      if (threads < 2)
+        throw std::invalid_argument("a slab sweep needs at least 2 threads");
+      return threads;
+    }
+  } // namespace
+
+  SlabSweep::SlabSweep(const unsigned threads)
+    : team(at_least_two(threads))
+    , slabs(threads)
+  {}
 
   void
   SlabSweep::partition(System &s)

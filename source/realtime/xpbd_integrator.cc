@@ -17,8 +17,10 @@
  * step to step (Interaction::warm_start), so that a few sweeps per step converge over the
  * steps instead of restarting from zero every step; the converged step is unchanged.
  *
- * Threads (`Threads` ≥ 2): the tissue's warm start and sweeps by domain decomposition
- * (slab_sweep.h), the projected contacts found on a helper during the first sweep.
+ * Threads (`Threads` ≥ 2): the projected contacts found on a helper while this thread
+ * starts the multipliers, the tissue's sweeps by domain decomposition (slab_sweep.h).
+ * A family whose topology changes later (seed 002's subdivision) loses its blocks and is
+ * swept on this thread from then on.
  */
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/slab_sweep.h>
@@ -39,6 +41,18 @@ namespace suturesim::realtime
         , warm(p.boolean("Warm start"))
         , slabs(p.integer("Threads") > 1 ? std::make_unique<SlabSweep>(p.integer("Threads")) : nullptr)
       {}
+
+      /// Cuts the tissue into slabs (Threads > 1) before the first step, so that the
+      /// reordering and its allocations happen before any reaction lists are taken.
+      void
+      setup(System &s) override
+      {
+        if (slabs && !partitioned)
+          {
+            slabs->partition(s);
+            partitioned = true;
+          }
+      }
 
       void
       step(System &s, const double dt) override
@@ -126,11 +140,7 @@ namespace suturesim::realtime
       threaded_sweeps(System &s, const double dt, const double scale)
       {
         Nodes &n = s.nodes;
-        if (!partitioned)
-          {
-            slabs->partition(s);
-            partitioned = true;
-          }
+        setup(s); // a system stepped without World::initialize()
         predicted            = n.x; // where a sequential step finds the contacts
         const auto before    = s.detection_time;
         const auto waited    = slabs->detect_contacts_beside(s, predicted, [&] {

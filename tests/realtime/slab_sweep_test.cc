@@ -3,6 +3,8 @@
 #include <suturesim/core/worker_team.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/independent_order.h>
+#include <suturesim/realtime/spring_set.h>
+#include <suturesim/realtime/volume_constraints.h>
 
 #include <gtest/gtest.h>
 
@@ -10,12 +12,17 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 using namespace suturesim;
+using realtime::Matrix3Xd;
+using realtime::Vector3d;
+using realtime::VectorXd;
 
 TEST(WorkerTeam, RunGivesEveryThreadItsPartAndReturnsWhenAllAreDone)
 {
@@ -133,4 +140,103 @@ TEST(BlockOrder, BlocksHoldTheirSlabsConstraintsAndTheInterfaceTheRest)
   const auto &a = mesh.tetrahedra[blocked.order[0]], &b = mesh.tetrahedra[blocked.order[1]];
   for (const auto v : a)
     EXPECT_EQ(std::count(b.begin(), b.end(), v), 0);
+}
+
+TEST(WorkerTeam, TheCallersExceptionWaitsForTheHelpersParts)
+{
+  WorkerTeam       team(2);
+  std::atomic<int> helper_done{0};
+  EXPECT_THROW(team.run([&](const unsigned t) {
+    if (t == 0)
+      throw std::runtime_error("caller failed");
+    std::this_thread::sleep_for(std::chrono::milliseconds(20)); // still working when the caller throws
+    helper_done = 1;
+  }),
+               std::runtime_error);
+  EXPECT_EQ(helper_done.load(), 1) << "run() returned before the helper's part ended";
+  int parts = 0;
+  team.run([&](unsigned) { __atomic_add_fetch(&parts, 1, __ATOMIC_RELAXED); });
+  EXPECT_EQ(parts, 2);
+}
+
+namespace
+{
+  /// Sweeps @p whole with project() and @p parted block by block, each on a copy of its
+  /// slab's nodes, then the interface, both partitioned alike, and checks that the two
+  /// are the same sweep bit for bit (positions and multipliers, through the constraint
+  /// forces); then that a second partition() keeps the constraint forces (every array
+  /// permuted alike).
+  template <typename Family>
+  void
+  check_blocks_sweep_as_the_whole(Family &whole, Family &parted, const mesh::SimplexMesh &mesh)
+  {
+    const unsigned     parts = 2;
+    const Eigen::Index n     = mesh.vertices.cols();
+    std::vector<std::uint32_t>              part(n), local(n);
+    std::vector<std::vector<std::uint32_t>> slab(parts);
+    for (Eigen::Index i = 0; i < n; ++i)
+      {
+        part[i]  = mesh.vertices(0, i) < 0.015 ? 0 : 1;
+        local[i] = static_cast<std::uint32_t>(slab[part[i]].size());
+        slab[part[i]].push_back(static_cast<std::uint32_t>(i));
+      }
+    ASSERT_TRUE(whole.partition(part, local, parts));
+    ASSERT_TRUE(parted.partition(part, local, parts));
+    ASSERT_NE(parted.blocks(), nullptr);
+    Matrix3Xd x = mesh.vertices;
+    for (Eigen::Index i = 0; i < n; ++i) // a deterministic perturbation
+      x.col(i) += 4e-4 * Vector3d(std::sin(3.0 * i), std::cos(5.0 * i), std::sin(7.0 * i));
+    VectorXd w = VectorXd::Constant(n, 40.0);
+    w[0]       = 0; // a held node
+    const double dt = 1e-3;
+    whole.prepare_projection(dt);
+    parted.prepare_projection(dt);
+    Matrix3Xd a = x, b = x;
+    for (int sweep = 0; sweep < 3; ++sweep)
+      {
+        whole.project(a, w, dt);
+        for (unsigned p = 0; p < parts; ++p)
+          {
+            Matrix3Xd xs(3, slab[p].size());
+            VectorXd  ws(slab[p].size());
+            for (std::size_t k = 0; k < slab[p].size(); ++k)
+              xs.col(k) = b.col(slab[p][k]), ws[k] = w[slab[p][k]];
+            parted.project_block(p, xs, ws, dt);
+            for (std::size_t k = 0; k < slab[p].size(); ++k)
+              b.col(slab[p][k]) = xs.col(k);
+          }
+        parted.project_range(b, w, dt, (*parted.blocks())[parts], parted.blocks()->back());
+      }
+    EXPECT_GT((a - x).norm(), 0) << "the sweeps moved the nodes";
+    EXPECT_TRUE((a.array() == b.array()).all()) << "largest difference " << (a - b).cwiseAbs().maxCoeff();
+    Matrix3Xd fa = Matrix3Xd::Zero(3, n), fb = Matrix3Xd::Zero(3, n);
+    whole.add_constraint_forces(a, fa, dt);
+    parted.add_constraint_forces(b, fb, dt);
+    EXPECT_GT(fa.norm(), 0);
+    EXPECT_TRUE((fa.array() == fb.array()).all()) << "the multipliers differ";
+    // a new partition (another order) keeps every constraint's data together
+    for (auto &p : part)
+      p = 1 - p;
+    ASSERT_TRUE(parted.partition(part, local, parts));
+    Matrix3Xd fc = Matrix3Xd::Zero(3, n);
+    parted.add_constraint_forces(b, fc, dt);
+    EXPECT_LT((fc - fb).cwiseAbs().maxCoeff(), 1e-12 * fb.cwiseAbs().maxCoeff());
+  }
+} // namespace
+
+TEST(SlabSweep, BlocksOnSlabCopiesThenTheInterfaceAreTheWholeSweepInTheSameOrder)
+{
+  const auto                 mesh = test_support::box_mesh(0.03, 0.01, 0.01, 6, 2, 2);
+  std::vector<std::uint32_t> node(mesh.vertices.cols());
+  std::iota(node.begin(), node.end(), 0);
+  realtime::SpringSet springs_a("a"), springs_b("b");
+  realtime::add_volume_springs(springs_a, mesh, node, 6e3);
+  realtime::add_volume_springs(springs_b, mesh, node, 6e3);
+  springs_a.sort();
+  springs_b.sort();
+  check_blocks_sweep_as_the_whole(springs_a, springs_b, mesh);
+  realtime::VolumeConstraints volumes_a, volumes_b;
+  volumes_a.add_mesh(mesh, node, 2e4);
+  volumes_b.add_mesh(mesh, node, 2e4);
+  check_blocks_sweep_as_the_whole(volumes_a, volumes_b, mesh);
 }

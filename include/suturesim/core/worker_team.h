@@ -46,7 +46,15 @@ namespace suturesim
     run(const Job &job)
     {
       post(&call<Job>, &job, all);
-      job(0);
+      try
+        {
+          job(0);
+        }
+      catch (...)
+        {
+          settle(); // the helpers' parts refer to this frame
+          throw;
+        }
       wait();
     }
 
@@ -87,8 +95,14 @@ namespace suturesim
 
     void
     post(Call f, const void *job, unsigned helper);
+    /// Waits for the helpers' parts and drops their exception (the caller's own is thrown).
+    void
+    settle();
     void
     serve(unsigned t);
+    /// Stops and joins the helpers.
+    void
+    stop();
 
     // the job of the current epoch, written by the caller before it bumps the epoch
     Call        job_call    = nullptr;
