@@ -177,9 +177,11 @@ namespace suturesim::scene
   void
   RealtimeRecord::write_state(const bool wait)
   {
+    const std::size_t index = n_outputs++;
     if (RecordState *slot = wait ? writer->wait_for_state() : writer->acquire_state())
       {
         capture(*slot);
+        slot->index = index;
         writer->publish(slot);
         last_written = world.world->time();
       }
@@ -189,7 +191,7 @@ namespace suturesim::scene
   RealtimeRecord::write(const RecordState &s)
   {
     std::ostringstream number;
-    number << "_" << std::setw(5) << std::setfill('0') << n_outputs++ << ".vtu";
+    number << "_" << std::setw(5) << std::setfill('0') << s.index << ".vtu";
     if (world.scene.has_tissue())
       {
         const auto name = "tissue" + number.str();

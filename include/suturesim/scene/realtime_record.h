@@ -26,7 +26,8 @@ namespace suturesim::scene
   /// subdivision changes them, and the suture's nodes and segment tensions.
   struct RecordState
   {
-    double                         time = 0;
+    double                         time  = 0;
+    std::size_t                    index = 0; ///< the output's number: its files' suffix
     realtime::Matrix3Xd            x, X, v;
     std::vector<mesh::Tetrahedron> tetrahedra; ///< the volume model's; empty: triangles
     std::vector<mesh::Triangle>    triangles;
@@ -52,7 +53,9 @@ namespace suturesim::scene
     row(bool output);
     /// tissue_*.vtu and suture_*.vtu of the current state: copied into a free slot of
     /// the writer thread, which writes them; when none is free the state is dropped and
-    /// counted, unless @p wait (the run's last state, after the loop).
+    /// counted, unless @p wait (the run's last state, after the loop). The files are
+    /// numbered by output, written or not, so that a name always means the same output
+    /// (a dropped one leaves a gap; the .pvd lists the files written).
     void
     write_state(bool wait = false);
     /// Whether a write on the writer thread failed: the run stops, and finish() throws
@@ -83,7 +86,7 @@ namespace suturesim::scene
     RunSummary          summary;
     std::vector<double> values;
     std::vector<realtime::World::ReactionSet> reactions; ///< per boundary
-    std::size_t         n_outputs    = 0; ///< states written (writer thread)
+    std::size_t         n_outputs    = 0; ///< states asked for (haptic thread), dropped or not
     double              longest_link_squared = 0; ///< the suture's longest link so far, m²
     double              last_written = -1;
     std::unique_ptr<BackgroundWriter<RecordState>> writer; ///< last: joined first
