@@ -100,17 +100,12 @@ namespace suturesim::realtime
   void
   SpringSet::reorder(const std::vector<std::size_t> &order)
   {
-    const auto permute = [&](auto &v) {
-      auto copy = v;
-      for (std::size_t s = 0; s < order.size(); ++s)
-        v[s] = copy[order[s]];
-    };
-    permute(first);
-    permute(second);
-    permute(rest);
-    permute(stiffness);
-    permute(lambda);
-    permute(alpha_tilde);
+    permute(first, order);
+    permute(second, order);
+    permute(rest, order);
+    permute(stiffness, order);
+    permute(lambda, order);
+    permute(alpha_tilde, order);
     ++changes;
   }
 
@@ -331,10 +326,9 @@ namespace suturesim::realtime
   }
 
   void
-  SpringSet::project(Matrix3Xd &x, const VectorXd &w, double)
+  SpringSet::project(Matrix3Xd &x, const VectorXd &w, const double dt)
   {
-    project_distances(x.data(), w.data(), first.data(), second.data(), rest.data(),
-                      alpha_tilde.data(), lambda.data(), first.size());
+    project_range(x, w, dt, 0, first.size());
   }
 
   void

@@ -61,16 +61,11 @@ namespace suturesim::realtime
   void
   VolumeConstraints::reorder(const std::vector<std::size_t> &order)
   {
-    const auto permute = [&](auto &v) {
-      auto copy = v;
-      for (std::size_t k = 0; k < order.size(); ++k)
-        v[k] = copy[order[k]];
-    };
-    permute(tets);
-    permute(rest);
-    permute(stiffness);
-    permute(lambda);
-    permute(alpha_tilde);
+    permute(tets, order);
+    permute(rest, order);
+    permute(stiffness, order);
+    permute(lambda, order);
+    permute(alpha_tilde, order);
     ++changes;
   }
 
@@ -322,10 +317,9 @@ namespace suturesim::realtime
   }
 
   void
-  VolumeConstraints::project(Matrix3Xd &x, const VectorXd &w, double)
+  VolumeConstraints::project(Matrix3Xd &x, const VectorXd &w, const double dt)
   {
-    project_volumes(x.data(), w.data(), tets.data(), rest.data(), alpha_tilde.data(),
-                    lambda.data(), tets.size());
+    project_range(x, w, dt, 0, tets.size());
   }
 
   void

@@ -140,7 +140,6 @@ namespace suturesim::realtime
       threaded_sweeps(System &s, const double dt, const double scale)
       {
         Nodes &n = s.nodes;
-        setup(s); // a system stepped without World::initialize()
         predicted            = n.x; // where a sequential step finds the contacts
         const auto before    = s.detection_time;
         const auto waited    = slabs->detect_contacts_beside(s, predicted, [&] {

@@ -6,6 +6,7 @@
 // Plain C++ + Eigen: links the realtime library only.
 #include <suturesim/collision/triangle_sphere_tree.h>
 #include <suturesim/core/background_writer.h>
+#include <suturesim/core/worker_team.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/tissue_model.h>
@@ -215,6 +216,18 @@ namespace
                       {"Iterations", "1"}, {"Suture iterations", "8"}, {"Warm start", "true"}, {"Threads", "2"}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+
+  /// One hand-over of core/worker_team.h (Threads = 2 makes one per tissue sweep and one
+  /// for the contact detection): the caller and its helper each run an empty part.
+  void
+  WorkerTeamHandOver(benchmark::State &state)
+  {
+    WorkerTeam team(2);
+    int        parts[2] = {};
+    for (auto _ : state)
+      team.run([&](const unsigned t) { benchmark::DoNotOptimize(++parts[t]); });
+  }
+  BENCHMARK(WorkerTeamHandOver)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
   /// One haptic step of a suture alone, its end moved by a tool on a circle.
   void

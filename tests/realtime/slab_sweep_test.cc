@@ -74,23 +74,6 @@ TEST(WorkerTeam, AHelpersExceptionReachesTheCallerAndTheTeamGoesOn)
   EXPECT_EQ(parts, 2);
 }
 
-TEST(WorkerTeam, PartsCoverTheRangeInOrder)
-{
-  WorkerTeam team(3);
-  for (const std::size_t n : {0, 1, 2, 7, 100})
-    {
-      std::size_t next = 5;
-      for (unsigned t = 0; t < 3; ++t)
-        {
-          const auto [b, e] = team.part(5, 5 + n, t);
-          EXPECT_EQ(b, next);
-          EXPECT_GE(e, b);
-          next = e;
-        }
-      EXPECT_EQ(next, 5 + n);
-    }
-}
-
 TEST(BlockOrder, BlocksHoldTheirSlabsConstraintsAndTheInterfaceTheRest)
 {
   // a block's tetrahedra, its nodes cut into three slabs along x

@@ -17,7 +17,6 @@
 #include <cstdint>
 #include <exception>
 #include <thread>
-#include <utility>
 #include <vector>
 
 namespace suturesim
@@ -73,15 +72,6 @@ namespace suturesim
     /// Waits until the helpers have finished the job of the last run() or start().
     void
     wait();
-
-    /// The part [begin, end) of thread @p t of the range [@p first, @p last): equal
-    /// shares, in thread order.
-    std::pair<std::size_t, std::size_t>
-    part(std::size_t first, std::size_t last, unsigned t) const
-    {
-      const std::size_t n = last - first;
-      return {first + n * t / size(), first + n * (t + 1) / size()};
-    }
 
   private:
     using Call = void (*)(const void *, unsigned);

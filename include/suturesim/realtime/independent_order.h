@@ -19,6 +19,17 @@
 
 namespace suturesim::realtime
 {
+  /// Reorders @p v by @p order (new position → old index), as the families apply the
+  /// orders below to each of their per-constraint arrays.
+  template <typename Vector>
+  void
+  permute(Vector &v, const std::vector<std::size_t> &order)
+  {
+    const Vector copy = v;
+    for (std::size_t k = 0; k < order.size(); ++k)
+      v[k] = copy[order[k]];
+  }
+
   /// The permutation (new position → old index) of @p items over @p n_nodes nodes.
   template <std::size_t n>
   std::vector<std::size_t>

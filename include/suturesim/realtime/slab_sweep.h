@@ -14,9 +14,10 @@
  * block 1, …, interface), a different order from one thread's (the same converged
  * step). Working on a copy matters: the system numbers nodes as the mesh generator did,
  * which interleaves the slabs, so most cache lines of the shared positions hold nodes of
- * both slabs (measured 52 % on the seed-004-scale block), and sweeping them in place
- * moves those lines between the cores at every write (measured on that benchmark: 2.5
- * times as slow as one thread; splitting each colour group instead of slabs, 2.7).
+ * both slabs (52 % on the seed-004-scale block), and sweeping them in place moves those
+ * lines between the cores at every write (on that benchmark 2.5 times as slow as one
+ * thread; splitting each colour group instead of slabs, 2.7: measured with development
+ * builds of those designs, which were not kept).
  *
  * Between the prediction and the sweeps the first helper finds the projected contacts,
  * on a copy of the predicted positions, while the haptic thread starts the multipliers
