@@ -2,6 +2,7 @@
 #include <suturesim/realtime/self_collision.h>
 
 #include <algorithm>
+#include <tuple>
 
 namespace suturesim::realtime
 {
@@ -44,8 +45,27 @@ namespace suturesim::realtime
         const double   o  = d.norm();
         if (o >= reach || !(o > 0))
           continue;
-        pairs.push_back({a, b, s, t, o, d / o});
+        pairs.push_back({a, b, s, t, o, d / o, o});
       }
+  }
+
+  bool
+  SelfCollision::remeasure(const Matrix3Xd &x, const double reach)
+  {
+    const std::uint32_t b0     = setup.suture.begin;
+    bool                closer = false;
+    for (auto &p : pairs)
+      {
+        const Vector3d p0 = x.col(b0 + p.a), p1 = x.col(b0 + p.a + 1);
+        const Vector3d q0 = x.col(b0 + p.b), q1 = x.col(b0 + p.b + 1);
+        std::tie(p.s, p.t) = collision::segment_closest_parameters(p0, p1, q0, q1);
+        const Vector3d d   = (p0 + p.s * (p1 - p0)) - (q0 + p.t * (q1 - q0));
+        p.distance         = d.norm();
+        if (p.distance > 0)
+          p.normal = d / p.distance; // else the last normal: apart along it
+        closer = closer || p.distance < reach;
+      }
+    return closer;
   }
 
   void
@@ -67,7 +87,7 @@ namespace suturesim::realtime
     counted.max_pairs = std::max(counted.max_pairs, pairs.size());
     for (const auto &p : pairs)
       {
-        counted.min_distance_detected = std::min(counted.min_distance_detected, p.distance);
+        counted.min_distance_detected = std::min(counted.min_distance_detected, p.detected);
         counted.min_distance          = std::min(counted.min_distance, distance(x, p.a, p.b));
       }
   }

@@ -170,3 +170,46 @@ TEST(SelfCollision, WithoutAResponseTheStrandsPassThroughEachOther)
       EXPECT_EQ(detect.counts.min_distance, detect.least_after) << integrator;
     }
 }
+
+TEST(SelfCollision, TransientConstraintsSeparateANodeInTwoPairsAtOnce)
+{
+  // Node 1 joins segments 0 and 1 (along x); segment 3 crosses above it (along y) and
+  // segment 6 beside it (along z). Seed 002 moves a node in several pairs by the average
+  // of their displacements, which leaves each pair part of its overlap (here node 1
+  // would go half of each push); the rounds repeat the averaged correction until no
+  // pair overlaps by more than 0.1 % of 2r ("moved apart until they are not colliding").
+  constexpr double mm = 1e-3, r = 0.1 * mm;
+  const std::vector<Vector3d> chain{{-mm, 0, 0},
+                                    {0, 0, 0},
+                                    {mm, 0, 0},
+                                    {-0.05 * mm, -mm, 0.15 * mm}, // segment 3: above node 1
+                                    {-0.05 * mm, mm, 0.15 * mm},
+                                    {0.05 * mm, 0.15 * mm, mm}, // segment 5: a link down
+                                    {0.05 * mm, 0.15 * mm, 0},  // segment 6: beside node 1
+                                    {0.05 * mm, 0.15 * mm, -mm}};
+  Nodes n;
+  for (const auto &X : chain)
+    n.add(X, 1e-6, 0);
+  SelfCollisionSetup setup;
+  setup.suture    = {0, static_cast<std::uint32_t>(chain.size())};
+  setup.radius    = r;
+  setup.link      = mm;
+  setup.positions = &n.x;
+  auto self = make_self_collision("transient-constraint", test_support::parameters_of("transient-constraint"), setup);
+  ASSERT_NE(self, nullptr);
+  self->after_step(n);
+  // node 1 was in pairs with both crossing segments
+  bool with_3 = false, with_6 = false;
+  for (const auto &p : self->list())
+    {
+      with_3 = with_3 || ((p.a <= 1 && p.b == 3) || (p.a == 3 && p.b <= 1));
+      with_6 = with_6 || ((p.a <= 1 && p.b == 6) || (p.a == 6 && p.b <= 1));
+    }
+  EXPECT_TRUE(with_3 && with_6) << self->list().size() << " pairs";
+  EXPECT_LT(self->counts().min_distance_detected, 0.8 * 2 * r);
+  // within the rounds' tolerance, 0.1 % of 2r (eight rounds left 0.8 %)
+  for (const auto &p : self->list())
+    EXPECT_GT(self->distance(n.x, p.a, p.b), (1 - 1e-3) * 2 * r) << "segments " << p.a << ", " << p.b;
+  EXPECT_GT(self->counts().min_distance, (1 - 1e-3) * 2 * r);
+  EXPECT_TRUE(n.held[1] & Nodes::transient); // and held there for the next step
+}

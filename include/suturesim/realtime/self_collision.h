@@ -72,6 +72,7 @@ namespace suturesim::realtime
       double        s, t;     ///< closest-point parameters on a and b
       double        distance; ///< o_ij, m
       Vector3d      normal;   ///< from b's closest point to a's
+      double        detected; ///< the distance when found, m (remeasure() changes distance)
     };
     const std::vector<Pair> &
     list() const
@@ -96,6 +97,11 @@ namespace suturesim::realtime
     /// Finds the pairs of non-adjacent segments closer than @p reach (m) at @p x.
     void
     find_pairs(const Matrix3Xd &x, double reach);
+
+    /// The closest points, distance and normal of every listed pair again at @p x (after
+    /// a correction moved them); true if one is still closer than @p reach.
+    bool
+    remeasure(const Matrix3Xd &x, double reach);
 
     /// Counts the pairs of the last find_pairs(), which the response acts on by force:
     /// their distances are those of the state the last step left.
