@@ -99,6 +99,13 @@ namespace suturesim::realtime
   }
 
   void
+  AngleSprings::warm_multipliers(const VectorXd &, const double scale)
+  {
+    for (auto &l : lambda)
+      l *= scale;
+  }
+
+  void
   AngleSprings::project(Matrix3Xd &x, const VectorXd &w, const double dt)
   {
     double   theta;

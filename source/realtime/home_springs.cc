@@ -85,17 +85,14 @@ namespace suturesim::realtime
   }
 
   void
-  HomeSprings::warm_start(Matrix3Xd &x, const VectorXd &w, const double scale)
+  HomeSprings::warm_multipliers(const VectorXd &w, const double scale)
   {
-    // C = x − home, ∇C = I: the node moves by w λ. A held node's spring is not projected
-    // (project() skips w = 0), so its multiplier would stay frozen: it starts at zero, as
-    // in a cold step
+    // a held node's spring is not projected (project() skips w = 0), so its multiplier
+    // would stay frozen: it starts at zero, as in a cold step
     lambda *= scale;
     for (std::size_t s = 0; s < nodes.size(); ++s)
       if (w[nodes[s]] == 0)
         lambda.col(s).setZero();
-      else
-        x.col(nodes[s]) += w[nodes[s]] * lambda.col(s);
   }
 
   void

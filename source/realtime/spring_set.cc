@@ -182,7 +182,7 @@ namespace suturesim::realtime
   }
 
   template <typename Tension, typename Spring>
-  void
+  SUTURESIM_HOT_KERNEL void
   SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
                                 const std::size_t n) const
   {
@@ -295,34 +295,13 @@ namespace suturesim::realtime
           move_ends(X + a, X + b, wa, wb, dx, dy, dz);
         }
     }
-
-    /// Interaction::warm_start() of n distance constraints: λ ← scale λ, then the ends
-    /// move by ∓w λ d/L (∇C = ±d/L, d = x_b − x_a).
-    SUTURESIM_HOT_KERNEL void
-    warm_start_distances(double *X, const double *W, const std::uint32_t *I, const std::uint32_t *J,
-                         double *Lambda, const double scale, const std::size_t n)
-    {
-      for (std::size_t s = 0; s < n; ++s)
-        {
-          const double l = Lambda[s] *= scale;
-          if (l == 0)
-            continue;
-          const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
-          const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
-          const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
-          if (!(L > 0))
-            continue;
-          const double g = l / L, wa = W[I[s]] * g, wb = W[J[s]] * g;
-          move_ends(X + a, X + b, wa, wb, dx, dy, dz);
-        }
-    }
   } // namespace
 
   void
-  SpringSet::warm_start(Matrix3Xd &x, const VectorXd &w, const double scale)
+  SpringSet::warm_multipliers(const VectorXd &, const double scale)
   {
-    warm_start_distances(x.data(), w.data(), first.data(), second.data(), lambda.data(), scale,
-                         first.size());
+    for (auto &l : lambda)
+      l *= scale;
   }
 
   void

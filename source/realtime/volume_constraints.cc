@@ -9,6 +9,35 @@
 
 namespace suturesim::realtime
 {
+  namespace
+  {
+    /// ∂V/∂x_k of the tetrahedron (p0, p1, p2, p3) into g[k]: with e_k = p_k − p0,
+    /// g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3);
+    /// returns V = e1 · g1.
+    /// Inline into the multi-versioned kernels (a call would not inherit their target).
+    [[gnu::always_inline]] inline double
+    volume_gradients(const double *p0, const double *p1, const double *p2, const double *p3,
+                     double (&g)[4][3])
+    {
+      const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+      const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
+      constexpr double sixth = 1.0 / 6;
+      g[1][0] = sixth * (e2[1] * e3[2] - e2[2] * e3[1]);
+      g[1][1] = sixth * (e2[2] * e3[0] - e2[0] * e3[2]);
+      g[1][2] = sixth * (e2[0] * e3[1] - e2[1] * e3[0]);
+      g[2][0] = sixth * (e3[1] * e1[2] - e3[2] * e1[1]);
+      g[2][1] = sixth * (e3[2] * e1[0] - e3[0] * e1[2]);
+      g[2][2] = sixth * (e3[0] * e1[1] - e3[1] * e1[0]);
+      g[3][0] = sixth * (e1[1] * e2[2] - e1[2] * e2[1]);
+      g[3][1] = sixth * (e1[2] * e2[0] - e1[0] * e2[2]);
+      g[3][2] = sixth * (e1[0] * e2[1] - e1[1] * e2[0]);
+      for (int d = 0; d < 3; ++d)
+        g[0][d] = -(g[1][d] + g[2][d] + g[3][d]);
+      return e1[0] * g[1][0] + e1[1] * g[1][1] + e1[2] * g[1][2];
+    }
+  } // namespace
+
   void
   VolumeConstraints::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
                               const double K)
@@ -70,28 +99,20 @@ namespace suturesim::realtime
   }
 
   double
-  VolumeConstraints::volume(const Matrix3Xd &x, const std::size_t t,
-                            std::array<Vector3d, 4> &g) const
+  VolumeConstraints::volume(const Matrix3Xd &x, const std::size_t t) const
   {
-    const auto    &v  = tets[t];
-    const Vector3d e1 = x.col(v[1]) - x.col(v[0]);
-    const Vector3d e2 = x.col(v[2]) - x.col(v[0]);
-    const Vector3d e3 = x.col(v[3]) - x.col(v[0]);
-    g[1]              = e2.cross(e3) / 6;
-    g[2]              = e3.cross(e1) / 6;
-    g[3]              = e1.cross(e2) / 6;
-    g[0]              = -(g[1] + g[2] + g[3]);
-    return e1.dot(g[1]);
+    const auto &v = tets[t];
+    double      g[4][3];
+    return volume_gradients(x.col(v[0]).data(), x.col(v[1]).data(), x.col(v[2]).data(), x.col(v[3]).data(), g);
   }
 
   double
   VolumeConstraints::energy(const Matrix3Xd &x) const
   {
-    std::array<Vector3d, 4> g;
-    double                  e = 0;
+    double e = 0;
     for (std::size_t t = 0; t < tets.size(); ++t)
       {
-        const double c = volume(x, t, g) - rest[t];
+        const double c = volume(x, t) - rest[t];
         e += 0.5 * stiffness[t] * c * c;
       }
     return e;
@@ -122,17 +143,24 @@ namespace suturesim::realtime
   } // namespace
 
   template <typename Pressure, typename Tet>
-  void
+  SUTURESIM_HOT_KERNEL void
   VolumeConstraints::add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet,
                                          const std::size_t n) const
   {
-    std::array<Vector3d, 4> g;
+    // a hot kernel as well (XPBD's reactions every tick, the warm start's refresh): raw
+    // pointers into the column-major 3 x n arrays, the gradient inline
+    const double *X = x.data();
+    double       *F = f.data();
     for (std::size_t k = 0; k < n; ++k)
       {
         const std::size_t t = tet(k);
-        const double      p = pressure(t, volume(x, t, g));
-        for (unsigned v = 0; v < 4; ++v)
-          f.col(tets[t][v]) += p * g[v];
+        const auto       &v = tets[t];
+        double            g[4][3];
+        const double      p = pressure(t, volume_gradients(X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
+                                                            X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3]), g));
+        for (int j = 0; j < 4; ++j)
+          for (int c = 0; c < 3; ++c)
+            F[3 * std::size_t(v[j]) + c] += p * g[j][c];
       }
   }
 
@@ -187,7 +215,7 @@ namespace suturesim::realtime
                                       const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
   {
     // V is linear in x_i: V = ∇ᵢV · (x_i − x_b), x_b a vertex of the opposite face, and
-    // ∇ᵢV one cross product (the terms of volume() that involve the vertex only)
+    // ∇ᵢV one cross product (the terms of volume_gradients() that involve the vertex only)
     for (std::size_t k = 0; k < n; ++k)
       {
         const auto     t = tetrahedra[k];
@@ -229,32 +257,6 @@ namespace suturesim::realtime
 
   namespace
   {
-    /// ∂V/∂x_k of the tetrahedron (p0, p1, p2, p3) into g[k] and 6V − the terms shared
-    /// by the sweep and the warm start: with e_k = p_k − p0, g1 = e2 × e3 / 6,
-    /// g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3); returns V = e1 · g1.
-    /// Inline into the multi-versioned kernels (a call would not inherit their target).
-    [[gnu::always_inline]] inline double
-    volume_gradients(const double *p0, const double *p1, const double *p2, const double *p3,
-                     double (&g)[4][3])
-    {
-      const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-      const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-      const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
-      constexpr double sixth = 1.0 / 6;
-      g[1][0] = sixth * (e2[1] * e3[2] - e2[2] * e3[1]);
-      g[1][1] = sixth * (e2[2] * e3[0] - e2[0] * e3[2]);
-      g[1][2] = sixth * (e2[0] * e3[1] - e2[1] * e3[0]);
-      g[2][0] = sixth * (e3[1] * e1[2] - e3[2] * e1[1]);
-      g[2][1] = sixth * (e3[2] * e1[0] - e3[0] * e1[2]);
-      g[2][2] = sixth * (e3[0] * e1[1] - e3[1] * e1[0]);
-      g[3][0] = sixth * (e1[1] * e2[2] - e1[2] * e2[1]);
-      g[3][1] = sixth * (e1[2] * e2[0] - e1[0] * e2[2]);
-      g[3][2] = sixth * (e1[0] * e2[1] - e1[1] * e2[0]);
-      for (int d = 0; d < 3; ++d)
-        g[0][d] = -(g[1][d] + g[2][d] + g[3][d]);
-      return e1[0] * g[1][0] + e1[1] * g[1][1] + e1[2] * g[1][2];
-    }
-
     /// p_k += s_k g_k for the four vertices.
     [[gnu::always_inline]] inline void
     move_vertices(double *const (&p)[4], const double (&s)[4], const double (&g)[4][3])
@@ -289,31 +291,13 @@ namespace suturesim::realtime
           move_vertices(p, {w[0] * d_lambda, w[1] * d_lambda, w[2] * d_lambda, w[3] * d_lambda}, g);
         }
     }
-
-    /// Interaction::warm_start() of n volume constraints: λ ← scale λ, x_k += w_k λ ∂V/∂x_k.
-    SUTURESIM_HOT_KERNEL void
-    warm_start_volumes(double *X, const double *W, const mesh::Tetrahedron *tets, double *lambda,
-                       const double scale, const std::size_t n)
-    {
-      for (std::size_t t = 0; t < n; ++t)
-        {
-          const double l = lambda[t] *= scale;
-          if (l == 0)
-            continue;
-          const auto  &v    = tets[t];
-          double *const p[4] = {X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
-                                X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3])};
-          double g[4][3];
-          volume_gradients(p[0], p[1], p[2], p[3], g);
-          move_vertices(p, {W[v[0]] * l, W[v[1]] * l, W[v[2]] * l, W[v[3]] * l}, g);
-        }
-    }
   } // namespace
 
   void
-  VolumeConstraints::warm_start(Matrix3Xd &x, const VectorXd &w, const double scale)
+  VolumeConstraints::warm_multipliers(const VectorXd &, const double scale)
   {
-    warm_start_volumes(x.data(), w.data(), tets.data(), lambda.data(), scale, tets.size());
+    for (auto &l : lambda)
+      l *= scale;
   }
 
   void
@@ -343,10 +327,9 @@ namespace suturesim::realtime
   double
   VolumeConstraints::max_violation(const Matrix3Xd &x) const
   {
-    std::array<Vector3d, 4> g;
-    double                  m = 0;
+    double m = 0;
     for (std::size_t t = 0; t < tets.size(); ++t)
-      m = std::max(m, std::abs(volume(x, t, g) - rest[t]) / rest[t]);
+      m = std::max(m, std::abs(volume(x, t) - rest[t]) / rest[t]);
     return m;
   }
 } // namespace suturesim::realtime

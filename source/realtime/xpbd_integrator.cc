@@ -14,8 +14,10 @@
  * much as a hundred of the tissue's thousands (the split of seed 004's two stages).
  *
  * Warm start (`Warm start = true`): the tissue's constraints keep their multipliers from
- * step to step (Interaction::warm_start), so that a few sweeps per step converge over the
- * steps instead of restarting from zero every step; the converged step is unchanged.
+ * step to step (Interaction::warm_multipliers) and the sweeps start from the positions
+ * they imply, the prediction plus the displacement the tissue's projections made in the
+ * last step, so that a few sweeps per step converge over the steps instead of restarting
+ * from zero every step; the converged step is unchanged.
  *
  * Threads (`Threads` ≥ 2): the projected contacts found on a helper while this thread
  * starts the multipliers, the tissue's sweeps by domain decomposition (slab_sweep.h).
@@ -39,6 +41,7 @@ namespace suturesim::realtime
         , damping(p.real("Damping rate"))
         , suture_iterations(p.integer("Suture iterations"))
         , warm(p.boolean("Warm start"))
+        , refresh(p.integer("Warm start refresh"))
         , slabs(p.integer("Threads") > 1 ? std::make_unique<SlabSweep>(p.integer("Threads")) : nullptr)
       {}
 
@@ -47,6 +50,9 @@ namespace suturesim::realtime
       void
       setup(System &s) override
       {
+        if (warm) // a family that cannot keep its multipliers says so now (λ = 0 kept at 0)
+          for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+            s.interactions[k]->warm_multipliers(s.nodes.inverse_mass, 0.0);
         if (slabs && !partitioned)
           {
             slabs->partition(s);
@@ -72,20 +78,31 @@ namespace suturesim::realtime
               n.x.col(i) += dt * n.v.col(i);
             }
 
-        // λ scales with dt² (λ = f dt²): a changed step carries the forces over
-        const double scale = warm && previous_dt > 0 ? (dt / previous_dt) * (dt / previous_dt) : 0.0;
-        previous_dt        = dt;
+        // λ scales with dt² (λ = f dt²): a changed step carries the forces over; the
+        // first step, and one after nodes were added, start cold
+        const double scale = warm && previous_dt > 0 && displacement.cols() == count
+                               ? (dt / previous_dt) * (dt / previous_dt)
+                               : 0.0;
+        previous_dt = dt;
+        if (warm && displacement.cols() != count)
+          displacement.setZero(3, count);
         if (slabs)
-          threaded_sweeps(s, dt, scale);
+          start_beside_detection(s, dt, scale);
         else
           {
             s.detect_contacts(n.x, System::Contacts::projected);
-            reset_contacts(s);
-            for (std::size_t k = 0; k < s.interactions.size(); ++k)
-              start_multipliers(*s.interactions[k], n, k < s.first_suture_interaction ? scale : 0.0, dt);
-            for (unsigned it = 0; it < n_iterations; ++it)
-              project_constraints(s, dt);
+            start_multipliers(s, scale, dt);
           }
+        for (const auto &c : s.contacts)
+          if (c->has_projection())
+            c->reset_multipliers();
+        for (unsigned it = 0; it < n_iterations; ++it)
+          {
+            sweep_tissue(s, dt);
+            project_constraints(s, dt, s.first_suture_interaction);
+          }
+        if (warm && ++since_refresh >= refresh)
+          refresh_displacement(s, dt);
         for (unsigned it = 0; it < suture_iterations; ++it)
           project_constraints(s, dt, s.first_suture_interaction);
         update_velocities(n, dt, damping);
@@ -111,58 +128,95 @@ namespace suturesim::realtime
       }
 
     private:
-      /// A family's multipliers at the step's start: the last step's, scaled by
-      /// @p scale (warm start; the tissue only: a stiff suture's large multipliers,
-      /// applied along links that turned since, throw it off, measured: it diverges at
-      /// once), or zero when @p scale is 0.
-      static void
-      start_multipliers(Interaction &i, Nodes &n, const double scale, const double dt)
-      {
-        if (scale > 0)
-          i.warm_start(n.x, n.inverse_mass, scale);
-        else
-          i.reset_multipliers();
-        i.prepare_projection(dt);
-      }
-
-      static void
-      reset_contacts(System &s)
-      {
-        for (const auto &c : s.contacts)
-          if (c->has_projection())
-            c->reset_multipliers();
-      }
-
-      /// The sweeps with Threads > 1: the contacts found on a helper while this thread
-      /// starts the multipliers, the tissue's sweeps by slabs (slab_sweep.h). The
-      /// collision phase counts the time this thread waited for the detection.
+      /// The multipliers at the step's start: the tissue's kept from the last step and
+      /// scaled by @p scale, the nodes moved by the displacement they imply (warm start;
+      /// the tissue only: a stiff suture's large multipliers, applied along links that
+      /// turned since, throw it off, measured: it diverges at once), or zero when
+      /// @p scale is 0.
       void
-      threaded_sweeps(System &s, const double dt, const double scale)
+      start_multipliers(System &s, const double scale, const double dt)
       {
         Nodes &n = s.nodes;
-        predicted            = n.x; // where a sequential step finds the contacts
-        const auto before    = s.detection_time;
-        const auto waited    = slabs->detect_contacts_beside(s, predicted, [&] {
-          for (std::size_t k = 0; k < s.interactions.size(); ++k)
-            start_multipliers(*s.interactions[k], n, k < s.first_suture_interaction ? scale : 0.0, dt);
-        });
-        s.detection_time = before + waited;
-        reset_contacts(s);
-        for (unsigned it = 0; it < n_iterations; ++it)
+        for (std::size_t k = 0; k < s.interactions.size(); ++k)
           {
-            slabs->sweep(s, dt);
-            project_constraints(s, dt, s.first_suture_interaction);
+            Interaction &i = *s.interactions[k];
+            if (scale > 0 && k < s.first_suture_interaction)
+              i.warm_multipliers(n.inverse_mass, scale);
+            else
+              i.reset_multipliers();
+            i.prepare_projection(dt);
           }
+        if (!warm)
+          return;
+        // x = x̃ + M⁻¹∇Cᵀλ: the last step's displacement, which is M⁻¹ Σ ∇Cᵀ Δλ over
+        // its projections, scaled as λ; none at a held node, which no sweep moves
+        for (Eigen::Index i = 0; i < n.size(); ++i)
+          if (scale > 0 && n.inverse_mass[i] > 0)
+            n.x.col(i) += (displacement.col(i) *= scale);
+          else
+            displacement.col(i).setZero();
+      }
+
+      /// One sweep over the tissue's constraints (by slabs with Threads > 1), adding the
+      /// nodes' displacement to the next step's warm start.
+      void
+      sweep_tissue(System &s, const double dt)
+      {
+        Nodes &n = s.nodes;
+        if (warm)
+          sweep_start = n.x;
+        if (slabs)
+          slabs->sweep(s, dt);
+        else
+          for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+            s.interactions[k]->project(n.x, n.inverse_mass, dt);
+        if (warm)
+          displacement += n.x - sweep_start;
+      }
+
+      /// The warm start's displacement recomputed from the multipliers, M⁻¹∇C(x)ᵀλ =
+      /// dt² M⁻¹ f with f the constraint forces. Between refreshes it is the sweeps' own
+      /// displacement, M⁻¹ Σ ∇C(x_k)ᵀ Δλ_k with each gradient where its projection found
+      /// it: as the constraints turn, that sum drifts from M⁻¹∇C(x)ᵀλ, and the drift
+      /// would act as a force no multiplier accounts for.
+      void
+      refresh_displacement(System &s, const double dt)
+      {
+        Nodes &n = s.nodes;
+        displacement.setZero();
+        for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+          s.interactions[k]->add_constraint_forces(n.x, displacement, dt);
+        for (Eigen::Index i = 0; i < n.size(); ++i)
+          displacement.col(i) *= dt * dt * n.inverse_mass[i];
+        since_refresh = 0;
+      }
+
+      /// With Threads > 1: the contacts found on a helper while this thread starts the
+      /// multipliers. The collision phase counts the time this thread waited for the
+      /// detection.
+      void
+      start_beside_detection(System &s, const double dt, const double scale)
+      {
+        predicted         = s.nodes.x; // where a sequential step finds the contacts
+        const auto before = s.detection_time;
+        const auto waited = slabs->detect_contacts_beside(s, predicted, [&] { start_multipliers(s, scale, dt); });
+        s.detection_time  = before + waited;
       }
 
       unsigned                   n_iterations;
       double                     damping;
       unsigned                   suture_iterations;
       bool                       warm;
+      unsigned                   refresh;           ///< Warm start refresh, steps
+      unsigned                   since_refresh = 0; ///< steps since refresh_displacement()
       double                     previous_dt = 0; ///< s; 0 before the first step: nothing to warm-start from
       std::unique_ptr<SlabSweep> slabs;           ///< Threads > 1
       bool                       partitioned = false;
       Matrix3Xd                  predicted; ///< the positions the helper finds contacts at
+      /// the tissue's projections' displacement of the nodes in the last step (m), the
+      /// warm start's M⁻¹∇Cᵀλ
+      Matrix3Xd displacement;
+      Matrix3Xd sweep_start; ///< the positions before a tissue sweep (warm start)
     };
 
   } // namespace
@@ -225,6 +279,13 @@ namespace suturesim::realtime
                     "start settles where one sweep's multipliers balance the load (softer). "
                     "Tissue springs, volume and home constraints; the suture and contacts start "
                     "cold. Unit: none.");
+         d.add_integer("Warm start refresh", 8, 1, 1000,
+                       "With the warm start: every this many steps the displacement the "
+                       "multipliers imply, M^-1 grad C^T lambda, is recomputed from the "
+                       "constraint forces (a pass over the tissue's constraints); in "
+                       "between it is the tissue sweeps' own displacement, which drifts "
+                       "from it as the constraints turn. 1: every step. Unit: steps. "
+                       "Range: 1-1000.");
          d.add_integer("Threads", 1, 1, 64,
                        "Threads of the step: 2 or more sweep the tissue's springs and volumes "
                        "by domain decomposition (one slab of nodes per thread along the "

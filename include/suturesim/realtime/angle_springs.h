@@ -46,6 +46,8 @@ namespace suturesim::realtime
     void
     reset_multipliers() override;
     void
+    warm_multipliers(const VectorXd &w, double scale) override;
+    void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     /// max |θ − θ₀| (rad)
     double

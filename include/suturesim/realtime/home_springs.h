@@ -65,7 +65,7 @@ namespace suturesim::realtime
     void
     reset_multipliers() override;
     void
-    warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    warm_multipliers(const VectorXd &w, double scale) override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     /// max |P − H| (m): a home spring has no natural length scale

@@ -101,7 +101,7 @@ namespace suturesim::realtime
     void
     reset_multipliers() override;
     void
-    warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    warm_multipliers(const VectorXd &w, double scale) override;
     bool
     partition(const std::vector<std::uint32_t> &node_part, const std::vector<std::uint32_t> &local,
               unsigned parts) override;

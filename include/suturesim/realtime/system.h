@@ -116,19 +116,22 @@ namespace suturesim::realtime
 
     /// XPBD warm start (integrator xpbd, `Warm start = true`): keeps the last step's
     /// multipliers scaled by @p scale = (dt/dt_prev)², so that the forces λ/dt² carry
-    /// over, and moves the nodes by their inverse masses @p w along ∇C(x)ᵀλ to the
-    /// positions those multipliers imply (x = x̃ + M⁻¹∇Cᵀλ, XPBD's condition
-    /// M(x − x̃) = ∇C(x)ᵀλ: Macklin et al. 2016, §3). The sweeps then start from the last step's solution
-    /// instead of the unconstrained prediction: at a static equilibrium x* the warm
-    /// start lands on x* with C + α̃λ = 0, so every Δλ vanishes and one sweep holds the
-    /// converged state, where a cold start settles where one sweep's λ balances the load
-    /// (the warm starting of accumulated impulses in sequential-impulse solvers: Catto
-    /// 2005, "Iterative dynamics with temporal coherence", GDC). Families that do not
-    /// implement it start cold (reset_multipliers()).
+    /// over; a multiplier of a node now held (@p w = 0), which no sweep would change,
+    /// restarts at zero. The integrator moves the nodes to the positions those
+    /// multipliers imply, x = x̃ + M⁻¹∇Cᵀλ (XPBD's condition M(x − x̃) = ∇C(x)ᵀλ: Macklin
+    /// et al. 2016, §3), as the displacement the tissue's projections made in the last
+    /// step, which is M⁻¹ times the sum of their ∇Cᵀ Δλ. The sweeps then start from the
+    /// last step's solution instead of the unconstrained prediction: at a static
+    /// equilibrium x* the warm start lands on x* with C + α̃λ = 0, so every Δλ vanishes and
+    /// one sweep holds the converged state, where a cold start settles where one sweep's λ
+    /// balances the load (the warm starting of accumulated impulses in sequential-impulse
+    /// solvers: Catto 2005, "Iterative dynamics with temporal coherence", GDC). A family
+    /// whose multipliers cannot be kept says so (the default throws).
     virtual void
-    warm_start(Matrix3Xd &, const VectorXd &, double)
+    warm_multipliers(const VectorXd &, double)
     {
-      reset_multipliers();
+      throw std::invalid_argument(name() + ": its multipliers cannot be kept from step to step "
+                                           "(Realtime/xpbd/Warm start)");
     }
 
     /// XPBD: f += ∇Cᵀλ/dt², the forces the last solve applied (Macklin, Müller &

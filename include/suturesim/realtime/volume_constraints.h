@@ -62,7 +62,7 @@ namespace suturesim::realtime
     void
     reset_multipliers() override;
     void
-    warm_start(Matrix3Xd &x, const VectorXd &w, double scale) override;
+    warm_multipliers(const VectorXd &w, double scale) override;
     std::size_t
     revision() const override
     {
@@ -93,9 +93,9 @@ namespace suturesim::realtime
     void
     reorder(const std::vector<std::size_t> &order);
 
-    /// V and its gradients with respect to the four vertices.
+    /// The volume of tetrahedron @p t at @p x.
     double
-    volume(const Matrix3Xd &x, std::size_t t, std::array<Vector3d, 4> &g) const;
+    volume(const Matrix3Xd &x, std::size_t t) const;
     /// f += p(t, V) ∇V for the tetrahedra t = tet(k), k < n: the one loop of elastic and
     /// constraint forces, of all tetrahedra or a list.
     template <typename Pressure, typename Tet>
