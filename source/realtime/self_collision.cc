@@ -15,14 +15,22 @@ namespace suturesim::realtime
     counted.reach = reach;
   }
 
+  Vector3d
+  SelfCollision::separation(const Matrix3Xd &x, const std::uint32_t a, const std::uint32_t b, double &s,
+                            double &t) const
+  {
+    const std::uint32_t b0 = setup.suture.begin;
+    const Vector3d      p0 = x.col(b0 + a), p1 = x.col(b0 + a + 1);
+    const Vector3d      q0 = x.col(b0 + b), q1 = x.col(b0 + b + 1);
+    std::tie(s, t)         = collision::segment_closest_parameters(p0, p1, q0, q1);
+    return (p0 + s * (p1 - p0)) - (q0 + t * (q1 - q0));
+  }
+
   double
   SelfCollision::distance(const Matrix3Xd &x, const std::uint32_t a, const std::uint32_t b) const
   {
-    const std::uint32_t b0 = setup.suture.begin;
-    const Vector3d p0 = x.col(b0 + a), p1 = x.col(b0 + a + 1);
-    const Vector3d q0 = x.col(b0 + b), q1 = x.col(b0 + b + 1);
-    const auto [s, t] = collision::segment_closest_parameters(p0, p1, q0, q1);
-    return ((p0 + s * (p1 - p0)) - (q0 + t * (q1 - q0))).norm();
+    double s, t;
+    return separation(x, a, b, s, t).norm();
   }
 
   void
@@ -38,11 +46,9 @@ namespace suturesim::realtime
         // arc length between the segments' facing ends: neighbours always touch
         if ((b - a - 1) * setup.link <= reach)
           continue;
-        const Vector3d p0 = points.col(a), p1 = points.col(a + 1);
-        const Vector3d q0 = points.col(b), q1 = points.col(b + 1);
-        const auto [s, t] = collision::segment_closest_parameters(p0, p1, q0, q1);
-        const Vector3d d  = (p0 + s * (p1 - p0)) - (q0 + t * (q1 - q0));
-        const double   o  = d.norm();
+        double         s, t;
+        const Vector3d d = separation(x, a, b, s, t);
+        const double   o = d.norm();
         if (o >= reach || !(o > 0))
           continue;
         pairs.push_back({a, b, s, t, o, d / o, o});
@@ -52,15 +58,11 @@ namespace suturesim::realtime
   bool
   SelfCollision::remeasure(const Matrix3Xd &x, const double reach)
   {
-    const std::uint32_t b0     = setup.suture.begin;
-    bool                closer = false;
+    bool closer = false;
     for (auto &p : pairs)
       {
-        const Vector3d p0 = x.col(b0 + p.a), p1 = x.col(b0 + p.a + 1);
-        const Vector3d q0 = x.col(b0 + p.b), q1 = x.col(b0 + p.b + 1);
-        std::tie(p.s, p.t) = collision::segment_closest_parameters(p0, p1, q0, q1);
-        const Vector3d d   = (p0 + p.s * (p1 - p0)) - (q0 + p.t * (q1 - q0));
-        p.distance         = d.norm();
+        const Vector3d d = separation(x, p.a, p.b, p.s, p.t);
+        p.distance       = d.norm();
         if (p.distance > 0)
           p.normal = d / p.distance; // else the last normal: apart along it
         closer = closer || p.distance < reach;

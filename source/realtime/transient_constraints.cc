@@ -33,7 +33,6 @@ namespace suturesim::realtime
         : SelfCollision(s, 2 * s.radius)
         , shift(Matrix3Xd::Zero(3, s.suture.size()))
         , count(s.suture.size(), 0)
-        , moved(s.suture.size(), 0)
       {}
 
       std::string
@@ -86,7 +85,6 @@ namespace suturesim::realtime
         // overlap, so the averaged correction repeats on the pairs found (their closest
         // points again) until none overlaps by more than `tolerance` of 2r, at most
         // `rounds` times
-        std::fill(moved.begin(), moved.end(), 0);
         for (unsigned round = 0; round < rounds && (round == 0 || remeasure(n.x, (1 - tolerance) * reach)); ++round)
           {
             shift.setZero();
@@ -104,16 +102,12 @@ namespace suturesim::realtime
             for (std::uint32_t k = 0; k < count.size(); ++k)
               if (count[k] > 0)
                 {
+                  // held where the last round that moved it left it
                   n.x.col(b0 + k) += shift.col(k) / count[k];
-                  moved[k] = 1;
+                  n.target.col(b0 + k) = n.x.col(b0 + k);
+                  n.set_held(b0 + k, Nodes::transient, true);
                 }
           }
-        for (std::uint32_t k = 0; k < moved.size(); ++k)
-          if (moved[k] != 0)
-            {
-              n.target.col(b0 + k) = n.x.col(b0 + k);
-              n.set_held(b0 + k, Nodes::transient, true);
-            }
         count_after(n.x);
       }
 
@@ -127,7 +121,6 @@ namespace suturesim::realtime
       static constexpr double tolerance = 1e-3;
       Matrix3Xd                 shift;
       std::vector<unsigned>     count;
-      std::vector<char>         moved; ///< nodes a round moved this step
     };
 
     const bool registered = SelfCollision::Registry::instance().add(

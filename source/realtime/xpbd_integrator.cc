@@ -80,11 +80,10 @@ namespace suturesim::realtime
 
         // λ scales with dt² (λ = f dt²): a changed step carries the forces over; the
         // first step, and one after nodes were added, start cold
-        const double scale = warm && previous_dt > 0 && displacement.cols() == count
-                               ? (dt / previous_dt) * (dt / previous_dt)
-                               : 0.0;
-        previous_dt = dt;
-        if (warm && displacement.cols() != count)
+        const bool   sized = displacement.cols() == count;
+        const double scale = warm && previous_dt > 0 && sized ? (dt / previous_dt) * (dt / previous_dt) : 0.0;
+        previous_dt        = dt;
+        if (warm && !sized)
           displacement.setZero(3, count);
         if (slabs)
           start_beside_detection(s, dt, scale);

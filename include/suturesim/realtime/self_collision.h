@@ -89,6 +89,10 @@ namespace suturesim::realtime
     /// Distance between suture segments @p a and @p b (suture-local) at @p x, m.
     double
     distance(const Matrix3Xd &x, std::uint32_t a, std::uint32_t b) const;
+    /// The vector from b's closest point to a's at @p x (m), their parameters into @p s
+    /// and @p t: the one measurement of find_pairs(), remeasure() and distance().
+    Vector3d
+    separation(const Matrix3Xd &x, std::uint32_t a, std::uint32_t b, double &s, double &t) const;
 
   protected:
     /// @p reach: the distance within which find_pairs() is called (for the counts), m.
