@@ -23,6 +23,15 @@ namespace suturesim
     }
   } // namespace
 
+  bool
+  SpinGate::pass() const
+  {
+    unsigned s;
+    while ((s = state.load(std::memory_order_acquire)) == closed)
+      pause();
+    return s == opened;
+  }
+
   WorkerTeam::WorkerTeam(const unsigned threads)
   {
     if (threads == 0)

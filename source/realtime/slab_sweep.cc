@@ -17,10 +17,14 @@ namespace suturesim::realtime
     }
   } // namespace
 
-  SlabSweep::SlabSweep(const unsigned threads)
+  SlabSweep::SlabSweep(const unsigned threads, const double caller_share)
     : team(at_least_two(threads))
+    , share(caller_share)
     , slabs(threads)
-  {}
+  {
+    if (!(share > 0 && share < 1))
+      throw std::invalid_argument("the haptic thread's slab share must lie in (0, 1)");
+  }
 
   void
   SlabSweep::partition(System &s)
@@ -36,11 +40,15 @@ namespace suturesim::realtime
       }
     std::stable_sort(tissue.begin(), tissue.end(),
                      [&](const std::uint32_t a, const std::uint32_t b) { return x(axis, a) < x(axis, b); });
-    // equal slabs
+    // the caller's slab first (the lowest coordinates), then the helpers' of equal count
     const unsigned             n = threads();
     std::vector<std::uint32_t> part(x.cols(), n);
     for (std::size_t k = 0; k < tissue.size(); ++k)
-      part[tissue[k]] = static_cast<std::uint32_t>(k * n / tissue.size());
+      {
+        const double q = double(k) / double(tissue.size()); // share 1/n: equal slabs
+        part[tissue[k]] =
+          q < share ? 0u : std::min(n - 1, 1 + static_cast<std::uint32_t>((q - share) / (1 - share) * (n - 1)));
+      }
     std::vector<std::uint32_t> local(x.cols(), 0);
     for (auto &slab : slabs)
       slab.nodes.clear();
@@ -60,22 +68,26 @@ namespace suturesim::realtime
   }
 
   void
-  SlabSweep::sweep(System &s, const double dt)
+  SlabSweep::sweep_slab(System &s, const double dt, const unsigned t)
+  {
+    Nodes &n    = s.nodes;
+    Slab  &slab = slabs[t];
+    for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+      {
+        slab.x.col(k) = n.x.col(slab.nodes[k]);
+        slab.w[k]     = n.inverse_mass[slab.nodes[k]];
+      }
+    for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+      if (s.interactions[k]->blocks() != nullptr)
+        s.interactions[k]->project_block(t, slab.x, slab.w, dt);
+    for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+      n.x.col(slab.nodes[k]) = slab.x.col(k);
+  }
+
+  void
+  SlabSweep::sweep_interface(System &s, const double dt)
   {
     Nodes &n = s.nodes;
-    team.run([&](const unsigned t) {
-      Slab &slab = slabs[t];
-      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
-        {
-          slab.x.col(k) = n.x.col(slab.nodes[k]);
-          slab.w[k]     = n.inverse_mass[slab.nodes[k]];
-        }
-      for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
-        if (s.interactions[k]->blocks() != nullptr)
-          s.interactions[k]->project_block(t, slab.x, slab.w, dt);
-      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
-        n.x.col(slab.nodes[k]) = slab.x.col(k);
-    });
     for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
       {
         Interaction &c = *s.interactions[k];
@@ -84,5 +96,12 @@ namespace suturesim::realtime
         else
           c.project(n.x, n.inverse_mass, dt);
       }
+  }
+
+  void
+  SlabSweep::sweep(System &s, const double dt)
+  {
+    team.run([&](const unsigned t) { sweep_slab(s, dt, t); });
+    sweep_interface(s, dt);
   }
 } // namespace suturesim::realtime

@@ -19,8 +19,8 @@
  * last step, so that a few sweeps per step converge over the steps instead of restarting
  * from zero every step; the converged step is unchanged.
  *
- * Threads (`Threads` ≥ 2): the projected contacts found on a helper while this thread
- * starts the multipliers, the tissue's sweeps by domain decomposition (slab_sweep.h).
+ * Threads (`Threads` ≥ 2): the tissue's sweeps by domain decomposition (slab_sweep.h),
+ * the first of each step beside the projected contacts' detection on a helper.
  * A family whose topology changes later (seed 002's subdivision) loses its blocks and is
  * swept on this thread from then on.
  */
@@ -42,7 +42,8 @@ namespace suturesim::realtime
         , suture_iterations(p.integer("Suture iterations"))
         , warm(p.boolean("Warm start"))
         , refresh(p.integer("Warm start refresh"))
-        , slabs(p.integer("Threads") > 1 ? std::make_unique<SlabSweep>(p.integer("Threads")) : nullptr)
+        , slabs(p.integer("Threads") > 1 ? std::make_unique<SlabSweep>(p.integer("Threads"), p.real("Slab share"))
+                                         : nullptr)
       {}
 
       /// Cuts the tissue into slabs (Threads > 1) before the first step, so that the
@@ -85,19 +86,18 @@ namespace suturesim::realtime
         previous_dt        = dt;
         if (warm && !sized)
           displacement.setZero(3, count);
-        if (slabs)
-          start_beside_detection(s, dt, scale);
-        else
+        if (!slabs) // with slabs, beside the first sweep
           {
             s.detect_contacts(n.x, System::Contacts::projected);
             start_multipliers(s, scale, dt);
           }
-        for (const auto &c : s.contacts)
-          if (c->has_projection())
-            c->reset_multipliers();
         for (unsigned it = 0; it < n_iterations; ++it)
           {
-            sweep_tissue(s, dt);
+            sweep_tissue(s, dt, it == 0, scale);
+            if (it == 0) // the contacts are found by now
+              for (const auto &c : s.contacts)
+                if (c->has_projection())
+                  c->reset_multipliers();
             project_constraints(s, dt, s.first_suture_interaction);
           }
         if (warm && ++since_refresh >= refresh)
@@ -157,18 +157,35 @@ namespace suturesim::realtime
       }
 
       /// One sweep over the tissue's constraints (by slabs with Threads > 1), adding the
-      /// nodes' displacement to the next step's warm start.
+      /// nodes' displacement to the next step's warm start. The @p first of a step with
+      /// slabs runs beside the contact detection and starts the multipliers (scaled by
+      /// @p scale); the collision phase counts the time this thread then waited for the
+      /// helpers after its own slab.
       void
-      sweep_tissue(System &s, const double dt)
+      sweep_tissue(System &s, const double dt, const bool first, const double scale)
       {
         Nodes &n = s.nodes;
-        if (warm)
-          sweep_start = n.x;
-        if (slabs)
-          slabs->sweep(s, dt);
+        if (slabs && first)
+          {
+            predicted         = n.x; // where a sequential step finds the contacts
+            const auto before = s.detection_time;
+            const auto waited = slabs->sweep_beside_detection(s, dt, predicted, [&] {
+              start_multipliers(s, scale, dt);
+              if (warm)
+                sweep_start = n.x;
+            });
+            s.detection_time = before + waited;
+          }
         else
-          for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
-            s.interactions[k]->project(n.x, n.inverse_mass, dt);
+          {
+            if (warm)
+              sweep_start = n.x;
+            if (slabs)
+              slabs->sweep(s, dt);
+            else
+              for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+                s.interactions[k]->project(n.x, n.inverse_mass, dt);
+          }
         if (warm)
           displacement += n.x - sweep_start;
       }
@@ -188,18 +205,6 @@ namespace suturesim::realtime
         for (Eigen::Index i = 0; i < n.size(); ++i)
           displacement.col(i) *= dt * dt * n.inverse_mass[i];
         since_refresh = 0;
-      }
-
-      /// With Threads > 1: the contacts found on a helper while this thread starts the
-      /// multipliers. The collision phase counts the time this thread waited for the
-      /// detection.
-      void
-      start_beside_detection(System &s, const double dt, const double scale)
-      {
-        predicted         = s.nodes.x; // where a sequential step finds the contacts
-        const auto before = s.detection_time;
-        const auto waited = slabs->detect_contacts_beside(s, predicted, [&] { start_multipliers(s, scale, dt); });
-        s.detection_time  = before + waited;
       }
 
       unsigned                   n_iterations;
@@ -288,9 +293,15 @@ namespace suturesim::realtime
          d.add_integer("Threads", 1, 1, 64,
                        "Threads of the step: 2 or more sweep the tissue's springs and volumes "
                        "by domain decomposition (one slab of nodes per thread along the "
-                       "tissue's longest extent, then the constraints between slabs) and find "
-                       "the contacts on a helper meanwhile. The helpers spin between the "
-                       "step's phases: give each a core of its own. Unit: 1. Range: 1-64.");
+                       "tissue's longest extent, then the constraints between slabs); the "
+                       "first helper finds the contacts before it sweeps its slab. The helpers "
+                       "spin between the step's phases: give each a core of its own. Unit: 1. "
+                       "Range: 1-64.");
+         d.add_real("Slab share", 0.5, 0.05, 0.95,
+                    "With Threads >= 2: the fraction of the tissue's nodes in the haptic "
+                    "thread's slab (the helpers share the rest equally). Above 1/Threads "
+                    "when the contact detection, which the first helper does before its "
+                    "slab, is a large part of the step. Unit: 1. Range: 0.05-0.95.");
          d.add_real("Damping rate", 0, 0, 1e9,
                     "Velocity damping v <- (1 - c dt) v after each step. Unit: 1/s. "
                     "Range: >= 0.");

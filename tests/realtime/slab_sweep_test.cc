@@ -142,6 +142,46 @@ TEST(WorkerTeam, TheCallersExceptionWaitsForTheHelpersParts)
   EXPECT_EQ(parts, 2);
 }
 
+TEST(SpinGate, HelpersPassOnceTheCallerOpensItAndSeeWhatItWroteBefore)
+{
+  // the first sweep's hand-over (SlabSweep::sweep_beside_detection): the helper has work
+  // of its own first, then needs what the caller wrote before open()
+  WorkerTeam    team(2);
+  SpinGate      gate;
+  std::uint64_t written = 0, seen = 0;
+  bool          passed  = false;
+  gate.close();
+  team.run([&](const unsigned t) {
+    if (t == 0)
+      {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20)); // the helper waits at the gate meanwhile
+        written = 0x5eed;
+        gate.open();
+      }
+    else
+      {
+        passed = gate.pass();
+        seen   = written;
+      }
+  });
+  EXPECT_TRUE(passed);
+  EXPECT_EQ(seen, 0x5eedu) << "the helper passed before the caller opened the gate";
+  // abandoned: the helper's part returns without the caller's work, and run() rethrows
+  gate.close();
+  bool swept = false;
+  EXPECT_THROW(team.run([&](const unsigned t) {
+    if (t == 0)
+      {
+        gate.abandon();
+        throw std::runtime_error("start failed");
+      }
+    if (gate.pass())
+      swept = true;
+  }),
+               std::runtime_error);
+  EXPECT_FALSE(swept);
+}
+
 namespace
 {
   /// Sweeps @p whole with project() and @p parted block by block, each on a copy of its

@@ -21,6 +21,43 @@
 
 namespace suturesim
 {
+  /// A one-shot gate inside a team's job: the parts that need the caller's earlier work
+  /// pass() it (spinning with the pause hint, no system call) once the caller open()s it;
+  /// abandon() opens it for a caller whose work failed, and pass() then returns false.
+  class SpinGate
+  {
+  public:
+    /// Closes the gate; before the job that passes it is posted.
+    void
+    close()
+    {
+      state.store(closed, std::memory_order_relaxed);
+    }
+    /// Opens it: what the caller wrote before is visible to the parts that pass.
+    void
+    open()
+    {
+      state.store(opened, std::memory_order_release);
+    }
+    void
+    abandon()
+    {
+      state.store(abandoned, std::memory_order_release);
+    }
+    /// Waits until the gate is open or abandoned; true if opened.
+    bool
+    pass() const;
+
+  private:
+    enum : unsigned
+    {
+      closed,
+      opened,
+      abandoned
+    };
+    alignas(64) std::atomic<unsigned> state{closed};
+  };
+
   class WorkerTeam
   {
   public:

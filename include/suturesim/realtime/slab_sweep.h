@@ -19,16 +19,23 @@
  * thread; splitting each colour group instead of slabs, 2.7: measured with development
  * builds of those designs, which were not kept).
  *
- * Between the prediction and the sweeps the first helper finds the projected contacts,
- * on a copy of the predicted positions, while the haptic thread starts the multipliers
- * (detect_contacts_beside()). The warm start stays on the haptic thread: in slabs it
- * measured slower than there (its first writes to the multipliers of the helper's slab
- * each step move their cache lines between the cores).
+ * The first sweep of a step runs beside the contact detection
+ * (sweep_beside_detection()): the first helper finds the projected contacts, on a copy
+ * of the predicted positions, and then sweeps its slab, while the haptic thread starts
+ * the multipliers and sweeps its own slab, the larger one (`Slab share`), so that both
+ * reach the interface at about the same time. The contacts are needed only after the
+ * tissue's sweep (by the suture's and the contacts' projections), so the detection no
+ * longer waits alone: with the detection before the sweep instead, the haptic thread
+ * waited 49 µs a tick for it on the seed-004-scale benchmark (docs/realtime.md). The
+ * warm start stays on the haptic thread: in slabs it measured slower than there (its
+ * first writes to the multipliers of the helper's slab each step move their cache lines
+ * between the cores).
  */
 
 #include <suturesim/core/worker_team.h>
 #include <suturesim/realtime/system.h>
 
+#include <atomic>
 #include <chrono>
 #include <vector>
 
@@ -37,8 +44,10 @@ namespace suturesim::realtime
   class SlabSweep
   {
   public:
-    /// @p threads ≥ 2 threads: the caller and threads − 1 helpers.
-    explicit SlabSweep(unsigned threads);
+    /// @p threads ≥ 2 threads: the caller and threads − 1 helpers; the caller's slab
+    /// holds the fraction @p share of the tissue's nodes, the helpers' share the rest
+    /// equally.
+    SlabSweep(unsigned threads, double share);
 
     unsigned
     threads() const
@@ -51,33 +60,59 @@ namespace suturesim::realtime
     void
     partition(System &s);
 
-    /// Runs System::detect_contacts(@p at, projected) on the first helper while the
-    /// caller runs @p work(); returns the time the caller then waited for the helper.
-    template <typename Work>
-    std::chrono::steady_clock::duration
-    detect_contacts_beside(System &s, const Matrix3Xd &at, const Work &work)
-    {
-      const auto detect = [&](unsigned) { s.detect_contacts(at, System::Contacts::projected); };
-      team.start(detect);
-      try
-        {
-          work();
-        }
-      catch (...)
-        {
-          team.wait(); // the helper's job refers to this frame
-          throw;
-        }
-      const auto start = std::chrono::steady_clock::now();
-      team.wait();
-      return std::chrono::steady_clock::now() - start;
-    }
-
     /// One sweep over the tissue's families.
     void
     sweep(System &s, double dt);
 
+    /// The first sweep of a step, beside the contact detection: the first helper runs
+    /// System::detect_contacts(@p at, projected) and then sweeps its slab; the caller runs
+    /// @p start() (the multipliers' start, which every slab needs first) and sweeps its
+    /// own; the other helpers wait for start() and sweep theirs; then the caller sweeps
+    /// the interface. Returns the time the caller waited for the helpers after its slab.
+    template <typename Start>
+    std::chrono::steady_clock::duration
+    sweep_beside_detection(System &s, const double dt, const Matrix3Xd &at, const Start &start)
+    {
+      started.close();
+      std::chrono::steady_clock::time_point own_done;
+      team.run([&](const unsigned t) {
+        if (t == 0)
+          {
+            try
+              {
+                start();
+              }
+            catch (...)
+              {
+                started.abandon(); // the helpers' parts return
+                throw;
+              }
+            started.open();
+          }
+        else
+          {
+            if (t == 1)
+              s.detect_contacts(at, System::Contacts::projected);
+            if (!started.pass())
+              return;
+          }
+        sweep_slab(s, dt, t);
+        if (t == 0)
+          own_done = std::chrono::steady_clock::now();
+      });
+      const auto waited = std::chrono::steady_clock::now() - own_done;
+      sweep_interface(s, dt);
+      return waited;
+    }
+
   private:
+    /// Thread @p t's block of each family, on a copy of its slab's nodes.
+    void
+    sweep_slab(System &s, double dt, unsigned t);
+    /// The constraints between slabs, and the families without blocks (caller's thread).
+    void
+    sweep_interface(System &s, double dt);
+
     struct Slab
     {
       std::vector<std::uint32_t> nodes; ///< ascending: the copy streams through memory
@@ -85,6 +120,8 @@ namespace suturesim::realtime
       VectorXd                   w;
     };
     WorkerTeam        team;
+    double            share; ///< the caller's slab's fraction of the tissue's nodes
     std::vector<Slab> slabs;
+    SpinGate          started; ///< sweep_beside_detection(): the multipliers started
   };
 } // namespace suturesim::realtime
