@@ -181,6 +181,48 @@ namespace suturesim::realtime
     add_tension_forces(x, f, applied(lambda.data(), dt), listed(springs), springs.size());
   }
 
+  bool
+  SpringSet::add_forces_on(const Matrix3Xd &x, const std::vector<std::uint32_t> &springs,
+                           const std::vector<char> &touched, Vector3d &sum) const
+  {
+    sum += tension_force_on(x, elastic(stiffness.data(), rest.data()), springs, touched);
+    return true;
+  }
+
+  bool
+  SpringSet::add_constraint_forces_on(const Matrix3Xd &x, const double dt, const std::vector<std::uint32_t> &springs,
+                                      const std::vector<char> &touched, Vector3d &sum) const
+  {
+    sum += tension_force_on(x, applied(lambda.data(), dt), springs, touched);
+    return true;
+  }
+
+  template <typename Tension>
+  SUTURESIM_HOT_KERNEL Vector3d
+  SpringSet::tension_force_on(const Matrix3Xd &x, const Tension &tension, const std::vector<std::uint32_t> &springs,
+                              const std::vector<char> &touched) const
+  {
+    const double        *X = x.data();
+    const std::uint32_t *I = first.data(), *J = second.data();
+    const auto flagged = [T = touched.data(), m = touched.size()](const std::uint32_t i) { return i < m && T[i] != 0; };
+    double               sum[3] = {0, 0, 0};
+    for (const std::uint32_t s : springs)
+      {
+        // a on the boundary: +t d; b: −t d; both: nothing
+        const bool on_a = flagged(I[s]);
+        if (on_a == flagged(J[s]))
+          continue;
+        const std::size_t a = 3 * std::size_t(I[s]), b = 3 * std::size_t(J[s]);
+        const double      dx = X[b] - X[a], dy = X[b + 1] - X[a + 1], dz = X[b + 2] - X[a + 2];
+        const double      L  = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const double      t  = L > 0 ? (on_a ? 1.0 : -1.0) * tension(s, L) / L : 0.0;
+        sum[0] += t * dx;
+        sum[1] += t * dy;
+        sum[2] += t * dz;
+      }
+    return {sum[0], sum[1], sum[2]};
+  }
+
   template <typename Tension, typename Spring>
   SUTURESIM_HOT_KERNEL void
   SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,

@@ -200,6 +200,47 @@ namespace suturesim::realtime
     add_pressure_forces(x, f, applied(lambda.data(), dt), listed(tetrahedra), tetrahedra.size());
   }
 
+  template <typename Pressure>
+  SUTURESIM_HOT_KERNEL Vector3d
+  VolumeConstraints::pressure_force_on(const Matrix3Xd &x, const Pressure &pressure,
+                                       const std::vector<std::uint32_t> &tetrahedra,
+                                       const std::vector<char> &touched) const
+  {
+    const double     *X = x.data();
+    const char       *T = touched.data();
+    const std::size_t m = touched.size();
+    double            sum[3] = {0, 0, 0};
+    for (const std::uint32_t t : tetrahedra)
+      {
+        const auto &v = tets[t];
+        double      g[4][3];
+        const double p = pressure(t, volume_gradients(X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
+                                                      X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3]), g));
+        for (int j = 0; j < 4; ++j)
+          if (v[j] < m && T[v[j]] != 0)
+            for (int c = 0; c < 3; ++c)
+              sum[c] += p * g[j][c];
+      }
+    return {sum[0], sum[1], sum[2]};
+  }
+
+  bool
+  VolumeConstraints::add_forces_on(const Matrix3Xd &x, const std::vector<std::uint32_t> &tetrahedra,
+                                   const std::vector<char> &touched, Vector3d &sum) const
+  {
+    sum += pressure_force_on(x, elastic(stiffness.data(), rest.data()), tetrahedra, touched);
+    return true;
+  }
+
+  bool
+  VolumeConstraints::add_constraint_forces_on(const Matrix3Xd &x, const double dt,
+                                              const std::vector<std::uint32_t> &tetrahedra,
+                                              const std::vector<char> &touched, Vector3d &sum) const
+  {
+    sum += pressure_force_on(x, applied(lambda.data(), dt), tetrahedra, touched);
+    return true;
+  }
+
   bool
   VolumeConstraints::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
   {

@@ -409,6 +409,7 @@ namespace suturesim::realtime
     const double      dt     = h / n_substeps;
     const bool        xpbd   = time_integrator->position_based();
     const std::size_t primal = time_integrator->first_constraint_interaction(sys);
+    Vector3d          summed = Vector3d::Zero(); // the families that sum over the set themselves
     for (std::size_t k = 0; k < sys.interactions.size(); ++k)
       {
         const bool         constraint = xpbd && k >= primal;
@@ -420,12 +421,13 @@ namespace suturesim::realtime
           }
         if (!set.listed[k])
           constraint ? i.add_constraint_forces(n.x, f, dt) : i.add_forces(n.x, f);
-        else
+        else if (!(constraint ? i.add_constraint_forces_on(n.x, dt, set.elements[k], set.touched, summed)
+                              : i.add_forces_on(n.x, set.elements[k], set.touched, summed)))
           constraint ? i.add_constraint_forces_of(n.x, f, dt, set.elements[k]) : i.add_forces_of(n.x, f, set.elements[k]);
       }
     for (const auto &c : sys.contacts)
       xpbd ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);
-    Vector3d r = Vector3d::Zero();
+    Vector3d r = -summed;
     for (const auto i : set.nodes)
       {
         Vector3d fi = f.col(i) + n.external.col(i);

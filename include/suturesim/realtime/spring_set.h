@@ -92,6 +92,12 @@ namespace suturesim::realtime
     add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
                              const std::vector<std::uint32_t> &springs) const override;
     bool
+    add_forces_on(const Matrix3Xd &x, const std::vector<std::uint32_t> &springs, const std::vector<char> &touched,
+                  Vector3d &sum) const override;
+    bool
+    add_constraint_forces_on(const Matrix3Xd &x, double dt, const std::vector<std::uint32_t> &springs,
+                             const std::vector<char> &touched, Vector3d &sum) const override;
+    bool
     element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
     /// f = ±k (L − L₀) n, H = k [n nᵀ + max(0, 1 − L₀/L)(I − n nᵀ)] (the exact Hessian
     /// with its transverse part clipped at zero under compression: Chen et al. 2024, §3.4)
@@ -165,6 +171,12 @@ namespace suturesim::realtime
     void
     add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
                        std::size_t n) const;
+    /// Σ over the flagged nodes of add_tension_forces()' forces from the listed springs;
+    /// a spring with both ends flagged or neither adds nothing to it and is skipped.
+    template <typename Tension>
+    Vector3d
+    tension_force_on(const Matrix3Xd &x, const Tension &tension, const std::vector<std::uint32_t> &springs,
+                     const std::vector<char> &touched) const;
 
     std::string                label;
     std::vector<std::uint32_t> first, second;

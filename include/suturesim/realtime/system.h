@@ -171,6 +171,23 @@ namespace suturesim::realtime
     {
       add_constraint_forces(x, f, dt);
     }
+    /// Σ over the nodes flagged in @p touched of the forces add_forces_of() gives them
+    /// from the listed @p elements, added to @p sum: a boundary's reaction without a
+    /// force per node (and without the elements whose contributions to the sum cancel,
+    /// those with every node flagged). The same sum to round-off, in another order. False
+    /// (the default): the family does not sum; callers use add_forces_of().
+    virtual bool
+    add_forces_on(const Matrix3Xd &, const std::vector<std::uint32_t> &, const std::vector<char> &, Vector3d &) const
+    {
+      return false;
+    }
+    /// add_forces_on() of the constraint forces (add_constraint_forces_of()).
+    virtual bool
+    add_constraint_forces_on(const Matrix3Xd &, double, const std::vector<std::uint32_t> &, const std::vector<char> &,
+                             Vector3d &) const
+    {
+      return false;
+    }
 
     /// Vertex block descent (integrator "vbd"): the nodes of every element,
     /// @p per_element apiece (2 for springs, 4 for tetrahedra), element by element into

@@ -54,6 +54,12 @@ namespace suturesim::realtime
     add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, double dt,
                              const std::vector<std::uint32_t> &tetrahedra) const override;
     bool
+    add_forces_on(const Matrix3Xd &x, const std::vector<std::uint32_t> &tetrahedra, const std::vector<char> &touched,
+                  Vector3d &sum) const override;
+    bool
+    add_constraint_forces_on(const Matrix3Xd &x, double dt, const std::vector<std::uint32_t> &tetrahedra,
+                             const std::vector<char> &touched, Vector3d &sum) const override;
+    bool
     element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
     /// f = −(K_v/V₀) C ∇ᵢV, H = (K_v/V₀) ∇ᵢV ∇ᵢVᵀ: exact, since V is linear in each vertex
     void
@@ -101,6 +107,12 @@ namespace suturesim::realtime
     template <typename Pressure, typename Tet>
     void
     add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet, std::size_t n) const;
+    /// Σ over the flagged nodes of add_pressure_forces()' forces from the listed
+    /// tetrahedra: p Σ ∇ᵢV over their flagged vertices i.
+    template <typename Pressure>
+    Vector3d
+    pressure_force_on(const Matrix3Xd &x, const Pressure &pressure, const std::vector<std::uint32_t> &tetrahedra,
+                      const std::vector<char> &touched) const;
 
     std::vector<mesh::Tetrahedron> tets;
     std::vector<double>            rest, stiffness, lambda; ///< V₀, K_v/V₀, λ
