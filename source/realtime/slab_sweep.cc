@@ -52,6 +52,9 @@ namespace suturesim::realtime
     std::vector<std::uint32_t> local(x.cols(), 0);
     for (auto &slab : slabs)
       slab.nodes.clear();
+    in_slab.assign(x.cols(), 0);
+    for (std::size_t i = 0; i < part.size(); ++i)
+      in_slab[i] = part[i] < n;
     for (std::uint32_t i = 0; i < x.cols(); ++i) // ascending
       if (part[i] < n)
         {
@@ -62,6 +65,7 @@ namespace suturesim::realtime
       {
         slab.x.resize(3, slab.nodes.size());
         slab.w.resize(slab.nodes.size());
+        slab.f.resize(3, slab.nodes.size());
       }
     for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
       s.interactions[k]->partition(part, local, n);
@@ -103,5 +107,34 @@ namespace suturesim::realtime
   {
     team.run([&](const unsigned t) { sweep_slab(s, dt, t); });
     sweep_interface(s, dt);
+  }
+
+  void
+  SlabSweep::constraint_forces(System &s, const double dt, Matrix3Xd &f)
+  {
+    Nodes &n = s.nodes;
+    team.run([&](const unsigned t) {
+      Slab &slab = slabs[t];
+      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+        slab.x.col(k) = n.x.col(slab.nodes[k]);
+      slab.f.setZero();
+      for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+        if (s.interactions[k]->blocks() != nullptr)
+          s.interactions[k]->add_constraint_forces_block(t, slab.x, slab.f, dt);
+      for (std::size_t k = 0; k < slab.nodes.size(); ++k)
+        f.col(slab.nodes[k]) = slab.f.col(k);
+    });
+    // the nodes in no slab (the suture's) have nothing from the slabs
+    for (Eigen::Index i = 0; i < f.cols(); ++i)
+      if (std::size_t(i) >= in_slab.size() || in_slab[i] == 0)
+        f.col(i).setZero();
+    for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+      {
+        const Interaction &c = *s.interactions[k];
+        if (const auto *b = c.blocks())
+          c.add_constraint_forces_range(n.x, f, dt, (*b)[threads()], b->back());
+        else
+          c.add_constraint_forces(n.x, f, dt);
+      }
   }
 } // namespace suturesim::realtime

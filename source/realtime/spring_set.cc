@@ -148,13 +148,13 @@ namespace suturesim::realtime
   void
   SpringSet::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
-    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), every, first.size());
+    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), every, first.size(), first.data(), second.data());
   }
 
   void
   SpringSet::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
-    add_tension_forces(x, f, applied(lambda.data(), dt), every, first.size());
+    add_tension_forces(x, f, applied(lambda.data(), dt), every, first.size(), first.data(), second.data());
   }
 
   bool
@@ -171,14 +171,15 @@ namespace suturesim::realtime
   void
   SpringSet::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &springs) const
   {
-    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), listed(springs), springs.size());
+    add_tension_forces(x, f, elastic(stiffness.data(), rest.data()), listed(springs), springs.size(), first.data(),
+                       second.data());
   }
 
   void
   SpringSet::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
                                       const std::vector<std::uint32_t> &springs) const
   {
-    add_tension_forces(x, f, applied(lambda.data(), dt), listed(springs), springs.size());
+    add_tension_forces(x, f, applied(lambda.data(), dt), listed(springs), springs.size(), first.data(), second.data());
   }
 
   bool
@@ -226,12 +227,11 @@ namespace suturesim::realtime
   template <typename Tension, typename Spring>
   SUTURESIM_HOT_KERNEL void
   SpringSet::add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
-                                const std::size_t n) const
+                                const std::size_t n, const std::uint32_t *I, const std::uint32_t *J) const
   {
     // the hot kernel: raw pointers into the column-major 3 x n arrays
-    const double        *X = x.data();
-    double              *F = f.data();
-    const std::uint32_t *I = first.data(), *J = second.data();
+    const double *X = x.data();
+    double       *F = f.data();
     for (std::size_t k = 0; k < n; ++k)
       {
         const std::size_t s = spring(k);
@@ -358,6 +358,22 @@ namespace suturesim::realtime
     const std::size_t b = parallel[p];
     project_distances(x.data(), w.data(), local_first.data() + b, local_second.data() + b, rest.data() + b,
                       alpha_tilde.data() + b, lambda.data() + b, parallel[p + 1] - b);
+  }
+
+  void
+  SpringSet::add_constraint_forces_block(const unsigned p, const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
+  {
+    const std::size_t b = parallel.at(p);
+    add_tension_forces(x, f, applied(lambda.data(), dt), [b](const std::size_t k) { return b + k; }, parallel[p + 1] - b,
+                       local_first.data(), local_second.data());
+  }
+
+  void
+  SpringSet::add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, const double dt, const std::size_t begin,
+                                         const std::size_t end) const
+  {
+    add_tension_forces(x, f, applied(lambda.data(), dt), [begin](const std::size_t k) { return begin + k; },
+                       end - begin, first.data(), second.data());
   }
 
   void

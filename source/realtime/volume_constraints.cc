@@ -145,7 +145,7 @@ namespace suturesim::realtime
   template <typename Pressure, typename Tet>
   SUTURESIM_HOT_KERNEL void
   VolumeConstraints::add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet,
-                                         const std::size_t n) const
+                                         const std::size_t n, const mesh::Tetrahedron *vertices) const
   {
     // a hot kernel as well (XPBD's reactions every tick, the warm start's refresh): raw
     // pointers into the column-major 3 x n arrays, the gradient inline
@@ -154,7 +154,7 @@ namespace suturesim::realtime
     for (std::size_t k = 0; k < n; ++k)
       {
         const std::size_t t = tet(k);
-        const auto       &v = tets[t];
+        const auto       &v = vertices[t];
         double            g[4][3];
         const double      p = pressure(t, volume_gradients(X + 3 * std::size_t(v[0]), X + 3 * std::size_t(v[1]),
                                                             X + 3 * std::size_t(v[2]), X + 3 * std::size_t(v[3]), g));
@@ -167,13 +167,13 @@ namespace suturesim::realtime
   void
   VolumeConstraints::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
-    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), every, tets.size());
+    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), every, tets.size(), tets.data());
   }
 
   void
   VolumeConstraints::add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
-    add_pressure_forces(x, f, applied(lambda.data(), dt), every, tets.size());
+    add_pressure_forces(x, f, applied(lambda.data(), dt), every, tets.size(), tets.data());
   }
 
   bool
@@ -190,14 +190,14 @@ namespace suturesim::realtime
   void
   VolumeConstraints::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const
   {
-    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), listed(tetrahedra), tetrahedra.size());
+    add_pressure_forces(x, f, elastic(stiffness.data(), rest.data()), listed(tetrahedra), tetrahedra.size(), tets.data());
   }
 
   void
   VolumeConstraints::add_constraint_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
                                               const std::vector<std::uint32_t> &tetrahedra) const
   {
-    add_pressure_forces(x, f, applied(lambda.data(), dt), listed(tetrahedra), tetrahedra.size());
+    add_pressure_forces(x, f, applied(lambda.data(), dt), listed(tetrahedra), tetrahedra.size(), tets.data());
   }
 
   template <typename Pressure>
@@ -353,6 +353,23 @@ namespace suturesim::realtime
     const std::size_t b = parallel[p];
     project_volumes(x.data(), w.data(), local_tets.data() + b, rest.data() + b, alpha_tilde.data() + b,
                     lambda.data() + b, parallel[p + 1] - b);
+  }
+
+  void
+  VolumeConstraints::add_constraint_forces_block(const unsigned p, const Matrix3Xd &x, Matrix3Xd &f,
+                                                 const double dt) const
+  {
+    const std::size_t b = parallel.at(p);
+    add_pressure_forces(x, f, applied(lambda.data(), dt), [b](const std::size_t k) { return b + k; },
+                        parallel[p + 1] - b, local_tets.data());
+  }
+
+  void
+  VolumeConstraints::add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
+                                                 const std::size_t begin, const std::size_t end) const
+  {
+    add_pressure_forces(x, f, applied(lambda.data(), dt), [begin](const std::size_t k) { return begin + k; },
+                        end - begin, tets.data());
   }
 
   void

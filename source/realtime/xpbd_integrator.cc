@@ -199,9 +199,14 @@ namespace suturesim::realtime
       refresh_displacement(System &s, const double dt)
       {
         Nodes &n = s.nodes;
-        displacement.setZero();
-        for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
-          s.interactions[k]->add_constraint_forces(n.x, displacement, dt);
+        if (slabs)
+          slabs->constraint_forces(s, dt, displacement);
+        else
+          {
+            displacement.setZero();
+            for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
+              s.interactions[k]->add_constraint_forces(n.x, displacement, dt);
+          }
         for (Eigen::Index i = 0; i < n.size(); ++i)
           displacement.col(i) *= dt * dt * n.inverse_mass[i];
         since_refresh = 0;

@@ -237,6 +237,20 @@ namespace
     parted.add_constraint_forces(b, fb, dt);
     EXPECT_GT(fa.norm(), 0);
     EXPECT_TRUE((fa.array() == fb.array()).all()) << "the multipliers differ";
+    // the forces block by block on the slabs' copies, then the interface (the warm
+    // start's refresh on threads): the same terms at each node in another order
+    Matrix3Xd fd = Matrix3Xd::Zero(3, n);
+    for (unsigned p = 0; p < parts; ++p)
+      {
+        Matrix3Xd xs(3, slab[p].size()), fs = Matrix3Xd::Zero(3, slab[p].size());
+        for (std::size_t k = 0; k < slab[p].size(); ++k)
+          xs.col(k) = b.col(slab[p][k]);
+        parted.add_constraint_forces_block(p, xs, fs, dt);
+        for (std::size_t k = 0; k < slab[p].size(); ++k)
+          fd.col(slab[p][k]) = fs.col(k);
+      }
+    parted.add_constraint_forces_range(b, fd, dt, (*parted.blocks())[parts], parted.blocks()->back());
+    EXPECT_LT((fd - fb).cwiseAbs().maxCoeff(), 1e-13 * fb.cwiseAbs().maxCoeff());
     // a new partition (another order) keeps every constraint's data together
     for (auto &p : part)
       p = 1 - p;

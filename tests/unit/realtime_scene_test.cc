@@ -67,7 +67,7 @@ TEST(RealtimeScene, Seed004ScaleSceneCrossesTheSutureOverItselfAndSelfCollisionA
   // The benchmark as shipped (10 s, seed 002's transient constraints): the grasper lays
   // the strand across itself, so non-adjacent segments come within 2r and the response
   // acts on them (measured 2026-11-29 with the warm-started tissue on two threads:
-  // 22 090 pair-steps, at most 7 pairs at once, 0.083 mm as detected, 2r = 0.2245 mm after
+  // 36 019 pair-steps, at most 8 pairs at once, 0.141 mm as detected, 2r = 0.2245 mm after
   // the correction's rounds; on one thread 32 912, 14, 0.00035 mm; before the rounds
   // 0.2130 mm, 5.1 % short, was left). Asked: that it acts in many steps, and that the
   // pairs it acts on end each step at least 0.95 of 2r apart.

@@ -64,6 +64,14 @@ namespace suturesim::realtime
     void
     sweep(System &s, double dt);
 
+    /// f = the constraint forces of the tissue's families (Interaction::
+    /// add_constraint_forces()), each thread its slab's block on a copy of its nodes, then
+    /// the interface and the families without blocks on the caller's (the warm start's
+    /// refresh). The same forces as one thread's to round-off (another order of the sums
+    /// at the slabs' nodes).
+    void
+    constraint_forces(System &s, double dt, Matrix3Xd &f);
+
     /// The first sweep of a step, beside the contact detection: the first helper runs
     /// System::detect_contacts(@p at, projected) and then sweeps its slab; the caller runs
     /// @p start() (the multipliers' start, which every slab needs first) and sweeps its
@@ -118,10 +126,12 @@ namespace suturesim::realtime
       std::vector<std::uint32_t> nodes; ///< ascending: the copy streams through memory
       Matrix3Xd                  x;
       VectorXd                   w;
+      Matrix3Xd                  f; ///< constraint_forces()
     };
     WorkerTeam        team;
     double            share; ///< the caller's slab's fraction of the tissue's nodes
     std::vector<Slab> slabs;
+    std::vector<char> in_slab; ///< per node of the system: in one of the slabs
     SpinGate          started; ///< sweep_beside_detection(): the multipliers started
   };
 } // namespace suturesim::realtime

@@ -119,6 +119,11 @@ namespace suturesim::realtime
     void
     project_block(unsigned p, Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
+    add_constraint_forces_block(unsigned p, const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
+    add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, double dt, std::size_t begin,
+                                std::size_t end) const override;
+    void
     project_range(Matrix3Xd &x, const VectorXd &w, double dt, std::size_t begin, std::size_t end) override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
@@ -165,12 +170,13 @@ namespace suturesim::realtime
     void
     reorder(const std::vector<std::size_t> &order);
 
-    /// f += t(s, L) (x_b − x_a)/L on a, the opposite on b, for the springs s = spring(k),
-    /// k < n: the one kernel of elastic and constraint forces, of all springs or a list.
+    /// f += t(s, L) (x_b − x_a)/L on a = I[s], the opposite on b = J[s], for the springs
+    /// s = spring(k), k < n: the one kernel of elastic and constraint forces, of all
+    /// springs, a list or a block (its local node indices).
     template <typename Tension, typename Spring>
     void
-    add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring,
-                       std::size_t n) const;
+    add_tension_forces(const Matrix3Xd &x, Matrix3Xd &f, const Tension &tension, const Spring &spring, std::size_t n,
+                       const std::uint32_t *I, const std::uint32_t *J) const;
     /// Σ over the flagged nodes of add_tension_forces()' forces from the listed springs;
     /// a spring with both ends flagged or neither adds nothing to it and is skipped.
     template <typename Tension>

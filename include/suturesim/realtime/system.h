@@ -251,6 +251,19 @@ namespace suturesim::realtime
     {
       throw std::logic_error(name() + ": no blocks to sweep");
     }
+    /// add_constraint_forces() of block @p p only, on @p x and into @p f of part p's
+    /// nodes in their local order (the warm start's refresh on several threads).
+    virtual void
+    add_constraint_forces_block(unsigned, const Matrix3Xd &, Matrix3Xd &, double) const
+    {
+      throw std::logic_error(name() + ": no blocks");
+    }
+    /// add_constraint_forces() of the constraints [@p begin, @p end) only.
+    virtual void
+    add_constraint_forces_range(const Matrix3Xd &, Matrix3Xd &, double, std::size_t, std::size_t) const
+    {
+      throw std::logic_error(name() + ": no blocks");
+    }
     /// The largest |C| (constraint violation) relative to its natural scale (for
     /// convergence studies): strain for distances, ΔV/V₀ for volumes, ...
     virtual double

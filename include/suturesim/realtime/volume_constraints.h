@@ -85,6 +85,11 @@ namespace suturesim::realtime
     void
     project_block(unsigned p, Matrix3Xd &x, const VectorXd &w, double dt) override;
     void
+    add_constraint_forces_block(unsigned p, const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
+    void
+    add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, double dt, std::size_t begin,
+                                std::size_t end) const override;
+    void
     project_range(Matrix3Xd &x, const VectorXd &w, double dt, std::size_t begin, std::size_t end) override;
     void
     project(Matrix3Xd &x, const VectorXd &w, double dt) override;
@@ -102,11 +107,13 @@ namespace suturesim::realtime
     /// The volume of tetrahedron @p t at @p x.
     double
     volume(const Matrix3Xd &x, std::size_t t) const;
-    /// f += p(t, V) ∇V for the tetrahedra t = tet(k), k < n: the one loop of elastic and
-    /// constraint forces, of all tetrahedra or a list.
+    /// f += p(t, V) ∇V for the tetrahedra t = tet(k), k < n, with vertices[t]: the one
+    /// loop of elastic and constraint forces, of all tetrahedra, a list or a block (its
+    /// local node indices).
     template <typename Pressure, typename Tet>
     void
-    add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet, std::size_t n) const;
+    add_pressure_forces(const Matrix3Xd &x, Matrix3Xd &f, const Pressure &pressure, const Tet &tet, std::size_t n,
+                        const mesh::Tetrahedron *vertices) const;
     /// Σ over the flagged nodes of add_pressure_forces()' forces from the listed
     /// tetrahedra: p Σ ∇ᵢV over their flagged vertices i.
     template <typename Pressure>
