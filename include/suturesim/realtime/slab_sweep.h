@@ -35,7 +35,6 @@
 #include <suturesim/core/worker_team.h>
 #include <suturesim/realtime/system.h>
 
-#include <atomic>
 #include <chrono>
 #include <vector>
 
