@@ -52,9 +52,6 @@ namespace suturesim::realtime
     std::vector<std::uint32_t> local(x.cols(), 0);
     for (auto &slab : slabs)
       slab.nodes.clear();
-    in_slab.assign(x.cols(), 0);
-    for (std::size_t i = 0; i < part.size(); ++i)
-      in_slab[i] = part[i] < n;
     for (std::uint32_t i = 0; i < x.cols(); ++i) // ascending
       if (part[i] < n)
         {
@@ -113,6 +110,7 @@ namespace suturesim::realtime
   SlabSweep::constraint_forces(System &s, const double dt, Matrix3Xd &f)
   {
     Nodes &n = s.nodes;
+    f.setZero(); // the nodes in no slab (the suture's) have nothing from the blocks
     team.run([&](const unsigned t) {
       Slab &slab = slabs[t];
       for (std::size_t k = 0; k < slab.nodes.size(); ++k)
@@ -124,10 +122,6 @@ namespace suturesim::realtime
       for (std::size_t k = 0; k < slab.nodes.size(); ++k)
         f.col(slab.nodes[k]) = slab.f.col(k);
     });
-    // the nodes in no slab (the suture's) have nothing from the slabs
-    for (Eigen::Index i = 0; i < f.cols(); ++i)
-      if (std::size_t(i) >= in_slab.size() || in_slab[i] == 0)
-        f.col(i).setZero();
     for (std::size_t k = 0; k < s.first_suture_interaction; ++k)
       {
         const Interaction &c = *s.interactions[k];

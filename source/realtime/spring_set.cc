@@ -131,6 +131,12 @@ namespace suturesim::realtime
     {
       return [S = springs.data()](const std::size_t k) { return std::size_t(S[k]); };
     }
+    /// The springs of storage positions begin, begin + 1, … (a block or the interface).
+    auto
+    from(const std::size_t begin)
+    {
+      return [begin](const std::size_t k) { return begin + k; };
+    }
     /// The elastic tension k (L − L₀).
     auto
     elastic(const double *K, const double *R)
@@ -364,7 +370,7 @@ namespace suturesim::realtime
   SpringSet::add_constraint_forces_block(const unsigned p, const Matrix3Xd &x, Matrix3Xd &f, const double dt) const
   {
     const std::size_t b = parallel.at(p);
-    add_tension_forces(x, f, applied(lambda.data(), dt), [b](const std::size_t k) { return b + k; }, parallel[p + 1] - b,
+    add_tension_forces(x, f, applied(lambda.data(), dt), from(b), parallel[p + 1] - b,
                        local_first.data(), local_second.data());
   }
 
@@ -372,7 +378,7 @@ namespace suturesim::realtime
   SpringSet::add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, const double dt, const std::size_t begin,
                                          const std::size_t end) const
   {
-    add_tension_forces(x, f, applied(lambda.data(), dt), [begin](const std::size_t k) { return begin + k; },
+    add_tension_forces(x, f, applied(lambda.data(), dt), from(begin),
                        end - begin, first.data(), second.data());
   }
 

@@ -128,6 +128,12 @@ namespace suturesim::realtime
     {
       return [T = tetrahedra.data()](const std::size_t k) { return std::size_t(T[k]); };
     }
+    /// The tetrahedra of storage positions begin, begin + 1, … (a block or the interface).
+    auto
+    from(const std::size_t begin)
+    {
+      return [begin](const std::size_t k) { return begin + k; };
+    }
     /// The elastic pressure −(K_v/V₀)(V − V₀).
     auto
     elastic(const double *K, const double *V0)
@@ -360,7 +366,7 @@ namespace suturesim::realtime
                                                  const double dt) const
   {
     const std::size_t b = parallel.at(p);
-    add_pressure_forces(x, f, applied(lambda.data(), dt), [b](const std::size_t k) { return b + k; },
+    add_pressure_forces(x, f, applied(lambda.data(), dt), from(b),
                         parallel[p + 1] - b, local_tets.data());
   }
 
@@ -368,7 +374,7 @@ namespace suturesim::realtime
   VolumeConstraints::add_constraint_forces_range(const Matrix3Xd &x, Matrix3Xd &f, const double dt,
                                                  const std::size_t begin, const std::size_t end) const
   {
-    add_pressure_forces(x, f, applied(lambda.data(), dt), [begin](const std::size_t k) { return begin + k; },
+    add_pressure_forces(x, f, applied(lambda.data(), dt), from(begin),
                         end - begin, tets.data());
   }
 

@@ -419,11 +419,16 @@ namespace suturesim::realtime
             set.listed[k]    = i.elements_touching(set.touched, set.elements[k]);
             set.revisions[k] = i.revision();
           }
+        const auto &listed = set.elements[k];
         if (!set.listed[k])
           constraint ? i.add_constraint_forces(n.x, f, dt) : i.add_forces(n.x, f);
-        else if (!(constraint ? i.add_constraint_forces_on(n.x, dt, set.elements[k], set.touched, summed)
-                              : i.add_forces_on(n.x, set.elements[k], set.touched, summed)))
-          constraint ? i.add_constraint_forces_of(n.x, f, dt, set.elements[k]) : i.add_forces_of(n.x, f, set.elements[k]);
+        else if (constraint)
+          {
+            if (!i.add_constraint_forces_on(n.x, dt, listed, set.touched, summed))
+              i.add_constraint_forces_of(n.x, f, dt, listed);
+          }
+        else if (!i.add_forces_on(n.x, listed, set.touched, summed))
+          i.add_forces_of(n.x, f, listed);
       }
     for (const auto &c : sys.contacts)
       xpbd ? c->add_constraint_forces(n.x, f, dt) : c->add_forces(n.x, f);

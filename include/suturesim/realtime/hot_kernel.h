@@ -8,9 +8,9 @@
  * runs the fused multiply-adds (measured in tests/benchmarks/realtime_benchmark.cc) and
  * AVX-512's wider registers and masked operations (on the seed-004-scale benchmark's
  * AMD EPYC the recording phase, mostly the boundary's reaction, took 17 µs against 25
- * with the v3 clone, four back-to-back pairs; docs/realtime.md). Elsewhere it is
- * empty, and under ThreadSanitizer, whose run time is not yet set up when the loader
- * calls the ifunc resolvers (the program crashes before main).
+ * with the v3 clone, four back-to-back pairs of development builds; docs/realtime.md).
+ * Elsewhere it is empty, and under ThreadSanitizer, whose run time is not yet set up
+ * when the loader calls the ifunc resolvers (the program crashes before main).
  */
 
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) && \

@@ -130,7 +130,6 @@ namespace suturesim::realtime
     WorkerTeam        team;
     double            share; ///< the caller's slab's fraction of the tissue's nodes
     std::vector<Slab> slabs;
-    std::vector<char> in_slab; ///< per node of the system: in one of the slabs
     SpinGate          started; ///< sweep_beside_detection(): the multipliers started
   };
 } // namespace suturesim::realtime
