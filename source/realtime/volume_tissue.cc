@@ -4,6 +4,11 @@
  * vertex, and, under XPBD, one volume constraint per tetrahedron carrying the bulk
  * stiffness K − 2E/3 that the springs lack (volume_constraints.h), so that the
  * network's response to a uniform dilatation is the continuum's K.
+ *
+ * Two multipliers make those rules a starting point for calibration (issue 28,
+ * docs/calibration.md): `Spring stiffness scale` s_k multiplies every spring's k_e, and
+ * `Volume stiffness scale` s_V every tetrahedron's bulk stiffness K − 2E/3; both 1 by
+ * default, the physically derived values.
  */
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/spring_set.h>
@@ -20,6 +25,8 @@ namespace suturesim::realtime
       explicit VolumeTissue(const ParameterValues &p)
         : volume_mode(p.text("Volume constraints"))
         , home_stiffness(p.real("Home spring stiffness"))
+        , spring_scale(p.real("Spring stiffness scale"))
+        , volume_scale(p.real("Volume stiffness scale"))
       {
         bending_factor = p.real("Bending stiffness factor");
         bending_points = p.text("Bending points");
@@ -47,9 +54,10 @@ namespace suturesim::realtime
         for (std::size_t t = 0; t < E.size(); ++t)
           {
             const int tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
-            E[t]          = m.youngs_modulus_of(tag);
-            bulk[t]       = m.bulk_modulus_of(tag) - 2 * E[t] / 3;
-            all_bulk      = all_bulk && bulk[t] > 0;
+            const double e = m.youngs_modulus_of(tag);
+            E[t]           = spring_scale * e; // k_e is linear in E (Van Gelder's rule)
+            bulk[t]        = volume_scale * (m.bulk_modulus_of(tag) - 2 * e / 3);
+            all_bulk       = all_bulk && bulk[t] > 0;
           }
         add_volume_springs(*springs, mesh, node, E);
         springs->sort();
@@ -76,7 +84,7 @@ namespace suturesim::realtime
 
     private:
       std::string volume_mode;
-      double      home_stiffness;
+      double      home_stiffness, spring_scale, volume_scale;
     };
 
     const bool registered = TissueModel::Registry::instance().add(
@@ -91,6 +99,14 @@ namespace suturesim::realtime
          d.add_real("Home spring stiffness", 0, 0, 1e12,
                     "Home springs on every node (seed 001 sec. 2.1); 0 = none. Unit: N/m. "
                     "Range: >= 0.");
+         d.add_real("Spring stiffness scale", 1, 1e-3, 1e3,
+                    "Multiplies every tissue spring's Van Gelder stiffness k_e = E sum V_T / "
+                    "L_e^2 (a calibration parameter, docs/calibration.md). Unit: 1. Range: "
+                    "[1e-3, 1e3].");
+         d.add_real("Volume stiffness scale", 1, 1e-3, 1e3,
+                    "Multiplies every volume constraint's bulk stiffness K - 2E/3 (a "
+                    "calibration parameter, docs/calibration.md). Unit: 1. Range: [1e-3, "
+                    "1e3].");
          declare_bending_parameters(d);
        },
        [](const ParameterValues &p) { return std::unique_ptr<TissueModel>(new VolumeTissue(p)); }});

@@ -430,3 +430,37 @@ TEST(RealtimeModels, FollowTheLeaderPerLinkTensionIsTheStrainOfLinksInSeries)
         EXPECT_GT(loads[0].stiffness_before, loads[0].stiffness_after);
     }
 }
+
+TEST(RealtimeModels, VolumeStiffnessScalesMultiplyTheSpringAndBulkEnergies)
+{
+  // the calibration's parameters (issue 28): Spring stiffness scale s_k multiplies every
+  // Van Gelder spring and Volume stiffness scale s_V every bulk constraint, so at one
+  // deformed configuration each family's energy is s times the unscaled one
+  const auto mesh   = test_support::box_mesh(0.02, 0.02, 0.01, 3, 3, 2);
+  const auto energy = [&](const std::string &s_k, const std::string &s_V, const std::string &family) {
+    WorldSetup w;
+    w.mesh     = &mesh;
+    w.material = {6e3, 0.45, 1060, {}};
+    w.tissue   = test_support::make_model<TissueModel::Registry>(
+      "volume", {{"Spring stiffness scale", s_k}, {"Volume stiffness scale", s_V}});
+    w.contact    = false;
+    w.integrator = test_support::make_model<Integrator::Registry>("xpbd");
+    World world(std::move(w));
+    world.initialize();
+    const auto &sys = world.system();
+    Matrix3Xd   x   = sys.nodes.x;
+    Eigen::Matrix3d F;
+    F << 1.05, 0.02, 0, 0, 0.97, 0.01, 0.03, 0, 1.02; // a general homogeneous deformation
+    x = F * x;
+    for (const auto &i : sys.interactions)
+      if (i->name() == family)
+        return i->energy(x);
+    ADD_FAILURE() << "no interaction " << family;
+    return 0.0;
+  };
+  const double springs = energy("1", "1", "tissue springs"), volumes = energy("1", "1", "volume constraints");
+  ASSERT_GT(springs, 0);
+  ASSERT_GT(volumes, 0);
+  EXPECT_NEAR(energy("2.5", "0.4", "tissue springs"), 2.5 * springs, 1e-12 * springs);
+  EXPECT_NEAR(energy("2.5", "0.4", "volume constraints"), 0.4 * volumes, 1e-12 * volumes);
+}
