@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <iterator>
 #include <optional>
@@ -36,6 +37,9 @@ namespace suturesim::study
       "  --export snakemake  write DIR/Snakefile (run it with snakemake --cores N) and exit\n"
       "  --case NAME         run one case (what the Snakefile's rules do) and exit\n"
       "  --only NAME,...     only these cases (and the references they are measured against)\n"
+      "  --case-list FILE    the cases of FILE (\"name: settings; ...\", as Cases/List) in place of\n"
+      "                      the study's axes and list (what suturesim calibrate runs)\n"
+      "  --no-figures        write the tables only\n"
       "  --set S/K=V         a setting for every case and the reference, after their own\n"
       "                      (e.g. --set \"Time/End time=0.2\" for a small run of the study;\n"
       "                      --set \"Model accurate/Mesh/Geo parameters=...\" sets the scene's\n"
@@ -43,10 +47,10 @@ namespace suturesim::study
 
     struct Options
     {
-      std::string              file, output, export_to, one_case;
+      std::string              file, output, export_to, one_case, case_list;
       std::vector<std::string> overrides, only;
       unsigned    jobs     = 1;
-      bool        validate = false;
+      bool        validate = false, figures = true;
     };
 
     Options
@@ -72,6 +76,10 @@ namespace suturesim::study
                 else if (!name.empty())
                   o.only.push_back(name), name.clear();
             }
+          else if (a == "--case-list" && has_next)
+            o.case_list = args[++i];
+          else if (a == "--no-figures")
+            o.figures = false;
           else if (a == "--case" && has_next)
             o.one_case = args[++i];
           else if (a == "--export" && has_next && args[i + 1] == "snakemake")
@@ -93,6 +101,22 @@ namespace suturesim::study
       if (o.file.empty())
         throw InputError(std::string("study: no study file\n") + usage);
       return o;
+    }
+
+    /// The text of --case-list @p file: at most 1 MiB (some thousand cases).
+    std::string
+    case_list_text(const std::string &file)
+    {
+      constexpr std::size_t limit = 1 << 20;
+      std::ifstream         in(file, std::ios::binary);
+      std::string           text(limit + 1, '\0');
+      in.read(text.data(), static_cast<std::streamsize>(text.size()));
+      if (in.bad() || (!in && !in.eof()) || !fs::is_regular_file(file))
+        throw InputError("study: --case-list " + file + ": cannot be read");
+      text.resize(static_cast<std::size_t>(in.gcount()));
+      if (text.size() > limit)
+        throw InputError("study: --case-list " + file + ": longer than 1 MiB");
+      return text;
     }
 
     /// The arguments that make a study the same study again (the Snakefile's commands).
@@ -346,7 +370,7 @@ namespace suturesim::study
                             {"cases_wall_seconds", e.cases_wall},
                             {"run_phase_seconds", e.run_phase}};
       report.write(folder, timing);
-      const bool   figures           = draw_figures(folder);
+      const bool   figures           = o.figures && draw_figures(folder);
       const double total             = std::chrono::duration<double>(Clock::now() - start).count();
       timing["study_wall_seconds"] = total;
       report.write(folder, timing);
@@ -354,7 +378,7 @@ namespace suturesim::study
                 << p.jobs.size() - e.run << " already done) in " << total << " s, the cases' own runs "
                 << e.cases_wall << " s; wrote " << folder << "/ (cases.csv, study.json"
                 << best_files(report) << (figures ? ", figures" : "") << ")\n";
-      return figures ? 0 : 1;
+      return figures || !o.figures ? 0 : 1;
     }
   } // namespace
 
@@ -365,7 +389,8 @@ namespace suturesim::study
     try
       {
         const Options         o     = parse(arguments);
-        StudyDefinition       study = StudyDefinition::read(o.file, o.overrides);
+        const std::string case_list = o.case_list.empty() ? "" : case_list_text(o.case_list);
+        StudyDefinition study = StudyDefinition::read(o.file, o.overrides, o.case_list.empty() ? nullptr : &case_list);
         restrict_to(study, o);
         if (o.validate)
           {

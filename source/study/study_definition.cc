@@ -10,6 +10,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <array>
+#include <charconv>
 #include <map>
 #include <optional>
 #include <set>
@@ -82,6 +84,15 @@ namespace suturesim::study
           out.emplace_back(trim(item.substr(0, colon)), value);
         }
       return out;
+    }
+
+    /// @p v as a setting's value that reads back as the same double.
+    std::string
+    number_text(const double v)
+    {
+      std::array<char, 32> text{};
+      const auto           end = std::to_chars(text.data(), text.data() + text.size(), v).ptr; // shortest
+      return std::string(text.data(), end);
     }
 
     /// A bound on a study's size: each case is a run and a folder.
@@ -209,6 +220,27 @@ namespace suturesim::study
                         "A parameter path (e.g. Model) whose value in each case's settings names its "
                         "series: one table, order and extrapolation per series (per model path). "
                         "Empty: one series. Unit: none.");
+      prm.leave_subsection();
+      prm.enter_subsection("Calibration");
+      prm.declare_entry("Parameters", "", Anything(),
+                        "Scene parameters to fit (suturesim calibrate, docs/calibration.md): "
+                        "\"Path/Key: initial, lower, upper\" separated by semicolons; fitted in ln p "
+                        "when lower > 0, else in p. Empty: the study is not a calibration. Unit: the "
+                        "parameter's.");
+      prm.declare_entry("Weights", "", Anything(),
+                        "\"column: weight\" separated by commas: the objective is the sum of w e^2 over "
+                        "these error columns e of cases.csv. Empty: weight 1 on every probe.<p>, scalar, "
+                        "<curve>.l2 and surface.l2. Unit: 1.");
+      prm.declare_entry("Validation", "", Anything(),
+                        "Held-out cases run at the fitted values and measured against the same "
+                        "reference: \"name: settings; ...\" over Cases/Settings (another mesh size, "
+                        "another integrator). Unit: none.");
+      prm.declare_entry("Max evaluations", "60", dealii::Patterns::Integer(2, 1000),
+                        "Runs of the objective the optimiser may make (the Jacobian's runs not "
+                        "counted). Unit: 1. Range: 2-1000.");
+      prm.declare_entry("Difference step", "1e-3", dealii::Patterns::Double(1e-8, 0.5),
+                        "Forward-difference step of the Jacobian: of ln p, or of p relative to "
+                        "upper - lower for a parameter fitted in p. Unit: 1. Range: [1e-8, 0.5].");
       prm.leave_subsection();
     }
 
@@ -360,7 +392,7 @@ namespace suturesim::study
     /// (--set) after its own settings; the axis paths of Cases/Axes.
     std::vector<std::string>
     read_cases(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top,
-               const std::vector<std::string> &extra)
+               const std::vector<std::string> &extra, const std::string *case_list)
     {
       prm.enter_subsection("Reference");
       const auto reference_settings = settings(prm.get("Settings"));
@@ -377,12 +409,20 @@ namespace suturesim::study
       prm.enter_subsection("Cases");
       const ParameterScope cases      = top.subsection("Cases");
       const auto           common     = settings(prm.get("Settings"));
-      const auto           axis_texts = split(prm.get("Axes"), ';');
+      const auto           axis_texts = case_list ? std::vector<std::string>{} : split(prm.get("Axes"), ';');
       d.cases                         = product(axis_texts, common, cases);
       const std::size_t from_axes     = d.cases.size();
-      for (auto &c : listed(prm.get("List"), common, cases))
+      for (auto &c : listed(case_list ? *case_list : prm.get("List"), common, cases))
         d.cases.push_back(c);
       prm.leave_subsection();
+      if (d.cases.empty() && !d.calibration.parameters.empty())
+        {
+          // a calibration's one case, its starting point
+          Case start{"initial", common, {}};
+          for (const auto &p : d.calibration.parameters)
+            start.settings.push_back(p.path + "=" + number_text(p.initial));
+          d.cases.push_back(start);
+        }
       cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
       if (series.empty())
         match_references(d, per_axis, reference_settings, top.subsection("Reference"));
@@ -481,6 +521,101 @@ namespace suturesim::study
           figures.require(h > 0, "Convergence sizes", "the size of '" + name + "' must be > 0 m");
         }
     }
+
+    /// Calibration/Parameters: "Path/Key: initial, lower, upper" separated by ";".
+    std::vector<CalibrationParameter>
+    calibration_parameters(const std::string &text, const ParameterScope &scope)
+    {
+      std::vector<CalibrationParameter> out;
+      for (const auto &item : split(text, ';'))
+        {
+          const auto colon = item.rfind(':');
+          scope.require(colon != std::string::npos && colon > 0, "Parameters",
+                        "'" + item + "' is not 'Path/Key: initial, lower, upper'");
+          CalibrationParameter p{unquote(item.substr(0, colon))};
+          std::vector<double>  v;
+          for (const auto &n : split(item.substr(colon + 1), ','))
+            {
+              char        *end   = nullptr;
+              const double value = std::strtod(n.c_str(), &end);
+              scope.require(*end == '\0' && std::isfinite(value), "Parameters",
+                            "'" + n + "' of '" + p.path + "' is not a number");
+              v.push_back(value);
+            }
+          scope.require(v.size() == 3, "Parameters", "'" + p.path + "' needs three numbers: initial, lower, upper");
+          p.initial = v[0], p.lower = v[1], p.upper = v[2];
+          scope.require(p.lower < p.upper && p.lower <= p.initial && p.initial <= p.upper, "Parameters",
+                        "'" + p.path + "': needs lower < upper and the initial value within them");
+          for (const auto &q : out)
+            scope.require(q.path != p.path, "Parameters", "'" + p.path + "' is fitted twice");
+          out.push_back(p);
+        }
+      scope.require(out.size() <= 20, "Parameters", "at most 20 parameters");
+      return out;
+    }
+
+    /// The rest of subsection Calibration, once the cases and metrics are read: every
+    /// parameter's bounds and every validation case applied to the base scene as the
+    /// runs will, the weights' columns known.
+    void
+    read_calibration(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top,
+                     const std::vector<std::string> &extra)
+    {
+      auto      &c     = d.calibration;
+      const auto scope = top.subsection("Calibration");
+      prm.enter_subsection("Cases");
+      const auto common = settings(prm.get("Settings"));
+      prm.leave_subsection();
+      prm.enter_subsection("Calibration");
+      const auto weights    = named_numbers(prm.get("Weights"), scope, "Weights");
+      const auto validation = listed(prm.get("Validation"), {}, scope, "Validation");
+      c.max_evaluations     = static_cast<unsigned>(prm.get_integer("Max evaluations"));
+      c.difference_step     = prm.get_double("Difference step");
+      prm.leave_subsection();
+      if (c.parameters.empty())
+        {
+          scope.require(weights.empty(), "Weights", "needs Calibration/Parameters to fit");
+          scope.require(validation.empty(), "Validation", "needs Calibration/Parameters to fit");
+          return;
+        }
+      scope.require(d.references.size() == 1 && !d.reference_series, "Parameters",
+                    "a calibration has one reference (no Reference/Per axis or Series)");
+      for (const auto &p : c.parameters)
+        for (const double v : {p.lower, p.upper})
+          {
+            Case at{"bound", common, {}};
+            at.settings.push_back(p.path + "=" + number_text(v));
+            at.settings.insert(at.settings.end(), extra.begin(), extra.end());
+            check(at, d.base_scene, scope, "Parameters");
+          }
+      const auto columns = d.metrics.error_columns();
+      for (const auto &[column, w] : weights)
+        {
+          scope.require(std::find(columns.begin(), columns.end(), column) != columns.end(), "Weights",
+                        "'" + column + "' is not one of the Metrics' error columns");
+          scope.require(w > 0, "Weights", "the weight of '" + column + "' must be > 0");
+        }
+      c.weights = weights;
+      if (c.weights.empty())
+        for (const auto &column : columns)
+          if (column.rfind("probe.", 0) == 0 || column == "surface.l2" ||
+              std::find(d.metrics.scalars.begin(), d.metrics.scalars.end(), column) != d.metrics.scalars.end() ||
+              (column.size() > 3 && column.compare(column.size() - 3, 3, ".l2") == 0 &&
+               column.find(".phase") == std::string::npos))
+            c.weights.emplace_back(column, 1.0);
+      scope.require(!c.weights.empty(), "Weights", "Metrics names no error to fit");
+      for (const auto &v : validation) // kept with their own settings, checked with all
+        {
+          scope.require(!v.name.empty() && v.name != "reference", "Validation", "a case needs a name");
+          Case all{v.name, common, {}};
+          all.settings.insert(all.settings.end(), v.settings.begin(), v.settings.end());
+          for (const auto &p : c.parameters)
+            all.settings.push_back(p.path + "=" + number_text(p.initial));
+          all.settings.insert(all.settings.end(), extra.begin(), extra.end());
+          check(all, d.base_scene, scope, "Validation");
+          c.validation.push_back(v);
+        }
+    }
   } // namespace
 
   std::vector<std::string>
@@ -507,7 +642,8 @@ namespace suturesim::study
   }
 
   StudyDefinition
-  StudyDefinition::read(const std::string &study_file, const std::vector<std::string> &extra)
+  StudyDefinition::read(const std::string &study_file, const std::vector<std::string> &extra,
+                        const std::string *case_list)
   {
     ParameterHandler prm;
     declare(prm);
@@ -520,7 +656,8 @@ namespace suturesim::study
     for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
-                            "Figures/Convergence metric", "Figures/Convergence sizes"})
+                            "Figures/Convergence metric", "Figures/Convergence sizes", "Calibration/Parameters",
+                            "Calibration/Weights", "Calibration/Validation"})
       d.lines[key] = file.line_of(key);
     d.name = prm.get("Name");
     top.require(!d.name.empty() && file_name_part(d.name) == d.name, "Name",
@@ -529,9 +666,13 @@ namespace suturesim::study
     top.require(!base.empty(), "Base scene", "a study needs a base scene");
     d.base_scene = file.resolve(base);
 
-    const auto axes = read_cases(prm, d, top, extra);
+    prm.enter_subsection("Calibration");
+    d.calibration.parameters = calibration_parameters(prm.get("Parameters"), top.subsection("Calibration"));
+    prm.leave_subsection();
+    const auto axes = read_cases(prm, d, top, extra, case_list);
     read_metrics_and_objective(prm, d, top);
     read_figures(prm, d, axes, top);
+    read_calibration(prm, d, top, extra);
     return d;
   }
 

@@ -93,6 +93,27 @@ namespace suturesim::study
     std::string convergence_series; ///< a parameter path whose value in a case names its series (e.g. Model)
   };
 
+  /// A scene parameter that a calibration fits (Calibration/Parameters), within bounds.
+  struct CalibrationParameter
+  {
+    std::string path;                   ///< "Path/Key", as a setting names it
+    double      initial = 0, lower = 0, upper = 0;
+  };
+
+  /// A calibration (issue 28; `suturesim calibrate`, docs/calibration.md): the
+  /// parameters that minimise Σ_m w_m e_m² over the study's error columns e_m of one
+  /// case against the reference, found by SciPy's bounded least squares
+  /// (postprocess/calibrate.py), then run at the fitted values on the validation cases.
+  struct CalibrationSpec
+  {
+    std::vector<CalibrationParameter>           parameters; ///< empty: not a calibration
+    std::vector<std::pair<std::string, double>> weights;    ///< error column: w (> 0)
+    /// held-out cases, run at the fitted values, their settings over Cases/Settings
+    std::vector<Case> validation;
+    unsigned          max_evaluations = 60;   ///< runs of the objective (not the Jacobian's)
+    double            difference_step = 1e-3; ///< forward-difference step, of ln p (or of p / |bounds|)
+  };
+
   struct StudyDefinition
   {
     std::string       name;
@@ -106,14 +127,18 @@ namespace suturesim::study
     MetricsSpec       metrics;
     ObjectiveSpec     objective;
     FiguresSpec       figures;
+    CalibrationSpec   calibration;
 
     /// Reads and checks @p study_file: every case's settings are applied to the base
     /// scene as the run would apply them, so an unknown path or a bad value is found
     /// now; errors are InputErrors "study_file:line: key: problem". @p extra settings
     /// (the command line's --set) go after every case's own, the reference's too: the
     /// same study at another size, e.g. a shorter end time.
+    /// With @p case_list ("name: settings; …", as Cases/List), those cases replace the
+    /// study's axes and list (a calibration's runs at the parameter values it tries).
     static StudyDefinition
-    read(const std::string &study_file, const std::vector<std::string> &extra = {});
+    read(const std::string &study_file, const std::vector<std::string> &extra = {},
+         const std::string *case_list = nullptr);
 
     /// An InputError "study_file:line: key: problem" for what is found after the runs
     /// (a metric no case produces, a failed reference); @p key as "Metrics/Scalars".
