@@ -6,6 +6,7 @@
 #include <suturesim/io/checked_output.h>
 #include <suturesim/scene/default_scene.h>
 #include <suturesim/scene/simulation.h>
+#include <suturesim/study/calibrate_command.h>
 #include <suturesim/study/study_command.h>
 
 #include <deal.II/base/exceptions.h>
@@ -44,7 +45,9 @@ namespace
     "                cell-similarity shortcut is off with threads), not between counts above one\n"
     "  --help        this text and every parameter with its unit and range\n"
     "       suturesim study <study.prm> [--output DIR] [--jobs N] [--validate] [--export snakemake]\n"
-    "                 runs a study's cases and measures them against its reference (docs/studies.md)\n";
+    "                 runs a study's cases and measures them against its reference (docs/studies.md)\n"
+    "       suturesim calibrate <calibration.prm> [--output DIR] [--jobs N] [--validate]\n"
+    "                 fits realtime parameters to the study's reference (docs/calibration.md)\n";
 
   /// The threads per process for --threads @p asked: at most the node's cores shared
   /// among this node's MPI processes, all of that share for 0, at least one. deal.II's
@@ -69,6 +72,8 @@ main(int argc, char **argv)
   // A study starts its cases as processes of their own: it is not an MPI process itself.
   if (argc > 1 && std::string(argv[1]) == "study")
     return study::study_command(std::vector<std::string>(argv + 2, argv + argc));
+  if (argc > 1 && std::string(argv[1]) == "calibrate")
+    return study::calibrate_command(std::vector<std::string>(argv + 2, argv + argc));
   // One thread per process unless --threads asks for more (below).
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   limit_blas_threads();

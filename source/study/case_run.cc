@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -240,5 +241,15 @@ namespace suturesim::study
         report(jobs[k].name + " " + outcomes[k].status);
       }
     return outcomes;
+  }
+
+  unsigned
+  jobs_argument(const std::string &text)
+  {
+    char      *end = nullptr;
+    const long v   = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v < 1 || v > 256)
+      throw InputError("--jobs " + text + ": must be a whole number of cases from 1 to 256");
+    return static_cast<unsigned>(v);
   }
 } // namespace suturesim::study

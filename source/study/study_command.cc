@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -85,14 +84,7 @@ namespace suturesim::study
           else if (a == "--export" && has_next && args[i + 1] == "snakemake")
             o.export_to = args[++i];
           else if (a == "--jobs" && has_next)
-            {
-              const std::string n = args[++i];
-              char             *end = nullptr;
-              const long        v   = std::strtol(n.c_str(), &end, 10);
-              if (n.empty() || *end != '\0' || v < 1 || v > 256)
-                throw InputError("--jobs " + n + ": must be a whole number of cases from 1 to 256");
-              o.jobs = static_cast<unsigned>(v);
-            }
+            o.jobs = jobs_argument(args[++i]);
           else if (a.rfind("--", 0) == 0 || !o.file.empty())
             throw InputError("study: unknown, incomplete or extra argument '" + a + "'\n" + usage);
           else

@@ -65,6 +65,11 @@ namespace suturesim::study
   run_cases(const std::string &executable, const std::vector<CaseJob> &jobs,
             const std::vector<std::string> &parameters, unsigned concurrency, std::ostream &progress);
 
+  /// The value of `--jobs` @p text (study, calibrate): a whole number of cases run at
+  /// once, 1–256; an InputError naming it otherwise.
+  unsigned
+  jobs_argument(const std::string &text);
+
   /// FNV-1a, 64 bit, as 16 hexadecimal digits: a stable digest across builds.
   std::string
   digest(const std::string &text);
