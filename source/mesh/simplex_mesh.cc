@@ -130,4 +130,25 @@ namespace suturesim::mesh
     result.erase(std::unique(result.begin(), result.end()), result.end());
     return result;
   }
+  std::vector<TrianglePoint>
+  subtriangle_centroids(const unsigned n)
+  {
+    if (n == 0)
+      throw std::invalid_argument("subtriangle_centroids: n must be at least 1");
+    // sub-triangle (i, j) pointing as the triangle has its centroid at λ₁ = (i + 1/3)/n,
+    // λ₂ = (j + 1/3)/n; the one pointing the other way, beside it, at (i + 2/3)/n, (j + 2/3)/n
+    std::vector<TrianglePoint> points;
+    const double               h = n, w = 1.0 / (h * h);
+    const auto add = [&](const double l1, const double l2) { points.push_back({{{1 - l1 - l2, l1, l2}}, w}); };
+    if (n == 1) // the centroid exactly
+      return {{{{1. / 3, 1. / 3, 1. / 3}}, 1.0}};
+    for (unsigned i = 0; i < n; ++i)
+      for (unsigned j = 0; i + j < n; ++j)
+        {
+          add((i + 1. / 3) / h, (j + 1. / 3) / h);
+          if (i + j + 1 < n)
+            add((i + 2. / 3) / h, (j + 2. / 3) / h);
+        }
+    return points;
+  }
 } // namespace suturesim::mesh

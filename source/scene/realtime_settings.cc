@@ -52,6 +52,14 @@ namespace suturesim::scene
                       "What to do when dt exceeds the integrator's stability limit dt_crit "
                       "(reported in summary.json): warn and run, or refuse to run. Unit: "
                       "none.");
+    prm.declare_entry("Traction subdivision", default_text(d.traction_subdivision), Patterns::Integer(1, 16),
+                      "Tractions become the consistent nodal loads f_i = integral of t N_i dA "
+                      "over each loaded surface triangle (N_i its linear shape functions), "
+                      "integrated at the centroids of its n^2 sub-triangles: 1 is the centroid "
+                      "rule, exact for a traction uniform over the triangle; a traction that "
+                      "jumps inside a triangle (the edge of a pressure patch) needs more. Cost: "
+                      "n^2 evaluations of the traction per loaded triangle and step. Unit: 1. "
+                      "Range: [1, 16].");
     prm.declare_entry("Pacing", default_text(d.pacing), Patterns::Bool(),
                       "Wait for the wall clock between steps as a haptic loop does (true), "
                       "or step as fast as possible (false, for benchmarks). Unit: none.");
@@ -71,6 +79,7 @@ namespace suturesim::scene
     contact_depth      = prm.get_double("Contact depth");
     rate               = prm.get_double("Rate");
     substeps           = prm.get_integer("Substeps");
+    traction_subdivision = static_cast<unsigned>(prm.get_integer("Traction subdivision"));
     refuse_above_limit = prm.get("Above stability limit") == "refuse";
     pacing             = prm.get_bool("Pacing");
   }

@@ -88,7 +88,7 @@ namespace suturesim::scene
     if (scene.has_tissue())
       {
         hold_boundaries();
-        add_tractions();
+        add_tractions(settings.traction_subdivision);
       }
     add_tools(settings);
     add_probes();
@@ -201,42 +201,50 @@ namespace suturesim::scene
   }
 
   void
-  RealtimeWorld::add_tractions()
+  RealtimeWorld::add_tractions(const unsigned subdivision)
   {
-    // Tractions t0(X, t) as nodal loads: a third of each loaded triangle's force, t0 at
-    // its centroid times its reference area, to each of its vertices.
-    struct Loaded
+    // Tractions t0(X, t) as the consistent nodal loads of linear triangles, f_i = ∫ t0 N_i
+    // dA (N_i = λ_i), by the composite centroid rule of mesh::subtriangle_centroids: at a
+    // point of barycentric λ and weight w, the share A w λ_i to vertex i. With n = 1 that
+    // is t0 at the centroid times A/3 to each vertex.
+    struct Sample
     {
       std::array<std::int64_t, 3> nodes;
-      Point<3>                    centroid;
-      double                      area;
+      Point<3>                    point;
+      std::array<double, 3>       share; ///< A w λ_i, m²
     };
-    std::vector<Loaded> loaded;
+    const auto          rule = mesh::subtriangle_centroids(subdivision);
+    std::vector<Sample> samples;
     for (std::size_t f = 0; f < surface.triangles.size(); ++f)
       if (scene.boundary_conditions.traction_boundaries.count(surface.tags[f]))
         {
           const auto        &tri = surface.triangles[f];
           const rt::Vector3d a = tissue_mesh.vertices.col(tri[0]), b = tissue_mesh.vertices.col(tri[1]),
                              c = tissue_mesh.vertices.col(tri[2]);
-          const rt::Vector3d m = (a + b + c) / 3;
+          const double       area   = 0.5 * (b - a).cross(c - a).norm();
           const auto        *tissue = world->tissue();
-          loaded.push_back({{{tissue->node(tri[0]), tissue->node(tri[1]), tissue->node(tri[2])}},
-                            Point<3>(m[0], m[1], m[2]),
-                            0.5 * (b - a).cross(c - a).norm()});
+          for (const auto &q : rule)
+            {
+              const auto        &l = q.barycentric;
+              const rt::Vector3d x = l[0] * a + l[1] * b + l[2] * c;
+              samples.push_back({{{tissue->node(tri[0]), tissue->node(tri[1]), tissue->node(tri[2])}},
+                                 Point<3>(x[0], x[1], x[2]),
+                                 {{area * q.weight * l[0], area * q.weight * l[1], area * q.weight * l[2]}}});
+            }
         }
-    if (loaded.empty())
+    if (samples.empty())
       return;
     auto *bc = &scene.boundary_conditions;
-    world->set_loads([bc, loaded](const double t, rt::Matrix3Xd &external) {
+    world->set_loads([bc, samples](const double t, rt::Matrix3Xd &external) {
       auto          &traction = bc->traction(t);
       Vector<double> t0(3);
-      for (const auto &l : loaded)
+      for (const auto &s : samples)
         {
-          traction.vector_value(l.centroid, t0);
-          for (const auto n : l.nodes)
-            if (n >= 0)
+          traction.vector_value(s.point, t0);
+          for (int k = 0; k < 3; ++k)
+            if (s.nodes[k] >= 0)
               for (int c = 0; c < 3; ++c)
-                external(c, n) += t0[c] * l.area / 3;
+                external(c, s.nodes[k]) += t0[c] * s.share[k];
         }
     });
   }

@@ -60,6 +60,23 @@ namespace suturesim::mesh
   BoundarySurface
   extract_boundary(const SimplexMesh &mesh);
 
+  /// A point of a triangle rule: barycentric coordinates (λ₀, λ₁, λ₂) and the weight as
+  /// a fraction of the triangle's area.
+  struct TrianglePoint
+  {
+    std::array<double, 3> barycentric;
+    double                weight;
+  };
+
+  /// The composite centroid rule: the triangle split into @p n² congruent sub-triangles
+  /// (n ≥ 1), a point at each one's centroid with weight 1/n². ∫ f dA ≈ A Σ w f(x_q);
+  /// exact for linear f, error O(n⁻²) for smooth f, and for a jump along a curve the
+  /// points sample the two sides in proportion to the areas as n grows. With linear
+  /// shape functions Nᵢ = λᵢ it gives the consistent nodal loads fᵢ = ∫ t Nᵢ dA
+  /// (realtime tractions, scene/realtime_world.h).
+  std::vector<TrianglePoint>
+  subtriangle_centroids(unsigned n);
+
   /// Vertices (ascending) of the boundary triangles tagged @p tag.
   std::vector<std::uint32_t>
   vertices_with_tag(const BoundarySurface &surface, int tag);

@@ -37,6 +37,8 @@ namespace suturesim::scene
     double      contact_depth      = 1e-3; ///< m
     double      rate               = 1000; ///< Hz
     unsigned    substeps           = 1;
+    /// loaded surface triangles split into n² for the consistent nodal loads ∫ t Nᵢ dA
+    unsigned    traction_subdivision = 1;
     bool        refuse_above_limit = false;
     bool        pacing             = false;
 

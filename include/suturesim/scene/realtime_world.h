@@ -86,8 +86,10 @@ namespace suturesim::scene
     place_suture(realtime::WorldSetup &setup);
     void
     hold_boundaries();
+    /// The scene's tractions as nodal loads, each loaded triangle integrated over
+    /// @p subdivision² sub-triangles (RealtimeSettings::traction_subdivision).
     void
-    add_tractions();
+    add_tractions(unsigned subdivision);
     void
     add_tools(const RealtimeSettings &settings);
     void
