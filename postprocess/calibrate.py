@@ -27,7 +27,8 @@ least-squares estimate, e.g. Seber & Wild 1989, sec. 2.1). With an exact fit (a
 synthetic reference) s^2 ~ 0 and so are they: the residual then carries no noise.
 
 Writes FOLDER/calibration.json, FOLDER/calibrated.prm (a scene fragment of the fitted
-values) and FOLDER/calibration_history.{png,pdf}. Exit 0 converged, 3 stopped at
+values), FOLDER/calibration_history.{png,pdf} (the objective) and
+FOLDER/calibration_errors.{png,pdf} (train and validation errors, initial and fitted). Exit 0 converged, 3 stopped at
 Max evaluations (the best point found is written), 2 a run the study rejected.
 """
 import hashlib
@@ -243,6 +244,31 @@ def draw_history(fit, folder):
     plt.close(fig)
 
 
+def draw_errors(report, folder):
+    """Train and validation errors per weighted metric, at the initial and fitted values."""
+    columns = list(report["weights"])
+    rows = [("train", report["train"]["initial"], report["train"]["fitted"])]
+    for name, v in report["validation"]["fitted"].items():
+        before = report["validation"]["initial"].get(name, {}).get("errors") or {}
+        rows.append(("held out: " + name, before, v.get("errors") or {}))
+    fig, axes = plt.subplots(1, len(rows), figsize=(3.2 * len(rows) + 1, 4), sharey=True, squeeze=False)
+    x = np.arange(len(columns))
+    for ax, (title, before, after) in zip(axes[0], rows):
+        value = lambda errors, c: abs(errors.get(c)) if errors.get(c) is not None else np.nan  # noqa: E731
+        ax.bar(x - 0.2, [value(before, c) for c in columns], 0.4, color="#9ecae1", label="initial")
+        ax.bar(x + 0.2, [value(after, c) for c in columns], 0.4, color="#08519c", label="fitted")
+        ax.set_xticks(x)
+        ax.set_xticklabels([c.replace("probe.", "") for c in columns], rotation=45, ha="right", fontsize=8)
+        ax.set_title(title, fontsize=10)
+    axes[0][0].set_ylabel("|error| (relative)")
+    axes[0][0].legend()
+    fig.suptitle("calibration %s: errors per metric" % report["name"], fontsize=10)
+    fig.tight_layout()
+    for ext in ("png", "pdf"):
+        fig.savefig(folder / ("calibration_errors." + ext))
+    plt.close(fig)
+
+
 def validation_errors(fit, p):
     """The validation cases at parameters @p p: {name: errors} (None for a failed run)."""
     cases = []
@@ -280,6 +306,7 @@ def main():
         print(str(e) if str(e).startswith("error:") else "error: calibrate: " + str(e), file=sys.stderr)
         return e.code if e.code in (2, 3) else 1
     report = {
+        "name": plan["name"],
         "command": command,
         "optimiser": {"library": "scipy.optimize.least_squares %s" % scipy.__version__, "method": "trf",
                       "status": int(result.status), "message": result.message, "success": bool(result.success),
@@ -304,13 +331,14 @@ def main():
     (folder / "calibration.json").write_text(json.dumps(report, indent=2) + "\n")
     write_fragment(folder / "calibrated.prm", fit, p, command)
     draw_history(fit, folder)
+    draw_errors(report, folder)
     print("calibrate %s: %s after %d evaluations (+%d Jacobians) in %.0f s; objective %.4g -> %.4g" %
           (plan["name"], "converged" if result.success else "stopped", result.nfev, result.njev or 0,
            time.time() - start, report["objective"]["initial"], report["objective"]["fitted"]))
     for q in report["parameters"]:
         se = "" if q["standard_error"] is None else " (standard error %.3g)" % q["standard_error"]
         print("  %s = %.6g%s" % (q["path"], q["fitted"], se))
-    print("wrote %s/ (calibration.json, calibrated.prm, calibration_history.png/.pdf)" % folder)
+    print("wrote %s/ (calibration.json, calibrated.prm, calibration_history and calibration_errors .png/.pdf)" % folder)
     return 0 if result.success else 3
 
 

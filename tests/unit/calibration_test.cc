@@ -66,7 +66,8 @@ TEST(Calibration, RecoversKnownVolumeScalesFromASyntheticReferenceToOnePercent)
   EXPECT_EQ(c.result["history"].size(), c.result["optimiser"]["objective_runs"].get<std::size_t>());
   EXPECT_EQ(c.result["validation"]["fitted"]["finer"]["status"], "completed");
   EXPECT_EQ(c.result["validation"]["initial"]["finer"]["status"], "completed");
-  for (const char *f : {"calibrated.prm", "calibration_history.png", "calibration_history.pdf"})
+  for (const char *f : {"calibrated.prm", "calibration_history.png", "calibration_history.pdf", "calibration_errors.png",
+                        "calibration_errors.pdf"})
     EXPECT_TRUE(fs::exists(fs::path(c.folder) / f)) << f;
 
   // the fragment, included by a scene, gives the run the fitted values
