@@ -292,8 +292,8 @@ def main():
     folder = fit.folder
     command = "suturesim calibrate %s" % Path(plan["calibration"]).name
     start = time.time()
-    p0 = [q["initial"] for q in fit.parameters]
-    z0 = fit.to_z(p0)
+    z0 = fit.to_z([q["initial"] for q in fit.parameters])
+    p0 = fit.to_p(z0)  # the point run first: exp(ln p) need not give p back to the last bit
     try:
         result = least_squares(fit.fun, z0, jac=fit.jac, bounds=fit.z_bounds(), method="trf",
                                max_nfev=plan["max_evaluations"], xtol=1e-6, ftol=1e-10, gtol=1e-10)
