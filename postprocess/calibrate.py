@@ -71,6 +71,7 @@ class Fit:
         self.history = []  # the objective's runs (not the Jacobian's), in order
         self.batch_count = 0
         self.labels = None
+        self.reference = None  # the reference run's metrics, read once (it is run once)
 
     # --- parameters <-> optimisation variables ---------------------------------------
     def to_z(self, p):
@@ -119,7 +120,9 @@ class Fit:
 
     def residuals(self, name, row):
         """The weighted residual vector of one completed case, with its labels."""
-        ref = self.metrics_of("reference")
+        if self.reference is None:
+            self.reference = self.metrics_of("reference")
+        ref = self.reference
         own = self.metrics_of(name)
         r, labels = [], []
         for column, w in self.weights:

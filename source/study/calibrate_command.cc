@@ -4,6 +4,7 @@
 #include <suturesim/io/checked_output.h>
 #include <suturesim/study/calibrate_command.h>
 #include <suturesim/study/case_run.h>
+#include <suturesim/study/study_command.h>
 #include <suturesim/study/study_definition.h>
 
 #include <nlohmann/json.hpp>
@@ -93,8 +94,7 @@ namespace suturesim::study
   int
   calibrate_command(const std::vector<std::string> &arguments)
   {
-    try
-      {
+    return command_exit_code("calibrate", [&] {
         const Options         o = parse(arguments);
         const StudyDefinition d = StudyDefinition::read(o.file, o.overrides);
         if (d.calibration.parameters.empty())
@@ -117,21 +117,6 @@ namespace suturesim::study
         std::cerr << "error: calibrate: " << SUTURESIM_PYTHON << " " << script << " " << plan_file
                   << " failed (exit " << status << ")\n";
         return 1;
-      }
-    catch (const InputError &e)
-      {
-        std::cerr << "error: " << e.what() << '\n';
-        return 2;
-      }
-    catch (const io::WriteError &e)
-      {
-        std::cerr << "error: " << e.what() << '\n';
-        return 2;
-      }
-    catch (const std::exception &e)
-      {
-        std::cerr << "error: internal error: calibrate: " << e.what() << '\n';
-        return 4;
-      }
+    });
   }
 } // namespace suturesim::study

@@ -1,6 +1,7 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/core/process.h>
+#include <suturesim/io/checked_output.h>
 #include <suturesim/study/case_metrics.h>
 #include <suturesim/study/reference_series.h>
 #include <suturesim/study/snakemake_export.h>
@@ -378,8 +379,7 @@ namespace suturesim::study
   study_command(const std::vector<std::string> &arguments)
   {
     const auto start = Clock::now();
-    try
-      {
+    return command_exit_code("study", [&] {
         const Options         o     = parse(arguments);
         const std::string case_list = o.case_list.empty() ? "" : case_list_text(o.case_list);
         StudyDefinition study = StudyDefinition::read(o.file, o.overrides, o.case_list.empty() ? nullptr : &case_list);
@@ -403,15 +403,29 @@ namespace suturesim::study
           }
         const Execution e = execute(p, o, executable);
         return o.one_case.empty() ? report(study, p, e, o, folder, start) : 0;
+    });
+  }
+
+  int
+  command_exit_code(const std::string &name, const std::function<int()> &body)
+  {
+    try
+      {
+        return body();
       }
     catch (const InputError &e)
       {
         std::cerr << "error: " << e.what() << '\n';
         return 2;
       }
+    catch (const io::WriteError &e)
+      {
+        std::cerr << "error: " << e.what() << '\n';
+        return 5;
+      }
     catch (const std::exception &e)
       {
-        std::cerr << "error: internal error: study: " << e.what() << '\n';
+        std::cerr << "error: internal error: " << name << ": " << e.what() << '\n';
         return 4;
       }
   }

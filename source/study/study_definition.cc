@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/study/study_definition.h>
@@ -10,8 +11,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <array>
-#include <charconv>
 #include <map>
 #include <optional>
 #include <set>
@@ -84,15 +83,6 @@ namespace suturesim::study
           out.emplace_back(trim(item.substr(0, colon)), value);
         }
       return out;
-    }
-
-    /// @p v as a setting's value that reads back as the same double.
-    std::string
-    number_text(const double v)
-    {
-      std::array<char, 32> text{};
-      const auto           end = std::to_chars(text.data(), text.data() + text.size(), v).ptr; // shortest
-      return std::string(text.data(), end);
     }
 
     /// A bound on a study's size: each case is a run and a folder.
@@ -420,7 +410,7 @@ namespace suturesim::study
           // a calibration's one case, its starting point
           Case start{"initial", common, {}};
           for (const auto &p : d.calibration.parameters)
-            start.settings.push_back(p.path + "=" + number_text(p.initial));
+            start.settings.push_back(p.path + "=" + shortest_text(p.initial));
           d.cases.push_back(start);
         }
       cases.require(!d.cases.empty(), "Axes", "the study has no cases (no axes and no list)");
@@ -584,7 +574,7 @@ namespace suturesim::study
         for (const double v : {p.lower, p.upper})
           {
             Case at{"bound", common, {}};
-            at.settings.push_back(p.path + "=" + number_text(v));
+            at.settings.push_back(p.path + "=" + shortest_text(v));
             at.settings.insert(at.settings.end(), extra.begin(), extra.end());
             check(at, d.base_scene, scope, "Parameters");
           }
@@ -610,7 +600,7 @@ namespace suturesim::study
           Case all{v.name, common, {}};
           all.settings.insert(all.settings.end(), v.settings.begin(), v.settings.end());
           for (const auto &p : c.parameters)
-            all.settings.push_back(p.path + "=" + number_text(p.initial));
+            all.settings.push_back(p.path + "=" + shortest_text(p.initial));
           all.settings.insert(all.settings.end(), extra.begin(), extra.end());
           check(all, d.base_scene, scope, "Validation");
           c.validation.push_back(v);

@@ -10,6 +10,7 @@
  * Snakefile's rules do.
  */
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,4 +20,11 @@ namespace suturesim::study
   /// line), 1 the figures could not be drawn (the tables are written).
   int
   study_command(const std::vector<std::string> &arguments);
+
+  /// Runs @p body, the work of suturesim's command @p name (study, calibrate), and turns
+  /// what it throws into the exit codes of docs/input_errors.md with one line on stderr:
+  /// an InputError 2, a failed write (io::WriteError) 5, anything else 4 ("internal
+  /// error: <name>: ..."). Otherwise @p body's own code.
+  int
+  command_exit_code(const std::string &name, const std::function<int()> &body);
 } // namespace suturesim::study
