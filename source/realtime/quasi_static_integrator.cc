@@ -3,6 +3,15 @@
  * nodes' kinetic energy the velocity is V = F/B, "calculated only from the forces acting
  * on the node at that instant", and P ← P + V dt. Explicit Euler on the gradient flow
  * B ẋ = F(x): stable for dt < 2/λ_max(B^{-1/2} K B^{-1/2}) (stability.h).
+ *
+ * Two laws for B. The seeds' B is one constant per node ("per node"): a finer mesh
+ * then has more damping in all, so a pull's viscous lag, and a closure tension taken
+ * during it, depend on the mesh (docs/interrupted_stitch.md: 3.30 N at 2 mm, 4.47 N at
+ * 1.5 mm, no closure at 1 mm). "per unit mass" sets B_i = β m_i with the lumped mass
+ * m_i: B = βM is the semi-discretisation of the continuum's viscous drag β ρ u̇ = ∇·σ + f,
+ * so the damped flow, and its lag, converge under refinement (Rayleigh's mass-
+ * proportional damping with the inertia dropped). Its price: the stable step
+ * 2/λ_max(M⁻¹K)·β shrinks like h², as an explicit step's does.
  */
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/stability.h>
@@ -17,28 +26,29 @@ namespace suturesim::realtime
     {
     public:
       QuasiStatic(const ParameterValues &p)
-        : tissue_damping(p.real("Tissue damping"))
-        , suture_damping(p.real("Suture damping"))
+        : per_mass(p.text("Damping") == "per unit mass")
+        , tissue_damping(p.real(per_mass ? "Tissue damping rate" : "Tissue damping"))
+        , suture_damping(p.real(per_mass ? "Suture damping rate" : "Suture damping"))
         , strain(p.real("Strain limit"))
         , sweeps(p.integer("Strain limit sweeps"))
       {
-        p.require(tissue_damping > 0, "Tissue damping", "must be > 0 N s/m");
-        p.require(suture_damping > 0, "Suture damping", "must be > 0 N s/m");
+        const char *unit = per_mass ? "must be > 0 1/s" : "must be > 0 N s/m";
+        p.require(tissue_damping > 0, per_mass ? "Tissue damping rate" : "Tissue damping", unit);
+        p.require(suture_damping > 0, per_mass ? "Suture damping rate" : "Suture damping", unit);
       }
 
       void
       setup(System &s) override
       {
-        for (auto i = s.tissue.begin; i < s.tissue.end; ++i)
-          s.nodes.damping[i] = tissue_damping;
-        for (auto i = s.suture.begin; i < s.suture.end; ++i)
-          s.nodes.damping[i] = suture_damping;
+        assign_damping(s);
       }
 
       void
       step(System &s, const double dt) override
       {
         Nodes &n = s.nodes;
+        if (per_mass) // a model whose topology grows (seed 002's subdivision) moves mass
+          assign_damping(s);
         s.total_forces(n.x);
         const Eigen::Index count = n.size();
         for (Eigen::Index i = 0; i < count; ++i)
@@ -73,6 +83,18 @@ namespace suturesim::realtime
       }
 
     private:
+      /// B per node: the constant, or β m_i of the node's current lumped mass.
+      void
+      assign_damping(System &s) const
+      {
+        Nodes &n = s.nodes;
+        for (auto i = s.tissue.begin; i < s.tissue.end; ++i)
+          n.damping[i] = per_mass ? tissue_damping * n.mass[i] : tissue_damping;
+        for (auto i = s.suture.begin; i < s.suture.end; ++i)
+          n.damping[i] = per_mass ? suture_damping * n.mass[i] : suture_damping;
+      }
+
+      bool           per_mass;
       double         tissue_damping, suture_damping, strain;
       long           sweeps;
       mutable double rate = 0;
@@ -83,10 +105,23 @@ namespace suturesim::realtime
        "V = F/B, P <- P + dt F/B (seed 001 sec. 2.2, seed 002 sec. 4.B): no inertia, "
        "velocity from the forces of the instant; stable for dt < 2/lambda_max(B^-1 K).",
        [](ParameterDeclarations &d) {
+         d.add_selection("Damping", "per node", "per node|per unit mass",
+                         "Law of B in V = F/B: 'per node' (seeds 001, 002) is one constant B "
+                         "per node, so the total damping grows with the node count and a "
+                         "pull's lag depends on the mesh; 'per unit mass' is B_i = beta m_i "
+                         "(lumped mass m_i), consistent under refinement. Unit: none.");
          d.add_real("Tissue damping", 1.0, 0, 1e12,
-                    "B of the tissue nodes in V = F/B. Unit: N s/m. Range: > 0.");
+                    "B of each tissue node in V = F/B (Damping = per node). Unit: N s/m. "
+                    "Range: > 0.");
          d.add_real("Suture damping", 0.1, 0, 1e12,
-                    "B of the suture nodes in V = F/B. Unit: N s/m. Range: > 0.");
+                    "B of each suture node in V = F/B (Damping = per node). Unit: N s/m. "
+                    "Range: > 0.");
+         d.add_real("Tissue damping rate", 1e7, 0, 1e15,
+                    "beta of the tissue in B_i = beta m_i (Damping = per unit mass); "
+                    "beta rho is the continuum's drag per volume. Unit: 1/s. Range: > 0.");
+         d.add_real("Suture damping rate", 1e5, 0, 1e15,
+                    "beta of the suture in B_i = beta m_i (Damping = per unit mass). "
+                    "Unit: 1/s. Range: > 0.");
          d.add_real("Strain limit", 0, 0, 10,
                     "Post-step strain limiting (seed 003, Provot 1995): springs strained by "
                     "more than this are moved back to it; 0 = off. Unit: 1. Range: >= 0.");

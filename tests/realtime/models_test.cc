@@ -464,3 +464,61 @@ TEST(RealtimeModels, VolumeStiffnessScalesMultiplyTheSpringAndBulkEnergies)
   EXPECT_NEAR(energy("2.5", "0.4", "tissue springs"), 2.5 * springs, 1e-12 * springs);
   EXPECT_NEAR(energy("2.5", "0.4", "volume constraints"), 0.4 * volumes, 1e-12 * volumes);
 }
+
+namespace
+{
+  /// A block (20 × 20 × 10 mm, n × n × n/2 cubes of six tetrahedra, the bottom fixed)
+  /// sagging under its weight with quasi-static steps of damping law @p law (B in N s/m
+  /// per node, or the rate β in 1/s): how far its top centre has sagged after 40 ms, as a
+  /// fraction of where it comes to rest (after 2 s).
+  double
+  sag_fraction(const unsigned n, const std::string &law, const std::string &value)
+  {
+    const auto mesh = test_support::box_mesh(0.02, 0.02, 0.01, n, n, n / 2);
+    WorldSetup w;
+    w.mesh     = &mesh;
+    w.material = {1e4, 0.3, 1000, {}};
+    w.tissue   = test_support::make_model<TissueModel::Registry>("volume");
+    w.integrator =
+      test_support::make_model<Integrator::Registry>("quasi-static", {{"Damping", law},
+                                                                      {law == "per node" ? "Tissue damping" : "Tissue damping rate", value}});
+    w.gravity = Vector3d(0, 0, -9.81);
+    w.rate    = 4000;
+    World world(std::move(w));
+    world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+    world.initialize();
+    EXPECT_TRUE(world.warning().empty()) << world.warning();
+    std::uint32_t top = 0;
+    for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v)
+      if ((mesh.vertices.col(v) - Vector3d(0.01, 0.01, 0.01)).norm() < 1e-9)
+        top = world.tissue()->node(v);
+    const auto sag = [&] { return world.system().nodes.reference(2, top) - world.system().nodes.x(2, top); };
+    while (world.time() < 0.04 - 1e-12)
+      world.step({});
+    const double early = sag();
+    while (world.time() < 2 - 1e-12)
+      world.step({});
+    return early / sag();
+  }
+} // namespace
+
+TEST(RealtimeModels, QuasiStaticDampingPerUnitMassRelaxesAlikeOnEveryMesh)
+{
+  // B = βM is the semi-discretisation of the drag β ρ u̇ = ∇·σ + ρ g, so the sag's
+  // time course, as a fraction of its own rest value, has a mesh limit; one B per node
+  // puts 8 times the damping per unit mass into each halving of the cubes, and the
+  // block relaxes that much slower. β = 1e4 1/s: the slowest mode's rate
+  // λ₁ ≈ (π/2)² E/(ρ β H²) = 25 1/s, so 40 ms is about one time constant. B = 0.53 N s/m
+  // per node is β times the mean node mass on the coarsest mesh (4 × 4 × 2: 4 g on 75 nodes).
+  std::vector<double> mass, node;
+  for (const unsigned n : {4u, 8u, 16u})
+    {
+      mass.push_back(sag_fraction(n, "per unit mass", "1e4"));
+      node.push_back(sag_fraction(n, "per node", "0.53"));
+      std::printf("[ damping ] %2u cubes across: sag at 40 ms / at rest: per unit mass %.4f, per node %.4f\n", n,
+                  mass.back(), node.back());
+    }
+  EXPECT_LT(std::abs(mass[2] - mass[1]), 0.5 * std::abs(mass[1] - mass[0]));
+  EXPECT_LT(std::abs(mass[2] - mass[1]), 0.02 * mass[2]);
+  EXPECT_GT(std::abs(node[2] - node[1]), 0.2 * node[1]);
+}
