@@ -1,4 +1,5 @@
 #include <suturesim/coupling/pierce_order.h>
+#include <suturesim/mesh/spread_kernel.h>
 #include <suturesim/realtime/needle_coupling.h>
 
 #include <Eigen/Geometry>
@@ -25,6 +26,20 @@ namespace suturesim::realtime
     // throws std::invalid_argument naming the choices for an unknown name
     model = PierceModel::Registry::instance().get(prm.pierce_model).create(ParameterValues());
     model->attach(suture_model, prm.project);
+    if (prm.load_radius > 0)
+      {
+        // sampled at the nodes, the kernel needs a node within ρ of every surface point:
+        // the nearest vertex of its triangle is no further than the longest edge
+        double longest = 0;
+        for (const auto &t : surface)
+          for (unsigned i = 0; i < 3; ++i)
+            longest = std::max(longest, (s.nodes.reference.col(t[i]) - s.nodes.reference.col(t[(i + 1) % 3])).norm());
+        if (prm.load_radius <= longest)
+          throw std::invalid_argument("the load radius " + std::to_string(prm.load_radius) +
+                                      " m must exceed the tissue surface's longest edge, " +
+                                      std::to_string(longest) + " m, in the realtime path (the kernel is "
+                                      "sampled at the nodes)");
+      }
     // the thread's nodes: the suture's, continued along the needle from the swage at the
     // same spacing (the needle's own length when there is no suture)
     thread_nodes.swage = needle.length();
@@ -53,8 +68,39 @@ namespace suturesim::realtime
   Vector3d
   NeedleCoupling::tissue_point(const PiercePoint &p, const Matrix3Xd &x) const
   {
-    return p.weights[0] * x.col(p.nodes[0]) + p.weights[1] * x.col(p.nodes[1]) +
-           p.weights[2] * x.col(p.nodes[2]);
+    Vector3d point = p.offset;
+    for (std::size_t j = 0; j < p.nodes.size(); ++j)
+      point += p.weights[j] * x.col(p.nodes[j]);
+    return point;
+  }
+
+  void
+  NeedleCoupling::carry(PiercePoint &p, const coupling::SurfacePoint &at) const
+  {
+    const auto &triangle = triangles[at.triangle];
+    if (prm.load_radius <= 0)
+      {
+        p.nodes.assign(triangle.begin(), triangle.end());
+        p.weights.assign(at.weights.data(), at.weights.data() + 3);
+        return;
+      }
+    const Matrix3Xd &X = sys.nodes.reference;
+    Vector3d         origin = Vector3d::Zero();
+    for (unsigned i = 0; i < 3; ++i)
+      origin += at.weights[i] * X.col(triangle[i]);
+    // the constructor checked that the radius exceeds every surface edge, so the ball
+    // holds at least the nearest vertex of the point's own triangle; should it not, the
+    // point stays the triangle's
+    if (!mesh::spread_weights(X, sys.nodes.mass, sys.tissue.begin, sys.tissue.end, origin, prm.load_radius,
+                              p.nodes, p.weights))
+      {
+        p.nodes.assign(triangle.begin(), triangle.end());
+        p.weights.assign(at.weights.data(), at.weights.data() + 3);
+        return;
+      }
+    p.offset = origin;
+    for (std::size_t j = 0; j < p.nodes.size(); ++j)
+      p.offset -= p.weights[j] * X.col(p.nodes[j]);
   }
 
   void
@@ -124,8 +170,8 @@ namespace suturesim::realtime
   void
   NeedleCoupling::distribute(const PiercePoint &p, const Vector3d &force, Matrix3Xd &f) const
   {
-    for (unsigned i = 0; i < 3; ++i)
-      f.col(p.nodes[i]) += p.weights[i] * force;
+    for (std::size_t j = 0; j < p.nodes.size(); ++j)
+      f.col(p.nodes[j]) += p.weights[j] * force;
     if (p.at.on_suture)
       {
         f.col(suture.begin + p.at.k) -= (1 - p.at.s) * force;
@@ -154,8 +200,8 @@ namespace suturesim::realtime
           {
             // the model's force acts on the tissue point alone
             const Vector3d &force = taken_force[taken_index[k]];
-            for (unsigned i = 0; i < 3; ++i)
-              f.col(p.nodes[i]) += p.weights[i] * force;
+            for (std::size_t j = 0; j < p.nodes.size(); ++j)
+              f.col(p.nodes[j]) += p.weights[j] * force;
           }
         else
           distribute(p, pierce_force(p, x, nullptr, nullptr), f);
@@ -204,8 +250,8 @@ namespace suturesim::realtime
                           double &lambda, const double limit, Matrix3Xd &x, const VectorXd &w) const
   {
     double w_tissue = 0; // inverse mass of the tissue point p = Σ wᵢ xᵢ
-    for (unsigned i = 0; i < 3; ++i)
-      w_tissue += p.weights[i] * p.weights[i] * w[p.nodes[i]];
+    for (std::size_t j = 0; j < p.nodes.size(); ++j)
+      w_tissue += p.weights[j] * p.weights[j] * w[p.nodes[j]];
     // Mass scaling: a suture node is some 300 times lighter than a tissue node, and a
     // few sweeps of a constraint between them throw the suture about (measured: the
     // anchor then oscillates by millimetres from step to step). Within this constraint
@@ -231,8 +277,8 @@ namespace suturesim::realtime
         d_lambda             = clamped * d_lambda > 0 ? clamped : 0.0;
       }
     lambda += d_lambda;
-    for (unsigned i = 0; i < 3; ++i)
-      x.col(p.nodes[i]) += w[p.nodes[i]] * p.weights[i] * d_lambda * n;
+    for (std::size_t j = 0; j < p.nodes.size(); ++j)
+      x.col(p.nodes[j]) += w[p.nodes[j]] * p.weights[j] * d_lambda * n;
     if (p.at.on_suture)
       {
         x.col(a) -= w_a * (1 - p.at.s) * d_lambda * n;
@@ -396,8 +442,7 @@ namespace suturesim::realtime
         make_vertex(at, x);
         const auto &touch = puncture.last_touch();
         PiercePoint p;
-        p.nodes   = triangles[at.triangle];
-        p.weights = at.weights;
+        carry(p, at);
         // the stick starts where the point projects on the needle now
         p.anchor = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
         p.at     = thread_at(p.anchor, x);

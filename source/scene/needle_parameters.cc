@@ -119,6 +119,14 @@ namespace suturesim::scene
     prm.declare_entry("Recorded", default_text(d.recorded), Patterns::Integer(0, 64),
                       "Pierce points given columns in forces.csv (state, slip velocity, "
                       "normal and friction force). Unit: 1. Range: 0-64.");
+    prm.declare_entry("Load radius", default_text(d.load_radius), Patterns::Double(0, 0.01),
+                      "Radius of the tissue that carries a pierce point's force, in both paths: "
+                      "the point moves with, and loads, the tissue within this distance of it, "
+                      "weighted by (1 - r^2/radius^2)^2 (mesh/spread_kernel.h; the accurate path "
+                      "integrates it over the cells, the realtime path samples it at the nodes, "
+                      "which needs a radius above the surface's longest edge). 0: a point load, "
+                      "whose displacement grows without bound as the mesh is refined. Unit: m. "
+                      "Range: 0-0.01.");
     prm.enter_subsection("Accurate");
     prm.declare_entry("Enforcement", d.enforcement, Patterns::Selection("penalty|lagrange"),
                       "The tie across the thread: penalty (a gap of force / Transverse "
@@ -133,11 +141,6 @@ namespace suturesim::scene
     prm.declare_entry("Coupling iterations", default_text(d.coupling_iterations), Patterns::Integer(1, 1000),
                       "Most rounds per step; a step that does not settle in them is halved. "
                       "Unit: 1. Range: 1-1000.");
-    prm.declare_entry("Load radius", default_text(d.load_radius), Patterns::Double(0, 0.01),
-                      "Radius of the tissue that carries a pierce point's force: the point moves "
-                      "with, and loads, the tissue within this distance of it, weighted by "
-                      "(1 - r^2/radius^2)^2 (tissue/point_loads.h). 0: a point load, whose "
-                      "displacement grows without bound as the mesh is refined. Unit: m. Range: 0-0.01.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -225,12 +228,12 @@ namespace suturesim::scene
     friction = parse_plain(prm, scope, coupling::FrictionParameters::declare, coupling::FrictionParameters::parse);
     spacing  = prm.get_double("Spacing");
     recorded = prm.get_integer("Recorded");
+    load_radius = prm.get_double("Load radius");
     scope.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
     prm.enter_subsection("Accurate");
     enforcement         = prm.get("Enforcement");
     coupling_tolerance  = prm.get_double("Coupling tolerance");
     coupling_iterations = prm.get_integer("Coupling iterations");
-    load_radius         = prm.get_double("Load radius");
     scope.subsection("Accurate").require(coupling_tolerance > 0, "Coupling tolerance", "must be > 0 m");
     prm.leave_subsection();
     prm.leave_subsection();

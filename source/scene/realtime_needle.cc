@@ -17,6 +17,7 @@ namespace suturesim::scene
     c.friction             = prm.friction;
     c.transverse_stiffness = prm.transverse_stiffness;
     c.spacing              = prm.spacing;
+    c.load_radius          = prm.load_radius;
     c.mass_ratio           = mass_ratio;
     c.pierce_model         = pierce_model;
     tool_index             = world.add_needle(prm.needle(), c, path.pose(0),

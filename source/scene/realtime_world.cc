@@ -266,6 +266,8 @@ namespace suturesim::scene
           {
             if (std::string(e.what()).find("pierce model") != std::string::npos)
               scene.scope("Realtime").fail("Pierce model", e.what());
+            if (std::string(e.what()).find("load radius") != std::string::npos)
+              scene.scope("Pierce points").fail("Load radius", e.what());
             scene.scope("Needle").fail("Shape", e.what());
           }
       }

@@ -1,3 +1,4 @@
+#include <suturesim/mesh/spread_kernel.h>
 #include <suturesim/tissue/point_loads.h>
 
 #include <deal.II/base/quadrature_lib.h>
@@ -73,7 +74,7 @@ namespace suturesim::tissue
             const double s = values.quadrature_point(q).distance(X) / rho;
             if (s >= 1)
               continue;
-            const double phi = (1 - s * s) * (1 - s * s) * values.JxW(q);
+            const double phi = mesh::spread_kernel(s) * values.JxW(q);
             for (unsigned i = 0; i < n; ++i)
               a[i] += phi * values.shape_value(i, q);
             inside = true;

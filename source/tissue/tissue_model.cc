@@ -205,7 +205,7 @@ namespace suturesim::tissue
     embedded->locate(*loads, constraints);
     solver->set_symmetric(embedded->symmetric(), "a point load's tangent");
     if (embedded->spread() && mass_matrix.m() > 0)
-      throw InputError("a spread pierce load (Pierce points/Accurate/Load radius > 0) with tissue dynamics: "
+      throw InputError("a spread pierce load (Pierce points/Load radius > 0) with tissue dynamics: "
                        "the dynamics' solve does not add its low-rank tangent; use a quasi-static scene or radius 0");
   }
 

@@ -170,7 +170,7 @@ TEST(AccurateNeedle, SuturePassOnTwoMpiProcessesGivesTheSerialResult)
     {
       const Args        args     = join(coarse_pass, {"--set", "Time/Step size=0.04", "--set", "Time/End time=2.6",
                                                         "--set", "Time/Output interval=0.5", "--set",
-                                                        "Pierce points/Accurate/Load radius=" + radius});
+                                                        "Pierce points/Load radius=" + radius});
       const std::string name     = std::string("needle_pass_suture_") + (radius == "0" ? "" : "spread_");
       const auto        serial   = run_suturesim(name + "np1", args);
       const auto        parallel = run_suturesim(name + "np2", args, mpi_launcher(2));

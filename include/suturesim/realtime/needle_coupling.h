@@ -24,6 +24,13 @@
  * On the suture part the constraint moves the two suture nodes of c's segment too
  * (weights 1 − s, s). Pierce points keep their order along the thread and stay on it
  * (coupling/pierce_order.h): the anchors are projected after every step.
+ * Spread (load radius ρ > 0, as in the accurate path: tissue/point_loads.h): the point
+ * stands for the tissue within ρ of its reference position X, p = X + Σ_I W_I (x_I − X_I)
+ * over the tissue nodes with W_I = φ(|X_I − X|/ρ) m_I / Σ_J φ(|X_J − X|/ρ) m_J, φ the
+ * kernel of mesh/spread_kernel.h and m_I the lumped masses (the nodal quadrature of the
+ * accurate path's ∫ φ N_I dV / ∫ φ dV). Its force is spread with the same weights, so
+ * the tie does the work of one point; a point load's displacement grows like F/(μ h)
+ * under refinement (Kelvin's solution), a spread one's has a mesh limit.
  * The needle is kinematic: what the tissue exerts on it (the reaction of the touch and
  * of the pierce points on its arc) is reported as its tool force with the suture's
  * pull at the swage.
@@ -51,6 +58,8 @@ namespace suturesim::realtime
     coupling::PunctureParameters puncture;
     coupling::FrictionParameters friction;
     double transverse_stiffness = 100;  ///< k⊥, N/m
+    /// ρ of the spread kernel (0: the point of the surface triangle it was born on), m
+    double load_radius = 0;
     double spacing              = 1e-4; ///< least distance between pierce points along the thread, m
     /// XPBD: the suture nodes' inverse masses within a pierce constraint are capped at
     /// this multiple of the tissue point's (mass scaling against jitter), 1
@@ -84,8 +93,9 @@ namespace suturesim::realtime
   public:
     /// @p surface: the tissue's surface triangles (system node indices); the suture is
     /// the system's suture range, its first node at the swage, moved by
-    /// @p suture_model (nullptr: no suture). std::invalid_argument for an unknown pierce
-    /// model or one that cannot work with the suture and integrator.
+    /// @p suture_model (nullptr: no suture). std::invalid_argument for a load radius not
+    /// above the surface's longest edge, an unknown pierce model or one that cannot work
+    /// with the suture and integrator.
     NeedleCoupling(const System &system, const std::vector<mesh::Triangle> &surface,
                    const tools::CurvedNeedle &needle, const NeedleCouplingParameters &parameters,
                    SutureModel *suture_model);
@@ -207,8 +217,11 @@ namespace suturesim::realtime
     };
     struct PiercePoint
     {
-      mesh::Triangle nodes;
-      Vector3d       weights;
+      /// p = offset + Σ_j weights[j] x(nodes[j]): a triangle's barycentric weights
+      /// (offset 0), or the spread weights with offset X − Σ_j weights[j] X(nodes[j])
+      std::vector<std::uint32_t> nodes;
+      std::vector<double>        weights;
+      Vector3d                   offset = Vector3d::Zero();
       double         anchor = 0;
       ThreadPoint    at;
       double         lambda_n = 0, lambda_t = 0; ///< XPBD multipliers of the step
@@ -219,6 +232,10 @@ namespace suturesim::realtime
 
     Vector3d
     tissue_point(const PiercePoint &p, const Matrix3Xd &x) const;
+    /// The tissue nodes that carry a point born at surface point @p at: its triangle's,
+    /// or, with a load radius, the spread weights about its reference position.
+    void
+    carry(PiercePoint &p, const coupling::SurfacePoint &at) const;
     /// After a step: the touch's force decides the puncture (a new pierce point), and
     /// seed 002's subdivision makes a new touch's point a vertex.
     void

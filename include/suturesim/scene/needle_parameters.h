@@ -46,7 +46,7 @@ namespace suturesim::scene
     std::string enforcement          = "penalty"; ///< penalty | lagrange (accurate path)
     double      coupling_tolerance   = 1e-7;      ///< m, tissue–suture rounds (accurate path)
     unsigned    coupling_iterations  = 40;        ///< accurate path
-    double      load_radius          = 0;         ///< m, spread of a pierce load (accurate path)
+    double      load_radius          = 0;         ///< m, spread of a pierce load (both paths)
 
     /// The pass of a scene that gives none: 3 mm deep, drawn 30 mm up after the turn.
     static tools::PassParameters

@@ -18,7 +18,8 @@
  * elastic solid u ~ F/(8πμ r) (Kelvin's solution; Timoshenko & Goodier, "Theory of
  * Elasticity", 1970, §136), and a mesh of size h measures it at r ~ h. With ρ > 0 the
  * point stands for the tissue within ρ of X in the reference configuration, weighted by
- * the kernel φ(s) = (1 − s²)², s = |X' − X|/ρ:
+ * the kernel φ(s) = (1 − s²)², s = |X' − X|/ρ (mesh/spread_kernel.h, shared with the
+ * realtime path):
  *   W_kI = ∫_{|X'−X|<ρ} φ N_I dV / ∫ φ dV,
  * the smoothed delta of immersed-boundary methods, which interpolate and spread with
  * the same kernel (Peskin 2002, Acta Numerica 11:479–517, §6). The integrals use a
