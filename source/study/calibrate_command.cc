@@ -12,9 +12,6 @@
 #include <filesystem>
 #include <iostream>
 
-#ifndef SUTURESIM_PYTHON
-#  define SUTURESIM_PYTHON "/usr/bin/python3"
-#endif
 
 namespace suturesim::study
 {
@@ -111,10 +108,10 @@ namespace suturesim::study
         const std::string plan_file = (fs::path(folder) / "calibration_plan.json").string();
         io::write_whole(plan_file, plan(d, o, folder).dump(2) + "\n");
         const std::string script = project_path("postprocess/calibrate.py");
-        const int         status = run_process({SUTURESIM_PYTHON, script, plan_file});
+        const int         status = run_process({python3, script, plan_file});
         if (status == 0 || status == 2 || status == 3)
           return status;
-        std::cerr << "error: calibrate: " << SUTURESIM_PYTHON << " " << script << " " << plan_file
+        std::cerr << "error: calibrate: " << python3 << " " << script << " " << plan_file
                   << " failed (exit " << status << ")\n";
         return 1;
     });

@@ -17,9 +17,6 @@
 #include <iterator>
 #include <optional>
 
-#ifndef SUTURESIM_PYTHON
-#  define SUTURESIM_PYTHON "/usr/bin/python3"
-#endif
 
 namespace suturesim::study
 {
@@ -253,9 +250,9 @@ namespace suturesim::study
     draw_figures(const std::string &folder)
     {
       const std::string script = project_path("postprocess/study_figures.py");
-      if (run_process({SUTURESIM_PYTHON, script, folder}) == 0)
+      if (run_process({python3, script, folder}) == 0)
         return true;
-      std::cerr << "error: study: the figures were not drawn (" << SUTURESIM_PYTHON << " " << script << " " << folder
+      std::cerr << "error: study: the figures were not drawn (" << python3 << " " << script << " " << folder
                 << " failed)\n";
       return false;
     }

@@ -1,4 +1,5 @@
 #include <suturesim/core/error.h>
+#include <suturesim/io/checked_output.h>
 #include <suturesim/scene/simulation.h>
 #include <suturesim/study/case_metrics.h>
 #include <suturesim/study/convergence.h>
@@ -46,13 +47,6 @@ namespace suturesim::study
     json_number(const double v)
     {
       return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-    }
-
-    void
-    check_written(const std::ofstream &out, const std::string &file)
-    {
-      if (!out.good())
-        throw InputError(file + ": cannot be written");
     }
 
     std::size_t
@@ -436,7 +430,7 @@ namespace suturesim::study
           out << ',' << (e < r.limit_values.size() ? number(r.limit_values[e]) : "");
         out << ',' << number(r.dt) << ',' << number(r.dt_crit) << ',' << r.within_tolerance << '\n';
       }
-    check_written(out, file);
+    io::check_written(out, file);
   }
 
   void
@@ -484,7 +478,7 @@ namespace suturesim::study
     for (const auto &s : r.definition->settings)
       out << "#   --set \"" << s << "\"\n";
     out << "# and reads as a scene by itself: suturesim " << name << " (every parameter below).\n\n" << parameters.str();
-    check_written(out, file);
+    io::check_written(out, file);
   }
 
   void
@@ -495,7 +489,7 @@ namespace suturesim::study
     const auto    file = (fs::path(folder) / "study.json").string();
     std::ofstream out(file);
     out << json.dump(1) << '\n';
-    check_written(out, file);
+    io::check_written(out, file);
     write_best(folder);
     if (!json["stability"].is_null())
       {
@@ -510,7 +504,7 @@ namespace suturesim::study
               << field(c["y"].get<std::string>()) << ',' << c["state"].get<std::string>() << ','
               << (c["dt"].is_null() ? "" : number(c["dt"].get<double>())) << ','
               << (c["dt_crit"].is_null() ? "" : number(c["dt_crit"].get<double>())) << '\n';
-        check_written(csv, name);
+        io::check_written(csv, name);
       }
     if (!json["convergence"].is_null())
       {
@@ -532,7 +526,7 @@ namespace suturesim::study
                   << series["gci_fine"].dump() << (series["oscillatory"].get<bool>() ? " (oscillatory)" : "")
                   << (series["diverging"].get<bool>() ? " (diverging: the differences grow)" : "") << '\n';
           }
-        check_written(csv, name);
+        io::check_written(csv, name);
       }
   }
 } // namespace suturesim::study

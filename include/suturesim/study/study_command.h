@@ -27,4 +27,8 @@ namespace suturesim::study
   /// error: <name>: ..."). Otherwise @p body's own code.
   int
   command_exit_code(const std::string &name, const std::function<int()> &body);
+
+  /// The interpreter of the postprocess scripts (study figures, calibration): Debian's
+  /// python3, which has numpy, matplotlib and scipy (the first python3 on a PATH may not).
+  inline constexpr const char *python3 = "/usr/bin/python3";
 } // namespace suturesim::study
