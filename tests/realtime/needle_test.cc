@@ -92,6 +92,22 @@ namespace
     run.final_points = world.needle()->pierce_points();
     return run;
   }
+
+  /// The pass punctured the entry, then the exit, each at the contact force of the
+  /// threshold within 5 % (issue 5).
+  void
+  expect_punctures_at_the_threshold(const PassRun &run, const std::string &integrator)
+  {
+    std::vector<std::string> kinds;
+    for (const auto &e : run.events)
+      if (e.kind.rfind("puncture", 0) == 0)
+        {
+          kinds.push_back(e.kind);
+          EXPECT_GE(e.force, 0.5) << integrator << " " << e.kind;
+          EXPECT_LE(e.force, 0.525) << integrator << " " << e.kind;
+        }
+    EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit"})) << integrator;
+  }
 } // namespace
 
 TEST(RealtimeNeedle, PassPuncturesAtTheThresholdAndLeavesTwoOrderedPiercePoints)
@@ -102,16 +118,7 @@ TEST(RealtimeNeedle, PassPuncturesAtTheThresholdAndLeavesTwoOrderedPiercePoints)
   for (const std::string integrator : {"xpbd", "quasi-static"})
     {
       const PassRun run = run_pass(integrator, 0.2, false, "1/2");
-      std::vector<std::string> kinds;
-      for (const auto &e : run.events)
-        if (e.kind.rfind("puncture", 0) == 0)
-          {
-            kinds.push_back(e.kind);
-            // the contact force at the puncture is the threshold within 5 % (issue 5)
-            EXPECT_GE(e.force, 0.5) << integrator << " " << e.kind;
-            EXPECT_LE(e.force, 0.525) << integrator << " " << e.kind;
-          }
-      EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit"})) << integrator;
+      expect_punctures_at_the_threshold(run, integrator);
       EXPECT_EQ(run.max_points, 2u) << integrator;
       EXPECT_TRUE(run.order_kept) << integrator;
       EXPECT_TRUE(run.final_points.empty()) << integrator;
@@ -158,19 +165,8 @@ TEST(RealtimeNeedle, SpreadPiercePointsPunctureAtTheThresholdAndPassOntoTheSutur
   // suture diverges with point loads as well) spreads the tie's penalty forces. The
   // passes behave as with point loads: punctures at the threshold, the points in order,
   // onto the suture or released as the needle leaves.
-  const auto punctures = [](const PassRun &run, const std::string &integrator) {
-    std::vector<std::string> kinds;
-    for (const auto &e : run.events)
-      if (e.kind.rfind("puncture", 0) == 0)
-        {
-          kinds.push_back(e.kind);
-          EXPECT_GE(e.force, 0.5) << integrator << " " << e.kind;
-          EXPECT_LE(e.force, 0.525) << integrator << " " << e.kind;
-        }
-    EXPECT_EQ(kinds, (std::vector<std::string>{"puncture_entry", "puncture_exit"})) << integrator;
-  };
   const PassRun xpbd = run_pass("xpbd", 0.2, true, "3/8", "ftl", "automatic", 0.006);
-  punctures(xpbd, "xpbd");
+  expect_punctures_at_the_threshold(xpbd, "xpbd");
   std::vector<std::string> onto;
   for (const auto &e : xpbd.thread_events)
     onto.push_back(e.kind);
@@ -180,7 +176,7 @@ TEST(RealtimeNeedle, SpreadPiercePointsPunctureAtTheThresholdAndPassOntoTheSutur
   EXPECT_TRUE(xpbd.order_kept);
 
   const PassRun quasi_static = run_pass("quasi-static", 0.2, false, "1/2", "ftl", "automatic", 0.006);
-  punctures(quasi_static, "quasi-static");
+  expect_punctures_at_the_threshold(quasi_static, "quasi-static");
   EXPECT_EQ(quasi_static.max_points, 2u);
   EXPECT_TRUE(quasi_static.order_kept);
   EXPECT_TRUE(quasi_static.final_points.empty());
