@@ -35,10 +35,10 @@ namespace suturesim::realtime
           for (unsigned i = 0; i < 3; ++i)
             longest = std::max(longest, (s.nodes.reference.col(t[i]) - s.nodes.reference.col(t[(i + 1) % 3])).norm());
         if (prm.load_radius <= longest)
-          throw std::invalid_argument("the load radius " + std::to_string(prm.load_radius) +
-                                      " m must exceed the tissue surface's longest edge, " +
-                                      std::to_string(longest) + " m, in the realtime path (the kernel is "
-                                      "sampled at the nodes)");
+          throw ParameterError("Load radius", "the load radius " + std::to_string(prm.load_radius) +
+                                                " m must exceed the tissue surface's longest edge, " +
+                                                std::to_string(longest) +
+                                                " m, in the realtime path (the kernel is sampled at the nodes)");
       }
     // the thread's nodes: the suture's, continued along the needle from the swage at the
     // same spacing (the needle's own length when there is no suture)
@@ -47,7 +47,8 @@ namespace suturesim::realtime
     thread_nodes.first = -static_cast<long>(std::floor(needle.length() / thread_nodes.link + 1e-9));
     thread_nodes.last  = suture.size() >= 2 ? static_cast<long>(suture.size()) - 1 : 0;
     inside.assign(suture.size(), 0);
-    // a pass makes two pierce points; room for a few stitches without allocating
+    // a pass makes two pierce points; room for a few stitches without allocating (a
+    // point's own list of nodes is allocated once, when it is born)
     points.reserve(16);
     states.reserve(16);
     zeta_work.reserve(16);
@@ -77,30 +78,24 @@ namespace suturesim::realtime
   void
   NeedleCoupling::carry(PiercePoint &p, const coupling::SurfacePoint &at) const
   {
-    const auto &triangle = triangles[at.triangle];
-    if (prm.load_radius <= 0)
-      {
-        p.nodes.assign(triangle.begin(), triangle.end());
-        p.weights.assign(at.weights.data(), at.weights.data() + 3);
-        return;
-      }
-    const Matrix3Xd &X = sys.nodes.reference;
-    Vector3d         origin = Vector3d::Zero();
+    const auto      &triangle = triangles[at.triangle];
+    const Matrix3Xd &X        = sys.nodes.reference;
+    Vector3d         origin   = Vector3d::Zero();
     for (unsigned i = 0; i < 3; ++i)
       origin += at.weights[i] * X.col(triangle[i]);
     // the constructor checked that the radius exceeds every surface edge, so the ball
-    // holds at least the nearest vertex of the point's own triangle; should it not, the
-    // point stays the triangle's
-    if (!mesh::spread_weights(X, sys.nodes.mass, sys.tissue.begin, sys.tissue.end, origin, prm.load_radius,
-                              p.nodes, p.weights))
+    // holds at least the nearest vertex of the point's own triangle; should it not (or
+    // without a radius), the point is the triangle's
+    if (prm.load_radius > 0 && mesh::spread_weights(X, sys.nodes.mass, sys.tissue.begin, sys.tissue.end, origin,
+                                                    prm.load_radius, p.nodes, p.weights))
       {
-        p.nodes.assign(triangle.begin(), triangle.end());
-        p.weights.assign(at.weights.data(), at.weights.data() + 3);
+        p.offset = origin;
+        for (std::size_t j = 0; j < p.nodes.size(); ++j)
+          p.offset -= p.weights[j] * X.col(p.nodes[j]);
         return;
       }
-    p.offset = origin;
-    for (std::size_t j = 0; j < p.nodes.size(); ++j)
-      p.offset -= p.weights[j] * X.col(p.nodes[j]);
+    p.nodes.assign(triangle.begin(), triangle.end());
+    p.weights.assign(at.weights.data(), at.weights.data() + 3);
   }
 
   void

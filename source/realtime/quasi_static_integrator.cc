@@ -27,14 +27,17 @@ namespace suturesim::realtime
     public:
       QuasiStatic(const ParameterValues &p)
         : per_mass(p.text("Damping") == "per unit mass")
-        , tissue_damping(p.real(per_mass ? "Tissue damping rate" : "Tissue damping"))
-        , suture_damping(p.real(per_mass ? "Suture damping rate" : "Suture damping"))
         , strain(p.real("Strain limit"))
         , sweeps(p.integer("Strain limit sweeps"))
       {
-        const char *unit = per_mass ? "must be > 0 1/s" : "must be > 0 N s/m";
-        p.require(tissue_damping > 0, per_mass ? "Tissue damping rate" : "Tissue damping", unit);
-        p.require(suture_damping > 0, per_mass ? "Suture damping rate" : "Suture damping", unit);
+        // the law's own keys: B per node in N s/m, or β in 1/s
+        const std::string tissue = per_mass ? "Tissue damping rate" : "Tissue damping";
+        const std::string suture = per_mass ? "Suture damping rate" : "Suture damping";
+        const std::string unit   = per_mass ? "must be > 0 1/s" : "must be > 0 N s/m";
+        tissue_damping           = p.real(tissue);
+        suture_damping           = p.real(suture);
+        p.require(tissue_damping > 0, tissue, unit);
+        p.require(suture_damping > 0, suture, unit);
       }
 
       void

@@ -262,12 +262,14 @@ namespace suturesim::scene
           {
             needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);
           }
+        catch (const ParameterError &e) // the coupling's own parameters (Load radius)
+          {
+            scene.scope("Pierce points").fail(e.key, e.problem);
+          }
         catch (const std::invalid_argument &e)
           {
             if (std::string(e.what()).find("pierce model") != std::string::npos)
               scene.scope("Realtime").fail("Pierce model", e.what());
-            if (std::string(e.what()).find("load radius") != std::string::npos)
-              scene.scope("Pierce points").fail("Load radius", e.what());
             scene.scope("Needle").fail("Shape", e.what());
           }
       }
