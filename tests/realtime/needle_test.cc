@@ -24,7 +24,10 @@ namespace
     std::size_t                     max_points = 0;
     bool                            order_kept = true;
     bool                            on_node_grid = true; ///< every anchor at swage + i·link
+    std::size_t                     slips        = 0;    ///< point-steps with the anchor moving
+    bool                            friction_dissipates = true; ///< test_support::friction_dissipates()
   };
+
 
   PassRun
   run_pass(const std::string &integrator, const double mu, const bool with_suture,
@@ -83,6 +86,7 @@ namespace
         const double link = with_suture ? 0.1 / 100 : needle.length(); // 100 links
         for (const auto &q : points)
           {
+            run.friction_dissipates = test_support::friction_dissipates(q, run.slips) && run.friction_dissipates;
             const double i = (q.anchor - needle.length()) / link;
             run.on_node_grid = run.on_node_grid && std::abs(i - std::round(i)) < 1e-9;
           }
@@ -154,6 +158,8 @@ TEST(RealtimeNeedle, PiercePointsPassFromTheNeedleOntoTheSutureInOrder)
   EXPECT_TRUE(run.final_points[0].exit);
   EXPECT_FALSE(run.final_points[1].exit);
   EXPECT_TRUE(run.order_kept);
+  EXPECT_GT(run.slips, 0u);
+  EXPECT_TRUE(run.friction_dissipates);
 }
 
 TEST(RealtimeNeedle, SpreadPiercePointsPunctureAtTheThresholdAndPassOntoTheSutureInOrder)
@@ -202,6 +208,8 @@ TEST(RealtimeNeedle, NodeSlipPointsJumpFromNodeToNodeOntoTheSuture)
       EXPECT_TRUE(run.final_points[0].exit) << integrator;
       EXPECT_TRUE(run.order_kept) << integrator;
       EXPECT_TRUE(run.on_node_grid) << integrator;
+      EXPECT_GT(run.slips, 0u) << integrator;
+      EXPECT_TRUE(run.friction_dissipates) << integrator;
     }
   // the model's name is checked where the needle is added
   EXPECT_THROW(run_pass("xpbd", 0.2, true, "3/8", "ftl", "no-such-model"), std::invalid_argument);

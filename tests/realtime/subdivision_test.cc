@@ -245,8 +245,8 @@ TEST(SurfaceSubdivision, ANeedlePassSubdividesAtEachTouchAndItsPiercePointsAreTh
 
   const std::uint32_t      first_spare = boundary.vertices.size();
   std::vector<tools::Pose> poses(1);
-  bool                     order_kept = true, on_vertices = true;
-  std::size_t              most       = 0;
+  bool                     order_kept = true, on_vertices = true, dissipates = true;
+  std::size_t              most = 0, slips = 0;
   const auto              &x          = world.system().nodes.x;
   for (int k = 1; k <= static_cast<int>(pass.t_end * 1000); ++k)
     {
@@ -259,6 +259,7 @@ TEST(SurfaceSubdivision, ANeedlePassSubdividesAtEachTouchAndItsPiercePointsAreTh
       // each pierce point is a subdivision's first new node, exactly
       for (const auto &q : points)
         {
+          dissipates     = test_support::friction_dissipates(q, slips) && dissipates;
           double nearest = 1;
           for (std::uint32_t P = first_spare; P < first_spare + 8; P += 4)
             nearest = std::min(nearest, (x.col(P) - q.position).norm());
@@ -283,6 +284,10 @@ TEST(SurfaceSubdivision, ANeedlePassSubdividesAtEachTouchAndItsPiercePointsAreTh
   EXPECT_EQ(most, 2u);
   EXPECT_TRUE(order_kept);
   EXPECT_TRUE(on_vertices);
+  // the soft constraints' slip (seed 002 eq. 3) records its friction as the other
+  // models do (it had the sign of the tension difference T₋ − T₊ instead, the opposite)
+  EXPECT_GT(slips, 0u);
+  EXPECT_TRUE(dissipates);
   EXPECT_TRUE(closed_and_oriented(world.tissue()->surface()));
   // the patches' stiffer springs on lighter nodes lower the step's limit, which the world
   // estimates again after each subdivision (with 4 substeps, 0.25 ms, the vertex ran

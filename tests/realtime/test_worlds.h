@@ -28,6 +28,20 @@ namespace suturesim::test_support
     return entry.create(p, args...);
   }
 
+  /// Friction on a sliding point opposes the slip: the thread sliding through the hole
+  /// (its anchor ζ_a moving along it at dζ_a/dt) drags the tissue with it, so the force
+  /// on the tissue point along the thread has the opposite sign of dζ_a/dt, in every
+  /// pierce model (the recorded value is what is compared with the accurate path's).
+  /// Counts the sliding points in @p slips.
+  inline bool
+  friction_dissipates(const realtime::PiercePointState &q, std::size_t &slips)
+  {
+    if (!q.slipping || q.slip_speed == 0)
+      return true;
+    ++slips;
+    return q.friction * q.slip_speed < 0;
+  }
+
   inline ParameterValues
   parameters_of(const std::string &self_collision, const std::map<std::string, std::string> &values = {})
   {

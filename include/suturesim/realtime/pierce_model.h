@@ -38,7 +38,7 @@ namespace suturesim::realtime
     double zeta     = 0;     ///< ζ, where the tissue point projects on the thread, m
     double normal   = 0;     ///< N, N
     bool   slipping = false; ///< out
-    double friction = 0;     ///< out: tangential force on the tissue point along the tangent, N
+    double friction = 0;     ///< out: tangential force on the tissue point along the thread, towards its far end, N
   };
 
   /// The thread's node spacing: node i at ζ = swage + i·link (i < 0 on the needle).
@@ -54,7 +54,7 @@ namespace suturesim::realtime
     double slip     = 0; ///< how far its anchor moves along the suture, m
     bool   slipping = false;
     double normal   = 0; ///< N
-    double friction = 0; ///< N
+    double friction = 0; ///< tangential force on the tissue point, towards the far end, N
   };
 
   class PierceModel

@@ -75,8 +75,10 @@ namespace suturesim::realtime
             // the other's by k_a ds: the slip that leaves exactly μN between them
             const double rate = l.stiffness_before + l.stiffness_after;
             const bool   slip = std::abs(D) > limit && rate > 0;
-            slips[k]          = {slip ? std::copysign((std::abs(D) - limit) / rate, D) : 0.0, slip, N,
-                                 std::clamp(D, -limit, limit)};
+            // the tissue point feels T₊ − T₋ = −D along the thread (towards its far end),
+            // the convention of every pierce model's friction (and the accurate path's)
+            slips[k] = {slip ? std::copysign((std::abs(D) - limit) / rate, D) : 0.0, slip, N,
+                        -std::clamp(D, -limit, limit)};
           }
       }
 
