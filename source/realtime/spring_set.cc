@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -449,33 +450,45 @@ namespace suturesim::realtime
   }
 
   void
-  add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
-                     const std::vector<std::uint32_t> &node, const std::vector<double> &E)
+  add_tetrahedron_edge_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                               const std::vector<std::uint32_t>                         &node,
+                               const std::function<double(std::size_t, unsigned, unsigned)> &share,
+                               const std::function<double(double, double)>                &stiffness)
   {
-    if (E.size() != mesh.tetrahedra.size())
-      throw std::invalid_argument("add_volume_springs: one Young's modulus per tetrahedron");
-    // Σ_{T∋e} E_T V_T per edge, in the order edges are first met (deterministic)
+    // Σ_{T∋e} share per edge, in the order edges are first met (deterministic)
     std::unordered_map<std::uint64_t, std::size_t> index;
     std::vector<std::pair<std::uint64_t, double>>  edges;
     for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
       {
-        const auto  &v = mesh.tetrahedra[t];
-        const double V = E[t] * mesh.volume(t);
+        const auto &v = mesh.tetrahedra[t];
         for (unsigned a = 0; a < 4; ++a)
           for (unsigned b = a + 1; b < 4; ++b)
             {
               const auto [it, inserted] = index.try_emplace(edge_key(v[a], v[b]), edges.size());
               if (inserted)
                 edges.emplace_back(edge_key(v[a], v[b]), 0.0);
-              edges[it->second].second += V;
+              edges[it->second].second += share(t, a, b);
             }
       }
-    for (const auto &[key, EV] : edges)
+    for (const auto &[key, sum] : edges)
       {
         const std::uint32_t a = key >> 32, b = key & 0xffffffffu;
         const double        L = (mesh.vertices.col(a) - mesh.vertices.col(b)).norm();
-        springs.add(node[a], node[b], L, EV / (L * L));
+        if (const double k = stiffness(sum, L); k > 0) // an edge given no stiffness has no spring
+          springs.add(node[a], node[b], L, k);
       }
+  }
+
+  void
+  add_volume_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                     const std::vector<std::uint32_t> &node, const std::vector<double> &E)
+  {
+    if (E.size() != mesh.tetrahedra.size())
+      throw std::invalid_argument("add_volume_springs: one Young's modulus per tetrahedron");
+    // Σ_{T∋e} E_T V_T per edge, divided by L_e² once
+    add_tetrahedron_edge_springs(
+      springs, mesh, node, [&](const std::size_t t, unsigned, unsigned) { return E[t] * mesh.volume(t); },
+      [](const double EV, const double L) { return EV / (L * L); });
   }
 
   void

@@ -1,16 +1,23 @@
 /**
  * The volumetric mass-spring tissue (seed 004's tetrahedral model): a spring on every
- * tetrahedron edge (Van Gelder's rule, spring_set.h), masses ρV/4 per tetrahedron and
- * vertex, and, under XPBD, one volume constraint per tetrahedron carrying the bulk
- * stiffness K − 2E/3 that the springs lack (volume_constraints.h), so that the
- * network's response to a uniform dilatation is the continuum's K.
+ * tetrahedron edge, masses ρV/4 per tetrahedron and vertex, and, under XPBD, one volume
+ * constraint per tetrahedron carrying the bulk stiffness the springs lack
+ * (volume_constraints.h), so that the network's response to a uniform dilatation is the
+ * continuum's K. Three spring laws (`Spring law`):
+ *  - "van gelder" (default): k_e = E Σ V_T / L_e² (spring_set.h), a network of bulk
+ *    modulus 2E/3 on any mesh; the constraints carry K − 2E/3;
+ *  - "lloyd" and "least squares": the constants identified from the linear FE element
+ *    for the material's shear modulus μ (Lloyd, Székely & Harders 2007: their closed
+ *    form, or each tetrahedron's least-squares match; spring_identification.h); the
+ *    constraints carry K minus the network's own bulk modulus, per tetrahedron.
  *
  * Two multipliers make those rules a starting point for calibration (issue 28,
  * docs/calibration.md): `Spring stiffness scale` s_k multiplies every spring's k_e, and
- * `Volume stiffness scale` s_V every tetrahedron's bulk stiffness K − 2E/3; both 1 by
+ * `Volume stiffness scale` s_V every tetrahedron's constraint stiffness; both 1 by
  * default, the physically derived values.
  */
 #include <suturesim/realtime/home_springs.h>
+#include <suturesim/realtime/spring_identification.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/realtime/volume_constraints.h>
@@ -24,6 +31,7 @@ namespace suturesim::realtime
     public:
       explicit VolumeTissue(const ParameterValues &p)
         : volume_mode(p.text("Volume constraints"))
+        , spring_law(p.text("Spring law"))
         , home_stiffness(p.real("Home spring stiffness"))
         , spring_scale(p.real("Spring stiffness scale"))
         , volume_scale(p.real("Volume stiffness scale"))
@@ -48,18 +56,28 @@ namespace suturesim::realtime
         std::vector<std::uint32_t> node(node_of_vertex.begin(), node_of_vertex.end());
 
         auto springs = std::make_unique<SpringSet>("tissue springs");
-        // per tetrahedron: E, and the bulk stiffness K − 2E/3 the springs lack
-        std::vector<double> E(mesh.tetrahedra.size()), bulk(mesh.tetrahedra.size());
-        bool                all_bulk = true;
+        // per tetrahedron: E, μ and K, and the bulk stiffness the springs lack
+        const bool          identified = spring_law != "van gelder";
+        std::vector<double> E(mesh.tetrahedra.size()), mu(E.size()), K(E.size()), bulk(E.size());
         for (std::size_t t = 0; t < E.size(); ++t)
           {
             const int tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
-            const double e = m.youngs_modulus_of(tag);
-            E[t]           = spring_scale * e; // k_e is linear in E (Van Gelder's rule)
-            bulk[t]        = volume_scale * (m.bulk_modulus_of(tag) - 2 * e / 3);
-            all_bulk       = all_bulk && bulk[t] > 0;
+            E[t]          = m.youngs_modulus_of(tag);
+            K[t]          = m.bulk_modulus_of(tag);
+            mu[t]         = 3 * K[t] * E[t] / (9 * K[t] - E[t]);
           }
-        add_volume_springs(*springs, mesh, node, E);
+        const std::vector<double> network_bulk =
+          identified ? add_identified_volume_springs(*springs, mesh, node, spring_law, mu, spring_scale)
+                     : std::vector<double>();
+        bool all_bulk = true;
+        for (std::size_t t = 0; t < E.size(); ++t)
+          {
+            bulk[t]  = volume_scale * (K[t] - (identified ? network_bulk[t] : 2 * E[t] / 3));
+            all_bulk = all_bulk && bulk[t] > 0;
+            E[t] *= spring_scale; // k_e is linear in E (Van Gelder's rule)
+          }
+        if (!identified)
+          add_volume_springs(*springs, mesh, node, E);
         springs->sort();
         s.interactions.push_back(std::move(springs));
 
@@ -84,29 +102,41 @@ namespace suturesim::realtime
 
     private:
       std::string volume_mode;
+      std::string spring_law;
       double      home_stiffness, spring_scale, volume_scale;
     };
 
     const bool registered = TissueModel::Registry::instance().add(
       {"volume",
-       "a spring on every tetrahedron edge, k_e = E sum V_T / L_e^2 (Van Gelder 1998), "
-       "with volume constraints of bulk stiffness K - 2E/3 under XPBD (seed 004).",
+       "a spring on every tetrahedron edge (Van Gelder's rule or identified from the "
+       "linear FE element), with volume constraints carrying the bulk stiffness the "
+       "springs lack under XPBD (seed 004).",
        [](ParameterDeclarations &d) {
+         d.add_selection("Spring law", "van gelder", "van gelder|lloyd|least squares",
+                         "The tissue springs' constants: 'van gelder', k_e = E sum V_T / "
+                         "L_e^2 (Van Gelder 1998; volume constraints K - 2E/3); 'lloyd', "
+                         "(sqrt 2/5) mu l per tetrahedron of equivalent edge l = (12V/sqrt "
+                         "2)^(1/3) (Lloyd, Szekely & Harders 2007); 'least squares', each "
+                         "tetrahedron's six constants matching its linear FE stiffness "
+                         "matrix for the shear modulus mu best (their criterion); the "
+                         "identified laws' volume constraints carry K minus the springs' "
+                         "own bulk modulus.");
          d.add_selection("Volume constraints", "auto", "auto|on|off",
-                         "Tetrahedron volume constraints (bulk stiffness K - 2E/3): 'auto' "
+                         "Tetrahedron volume constraints (the bulk stiffness the springs "
+                         "lack, see Spring law): 'auto' "
                          "adds them under XPBD only, 'on' also as forces for the force-based "
                          "integrators, 'off' never.");
          d.add_real("Home spring stiffness", 0, 0, 1e12,
                     "Home springs on every node (seed 001 sec. 2.1); 0 = none. Unit: N/m. "
                     "Range: >= 0.");
          d.add_real("Spring stiffness scale", 1, 1e-3, 1e3,
-                    "Multiplies every tissue spring's Van Gelder stiffness k_e = E sum V_T / "
-                    "L_e^2 (a calibration parameter, docs/calibration.md). Unit: 1. Range: "
-                    "[1e-3, 1e3].");
-         d.add_real("Volume stiffness scale", 1, 1e-3, 1e3,
-                    "Multiplies every volume constraint's bulk stiffness K - 2E/3 (a "
+                    "Multiplies every tissue spring's stiffness from its Spring law (a "
                     "calibration parameter, docs/calibration.md). Unit: 1. Range: [1e-3, "
                     "1e3].");
+         d.add_real("Volume stiffness scale", 1, 1e-3, 1e3,
+                    "Multiplies every volume constraint's bulk stiffness (K - 2E/3 or K - "
+                    "5mu/3, see Spring law; a calibration parameter, docs/calibration.md). "
+                    "Unit: 1. Range: [1e-3, 1e3].");
          declare_bending_parameters(d);
        },
        [](const ParameterValues &p) { return std::unique_ptr<TissueModel>(new VolumeTissue(p)); }});

@@ -6,8 +6,9 @@
  * Stored as a structure of arrays (end indices, rest lengths, stiffnesses, multipliers),
  * contiguous and ordered so that consecutive springs share no node (independent_order.h).
  *
- * Stiffness from the material (the rules the issue asks for; calibration against the FE
- * model comes later):
+ * Stiffness from the material (rules with no fitted constant; spring_identification.h
+ * identifies them from the linear FE element instead, and docs/calibration.md fits
+ * scales of them to the FE model):
  *  - volume (tetrahedron edges): k_e = c Σ_{T∋e} V_T / L_e², Van Gelder (1998),
  *    "Approximate simulation of elastic membranes by triangulated spring meshes",
  *    J. Graphics Tools 3(2):21–42, §5 (three dimensions), with c = E. Under a uniform
@@ -32,6 +33,7 @@
 #include <suturesim/realtime/system.h>
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace suturesim::realtime
@@ -196,6 +198,16 @@ namespace suturesim::realtime
     std::vector<double> alpha_tilde;
     double              prepared_dt = 0;
   };
+
+  /// One spring per tetrahedron edge (a, b) of @p mesh: k_e = stiffness(Σ_{T∋e} share(T,
+  /// a, b), L_e), a and b the edge's local vertex indices in T (a < b), no spring where
+  /// that is 0; the rules below and spring_identification.h are its uses. @p node maps
+  /// mesh vertices to nodes.
+  void
+  add_tetrahedron_edge_springs(SpringSet &springs, const mesh::SimplexMesh &mesh,
+                               const std::vector<std::uint32_t>                         &node,
+                               const std::function<double(std::size_t, unsigned, unsigned)> &share,
+                               const std::function<double(double, double)>                &stiffness);
 
   /// One spring per tetrahedron edge, k from Van Gelder's rule (above) with c = E:
   /// k_e = Σ_{T∋e} E_T V_T / L_e², so a tetrahedron contributes its own modulus to each
