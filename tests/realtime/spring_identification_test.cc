@@ -179,3 +179,33 @@ TEST(SpringIdentification, VolumeModelAssemblesEachTetrahedronsIdentifiedSprings
         << law;
     }
 }
+
+TEST(SpringIdentification, ASliversNegativeConstantsAreDroppedWithTheirSprings)
+{
+  // A sliver (a 1 mm square, one corner lifted by 5 %): the least-squares match wants
+  // negative constants on its two diagonals. They are set to zero (a negative spring
+  // would destabilise the network), and a mesh of this one tetrahedron gets springs on
+  // its four other edges only: an edge given no stiffness carries no spring (on the
+  // patch-load block's 2.34 mm mesh the zero-stiffness springs were refused before)
+  const std::array<Eigen::Vector3d, 4> X{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1e-3, 0, 0),
+                                         Eigen::Vector3d(1e-3, 1e-3, 0), Eigen::Vector3d(0, 1e-3, 5e-5)};
+  const double mu = 2e3;
+  const auto   k  = least_squares_springs(X, mu);
+  for (unsigned e = 0; e < 6; ++e)
+    if (e == 1 || e == 4) // the diagonals (0,2) and (1,3)
+      EXPECT_EQ(k[e], 0) << e;
+    else
+      EXPECT_GT(k[e], 0) << e;
+  mesh::SimplexMesh mesh;
+  mesh.vertices.resize(3, 4);
+  for (unsigned a = 0; a < 4; ++a)
+    mesh.vertices.col(a) = X[a];
+  mesh.tetrahedra = {{0, 1, 2, 3}};
+  SpringSet springs("springs");
+  add_identified_volume_springs(springs, mesh, {0, 1, 2, 3}, "least squares", {mu}, 1);
+  EXPECT_EQ(springs.size(), 4u);
+  EXPECT_EQ(springs.find(0, 2), springs.size());
+  EXPECT_EQ(springs.find(1, 3), springs.size());
+  EXPECT_THROW(add_identified_volume_springs(springs, mesh, {0, 1, 2, 3}, "no such law", {mu}, 1),
+               std::invalid_argument);
+}
