@@ -12,6 +12,13 @@ namespace suturesim::realtime
   {
     using Matrix12 = Eigen::Matrix<double, 12, 12>;
 
+    /// The volume of the tetrahedron @p X, either orientation.
+    double
+    volume(const std::array<Eigen::Vector3d, 4> &X)
+    {
+      return std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6;
+    }
+
     /// G_e of the edge (a, b) (header): ±n nᵀ in the blocks of its two vertices.
     Matrix12
     edge_matrix(const std::array<Eigen::Vector3d, 4> &X, const unsigned a, const unsigned b)
@@ -36,7 +43,7 @@ namespace suturesim::realtime
     double longest = 0;
     for (const auto &[a, b] : tetrahedron_edges)
       longest = std::max(longest, (X[b] - X[a]).norm());
-    const double V = std::abs(Dm.determinant()) / 6; // either orientation
+    const double V = volume(X);
     if (!(V > 1e-12 * longest * longest * longest))
       throw std::invalid_argument("tetrahedron_stiffness: a flat tetrahedron");
     // ∇N_1..3 are the rows of Dm⁻¹; ∇N_0 = −their sum
@@ -88,8 +95,7 @@ namespace suturesim::realtime
   std::array<double, 6>
   lloyd_springs(const std::array<Eigen::Vector3d, 4> &X, const double mu)
   {
-    const double V = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6;
-    const double l = std::cbrt(12 * V / std::sqrt(2.0)); // the regular tetrahedron of volume V
+    const double l = std::cbrt(12 * volume(X) / std::sqrt(2.0)); // the regular tetrahedron of volume V
     std::array<double, 6> k;
     k.fill(std::sqrt(2.0) / 5 * mu * l);
     return k;
@@ -98,11 +104,10 @@ namespace suturesim::realtime
   double
   network_bulk_modulus(const std::array<Eigen::Vector3d, 4> &X, const std::array<double, 6> &k)
   {
-    const double V   = std::abs((X[1] - X[0]).cross(X[2] - X[0]).dot(X[3] - X[0])) / 6;
-    double       sum = 0;
+    double sum = 0;
     for (unsigned e = 0; e < 6; ++e)
       sum += k[e] * (X[tetrahedron_edges[e][1]] - X[tetrahedron_edges[e][0]]).squaredNorm();
-    return sum / (9 * V);
+    return sum / (9 * volume(X));
   }
 
   std::vector<double>

@@ -22,6 +22,8 @@
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/realtime/volume_constraints.h>
 
+#include <algorithm>
+
 namespace suturesim::realtime
 {
   namespace
@@ -55,29 +57,9 @@ namespace suturesim::realtime
             node_of_vertex[v] = s.nodes.add(X.col(v), mass[v], 0);
         std::vector<std::uint32_t> node(node_of_vertex.begin(), node_of_vertex.end());
 
-        auto springs = std::make_unique<SpringSet>("tissue springs");
-        // per tetrahedron: E, μ and K, and the bulk stiffness the springs lack
-        const bool          identified = spring_law != "van gelder";
-        std::vector<double> E(mesh.tetrahedra.size()), mu(E.size()), K(E.size()), bulk(E.size());
-        for (std::size_t t = 0; t < E.size(); ++t)
-          {
-            const int tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
-            E[t]          = m.youngs_modulus_of(tag);
-            K[t]          = m.bulk_modulus_of(tag);
-            mu[t]         = 3 * K[t] * E[t] / (9 * K[t] - E[t]);
-          }
-        const std::vector<double> network_bulk =
-          identified ? add_identified_volume_springs(*springs, mesh, node, spring_law, mu, spring_scale)
-                     : std::vector<double>();
-        bool all_bulk = true;
-        for (std::size_t t = 0; t < E.size(); ++t)
-          {
-            bulk[t]  = volume_scale * (K[t] - (identified ? network_bulk[t] : 2 * E[t] / 3));
-            all_bulk = all_bulk && bulk[t] > 0;
-            E[t] *= spring_scale; // k_e is linear in E (Van Gelder's rule)
-          }
-        if (!identified)
-          add_volume_springs(*springs, mesh, node, E);
+        auto                      springs = std::make_unique<SpringSet>("tissue springs");
+        const std::vector<double> bulk    = add_springs(*springs, mesh, node, m);
+        const bool all_bulk = std::all_of(bulk.begin(), bulk.end(), [](const double b) { return b > 0; });
         springs->sort();
         s.interactions.push_back(std::move(springs));
 
@@ -101,6 +83,43 @@ namespace suturesim::realtime
       }
 
     private:
+      /// The springs of the Spring law; returns each tetrahedron's bulk stiffness for the
+      /// volume constraints, s_V (K − the springs' own bulk modulus: 2E/3 for Van Gelder's
+      /// rule on any mesh, network_bulk_modulus() for the identified laws).
+      std::vector<double>
+      add_springs(SpringSet &springs, const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
+                  const TissueMaterial &m) const
+      {
+        // per tetrahedron: the springs' modulus (E for Van Gelder's rule, μ for the
+        // identified laws; k_e is linear in it) and K
+        const bool          identified = spring_law != "van gelder";
+        const std::size_t   n          = mesh.tetrahedra.size();
+        std::vector<double> modulus(n), K(n), network_bulk(n);
+        for (std::size_t t = 0; t < n; ++t)
+          {
+            const int    tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
+            const double E   = m.youngs_modulus_of(tag);
+            K[t]             = m.bulk_modulus_of(tag);
+            modulus[t]       = identified ? 3 * K[t] * E / (9 * K[t] - E) : E;
+          }
+        if (identified)
+          network_bulk = add_identified_volume_springs(springs, mesh, node, spring_law, modulus, spring_scale);
+        else
+          {
+            std::vector<double> scaled(n);
+            for (std::size_t t = 0; t < n; ++t)
+              {
+                network_bulk[t] = 2 * modulus[t] / 3;
+                scaled[t]       = spring_scale * modulus[t];
+              }
+            add_volume_springs(springs, mesh, node, scaled);
+          }
+        std::vector<double> bulk(n);
+        for (std::size_t t = 0; t < n; ++t)
+          bulk[t] = volume_scale * (K[t] - network_bulk[t]);
+        return bulk;
+      }
+
       std::string volume_mode;
       std::string spring_law;
       double      home_stiffness, spring_scale, volume_scale;
