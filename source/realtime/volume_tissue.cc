@@ -143,8 +143,11 @@ namespace suturesim::realtime
          d.add_selection("Volume constraints", "auto", "auto|on|off",
                          "Tetrahedron volume constraints (the bulk stiffness the springs "
                          "lack, see Spring law): 'auto' "
-                         "adds them under XPBD only, 'on' also as forces for the force-based "
-                         "integrators, 'off' never.");
+                         "adds them under XPBD only, so that the force-based integrators "
+                         "see the springs alone (bulk modulus 2E/3, nu = 1/4 with Van "
+                         "Gelder's rule); 'on' also as forces for the force-based "
+                         "integrators (stiffer: the quasi-static step on 1 mm tetrahedra of "
+                         "skin then needs about 12 kHz, docs/calibration.md); 'off' never.");
          d.add_real("Home spring stiffness", 0, 0, 1e12,
                     "Home springs on every node (seed 001 sec. 2.1); 0 = none. Unit: N/m. "
                     "Range: >= 0.");
