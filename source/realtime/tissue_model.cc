@@ -34,6 +34,24 @@ namespace suturesim::realtime
     return r == regions.end() ? bulk_modulus() : r->second.first / (3 * (1 - 2 * r->second.second));
   }
 
+  std::vector<std::uint32_t>
+  TissueModel::add_tetrahedral_nodes(System &s, const mesh::SimplexMesh &mesh, const double density)
+  {
+    const Matrix3Xd    &X = mesh.vertices;
+    std::vector<double> mass(X.cols(), 0.0);
+    for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+      for (const auto v : mesh.tetrahedra[t])
+        mass[v] += density * mesh.volume(t) / 4;
+    for (Eigen::Index v = 0; v < X.cols(); ++v)
+      if (mass[v] > 0)
+        node_of_vertex[v] = s.nodes.add(X.col(v), mass[v], 0);
+    std::vector<std::uint32_t> node(node_of_vertex.begin(), node_of_vertex.end());
+    cells.clear();
+    for (const auto &t : mesh.tetrahedra)
+      cells.push_back({node[t[0]], node[t[1]], node[t[2]], node[t[3]]});
+    return node;
+  }
+
   void
   TissueModel::build(System &s, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &boundary,
                      const TissueMaterial &material, const bool position_based)

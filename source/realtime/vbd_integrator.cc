@@ -123,6 +123,12 @@ namespace suturesim::realtime
         return true;
       }
 
+      bool
+      projects_tissue() const override
+      {
+        return false;
+      }
+
       std::size_t
       first_constraint_interaction(const System &) const override
       {

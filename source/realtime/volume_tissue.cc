@@ -47,15 +47,8 @@ namespace suturesim::realtime
       add_body(System &s, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &,
                const TissueMaterial &m, const bool position_based) override
       {
-        const Matrix3Xd    &X = mesh.vertices;
-        std::vector<double> mass(X.cols(), 0.0);
-        for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
-          for (const auto v : mesh.tetrahedra[t])
-            mass[v] += m.density * mesh.volume(t) / 4;
-        for (Eigen::Index v = 0; v < X.cols(); ++v)
-          if (mass[v] > 0) // vertices of no tetrahedron (stray gmsh points) are left out
-            node_of_vertex[v] = s.nodes.add(X.col(v), mass[v], 0);
-        std::vector<std::uint32_t> node(node_of_vertex.begin(), node_of_vertex.end());
+        const Matrix3Xd                 &X    = mesh.vertices;
+        const std::vector<std::uint32_t> node = add_tetrahedral_nodes(s, mesh, m.density);
 
         auto                      springs = std::make_unique<SpringSet>("tissue springs");
         const std::vector<double> bulk    = add_springs(*springs, mesh, node, m);
@@ -77,9 +70,6 @@ namespace suturesim::realtime
                 home->add(node[v], X.col(v), home_stiffness);
             s.interactions.push_back(std::move(home));
           }
-        cells.clear();
-        for (const auto &t : mesh.tetrahedra)
-          cells.push_back({node[t[0]], node[t[1]], node[t[2]], node[t[3]]});
       }
 
     private:

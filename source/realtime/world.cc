@@ -28,6 +28,11 @@ namespace suturesim::realtime
                           time_integrator->position_based());
     else
       tissue_model.reset();
+    if (time_integrator->projects_tissue())
+      for (const auto &i : sys.interactions)
+        if (!i->projectable())
+          throw ParameterError("Integrator", "the tissue's " + i->name() +
+                                               " have no XPBD projection: use 'vbd' or a force-based integrator");
     tissue_interactions          = sys.interactions.size();
     sys.first_suture_interaction = tissue_interactions;
     if (suture_model)

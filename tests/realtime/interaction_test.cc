@@ -3,6 +3,7 @@
 #include <suturesim/realtime/angle_springs.h>
 #include <suturesim/realtime/curvature_springs.h>
 #include <suturesim/realtime/home_springs.h>
+#include <suturesim/realtime/neo_hookean_tetrahedra.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/volume_constraints.h>
 
@@ -87,6 +88,11 @@ TEST(RealtimeInteractions, ForcesAreMinusTheEnergyGradient)
   VolumeConstraints volumes;
   volumes.add_mesh(mesh, node, 5e4);
   EXPECT_LT(force_error(volumes, x), 1e-6);
+
+  NeoHookeanTetrahedra elements;
+  elements.add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), 2e4),
+                    std::vector<double>(mesh.tetrahedra.size(), 9e4));
+  EXPECT_LT(force_error(elements, x), 1e-6);
 
   HomeSprings home;
   for (std::uint32_t v = 0; v < node.size(); v += 2)

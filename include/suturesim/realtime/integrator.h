@@ -59,6 +59,14 @@ namespace suturesim::realtime
       return false;
     }
 
+    /// True when the tissue's families are swept as constraints (XPBD); false where it
+    /// moves by forces or vertex blocks ("vbd").
+    virtual bool
+    projects_tissue() const
+    {
+      return position_based();
+    }
+
     /// For position-based integrators: the first interaction solved as a constraint,
     /// whose forces are its multipliers' (Interaction::add_constraint_forces); those
     /// before it (a primal tissue solve: "vbd") exert their elastic forces.

@@ -205,6 +205,14 @@ namespace suturesim::realtime
                      Eigen::Matrix3d &) const
     {}
 
+    /// False for a family with forces and vertex blocks only (the finite-element
+    /// tissue): XPBD, which projects every tissue family, refuses it (World).
+    virtual bool
+    projectable() const
+    {
+      return true;
+    }
+
     /// XPBD: constants of the sweeps that depend on the step only (α̃ = 1/(k dt²));
     /// implementations recompute them only when @p dt changes. The inverse masses enter
     /// each projection directly, since holds (tools, transient constraints) change them

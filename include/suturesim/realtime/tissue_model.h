@@ -6,7 +6,9 @@
  *  - "surface": the boundary triangles of the tetrahedral mesh as a mass-spring membrane
  *    with home springs (seeds 001, 002, 003): nodes only on the surface;
  *  - "volume": every tetrahedron edge a spring, plus volume constraints for XPBD
- *    (seed 004).
+ *    (seed 004);
+ *  - "fe": linear tetrahedral finite elements of the stable neo-Hookean energy
+ *    (neo_hookean_tetrahedra.h), which converge to the continuum under refinement.
  * Both may carry angular bending springs at chosen vertices (seed 003). Masses are
  * lumped from the density: a quarter of each tetrahedron's mass to its vertices
  * (volume), or the body's mass shared by the surface nodes in proportion to their
@@ -121,6 +123,13 @@ namespace suturesim::realtime
     virtual void
     add_body(System &system, const mesh::SimplexMesh &mesh, const mesh::BoundarySurface &surface,
              const TissueMaterial &material, bool position_based) = 0;
+
+    /// The nodes of a tetrahedral body: every vertex of a tetrahedron, its mass lumped
+    /// as a quarter of each of its tetrahedra's ρV (vertices of no tetrahedron, stray
+    /// gmsh points, are left out); sets node_of_vertex and the output cells. Returns
+    /// node_of_vertex as indices (those of left-out vertices meaningless).
+    std::vector<std::uint32_t>
+    add_tetrahedral_nodes(System &system, const mesh::SimplexMesh &mesh, double density);
 
     std::vector<std::int64_t>      node_of_vertex;
     std::vector<mesh::Tetrahedron> cells;

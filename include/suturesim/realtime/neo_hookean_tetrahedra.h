@@ -1,0 +1,95 @@
+#pragma once
+/**
+ * @file
+ * Linear tetrahedral finite elements with the stable neo-Hookean energy, the realtime
+ * tissue whose response converges to the continuum's under refinement (tissue model
+ * "fe"), where a spring network's does not (docs/calibration.md).
+ *
+ * Per tetrahedron of rest volume V₀ and rest edge matrix D_m = [X₁ − X₀, X₂ − X₀,
+ * X₃ − X₀], the deformation gradient F = Σᵢ xᵢ bᵢᵀ with b₁…b₃ the rows of D_m⁻¹ and
+ * b₀ = −(b₁ + b₂ + b₃), and the energy
+ *
+ *   E = V₀ [ μ/2 (I_C − 3) + λ̂/2 (J − γ)² − λ̂/2 (1 − γ)² ],  I_C = tr FᵀF, J = det F,
+ *   γ = 1 + μ/λ̂
+ *
+ * (Smith, de Goes & Kim 2018, "Stable neo-Hookean flesh simulation", ACM TOG 37:12,
+ * without their log term, as Macklin & Müller 2021, "A constraint-based formulation of
+ * stable neo-Hookean materials", MIG '21, use it): stress free at rest (γ balances the
+ * μ I of the first term), finite and smooth through inversion (J ≤ 0). Linearised at
+ * rest it is μ|ε|² + (λ̂ − μ)/2 (tr ε)², so λ̂ = λ + μ reproduces linear elasticity's
+ * Lamé constants (μ, λ) exactly; the small-strain response is then that of the accurate
+ * path's material of the same μ and K = λ + 2μ/3.
+ *
+ * Forces fᵢ = −V₀ P bᵢ with P = μ F + λ̂ (J − γ) cof F, for the force-based integrators,
+ * and exact vertex blocks for vertex block descent ("vbd", Chen et al. 2024, whose
+ * elements these are). No XPBD projection: Macklin & Müller's two constraints per
+ * tetrahedron (C_D = √I_C, C_H = J − γ) carry the rest state's prestress μ V₀ in their
+ * multipliers, so a sweep's linearisation moves nodes by amounts that cancel only when
+ * converged; measured on the sag of tests/realtime/vbd_test.cc, one warm-started sweep
+ * diverged and forty cold ones settled 2.3 % short of VBD's equilibrium, and a static
+ * fixed point of the sweeps left the free nodes' force residual at the held nodes' (an
+ * experiment of 2026-11-30, docs/calibration.md). project() throws, and the World
+ * refuses XPBD with this family (projectable()).
+ */
+
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/system.h>
+
+#include <array>
+#include <vector>
+
+namespace suturesim::realtime
+{
+class NeoHookeanTetrahedra : public Interaction
+{
+public:
+  std::string name() const override { return "neo-Hookean tetrahedra"; }
+  std::size_t size() const override { return tets.size(); }
+
+  /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
+  /// nodes), with its Lamé constants of linear elasticity @p mu and @p lambda (Pa),
+  /// one value per tetrahedron. Throws for a degenerate tetrahedron or μ ≤ 0, λ ≤ 0.
+  void add_mesh(const mesh::SimplexMesh          &mesh,
+                const std::vector<std::uint32_t> &node,
+                const std::vector<double>        &mu,
+                const std::vector<double>        &lambda);
+
+  double energy(const Matrix3Xd &x) const override;
+  void   add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+  /// A primal family (solved by forces or vertex blocks): its forces are its elastic
+  /// ones.
+  void add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
+  {
+    add_forces(x, f);
+  }
+  bool projectable() const override { return false; }
+  bool element_nodes(std::vector<std::uint32_t> &nodes,
+                     unsigned                   &per_element) const override;
+  /// f = −V₀ P bᵢ, H = V₀ (μ |bᵢ|² I + λ̂ gᵢ gᵢᵀ), gᵢ = cof(F) bᵢ: exact, since J is
+  /// linear in each vertex, and positive definite
+  void add_vertex_block(const Matrix3Xd     &x,
+                        std::uint32_t        i,
+                        const std::uint32_t *tetrahedra,
+                        std::size_t          n,
+                        Vector3d            &f,
+                        Eigen::Matrix3d     &H) const override;
+  void reset_multipliers() override {}
+  /// Throws: there is no projection (projectable()).
+  void project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+  /// max |J − 1|, the largest volumetric strain
+  double max_violation(const Matrix3Xd &x) const override;
+
+  /// F of tetrahedron @p t at @p x (for tests and output).
+  Eigen::Matrix3d deformation_gradient(const Matrix3Xd &x, std::size_t t) const;
+
+private:
+  struct Element
+  {
+    std::array<Vector3d, 4> b;          ///< ∂F/∂xᵢ = (·) bᵢᵀ
+    double                  volume;     ///< V₀
+    double                  mu, lambda; ///< μ and λ̂ = λ + μ
+  };
+  std::vector<mesh::Tetrahedron> tets;
+  std::vector<Element>           elements;
+};
+} // namespace suturesim::realtime
