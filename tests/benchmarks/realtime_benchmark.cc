@@ -165,10 +165,11 @@ namespace
   /// which formats nothing here (its sink only counts). XPBD against vertex block descent
   /// on the tissue (vbd_integrator.cc), both with XPBD's eight suture sweeps.
   void
-  HapticTick(benchmark::State &state, const std::string &integrator, const std::map<std::string, std::string> &values)
+  HapticTick(benchmark::State &state, const std::string &integrator, const std::map<std::string, std::string> &values,
+             const std::string &tissue = "volume")
   {
     const auto mesh = test_support::box_mesh(0.04, 0.04, 0.01, 18, 18, 4);
-    auto       setup = test_support::block_under_folded_suture(mesh, "volume", integrator, values, "xpbd-rod",
+    auto       setup = test_support::block_under_folded_suture(mesh, tissue, integrator, values, "xpbd-rod",
                                                                 "transient-constraint", 99);
     setup.substeps       = 1; // as the seed-004-scale scene: one step a tick
     World world(std::move(setup));
@@ -205,6 +206,12 @@ namespace
     ->Unit(benchmark::kMicrosecond);
   BENCHMARK_CAPTURE(HapticTick, vbd_1_plus_8, std::string("vbd"),
                     std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}})
+    ->Unit(benchmark::kMicrosecond);
+  // the finite-element tissue (Tissue model = fe: neo-Hookean tetrahedra) under the same
+  // step: its ratio to vbd_1_plus_8 is what elements cost over springs and volumes
+  BENCHMARK_CAPTURE(HapticTick, vbd_1_plus_8_fe, std::string("vbd"),
+                    std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}},
+                    std::string("fe"))
     ->Unit(benchmark::kMicrosecond);
   // the warm start, then also on two threads (slab_sweep.h): the ratios to xpbd_1_plus_8
   // are what the two cost and save
