@@ -34,6 +34,13 @@ namespace suturesim::realtime
     return r == regions.end() ? bulk_modulus() : r->second.first / (3 * (1 - 2 * r->second.second));
   }
 
+  double
+  TissueMaterial::shear_modulus_of(const int tag) const
+  {
+    const double E = youngs_modulus_of(tag), K = bulk_modulus_of(tag);
+    return 3 * K * E / (9 * K - E);
+  }
+
   std::vector<std::uint32_t>
   TissueModel::add_tetrahedral_nodes(System &s, const mesh::SimplexMesh &mesh, const double density)
   {

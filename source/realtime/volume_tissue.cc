@@ -88,9 +88,8 @@ namespace suturesim::realtime
         for (std::size_t t = 0; t < n; ++t)
           {
             const int    tag = t < mesh.tetrahedron_tags.size() ? mesh.tetrahedron_tags[t] : 0;
-            const double E   = m.youngs_modulus_of(tag);
             K[t]             = m.bulk_modulus_of(tag);
-            modulus[t]       = identified ? 3 * K[t] * E / (9 * K[t] - E) : E;
+            modulus[t]       = identified ? m.shear_modulus_of(tag) : m.youngs_modulus_of(tag);
           }
         if (identified)
           network_bulk = add_identified_volume_springs(springs, mesh, node, spring_law, modulus, spring_scale);

@@ -8,7 +8,6 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include <numeric>
 #include <random>
 
 #include "realtime/test_meshes.h"
@@ -19,36 +18,41 @@ using namespace suturesim::realtime;
 
 namespace
 {
-constexpr double E = 1e4, nu = 0.45; // Pa, 1: a soft, nearly incompressible tissue
+  constexpr double E = 1e4, nu = 0.45; // Pa, 1: a soft, nearly incompressible tissue
 
-/// The tissue model "fe" of (E, ν) built on @p mesh, its one interaction returned.
-struct FeBody
-{
-  System                       system;
-  std::unique_ptr<TissueModel> model;
-
-  FeBody(const mesh::SimplexMesh                  &mesh,
-         const std::map<std::string, std::string> &values = {})
-      : model(test_support::make_model<TissueModel::Registry>("fe", values))
+  /// The tissue model "fe" of (E, ν) built on @p mesh, its one interaction returned.
+  struct FeBody
   {
-    model->build(system, mesh, mesh::extract_boundary(mesh), {E, nu, 1000, {}}, false);
-    system.finalize();
-  }
-  const Interaction &elements() const { return *system.interactions.at(0); }
-  Matrix3Xd          forces(const Matrix3Xd &x) const
-  {
-    Matrix3Xd f = Matrix3Xd::Zero(3, x.cols());
-    elements().add_forces(x, f);
-    return f;
-  }
-};
+    System                       system;
+    std::unique_ptr<TissueModel> model;
 
-/// Whether vertex @p v of the box [0, a]³ lies on its boundary.
-bool on_boundary(const mesh::SimplexMesh &mesh, const Eigen::Index v, const double a)
-{
-  const Vector3d X = mesh.vertices.col(v);
-  return X.minCoeff() < 1e-12 * a || X.maxCoeff() > a * (1 - 1e-12);
-}
+    FeBody(const mesh::SimplexMesh &mesh, const std::map<std::string, std::string> &values = {})
+        : model(test_support::make_model<TissueModel::Registry>("fe", values))
+    {
+      model->build(system, mesh, mesh::extract_boundary(mesh), { E, nu, 1000, {} }, false);
+      system.finalize();
+    }
+    const Interaction &
+    elements() const
+    {
+      return *system.interactions.at(0);
+    }
+    Matrix3Xd
+    forces(const Matrix3Xd &x) const
+    {
+      Matrix3Xd f = Matrix3Xd::Zero(3, x.cols());
+      elements().add_forces(x, f);
+      return f;
+    }
+  };
+
+  /// Whether vertex @p v of the box [0, a]³ lies on its boundary.
+  bool
+  on_boundary(const mesh::SimplexMesh &mesh, const Eigen::Index v, const double a)
+  {
+    const Vector3d X = mesh.vertices.col(v);
+    return X.minCoeff() < 1e-12 * a || X.maxCoeff() > a * (1 - 1e-12);
+  }
 } // namespace
 
 TEST(FeTissue, RestStateAndRigidMotionsAreForceAndEnergyFree)
@@ -58,9 +62,8 @@ TEST(FeTissue, RestStateAndRigidMotionsAreForceAndEnergyFree)
   ASSERT_EQ(body.system.interactions.size(), 1u);
   const double scale = E * 0.01 * 0.01; // a force of E times a face's area
   EXPECT_LT(body.forces(mesh.vertices).cwiseAbs().maxCoeff(), 1e-12 * scale);
-  const Eigen::Matrix3d R =
-      Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-  const Matrix3Xd x = (R * mesh.vertices).colwise() + Vector3d(0.3, -0.1, 0.2);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Matrix3Xd       x = (R * mesh.vertices).colwise() + Vector3d(0.3, -0.1, 0.2);
   EXPECT_LT(body.forces(x).cwiseAbs().maxCoeff(), 1e-10 * scale);
   EXPECT_LT(std::abs(body.elements().energy(x)), 1e-12 * E * mesh.total_volume());
 }
@@ -74,17 +77,16 @@ TEST(FeTissue, SmallStrainIsLinearElasticityOfTheMaterialsYoungsModulusAndPoisso
   const double    a = 0.02, b = 0.01, c = 0.01, e = 1e-5;
   const auto      mesh = test_support::box_mesh(a, b, c, 3, 2, 2);
   FeBody          body(mesh);
-  const Matrix3Xd x =
-      Vector3d(1 + e, 1 - nu * e, 1 - nu * e).asDiagonal() * mesh.vertices;
+  const Matrix3Xd x     = Vector3d(1 + e, 1 - nu * e, 1 - nu * e).asDiagonal() * mesh.vertices;
   const Matrix3Xd f     = body.forces(x);
   Vector3d        right = Vector3d::Zero(), back = Vector3d::Zero();
   for (Eigen::Index v = 0; v < x.cols(); ++v)
-  {
-    if (mesh.vertices(0, v) > a * (1 - 1e-12))
-      right += f.col(v);
-    if (mesh.vertices(1, v) > b * (1 - 1e-12))
-      back += f.col(v);
-  }
+    {
+      if (mesh.vertices(0, v) > a * (1 - 1e-12))
+        right += f.col(v);
+      if (mesh.vertices(1, v) > b * (1 - 1e-12))
+        back += f.col(v);
+    }
   const double resultant = E * e * b * c;
   EXPECT_NEAR(right[0], -resultant, 1e-4 * resultant);
   EXPECT_LT(right.tail<2>().norm(), 1e-4 * resultant);
@@ -115,8 +117,8 @@ TEST(FeTissue, PassesThePatchTestAtFiniteStrainOnADistortedMesh)
   const Matrix3Xd f        = body.forces(x);
   double          interior = 0, boundary = 0;
   for (Eigen::Index v = 0; v < x.cols(); ++v)
-    (on_boundary(mesh, v, a) ? boundary : interior) =
-        std::max(on_boundary(mesh, v, a) ? boundary : interior, f.col(v).norm());
+    (on_boundary(mesh, v, a) ? boundary : interior)
+        = std::max(on_boundary(mesh, v, a) ? boundary : interior, f.col(v).norm());
   EXPECT_GT(boundary, 0);
   EXPECT_LT(interior, 1e-10 * boundary);
 }
@@ -127,16 +129,12 @@ TEST(FeTissue, ScalesMultiplyTheShearAndBulkModuli)
   const auto      mesh = test_support::box_mesh(0.01, 0.01, 0.01, 1, 1, 1);
   const double    e    = 1e-5;
   const Matrix3Xd x    = Vector3d(1 + e, 1, 1).asDiagonal() * mesh.vertices;
-  const double    mu = E / (2 * (1 + nu)), K = E / (3 * (1 - 2 * nu)),
-               V = mesh.total_volume();
-  for (const auto &[s_mu, s_K] :
-       {std::pair{1.0, 1.0}, std::pair{2.0, 1.0}, std::pair{1.0, 0.5}})
-  {
-    FeBody       body(mesh,
-                {{"Shear stiffness scale", std::to_string(s_mu)},
-                       {"Bulk stiffness scale", std::to_string(s_K)}});
-    const double expected = 0.5 * (s_K * K + 4 * s_mu * mu / 3) * e * e * V;
-    EXPECT_NEAR(body.elements().energy(x), expected, 1e-3 * expected)
-        << s_mu << ", " << s_K;
-  }
+  const double    mu = E / (2 * (1 + nu)), K = E / (3 * (1 - 2 * nu)), V = mesh.total_volume();
+  for (const auto &[s_mu, s_K] : { std::pair{ 1.0, 1.0 }, std::pair{ 2.0, 1.0 }, std::pair{ 1.0, 0.5 } })
+    {
+      FeBody body(
+          mesh, { { "Shear stiffness scale", std::to_string(s_mu) }, { "Bulk stiffness scale", std::to_string(s_K) } });
+      const double expected = 0.5 * (s_K * K + 4 * s_mu * mu / 3) * e * e * V;
+      EXPECT_NEAR(body.elements().energy(x), expected, 1e-3 * expected) << s_mu << ", " << s_K;
+    }
 }

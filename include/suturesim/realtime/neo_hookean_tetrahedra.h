@@ -40,56 +40,74 @@
 
 namespace suturesim::realtime
 {
-class NeoHookeanTetrahedra : public Interaction
-{
-public:
-  std::string name() const override { return "neo-Hookean tetrahedra"; }
-  std::size_t size() const override { return tets.size(); }
-
-  /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
-  /// nodes), with its Lamé constants of linear elasticity @p mu and @p lambda (Pa),
-  /// one value per tetrahedron. Throws for a degenerate tetrahedron or μ ≤ 0, λ ≤ 0.
-  void add_mesh(const mesh::SimplexMesh          &mesh,
-                const std::vector<std::uint32_t> &node,
-                const std::vector<double>        &mu,
-                const std::vector<double>        &lambda);
-
-  double energy(const Matrix3Xd &x) const override;
-  void   add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
-  /// A primal family (solved by forces or vertex blocks): its forces are its elastic
-  /// ones.
-  void add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
+  class NeoHookeanTetrahedra : public Interaction
   {
-    add_forces(x, f);
-  }
-  bool projectable() const override { return false; }
-  bool element_nodes(std::vector<std::uint32_t> &nodes,
-                     unsigned                   &per_element) const override;
-  /// f = −V₀ P bᵢ, H = V₀ (μ |bᵢ|² I + λ̂ gᵢ gᵢᵀ), gᵢ = cof(F) bᵢ: exact, since J is
-  /// linear in each vertex, and positive definite
-  void add_vertex_block(const Matrix3Xd     &x,
-                        std::uint32_t        i,
-                        const std::uint32_t *tetrahedra,
-                        std::size_t          n,
-                        Vector3d            &f,
-                        Eigen::Matrix3d     &H) const override;
-  void reset_multipliers() override {}
-  /// Throws: there is no projection (projectable()).
-  void project(Matrix3Xd &x, const VectorXd &w, double dt) override;
-  /// max |J − 1|, the largest volumetric strain
-  double max_violation(const Matrix3Xd &x) const override;
+  public:
+    std::string
+    name() const override
+    {
+      return "neo-Hookean tetrahedra";
+    }
+    std::size_t
+    size() const override
+    {
+      return tets.size();
+    }
 
-  /// F of tetrahedron @p t at @p x (for tests and output).
-  Eigen::Matrix3d deformation_gradient(const Matrix3Xd &x, std::size_t t) const;
+    /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
+    /// nodes), with its Lamé constants of linear elasticity @p mu and @p lambda (Pa),
+    /// one value per tetrahedron. Throws for a degenerate tetrahedron or μ ≤ 0, λ ≤ 0.
+    void
+    add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node, const std::vector<double> &mu,
+             const std::vector<double> &lambda);
 
-private:
-  struct Element
-  {
-    std::array<Vector3d, 4> b;          ///< ∂F/∂xᵢ = (·) bᵢᵀ
-    double                  volume;     ///< V₀
-    double                  mu, lambda; ///< μ and λ̂ = λ + μ
+    double
+    energy(const Matrix3Xd &x) const override;
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// A primal family (solved by forces or vertex blocks): its forces are its elastic
+    /// ones.
+    void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
+    {
+      add_forces(x, f);
+    }
+    bool
+    projectable() const override
+    {
+      return false;
+    }
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
+    /// f = −V₀ P bᵢ, H = V₀ (μ |bᵢ|² I + λ̂ gᵢ gᵢᵀ), gᵢ = cof(F) bᵢ: exact, since J is
+    /// linear in each vertex, and positive definite
+    void
+    add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n, Vector3d &f,
+                     Eigen::Matrix3d &H) const override;
+    void
+    reset_multipliers() override
+    {
+    }
+    /// Throws: there is no projection (projectable()).
+    void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    /// max |J − 1|, the largest volumetric strain
+    double
+    max_violation(const Matrix3Xd &x) const override;
+
+    /// F of tetrahedron @p t at @p x (for tests and output).
+    Eigen::Matrix3d
+    deformation_gradient(const Matrix3Xd &x, std::size_t t) const;
+
+  private:
+    struct Element
+    {
+      std::array<Vector3d, 4> b;          ///< ∂F/∂xᵢ = (·) bᵢᵀ
+      double                  volume;     ///< V₀
+      double                  mu, lambda; ///< μ and λ̂ = λ + μ
+      double                  gamma;      ///< γ = 1 + μ/λ̂
+    };
+    std::vector<mesh::Tetrahedron> tets;
+    std::vector<Element>           elements;
   };
-  std::vector<mesh::Tetrahedron> tets;
-  std::vector<Element>           elements;
-};
 } // namespace suturesim::realtime

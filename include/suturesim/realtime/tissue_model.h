@@ -46,6 +46,9 @@ namespace suturesim::realtime
     youngs_modulus_of(int tag) const;
     double
     bulk_modulus_of(int tag) const;
+    /// μ = 3KE/(9K − E) (Pa) of a tetrahedron tagged @p tag.
+    double
+    shear_modulus_of(int tag) const;
   };
 
   class TissueModel
