@@ -378,6 +378,20 @@ TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
   EXPECT_NEAR(m5["tie_off_tension"].get<double>(), 4.848175935808833, 1e-12 * 4.848175935808833);
   // the gap's crossing, interpolated within the haptic step (1 ms) that closes
   EXPECT_NEAR(m5["closure_time"].get<double>(), 6.643240844819425, 1e-9);
+  // the holes' loads at closure (docs/calibration.md): one table row for the run, with
+  // the thread's tension between its four holes from suture.pvd, and the figure
+  std::string loads;
+  EXPECT_EQ(run_logged({"/usr/bin/python3", source_path("postprocess/plot_pierce_loads.py"), r5.directory},
+                       r5.directory + "_pierce_loads.log", loads),
+            0)
+    << loads;
+  const auto row = loads.find("| realtime (stitch_closes) | 6.643 s |");
+  ASSERT_NE(row, std::string::npos) << loads;
+  const std::string line = loads.substr(row, loads.find('\n', row) - row);
+  EXPECT_EQ(std::count(line.begin(), line.end(), '|'), 11) << line;
+  EXPECT_EQ(std::count(line.begin(), line.end(), '/'), 3 + 3 + 4) << line; // 4 holes twice, 5 sections
+  for (const char *file : {"pierce_loads.png", "pierce_loads.pdf"})
+    EXPECT_TRUE(std::filesystem::exists(r5.directory + "/" + file)) << file;
 
   const auto r6 = run_suturesim("stitch_bite_6mm", {stitch, "--set", "Needle/Pass/Entry point=-0.006, 0, 0.006",
                                                     "--set", "Needle/Pass/Bite depth=0.0027085"});
