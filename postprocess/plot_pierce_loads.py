@@ -33,6 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from plot_forces import column, read, save  # noqa: E402
+from plot_stitch import magnitude  # noqa: E402
 import vtu  # noqa: E402
 
 
@@ -56,12 +57,12 @@ def load(run):
     header, data = read(run)
     summary = json.load(open(run / "summary.json"))
     time = [r[0] for r in data]
-    needle = [column(header, data, f"needle_force_{c}") for c in "xyz"]
-    if needle[0] is None:
+    needle = magnitude(header, data, "needle_force")
+    if needle is None:
         sys.exit(f"{run}: forces.csv has no needle_force columns")
     series = {
         "time": time,
-        "needle": [math.sqrt(a * a + b * b + c * c) for a, b, c in zip(*needle)],
+        "needle": needle,
         "swage": column(header, data, "suture_tension_swage"),
         "free": column(header, data, "suture_tension_free_end"),
         "normal": {i: column(header, data, f"pierce_{i}_normal_force") for i in holes(header)},

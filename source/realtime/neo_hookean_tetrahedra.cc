@@ -70,13 +70,12 @@ namespace suturesim::realtime
     double sum = 0;
     for (std::size_t t = 0; t < tets.size(); ++t)
       {
-        const Element        &e     = elements[t];
-        const Eigen::Matrix3d F     = deformation_gradient(x, t);
-        const double          J     = F.determinant();
-        const double          gamma = e.gamma;
+        const Element        &e = elements[t];
+        const Eigen::Matrix3d F = deformation_gradient(x, t);
+        const double          J = F.determinant();
         sum += e.volume
                * (0.5 * e.mu * (F.squaredNorm() - 3)
-                  + 0.5 * e.lambda * ((J - gamma) * (J - gamma) - (1 - gamma) * (1 - gamma)));
+                  + 0.5 * e.lambda * ((J - e.gamma) * (J - e.gamma) - (1 - e.gamma) * (1 - e.gamma)));
       }
     return sum;
   }
