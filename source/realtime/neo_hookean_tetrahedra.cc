@@ -1,4 +1,5 @@
 #include <suturesim/realtime/neo_hookean_tetrahedra.h>
+#include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <Eigen/Dense>
 
@@ -104,11 +105,7 @@ namespace suturesim::realtime
   bool
   NeoHookeanTetrahedra::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
   {
-    per_element = 4;
-    nodes.clear();
-    for (const auto &t : tets)
-      nodes.insert(nodes.end(), t.begin(), t.end());
-    return true;
+    return tetrahedron_element_nodes(tets, nodes, per_element);
   }
 
   void

@@ -1,5 +1,6 @@
 #include <suturesim/realtime/hot_kernel.h>
 #include <suturesim/realtime/independent_order.h>
+#include <suturesim/realtime/tetrahedron_nodes.h>
 #include <suturesim/realtime/volume_constraints.h>
 
 #include <Eigen/Geometry>
@@ -250,11 +251,7 @@ namespace suturesim::realtime
   bool
   VolumeConstraints::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
   {
-    per_element = 4;
-    nodes.clear();
-    for (const auto &t : tets)
-      nodes.insert(nodes.end(), t.begin(), t.end());
-    return true;
+    return tetrahedron_element_nodes(tets, nodes, per_element);
   }
 
   void
