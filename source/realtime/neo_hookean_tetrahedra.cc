@@ -9,21 +9,6 @@
 
 namespace suturesim::realtime
 {
-  namespace
-  {
-    /// cof F = J F⁻ᵀ, column by column: (f₂ × f₃, f₃ × f₁, f₁ × f₂) of F's columns fₖ;
-    /// defined for singular F too.
-    Eigen::Matrix3d
-    cofactor(const Eigen::Matrix3d &F)
-    {
-      Eigen::Matrix3d C;
-      C.col(0) = F.col(1).cross(F.col(2));
-      C.col(1) = F.col(2).cross(F.col(0));
-      C.col(2) = F.col(0).cross(F.col(1));
-      return C;
-    }
-  } // namespace
-
   void
   NeoHookeanTetrahedra::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
                                  const std::vector<double> &mu, const std::vector<double> &lambda)
@@ -33,21 +18,13 @@ namespace suturesim::realtime
       throw std::invalid_argument("neo-Hookean tetrahedra: one mu and one lambda per tetrahedron");
     for (std::size_t t = 0; t < n; ++t)
       {
-        if (!(mu[t] > 0) || !(lambda[t] > 0))
-          throw std::invalid_argument("neo-Hookean tetrahedra: mu and lambda must be > 0 (nu in (0, 1/2))");
-        const auto     &v = mesh.tetrahedra[t];
-        Eigen::Matrix3d Dm;
-        for (int k = 0; k < 3; ++k)
-          Dm.col(k) = mesh.vertices.col(v[k + 1]) - mesh.vertices.col(v[0]);
-        const double V0 = Dm.determinant() / 6;
-        if (!(std::abs(V0) > 0))
-          throw std::invalid_argument("neo-Hookean tetrahedra: tetrahedron " + std::to_string(t) + " is degenerate");
-        const Eigen::Matrix3d inverse = Dm.inverse();
-        Element               e;
-        for (int k = 0; k < 3; ++k)
-          e.b[k + 1] = inverse.row(k).transpose();
-        e.b[0]   = -(e.b[1] + e.b[2] + e.b[3]);
-        e.volume = std::abs(V0);
+        if (!(mu[t] > 0) || !(lambda[t] >= 0))
+          throw std::invalid_argument("neo-Hookean tetrahedra: mu must be > 0 and lambda >= 0");
+        const TetrahedronShape shape = tetrahedron_shape(mesh, t, "neo-Hookean tetrahedra");
+        const auto            &v     = mesh.tetrahedra[t];
+        Element                e;
+        e.b      = shape.b;
+        e.volume = shape.volume;
         e.mu     = mu[t];
         e.lambda = lambda[t] + mu[t];
         e.gamma  = 1 + e.mu / e.lambda; // the rest state's J − γ balances μ F = μ I
@@ -59,10 +36,7 @@ namespace suturesim::realtime
   Eigen::Matrix3d
   NeoHookeanTetrahedra::deformation_gradient(const Matrix3Xd &x, const std::size_t t) const
   {
-    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
-    for (int i = 0; i < 4; ++i)
-      F.noalias() += x.col(tets[t][i]) * elements[t].b[i].transpose();
-    return F;
+    return realtime::deformation_gradient(x, tets[t], elements[t].b);
   }
 
   double

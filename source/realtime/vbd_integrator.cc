@@ -161,6 +161,8 @@ namespace suturesim::realtime
       {
         Nodes       &n   = s.nodes;
         const double idt = 1 / (dt * dt);
+        for (std::size_t e = 0; e < tissue_end; ++e)
+          s.interactions[e]->begin_sweep(n.x);
         for (std::size_t c = 0; c + 1 < colour_offsets.size(); ++c)
           for (std::size_t k = colour_offsets[c]; k < colour_offsets[c + 1]; ++k)
             {
@@ -177,12 +179,19 @@ namespace suturesim::realtime
                                                       a.offsets[i + 1] - a.offsets[i], f, H);
                 }
               n.x.col(i) += H.llt().solve(f);
+              for (std::size_t e = 0; e < tissue_end; ++e)
+                {
+                  const auto &a = adjacency[e];
+                  s.interactions[e]->vertex_moved(n.x, i, a.elements.data() + a.offsets[i],
+                                                  a.offsets[i + 1] - a.offsets[i]);
+                }
             }
       }
 
       /// The node-to-element lists of the tissue's interactions and a greedy colouring
       /// of their nodes: no two nodes of one element share a colour, so the nodes of a
-      /// colour can move in any order (or at once) within a sweep.
+      /// colour can move in any order within a sweep (or at once, unless a family's blocks
+      /// read nodes beyond their elements: nodal_volumes.h).
       void
       build(const System &s)
       {

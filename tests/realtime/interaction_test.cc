@@ -4,6 +4,7 @@
 #include <suturesim/realtime/curvature_springs.h>
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/neo_hookean_tetrahedra.h>
+#include <suturesim/realtime/nodal_volumes.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/volume_constraints.h>
 
@@ -93,6 +94,10 @@ TEST(RealtimeInteractions, ForcesAreMinusTheEnergyGradient)
   elements.add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), 2e4),
                     std::vector<double>(mesh.tetrahedra.size(), 9e4));
   EXPECT_LT(force_error(elements, x), 1e-6);
+
+  NodalVolumes nodal;
+  nodal.add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), 9e4));
+  EXPECT_LT(force_error(nodal, x), 1e-6);
 
   HomeSprings home;
   for (std::uint32_t v = 0; v < node.size(); v += 2)

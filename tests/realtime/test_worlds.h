@@ -101,12 +101,13 @@ namespace suturesim::test_support
   inline realtime::WorldSetup
   block_under_folded_suture(const mesh::SimplexMesh &mesh, const std::string &tissue, const std::string &integrator,
                             const std::map<std::string, std::string> &integrator_values, const std::string &suture,
-                            const std::string &self, const unsigned links)
+                            const std::string &self, const unsigned links,
+                            const std::map<std::string, std::string> &tissue_values = {})
   {
     realtime::WorldSetup w;
     w.mesh     = &mesh;
     w.material = {6e3, 0.45, 1060, {}}; // E (Pa), ν, ρ (kg/m³), no regions
-    w.tissue   = make_model<realtime::TissueModel::Registry>(tissue);
+    w.tissue   = make_model<realtime::TissueModel::Registry>(tissue, tissue_values);
     w.suture   = make_model<realtime::SutureModel::Registry>(suture);
     // soft enough for the force-based integrators at 1 kHz
     w.suture_geometry = straight_suture(links, 0.03, Eigen::Vector3d(0.002, 0.01, 0.0102), Eigen::Vector3d::UnitX(),

@@ -6,6 +6,7 @@
 #include <suturesim/realtime/curvature_springs.h>
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/neo_hookean_tetrahedra.h>
+#include <suturesim/realtime/nodal_volumes.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/volume_constraints.h>
 
@@ -27,8 +28,9 @@ namespace
   /// differences: f = −∂E/∂xᵢ of energy(), and H = −∂fᵢ/∂xᵢ of add_forces() when
   /// @p exact_hessian (else that H is symmetric positive semi-definite).
   void
-  check_blocks(const Interaction &interaction, const Matrix3Xd &x, const bool exact_hessian)
+  check_blocks(Interaction &interaction, const Matrix3Xd &x, const bool exact_hessian)
   {
+    interaction.begin_sweep(x); // the nodal volumes' blocks read the sweep's volumes
     std::vector<std::uint32_t> nodes;
     unsigned                   per = 0;
     ASSERT_TRUE(interaction.element_nodes(nodes, per));
@@ -113,6 +115,58 @@ TEST(VertexBlocks, SpringsVolumesHomeSpringsAndFeTetrahedraMatchFiniteDifference
                     std::vector<double>(mesh.tetrahedra.size(), 8e3));
   check_blocks(elements, perturbed(mesh, 0.2, 3), true);
   check_blocks(elements, 0.8 * x, true);
+  // the nodal volumes (blocks reading every node of their elements), expanded and
+  // compressed; λ differs from tetrahedron to tetrahedron
+  NodalVolumes nodal;
+  std::vector<double> lambda(mesh.tetrahedra.size());
+  for (std::size_t t = 0; t < lambda.size(); ++t)
+    lambda[t] = 5e3 + 1e3 * double(t);
+  nodal.add_mesh(mesh, node, lambda);
+  check_blocks(nodal, perturbed(mesh, 0.2, 4), true);
+  check_blocks(nodal, 0.8 * x, true);
+}
+
+TEST(VertexBlocks, NodalVolumesFollowEachMoveOfASweep)
+{
+  // After begin_sweep(x) and vertex_moved() for each moved node, a block is the one a
+  // fresh begin_sweep() at the new positions gives: the kept volumes are current.
+  const auto                 mesh = test_support::box_mesh(1, 1, 1, 2, 2, 1);
+  std::vector<std::uint32_t> node(mesh.vertices.cols());
+  std::iota(node.begin(), node.end(), 0u);
+  NodalVolumes nodal, fresh;
+  nodal.add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), 4e3));
+  fresh.add_mesh(mesh, node, std::vector<double>(mesh.tetrahedra.size(), 4e3));
+  std::vector<std::uint32_t> nodes;
+  unsigned                   per = 0;
+  ASSERT_TRUE(nodal.element_nodes(nodes, per));
+  const auto elements_of = [&](const std::uint32_t i) {
+    std::vector<std::uint32_t> at;
+    for (std::size_t j = 0; j < nodes.size(); ++j)
+      if (nodes[j] == i)
+        at.push_back(static_cast<std::uint32_t>(j / per));
+    return at;
+  };
+  Matrix3Xd x = perturbed(mesh, 0.1, 5);
+  nodal.begin_sweep(x);
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-0.1, 0.1);
+  for (std::uint32_t i = 0; i < x.cols(); i += 2)
+    {
+      x.col(i) += Vector3d(u(rng), u(rng), u(rng));
+      const auto at = elements_of(i);
+      nodal.vertex_moved(x, i, at.data(), at.size());
+    }
+  fresh.begin_sweep(x);
+  for (std::uint32_t i = 0; i < x.cols(); ++i)
+    {
+      const auto      at = elements_of(i);
+      Vector3d        f = Vector3d::Zero(), f_fresh = Vector3d::Zero();
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero(), H_fresh = Eigen::Matrix3d::Zero();
+      nodal.add_vertex_block(x, i, at.data(), at.size(), f, H);
+      fresh.add_vertex_block(x, i, at.data(), at.size(), f_fresh, H_fresh);
+      EXPECT_LT((f - f_fresh).norm(), 1e-12 * (1 + f_fresh.norm())) << "node " << i;
+      EXPECT_LT((H - H_fresh).norm(), 1e-12 * (1 + H_fresh.norm())) << "node " << i;
+    }
 }
 
 namespace

@@ -56,7 +56,9 @@ namespace suturesim::realtime
 
     /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
     /// nodes), with its Lamé constants of linear elasticity @p mu and @p lambda (Pa),
-    /// one value per tetrahedron. Throws for a degenerate tetrahedron or μ ≤ 0, λ ≤ 0.
+    /// one value per tetrahedron. Throws for a degenerate tetrahedron or μ ≤ 0, λ < 0.
+    /// λ = 0 leaves the elements the shear response only, μ|ε|² at small strain, for a
+    /// volumetric energy carried elsewhere (nodal_volumes.h).
     void
     add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node, const std::vector<double> &mu,
              const std::vector<double> &lambda);

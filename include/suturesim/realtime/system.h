@@ -205,6 +205,18 @@ namespace suturesim::realtime
                      Eigen::Matrix3d &) const
     {}
 
+    /// Vertex block descent, for a family whose blocks read nodes beyond the vertex's
+    /// own elements (averaged nodal volumes, nodal_volumes.h) and so keep what they derive
+    /// from the positions: called with @p x before each sweep, and after each node's move
+    /// with that node @p i and its @p n elements @p elements, so that add_vertex_block()
+    /// sees the current positions. The default keeps nothing.
+    virtual void
+    begin_sweep(const Matrix3Xd &)
+    {}
+    virtual void
+    vertex_moved(const Matrix3Xd &, std::uint32_t, const std::uint32_t *, std::size_t)
+    {}
+
     /// False for a family with forces and vertex blocks only (the finite-element
     /// tissue): XPBD, which projects every tissue family, refuses it (World).
     virtual bool

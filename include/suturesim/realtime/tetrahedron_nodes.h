@@ -1,14 +1,22 @@
 #pragma once
 /**
  * @file
- * Interaction::element_nodes() of the families with one element per tetrahedron (volume
- * constraints, neo-Hookean elements): their four system nodes in order, element after
- * element, so that vertex block descent finds each node's elements.
+ * What the families with one element per tetrahedron (volume constraints, neo-Hookean
+ * elements, averaged nodal volumes) share: their nodes for vertex block descent, and the
+ * kinematics of a linear tetrahedron, F = Σᵢ xᵢ bᵢᵀ with b₁…b₃ the rows of D_m⁻¹
+ * (D_m = [X₁ − X₀, X₂ − X₀, X₃ − X₀]) and b₀ = −(b₁ + b₂ + b₃), and its cofactor.
  */
 
 #include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/system.h>
 
+#include <Eigen/Dense>
+
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace suturesim::realtime
@@ -24,5 +32,55 @@ namespace suturesim::realtime
     for (const auto &t : tets)
       nodes.insert(nodes.end(), t.begin(), t.end());
     return true;
+  }
+
+  /// A linear tetrahedron's rest shape: ∂F/∂xᵢ = (·) bᵢᵀ and its rest volume V₀.
+  struct TetrahedronShape
+  {
+    std::array<Vector3d, 4> b;
+    double                  volume;
+  };
+
+  /// The rest shape of tetrahedron @p t of @p mesh; throws naming @p family for a
+  /// degenerate one.
+  inline TetrahedronShape
+  tetrahedron_shape(const mesh::SimplexMesh &mesh, const std::size_t t, const std::string &family)
+  {
+    const auto     &v = mesh.tetrahedra[t];
+    Eigen::Matrix3d Dm;
+    for (int k = 0; k < 3; ++k)
+      Dm.col(k) = mesh.vertices.col(v[k + 1]) - mesh.vertices.col(v[0]);
+    const double V0 = Dm.determinant() / 6;
+    if (!(std::abs(V0) > 0))
+      throw std::invalid_argument(family + ": tetrahedron " + std::to_string(t) + " is degenerate");
+    const Eigen::Matrix3d inverse = Dm.inverse();
+    TetrahedronShape      s;
+    for (int k = 0; k < 3; ++k)
+      s.b[k + 1] = inverse.row(k).transpose();
+    s.b[0]   = -(s.b[1] + s.b[2] + s.b[3]);
+    s.volume = std::abs(V0);
+    return s;
+  }
+
+  /// F = Σᵢ xᵢ bᵢᵀ of the tetrahedron of nodes @p nodes at @p x.
+  inline Eigen::Matrix3d
+  deformation_gradient(const Matrix3Xd &x, const mesh::Tetrahedron &nodes, const std::array<Vector3d, 4> &b)
+  {
+    Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < 4; ++i)
+      F.noalias() += x.col(nodes[i]) * b[i].transpose();
+    return F;
+  }
+
+  /// cof F = J F⁻ᵀ = ∂J/∂F, column by column: (f₂ × f₃, f₃ × f₁, f₁ × f₂) of F's columns
+  /// fₖ; defined for singular F too. ∂J/∂xᵢ = cof(F) bᵢ.
+  inline Eigen::Matrix3d
+  cofactor(const Eigen::Matrix3d &F)
+  {
+    Eigen::Matrix3d C;
+    C.col(0) = F.col(1).cross(F.col(2));
+    C.col(1) = F.col(2).cross(F.col(0));
+    C.col(2) = F.col(0).cross(F.col(1));
+    return C;
   }
 } // namespace suturesim::realtime

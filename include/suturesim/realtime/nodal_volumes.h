@@ -1,0 +1,121 @@
+#pragma once
+/**
+ * @file
+ * The volumetric energy of linear tetrahedra averaged over each node's patch, Bonet &
+ * Burton's average nodal pressure tetrahedron (J. Bonet, A. J. Burton 1998, "A simple
+ * average nodal pressure tetrahedral element for incompressible and nearly incompressible
+ * dynamic explicit applications", Commun. Numer. Meth. Engng 14:437–449), in the energy
+ * form that makes its forces a gradient (Bonet, Marriott & Hassan 2001, Int. J. Numer.
+ * Meth. Engng 50:119–133, §3): with each tetrahedron's volume v_e = V_e det F_e shared
+ * equally by its four nodes,
+ *
+ *   v_a = Σ_{e∋a} v_e/4,  V_a = Σ_{e∋a} V_e/4,  J_a = v_a/V_a,
+ *   E = Σ_a V_a λ_a/2 (J_a − 1)²,  λ_a = Σ_{e∋a} λ_e V_e/4 / V_a,
+ *
+ * and forces fᵢ = −Σ_{e∋i} p̄_e V_e cof(F_e) bᵢ, where p̄_e = ¼ Σ_{a∈e} λ_a (J_a − 1) is
+ * the element's average of its nodes' pressures. A linear tetrahedron whose own J carries
+ * the bulk term has one volume constraint per element, about five per node on a
+ * tetrahedral mesh against three degrees of freedom, and locks as ν → ½; one constraint
+ * per node does not. The deviatoric and shear response stays with the elements
+ * (neo_hookean_tetrahedra.h with λ = 0), so no displacement mode is free of energy.
+ *
+ * Vertex block descent: fᵢ as above and Hᵢ = Σ_a (λ_a/V_a) g_a g_aᵀ with
+ * g_a = ∂v_a/∂xᵢ = ¼ Σ_{e∋i,a} V_e cof(F_e) bᵢ, exact (each v_e is linear in each vertex)
+ * and positive semi-definite. A node's block reads the pressures of every node of its
+ * elements, and so the volumes of their patches: the family keeps the current element
+ * and nodal volumes, renewed before each sweep and after each move (Interaction::
+ * begin_sweep, vertex_moved), so that a block costs its own elements only.
+ */
+
+#include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/system.h>
+
+#include <array>
+#include <vector>
+
+namespace suturesim::realtime
+{
+  class NodalVolumes : public Interaction
+  {
+  public:
+    std::string
+    name() const override
+    {
+      return "averaged nodal volumes";
+    }
+    std::size_t
+    size() const override
+    {
+      return tets.size();
+    }
+
+    /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
+    /// nodes) with Lamé's λ (Pa) @p lambda, one value per tetrahedron; once per family.
+    /// Throws for a degenerate tetrahedron or λ < 0.
+    void
+    add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node, const std::vector<double> &lambda);
+
+    double
+    energy(const Matrix3Xd &x) const override;
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
+    {
+      add_forces(x, f);
+    }
+    bool
+    projectable() const override
+    {
+      return false;
+    }
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
+    /// Reads the volumes of the last begin_sweep() and vertex_moved(), which must be
+    /// those of @p x.
+    void
+    add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n, Vector3d &f,
+                     Eigen::Matrix3d &H) const override;
+    void
+    begin_sweep(const Matrix3Xd &x) override;
+    void
+    vertex_moved(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n) override;
+    void
+    reset_multipliers() override
+    {
+    }
+    /// Throws: there is no projection (projectable()).
+    void
+    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
+    /// max |J_a − 1| over the nodes
+    double
+    max_violation(const Matrix3Xd &x) const override;
+
+  private:
+    struct Element
+    {
+      std::array<Vector3d, 4>      b;      ///< ∂F/∂xᵢ = (·) bᵢᵀ
+      std::array<std::uint32_t, 4> local;  ///< the nodes' indices into the per-node arrays
+      double                       volume; ///< V_e
+    };
+    /// J of tetrahedron @p t at @p x
+    double
+    jacobian(const Matrix3Xd &x, std::size_t t) const;
+    /// The nodes' volumes v_a at @p x into @p v
+    void
+    nodal_volumes(const Matrix3Xd &x, std::vector<double> &v) const;
+
+    std::vector<mesh::Tetrahedron> tets;
+    std::vector<Element>           elements;
+    std::vector<std::uint32_t>     local_of;    ///< system node → per-node index (or −1)
+    std::vector<double>            rest_volume; ///< V_a
+    std::vector<double>            modulus;     ///< λ_a
+    std::vector<double>            volume_now;  ///< v_e of the current sweep
+    std::vector<double>            nodal_now;   ///< v_a of the current sweep
+    // scratch of the const evaluations (a step runs on one thread): v_a in energy() and
+    // add_forces(), the g_a of a block and the nodes they were summed for
+    mutable std::vector<double>        work;
+    mutable std::vector<Vector3d>      gradient;
+    mutable std::vector<std::uint32_t> touched;
+  };
+} // namespace suturesim::realtime

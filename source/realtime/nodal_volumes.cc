@@ -1,0 +1,188 @@
+#include <suturesim/realtime/nodal_volumes.h>
+#include <suturesim/realtime/tetrahedron_nodes.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace suturesim::realtime
+{
+  namespace
+  {
+    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+  } // namespace
+
+  void
+  NodalVolumes::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
+                         const std::vector<double> &lambda)
+  {
+    const std::size_t n = mesh.tetrahedra.size();
+    if (lambda.size() != n)
+      throw std::invalid_argument("averaged nodal volumes: one lambda per tetrahedron");
+    if (!tets.empty()) // the nodes' λ_a and V_a are final below
+      throw std::logic_error("averaged nodal volumes: one mesh per family");
+    for (std::size_t t = 0; t < n; ++t)
+      {
+        if (!(lambda[t] >= 0))
+          throw std::invalid_argument("averaged nodal volumes: lambda must be >= 0");
+        const TetrahedronShape shape = tetrahedron_shape(mesh, t, "averaged nodal volumes");
+        const auto            &v     = mesh.tetrahedra[t];
+        Element                e;
+        e.b      = shape.b;
+        e.volume = shape.volume;
+        for (int k = 0; k < 4; ++k)
+          {
+            const std::uint32_t i = node[v[k]];
+            if (i >= local_of.size())
+              local_of.resize(i + 1, none);
+            if (local_of[i] == none)
+              {
+                local_of[i] = static_cast<std::uint32_t>(rest_volume.size());
+                rest_volume.push_back(0);
+                modulus.push_back(0);
+              }
+            e.local[k] = local_of[i];
+            rest_volume[e.local[k]] += e.volume / 4;
+            modulus[e.local[k]] += lambda[t] * e.volume / 4;
+          }
+        elements.push_back(e);
+        tets.push_back({ node[v[0]], node[v[1]], node[v[2]], node[v[3]] });
+      }
+    // λ_a so far holds Σ λ_e V_e/4; every node's V_a > 0 (it belongs to a tetrahedron)
+    for (std::size_t a = 0; a < modulus.size(); ++a)
+      modulus[a] = modulus[a] / rest_volume[a];
+    volume_now.assign(tets.size(), 0);
+    nodal_now.assign(rest_volume.size(), 0);
+    work.assign(rest_volume.size(), 0);
+    gradient.assign(rest_volume.size(), Vector3d::Zero());
+    touched.reserve(rest_volume.size());
+  }
+
+  double
+  NodalVolumes::jacobian(const Matrix3Xd &x, const std::size_t t) const
+  {
+    return deformation_gradient(x, tets[t], elements[t].b).determinant();
+  }
+
+  void
+  NodalVolumes::nodal_volumes(const Matrix3Xd &x, std::vector<double> &v) const
+  {
+    std::fill(v.begin(), v.end(), 0.0);
+    for (std::size_t t = 0; t < tets.size(); ++t)
+      {
+        const double quarter = elements[t].volume * jacobian(x, t) / 4;
+        for (const auto a : elements[t].local)
+          v[a] += quarter;
+      }
+  }
+
+  double
+  NodalVolumes::energy(const Matrix3Xd &x) const
+  {
+    nodal_volumes(x, work);
+    double sum = 0;
+    for (std::size_t a = 0; a < work.size(); ++a)
+      {
+        const double e = work[a] / rest_volume[a] - 1;
+        sum += 0.5 * rest_volume[a] * modulus[a] * e * e;
+      }
+    return sum;
+  }
+
+  void
+  NodalVolumes::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    nodal_volumes(x, work);
+    for (std::size_t a = 0; a < work.size(); ++a) // v_a → the node's pressure λ_a (J_a − 1)
+      work[a] = modulus[a] * (work[a] / rest_volume[a] - 1);
+    for (std::size_t t = 0; t < tets.size(); ++t)
+      {
+        const Element        &e = elements[t];
+        const double          p = (work[e.local[0]] + work[e.local[1]] + work[e.local[2]] + work[e.local[3]]) / 4;
+        const Eigen::Matrix3d C = cofactor(deformation_gradient(x, tets[t], e.b));
+        for (int i = 0; i < 4; ++i)
+          f.col(tets[t][i]).noalias() -= p * e.volume * C * e.b[i];
+      }
+  }
+
+  bool
+  NodalVolumes::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
+  {
+    return tetrahedron_element_nodes(tets, nodes, per_element);
+  }
+
+  void
+  NodalVolumes::begin_sweep(const Matrix3Xd &x)
+  {
+    std::fill(nodal_now.begin(), nodal_now.end(), 0.0);
+    for (std::size_t t = 0; t < tets.size(); ++t)
+      {
+        volume_now[t] = elements[t].volume * jacobian(x, t);
+        for (const auto a : elements[t].local)
+          nodal_now[a] += volume_now[t] / 4;
+      }
+  }
+
+  void
+  NodalVolumes::vertex_moved(const Matrix3Xd &x, std::uint32_t, const std::uint32_t *tetrahedra, const std::size_t n)
+  {
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const auto   t     = tetrahedra[k];
+        const double v     = elements[t].volume * jacobian(x, t);
+        const double delta = (v - volume_now[t]) / 4;
+        volume_now[t]      = v;
+        for (const auto a : elements[t].local)
+          nodal_now[a] += delta;
+      }
+  }
+
+  void
+  NodalVolumes::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
+                                 const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
+  {
+    // g_a = ∂v_a/∂xᵢ summed node by node over i's elements; f from the elements' mean
+    // pressures
+    touched.clear();
+    for (std::size_t k = 0; k < n; ++k)
+      {
+        const auto     t     = tetrahedra[k];
+        const Element &e     = elements[t];
+        const int      local = static_cast<int>(std::find(tets[t].begin(), tets[t].end(), i) - tets[t].begin());
+        const Vector3d g     = e.volume * cofactor(deformation_gradient(x, tets[t], e.b)) * e.b[local] / 4;
+        double         p     = 0;
+        for (const auto a : e.local)
+          {
+            p += modulus[a] * (nodal_now[a] / rest_volume[a] - 1);
+            if (gradient[a].isZero(0) && std::find(touched.begin(), touched.end(), a) == touched.end())
+              touched.push_back(a);
+            gradient[a] += g;
+          }
+        f.noalias() -= p * g;
+      }
+    for (const auto a : touched)
+      {
+        H.noalias() += modulus[a] / rest_volume[a] * gradient[a] * gradient[a].transpose();
+        gradient[a].setZero();
+      }
+  }
+
+  void
+  NodalVolumes::project(Matrix3Xd &, const VectorXd &, double)
+  {
+    throw std::logic_error("averaged nodal volumes have no XPBD projection (World refuses XPBD with them)");
+  }
+
+  double
+  NodalVolumes::max_violation(const Matrix3Xd &x) const
+  {
+    nodal_volumes(x, work);
+    double m = 0;
+    for (std::size_t a = 0; a < work.size(); ++a)
+      m = std::max(m, std::abs(work[a] / rest_volume[a] - 1));
+    return m;
+  }
+} // namespace suturesim::realtime
