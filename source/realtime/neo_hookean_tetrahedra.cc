@@ -1,5 +1,4 @@
 #include <suturesim/realtime/neo_hookean_tetrahedra.h>
-#include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <Eigen/Dense>
 
@@ -56,12 +55,6 @@ namespace suturesim::realtime
   }
 
   void
-  NeoHookeanTetrahedra::project(Matrix3Xd &, const VectorXd &, double)
-  {
-    throw std::logic_error("neo-Hookean tetrahedra have no XPBD projection (World refuses XPBD with them)");
-  }
-
-  void
   NeoHookeanTetrahedra::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
     for (std::size_t t = 0; t < tets.size(); ++t)
@@ -74,12 +67,6 @@ namespace suturesim::realtime
         for (int i = 0; i < 4; ++i)
           f.col(tets[t][i]).noalias() -= e.volume * P * e.b[i];
       }
-  }
-
-  bool
-  NeoHookeanTetrahedra::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
-  {
-    return tetrahedron_element_nodes(tets, nodes, per_element);
   }
 
   void

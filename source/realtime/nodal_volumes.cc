@@ -1,5 +1,4 @@
 #include <suturesim/realtime/nodal_volumes.h>
-#include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <Eigen/Dense>
 
@@ -108,12 +107,6 @@ namespace suturesim::realtime
       }
   }
 
-  bool
-  NodalVolumes::element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const
-  {
-    return tetrahedron_element_nodes(tets, nodes, per_element);
-  }
-
   void
   NodalVolumes::begin_sweep(const Matrix3Xd &x)
   {
@@ -168,12 +161,6 @@ namespace suturesim::realtime
         H.noalias() += modulus[a] / rest_volume[a] * gradient[a] * gradient[a].transpose();
         gradient[a].setZero();
       }
-  }
-
-  void
-  NodalVolumes::project(Matrix3Xd &, const VectorXd &, double)
-  {
-    throw std::logic_error("averaged nodal volumes have no XPBD projection (World refuses XPBD with them)");
   }
 
   double

@@ -28,30 +28,25 @@
  * converged; measured on the sag of tests/realtime/vbd_test.cc, one warm-started sweep
  * diverged and forty cold ones settled 2.3 % short of VBD's equilibrium, and a static
  * fixed point of the sweeps left the free nodes' force residual at the held nodes' (an
- * experiment of 2026-11-30, docs/calibration.md). project() throws, and the World
- * refuses XPBD with this family (projectable()).
+ * experiment of 2026-11-30, docs/calibration.md). A TetrahedralElements family: the
+ * World refuses XPBD with it.
  */
 
 #include <suturesim/mesh/simplex_mesh.h>
-#include <suturesim/realtime/system.h>
+#include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <array>
 #include <vector>
 
 namespace suturesim::realtime
 {
-  class NeoHookeanTetrahedra : public Interaction
+  class NeoHookeanTetrahedra : public TetrahedralElements
   {
   public:
     std::string
     name() const override
     {
       return "neo-Hookean tetrahedra";
-    }
-    std::size_t
-    size() const override
-    {
-      return tets.size();
     }
 
     /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
@@ -67,32 +62,11 @@ namespace suturesim::realtime
     energy(const Matrix3Xd &x) const override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
-    /// A primal family (solved by forces or vertex blocks): its forces are its elastic
-    /// ones.
-    void
-    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
-    {
-      add_forces(x, f);
-    }
-    bool
-    projectable() const override
-    {
-      return false;
-    }
-    bool
-    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
     /// f = −V₀ P bᵢ, H = V₀ (μ |bᵢ|² I + λ̂ gᵢ gᵢᵀ), gᵢ = cof(F) bᵢ: exact, since J is
     /// linear in each vertex, and positive definite
     void
     add_vertex_block(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n, Vector3d &f,
                      Eigen::Matrix3d &H) const override;
-    void
-    reset_multipliers() override
-    {
-    }
-    /// Throws: there is no projection (projectable()).
-    void
-    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     /// max |J − 1|, the largest volumetric strain
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -109,7 +83,6 @@ namespace suturesim::realtime
       double                  mu, lambda; ///< μ and λ̂ = λ + μ
       double                  gamma;      ///< γ = 1 + μ/λ̂
     };
-    std::vector<mesh::Tetrahedron> tets;
-    std::vector<Element>           elements;
+    std::vector<Element> elements;
   };
 } // namespace suturesim::realtime

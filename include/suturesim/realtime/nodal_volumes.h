@@ -28,25 +28,20 @@
  */
 
 #include <suturesim/mesh/simplex_mesh.h>
-#include <suturesim/realtime/system.h>
+#include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <array>
 #include <vector>
 
 namespace suturesim::realtime
 {
-  class NodalVolumes : public Interaction
+  class NodalVolumes : public TetrahedralElements
   {
   public:
     std::string
     name() const override
     {
       return "averaged nodal volumes";
-    }
-    std::size_t
-    size() const override
-    {
-      return tets.size();
     }
 
     /// One element per tetrahedron of @p mesh (@p node maps mesh vertices to system
@@ -59,18 +54,6 @@ namespace suturesim::realtime
     energy(const Matrix3Xd &x) const override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
-    void
-    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
-    {
-      add_forces(x, f);
-    }
-    bool
-    projectable() const override
-    {
-      return false;
-    }
-    bool
-    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override;
     /// Reads the volumes of the last begin_sweep() and vertex_moved(), which must be
     /// those of @p x.
     void
@@ -80,13 +63,6 @@ namespace suturesim::realtime
     begin_sweep(const Matrix3Xd &x) override;
     void
     vertex_moved(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n) override;
-    void
-    reset_multipliers() override
-    {
-    }
-    /// Throws: there is no projection (projectable()).
-    void
-    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
     /// max |J_a − 1| over the nodes
     double
     max_violation(const Matrix3Xd &x) const override;
@@ -105,13 +81,12 @@ namespace suturesim::realtime
     void
     nodal_volumes(const Matrix3Xd &x, std::vector<double> &v) const;
 
-    std::vector<mesh::Tetrahedron> tets;
-    std::vector<Element>           elements;
-    std::vector<std::uint32_t>     local_of;    ///< system node → per-node index (or −1)
-    std::vector<double>            rest_volume; ///< V_a
-    std::vector<double>            modulus;     ///< λ_a
-    std::vector<double>            volume_now;  ///< v_e of the current sweep
-    std::vector<double>            nodal_now;   ///< v_a of the current sweep
+    std::vector<Element>       elements;
+    std::vector<std::uint32_t> local_of;    ///< system node → per-node index (or −1)
+    std::vector<double>        rest_volume; ///< V_a
+    std::vector<double>        modulus;     ///< λ_a
+    std::vector<double>        volume_now;  ///< v_e of the current sweep
+    std::vector<double>        nodal_now;   ///< v_a of the current sweep
     // scratch of the const evaluations (a step runs on one thread): v_a in energy() and
     // add_forces(), the g_a of a block and the nodes they were summed for
     mutable std::vector<double>        work;

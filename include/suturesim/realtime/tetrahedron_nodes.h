@@ -2,8 +2,9 @@
 /**
  * @file
  * What the families with one element per tetrahedron (volume constraints, neo-Hookean
- * elements, averaged nodal volumes) share: their nodes for vertex block descent, and the
- * kinematics of a linear tetrahedron, F = Σᵢ xᵢ bᵢᵀ with b₁…b₃ the rows of D_m⁻¹
+ * elements, averaged nodal volumes) share: their nodes for vertex block descent, the
+ * interface of those solved by forces and vertex blocks only (TetrahedralElements), and
+ * the kinematics of a linear tetrahedron, F = Σᵢ xᵢ bᵢᵀ with b₁…b₃ the rows of D_m⁻¹
  * (D_m = [X₁ − X₀, X₂ − X₀, X₃ − X₀]) and b₀ = −(b₁ + b₂ + b₃), and its cofactor.
  */
 
@@ -83,4 +84,45 @@ namespace suturesim::realtime
     C.col(2) = F.col(0).cross(F.col(1));
     return C;
   }
+
+  /// A primal family of one element per tetrahedron, solved by forces or vertex blocks
+  /// only: its constraint forces are its elastic ones, it has no multipliers, and XPBD,
+  /// which would project it, is refused (World, projectable()).
+  class TetrahedralElements : public Interaction
+  {
+  public:
+    std::size_t
+    size() const override
+    {
+      return tets.size();
+    }
+    void
+    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double) const override
+    {
+      add_forces(x, f);
+    }
+    bool
+    projectable() const override
+    {
+      return false;
+    }
+    bool
+    element_nodes(std::vector<std::uint32_t> &nodes, unsigned &per_element) const override
+    {
+      return tetrahedron_element_nodes(tets, nodes, per_element);
+    }
+    void
+    reset_multipliers() override
+    {
+    }
+    /// Throws: there is no projection (projectable()).
+    void
+    project(Matrix3Xd &, const VectorXd &, double) override
+    {
+      throw std::logic_error(name() + " have no XPBD projection (World refuses XPBD with them)");
+    }
+
+  protected:
+    std::vector<mesh::Tetrahedron> tets; ///< the system nodes of each element
+  };
 } // namespace suturesim::realtime
