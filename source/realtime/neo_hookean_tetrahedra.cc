@@ -19,11 +19,8 @@ namespace suturesim::realtime
       {
         if (!(mu[t] > 0) || !(lambda[t] >= 0))
           throw std::invalid_argument("neo-Hookean tetrahedra: mu must be > 0 and lambda >= 0");
-        const TetrahedronShape shape = tetrahedron_shape(mesh, t, "neo-Hookean tetrahedra");
-        const auto            &v     = mesh.tetrahedra[t];
-        Element                e;
-        e.b      = shape.b;
-        e.volume = shape.volume;
+        const auto &v = mesh.tetrahedra[t];
+        Element     e{ tetrahedron_shape(mesh, t, "neo-Hookean tetrahedra"), 0, 0, 0 };
         e.mu     = mu[t];
         e.lambda = lambda[t] + mu[t];
         e.gamma  = 1 + e.mu / e.lambda; // the rest state's J − γ balances μ F = μ I

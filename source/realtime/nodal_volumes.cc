@@ -27,11 +27,8 @@ namespace suturesim::realtime
       {
         if (!(lambda[t] >= 0))
           throw std::invalid_argument("averaged nodal volumes: lambda must be >= 0");
-        const TetrahedronShape shape = tetrahedron_shape(mesh, t, "averaged nodal volumes");
-        const auto            &v     = mesh.tetrahedra[t];
-        Element                e;
-        e.b      = shape.b;
-        e.volume = shape.volume;
+        const auto &v = mesh.tetrahedra[t];
+        Element     e{ tetrahedron_shape(mesh, t, "averaged nodal volumes"), {} };
         for (int k = 0; k < 4; ++k)
           {
             const std::uint32_t i = node[v[k]];

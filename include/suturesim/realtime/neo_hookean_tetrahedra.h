@@ -76,12 +76,10 @@ namespace suturesim::realtime
     deformation_gradient(const Matrix3Xd &x, std::size_t t) const;
 
   private:
-    struct Element
+    struct Element : TetrahedronShape // b and V₀
     {
-      std::array<Vector3d, 4> b;          ///< ∂F/∂xᵢ = (·) bᵢᵀ
-      double                  volume;     ///< V₀
-      double                  mu, lambda; ///< μ and λ̂ = λ + μ
-      double                  gamma;      ///< γ = 1 + μ/λ̂
+      double mu, lambda; ///< μ and λ̂ = λ + μ
+      double gamma;      ///< γ = 1 + μ/λ̂
     };
     std::vector<Element> elements;
   };

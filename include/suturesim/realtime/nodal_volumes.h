@@ -68,11 +68,9 @@ namespace suturesim::realtime
     max_violation(const Matrix3Xd &x) const override;
 
   private:
-    struct Element
+    struct Element : TetrahedronShape // b and V_e
     {
-      std::array<Vector3d, 4>      b;      ///< ∂F/∂xᵢ = (·) bᵢᵀ
-      std::array<std::uint32_t, 4> local;  ///< the nodes' indices into the per-node arrays
-      double                       volume; ///< V_e
+      std::array<std::uint32_t, 4> local; ///< the nodes' indices into the per-node arrays
     };
     /// J of tetrahedron @p t at @p x
     double
