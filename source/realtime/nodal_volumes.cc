@@ -55,6 +55,11 @@ namespace suturesim::realtime
     work.assign(rest_volume.size(), 0);
     gradient.assign(rest_volume.size(), Vector3d::Zero());
     touched.reserve(rest_volume.size());
+    std::vector<std::size_t> valence(local_of.size(), 0);
+    for (const auto &t : tets)
+      for (const auto i : t)
+        ++valence[i];
+    block_gradient.assign(*std::max_element(valence.begin(), valence.end()), Vector3d::Zero());
   }
 
   double
@@ -117,17 +122,24 @@ namespace suturesim::realtime
   }
 
   void
-  NodalVolumes::vertex_moved(const Matrix3Xd &x, std::uint32_t, const std::uint32_t *tetrahedra, const std::size_t n)
+  NodalVolumes::vertex_moved(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
+                             const std::size_t n)
   {
+    // after this vertex's own block (the descent's order), each v_e changes by
+    // ∂v_e/∂xᵢ · Δxᵢ exactly, v_e being linear in each vertex; else recomputed
+    const bool     after_block = i == block_vertex && n <= block_gradient.size();
+    const Vector3d step        = x.col(i) - block_position;
     for (std::size_t k = 0; k < n; ++k)
       {
-        const auto   t     = tetrahedra[k];
-        const double v     = elements[t].volume * jacobian(x, t);
+        const auto   t = tetrahedra[k];
+        const double v
+            = after_block ? volume_now[t] + block_gradient[k].dot(step) : elements[t].volume * jacobian(x, t);
         const double delta = (v - volume_now[t]) / 4;
         volume_now[t]      = v;
         for (const auto a : elements[t].local)
           nodal_now[a] += delta;
       }
+    block_vertex = none;
   }
 
   void
@@ -137,13 +149,17 @@ namespace suturesim::realtime
     // g_a = ∂v_a/∂xᵢ summed node by node over i's elements; f from the elements' mean
     // pressures
     touched.clear();
+    block_vertex   = i;
+    block_position = x.col(i);
     for (std::size_t k = 0; k < n; ++k)
       {
         const auto     t     = tetrahedra[k];
         const Element &e     = elements[t];
         const int      local = static_cast<int>(std::find(tets[t].begin(), tets[t].end(), i) - tets[t].begin());
         const Vector3d g     = e.volume * cofactor(deformation_gradient(x, tets[t], e.b)) * e.b[local] / 4;
-        double         p     = 0;
+        if (k < block_gradient.size())
+          block_gradient[k] = 4 * g;
+        double p = 0;
         for (const auto a : e.local)
           {
             p += modulus[a] * (nodal_now[a] / rest_volume[a] - 1);

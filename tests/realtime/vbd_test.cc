@@ -128,8 +128,9 @@ TEST(VertexBlocks, SpringsVolumesHomeSpringsAndFeTetrahedraMatchFiniteDifference
 
 TEST(VertexBlocks, NodalVolumesFollowEachMoveOfASweep)
 {
-  // After begin_sweep(x) and vertex_moved() for each moved node, a block is the one a
-  // fresh begin_sweep() at the new positions gives: the kept volumes are current.
+  // After begin_sweep(x) and vertex_moved() for each moved node, with or without the
+  // node's block before its move, a block is the one a fresh begin_sweep() at the new
+  // positions gives: the kept volumes are current.
   const auto                 mesh = test_support::box_mesh(1, 1, 1, 2, 2, 1);
   std::vector<std::uint32_t> node(mesh.vertices.cols());
   std::iota(node.begin(), node.end(), 0u);
@@ -152,8 +153,15 @@ TEST(VertexBlocks, NodalVolumesFollowEachMoveOfASweep)
   std::uniform_real_distribution<double> u(-0.1, 0.1);
   for (std::uint32_t i = 0; i < x.cols(); i += 2)
     {
-      x.col(i) += Vector3d(u(rng), u(rng), u(rng));
       const auto at = elements_of(i);
+      if (i % 4 == 0) // as the descent: the node's block, then its move (the update by
+                      // the block's gradients); else a move alone (recomputed volumes)
+        {
+          Vector3d        f = Vector3d::Zero();
+          Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+          nodal.add_vertex_block(x, i, at.data(), at.size(), f, H);
+        }
+      x.col(i) += Vector3d(u(rng), u(rng), u(rng));
       nodal.vertex_moved(x, i, at.data(), at.size());
     }
   fresh.begin_sweep(x);

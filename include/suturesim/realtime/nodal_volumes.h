@@ -31,6 +31,7 @@
 #include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <array>
+#include <limits>
 #include <vector>
 
 namespace suturesim::realtime
@@ -90,5 +91,10 @@ namespace suturesim::realtime
     mutable std::vector<double>        work;
     mutable std::vector<Vector3d>      gradient;
     mutable std::vector<std::uint32_t> touched;
+    // the last block's vertex, its position and ∂v_e/∂xᵢ of its elements, from which
+    // vertex_moved() updates the volumes
+    mutable std::uint32_t         block_vertex = std::numeric_limits<std::uint32_t>::max();
+    mutable Vector3d              block_position;
+    mutable std::vector<Vector3d> block_gradient;
   };
 } // namespace suturesim::realtime
