@@ -132,6 +132,8 @@ def main():
             options[key] = args[k + 1]
             del args[k:k + 2]
     out = Path(options["--out"]) if options["--out"] else None
+    if out:
+        out.mkdir(parents=True, exist_ok=True)
     arc_length = float(options["--arc"])
     runs = [Path(a) for a in args]
     if not runs:
