@@ -23,6 +23,7 @@ namespace suturesim::realtime
       throw std::invalid_argument("averaged nodal volumes: one lambda per tetrahedron");
     if (!tets.empty()) // the nodes' λ_a and V_a are final below
       throw std::logic_error("averaged nodal volumes: one mesh per family");
+    std::vector<std::uint32_t> local_of; // system node → per-node index (or none)
     for (std::size_t t = 0; t < n; ++t)
       {
         if (!(lambda[t] >= 0))
@@ -55,10 +56,10 @@ namespace suturesim::realtime
     work.assign(rest_volume.size(), 0);
     gradient.assign(rest_volume.size(), Vector3d::Zero());
     touched.reserve(rest_volume.size());
-    std::vector<std::size_t> valence(local_of.size(), 0);
-    for (const auto &t : tets)
-      for (const auto i : t)
-        ++valence[i];
+    std::vector<std::size_t> valence(rest_volume.size(), 0);
+    for (const auto &e : elements)
+      for (const auto a : e.local)
+        ++valence[a];
     block_gradient.assign(*std::max_element(valence.begin(), valence.end()), Vector3d::Zero());
   }
 
@@ -69,14 +70,16 @@ namespace suturesim::realtime
   }
 
   void
-  NodalVolumes::nodal_volumes(const Matrix3Xd &x, std::vector<double> &v) const
+  NodalVolumes::nodal_volumes(const Matrix3Xd &x, std::vector<double> &v, std::vector<double> *element_volumes) const
   {
     std::fill(v.begin(), v.end(), 0.0);
     for (std::size_t t = 0; t < tets.size(); ++t)
       {
-        const double quarter = elements[t].volume * jacobian(x, t) / 4;
+        const double volume = elements[t].volume * jacobian(x, t);
+        if (element_volumes)
+          (*element_volumes)[t] = volume;
         for (const auto a : elements[t].local)
-          v[a] += quarter;
+          v[a] += volume / 4;
       }
   }
 
@@ -112,13 +115,7 @@ namespace suturesim::realtime
   void
   NodalVolumes::begin_sweep(const Matrix3Xd &x)
   {
-    std::fill(nodal_now.begin(), nodal_now.end(), 0.0);
-    for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        volume_now[t] = elements[t].volume * jacobian(x, t);
-        for (const auto a : elements[t].local)
-          nodal_now[a] += volume_now[t] / 4;
-      }
+    nodal_volumes(x, nodal_now, &volume_now);
   }
 
   void

@@ -76,16 +76,16 @@ namespace suturesim::realtime
     /// J of tetrahedron @p t at @p x
     double
     jacobian(const Matrix3Xd &x, std::size_t t) const;
-    /// The nodes' volumes v_a at @p x into @p v
+    /// The nodes' volumes v_a at @p x into @p v (and the elements' v_e into
+    /// @p element_volumes)
     void
-    nodal_volumes(const Matrix3Xd &x, std::vector<double> &v) const;
+    nodal_volumes(const Matrix3Xd &x, std::vector<double> &v, std::vector<double> *element_volumes = nullptr) const;
 
-    std::vector<Element>       elements;
-    std::vector<std::uint32_t> local_of;    ///< system node → per-node index (or −1)
-    std::vector<double>        rest_volume; ///< V_a
-    std::vector<double>        modulus;     ///< λ_a
-    std::vector<double>        volume_now;  ///< v_e of the current sweep
-    std::vector<double>        nodal_now;   ///< v_a of the current sweep
+    std::vector<Element> elements;
+    std::vector<double>  rest_volume; ///< V_a
+    std::vector<double>  modulus;     ///< λ_a
+    std::vector<double>  volume_now;  ///< v_e of the current sweep
+    std::vector<double>  nodal_now;   ///< v_a of the current sweep
     // scratch of the const evaluations (a step runs on one thread): v_a in energy() and
     // add_forces(), the g_a of a block and the nodes they were summed for
     mutable std::vector<double>        work;
