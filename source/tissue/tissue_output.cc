@@ -258,6 +258,8 @@ namespace suturesim::tissue
         }
     data_out.add_data_vector(material_id, "material_id", DataOut<3>::type_cell_data);
     data_out.add_data_vector(rank, "mpi_rank", DataOut<3>::type_cell_data);
+    for (const auto &[name, field] : tear_fields)
+      data_out.add_data_vector(field, name, DataOut<3>::type_cell_data);
     data_out.build_patches(mapping, parameters.degree);
 
     DataOutBase::VtkFlags flags(t, index);

@@ -16,6 +16,8 @@
  */
 
 #include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/tearing/process_zone.h>
+#include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/cell_assembler.h>
 #include <suturesim/tissue/linear_solver.h>
@@ -162,6 +164,14 @@ namespace suturesim::tissue
     /// Displacements at the probe points (m), in the order of the parameters.
     std::vector<dealii::Tensor<1, 3>>
     probe_displacements() const;
+
+    /// Tear criteria at the current state (collective; tearing/tear_criterion.h): for
+    /// each of @p criteria's criteria (outer) and each of @p zones (inner), the measure
+    /// sampled at every quadrature point of every rank that lies in the zone. Keeps each
+    /// criterion's cell mean of m / m_c for the next write_vtu() ("tear_<name>"). In
+    /// tissue_tearing.cc.
+    std::vector<std::vector<tearing::ZoneSample>>
+    evaluate_tearing(const tearing::TearCriteria &criteria, const tearing::ProcessZones &zones);
 
     /// Writes tissue_<index>.vtu into @p directory (collective); returns the file name.
     std::string
@@ -372,6 +382,8 @@ namespace suturesim::tissue
     Vector solution, solution_ghost, saved_solution, system_rhs, full_residual, constraint_force;
     /// p̃, J̃ of every cell (active cell index); Newton unknowns when pressure_unknowns
     std::vector<MixedCell> cell_mixed, saved_cell_mixed;
+    /// Cell data for write_vtu(), from the last evaluate_tearing().
+    std::vector<std::pair<std::string, dealii::Vector<float>>> tear_fields;
     bool                   pressure_unknowns = false;
 
     /// Per Dirichlet boundary: locally owned DoFs on it with their component.
