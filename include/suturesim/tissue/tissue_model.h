@@ -302,8 +302,15 @@ namespace suturesim::tissue
     /// |g − u| over the Dirichlet DoFs @p gap.
     bool
     boundary_reached(double gap) const;
+    /// The largest constraint residual of the cells' mixed fields when they are Newton
+    /// unknowns (0 otherwise; collective): M⁻¹R_p (1) and R_J / (κ V_cell) (1). The
+    /// free-DoF residual can miss them: a uniform error in p̃ exerts no force on the free
+    /// DoFs of a body held on every face (docs/tearing.md, "Found on the way").
+    double
+    mixed_residual() const;
     /// The end test of a Newton iterate @p it (the residual criteria of
-    /// NewtonParameters, an update at round-off, divergence, the iteration limit): true
+    /// NewtonParameters or an update at round-off, with the mixed fields' own residuals
+    /// below 1e-6; divergence; the iteration limit): true
     /// when the iteration must stop, with @p report converged or saying why not.
     bool
     newton_stop(unsigned it, double r_norm, double r_ref, double du_norm, double du_max, double gap,
