@@ -46,6 +46,8 @@ namespace suturesim::scene
         columns.push_back("wound_face_contacts [1]");
       }
     recorder.set_columns(columns);
+    if (!scene.tearing.criteria.empty())
+      tears.emplace(scene.tearing);
   }
 
   void
@@ -112,6 +114,13 @@ namespace suturesim::scene
         row.push_back(stitch.faces->n_touching());
       }
     recorder.add_row(row);
+    if (tears)
+      {
+        // before the VTU, which shows the cell ratios of this state
+        tears->update(t, stitch.grasped ? stitch.end_tension : stitch.load.first.norm(), model,
+                      stitch.needle->pierce_points());
+        metrics["tearing"] = tears->summary();
+      }
     if (stitch.scene.time.output_due(t, last_output))
       write_state(t);
     summary.step(statistics, t);
@@ -166,7 +175,11 @@ namespace suturesim::scene
   nlohmann::json
   AccurateStitchRecord::snapshot() const
   {
-    return {{"peak_pull", peak_pull}, {"last_output", last_output}, {"output_index", output_index}, {"last_file", last_file}};
+    return {{"peak_pull", peak_pull},
+            {"last_output", last_output},
+            {"output_index", output_index},
+            {"last_file", last_file},
+            {"tearing", tears ? tears->summary() : nlohmann::json()}};
   }
 
   void
@@ -176,6 +189,8 @@ namespace suturesim::scene
     last_output  = j.at("last_output").get<double>();
     output_index = j.at("output_index").get<unsigned>();
     last_file    = j.at("last_file").get<std::string>();
+    if (tears && j.contains("tearing") && !j.at("tearing").is_null())
+      tears->restore(j.at("tearing"));
     recorder.restore_summary();
   }
 } // namespace suturesim::scene

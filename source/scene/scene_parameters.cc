@@ -39,6 +39,9 @@ namespace suturesim::scene
     prm.leave_subsection();
     NeedleParameters::declare(prm);
     ClosureParameters::declare(prm);
+    prm.enter_subsection("Tearing");
+    tearing::TearCriteria::declare_parameters(prm);
+    prm.leave_subsection();
   }
 
   void
@@ -76,6 +79,12 @@ namespace suturesim::scene
     boundary_conditions.parse(prm, t.subsection("Boundary conditions"));
     prm.leave_subsection();
     prm.leave_subsection();
+    prm.enter_subsection("Tearing");
+    tearing = tearing::TearCriteria::parse_parameters(prm, scope("Tearing"));
+    prm.leave_subsection();
+    if (model == "realtime" && !tearing.criteria.empty())
+      scope("Tearing").fail("Criteria", "the continuum tear criteria are evaluated by the accurate path only (Model = "
+                                        "accurate)");
   }
 
   void

@@ -3,6 +3,7 @@
 // alone, then with the Cosserat suture through the pierce points; penalty and Lagrange
 // enforcement of the pierce ties).
 #include "run_scene.h"
+#include "vtu_reader.h"
 
 #include <suturesim/core/blas_threads.h>
 
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -459,7 +461,9 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // inside the tissue, the faces pressing on each other.
   const auto r = run_suturesim(
     "stitch_accurate_coarse",
-    {source_path("parameters/stitch_interrupted.prm"), "--set", "Model=accurate"},
+    {source_path("parameters/stitch_interrupted.prm"), "--set", "Model=accurate", "--set",
+     "Tearing/Criteria=max-principal-stress, max-principal-stretch, strain-energy-density, fracture-energy", "--set",
+     "Tearing/Process zone radius=0.002"},
     {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "1200"});
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
   ASSERT_TRUE(r.has_summary);
@@ -510,4 +514,43 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   EXPECT_NEAR(m["closure_time"].get<double>(), 6.60181407266801, 1e-9);
   EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.846875, 1e-9);
   EXPECT_NEAR(m["final_gap"].get<double>(), 4.671023086173193e-05, 1e-9 * 4.671023086173193e-05);
+
+  // The tear criteria (scene/tear_monitor.h) only observe: the values above hold with
+  // them on. Each criterion over the stitch's two tracts, one per lip (a zone of 2 mm on
+  // cells of 2 mm); an onset only where the mean reached the critical value; the cell
+  // ratios in the last tissue VTU (deal.II writes cell data as point data).
+  const auto &tearing = m["tearing"];
+  ASSERT_EQ(tearing["criteria"].size(), 4u) << tearing.dump();
+  for (const auto &[name, c] : tearing["criteria"].items())
+    {
+      SCOPED_TRACE(name);
+      ASSERT_EQ(c["tracts"].size(), 2u);
+      for (const auto &s : c["tracts"])
+        {
+          const double largest = s["largest_mean_over_critical"].get<double>();
+          EXPECT_TRUE(std::isfinite(largest));
+          if (name != "max-principal-stress")
+            {
+              EXPECT_GT(largest, 0.0);
+            }
+          // one end on the top (z = 6 mm), the other in the incision's face (x = 0)
+          EXPECT_NEAR(std::max(s["entry"][2].get<double>(), s["exit"][2].get<double>()), 0.006, 1e-9);
+          EXPECT_LT(std::min(std::abs(s["entry"][0].get<double>()), std::abs(s["exit"][0].get<double>())), 2e-4);
+          if (s["onset"].is_null())
+            EXPECT_LT(largest, 1.0);
+          else
+            {
+              EXPECT_GE(s["onset"]["mean"].get<double>(), c["critical_value"].get<double>());
+              EXPECT_GT(s["onset"]["suture_tension"].get<double>(), 0.0);
+            }
+        }
+    }
+  std::string last_vtu;
+  for (const auto &entry : std::filesystem::directory_iterator(r.directory))
+    if (const auto file = entry.path().filename().string(); file.rfind("tissue_", 0) == 0 && file > last_vtu)
+      last_vtu = file;
+  const Vtu last = read_vtu(r.directory + "/" + last_vtu);
+  for (const std::string name : {"max-principal-stress", "max-principal-stretch", "strain-energy-density",
+                                 "fracture-energy"})
+    EXPECT_EQ(last.get("PointData", "tear_" + name).tuples(), last.n_points);
 }

@@ -9,6 +9,8 @@
  *    suture its tension at the swage and the free end, the drag's total, the contact
  *    force and count; with face contact its force and count;
  *  - tissue_*.vtu and suture_*.vtu at Time/Output interval (and the last state);
+ *  - with Tearing/Criteria, the tear criteria per stitch at every accepted state
+ *    (scene/tear_monitor.h): metrics.tearing, and their cell ratios in the VTU;
  *  - summary.json: the steps' solver account, the reactions and probes of the last
  *    state, events and puncture/pull metrics (NeedleParameters::write_summary), the
  *    suture nodes left inside the tissue, the closure metrics.
@@ -17,6 +19,7 @@
 #include <suturesim/io/recorder.h>
 #include <suturesim/scene/accurate_stitch.h>
 #include <suturesim/scene/run_summary.h>
+#include <suturesim/scene/tear_monitor.h>
 
 #include <string>
 
@@ -69,5 +72,7 @@ namespace suturesim::scene
     double          last_output  = -1;
     unsigned        output_index = 0;
     std::string     last_file;
+    /// With Tearing/Criteria: the criteria per stitch (metrics.tearing).
+    std::optional<TearMonitor> tears;
   };
 } // namespace suturesim::scene

@@ -15,6 +15,7 @@
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/scene/wound_closure.h>
+#include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
 #include <suturesim/tissue/tissue_model.h>
@@ -38,6 +39,7 @@ namespace suturesim::scene
     rod::RodParameters              suture;
     NeedleParameters                needle;
     ClosureParameters               closure;
+    tearing::TearCriteria           tearing; ///< evaluated by the accurate stitch (scene/tear_monitor.h)
     TimeParameters                  time;
 
     bool

@@ -4,7 +4,7 @@
  * excised human back skin, 21.6 ± 8.4 MPa (Ní Annaidh et al., J Mech Behav Biomed Mater
  * 5:139, 2012; uniaxial, 0.012 1/s).
  */
-#include <suturesim/tearing/tear_criterion.h>
+#include <suturesim/tearing/threshold_criterion.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -12,12 +12,12 @@ namespace suturesim::tearing
 {
   namespace
   {
-    class MaxPrincipalStress : public TearCriterion
+    class MaxPrincipalStress : public ThresholdCriterion
     {
     public:
-      explicit MaxPrincipalStress(const double strength) : strength(strength)
-      {
-      }
+      explicit MaxPrincipalStress(const double strength)
+        : ThresholdCriterion(strength, "Pa")
+      {}
 
       Measure
       measure(const MaterialPointState &state) const override
@@ -25,21 +25,6 @@ namespace suturesim::tearing
         const auto [sigma_1, n] = largest_principal(state.cauchy_stress);
         return {sigma_1, n};
       }
-
-      double
-      critical_value(const double) const override
-      {
-        return strength;
-      }
-
-      std::string
-      unit() const override
-      {
-        return "Pa";
-      }
-
-    private:
-      double strength;
     };
 
     const bool registered = TearCriterion::Registry::instance().add(

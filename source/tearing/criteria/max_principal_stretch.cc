@@ -4,7 +4,7 @@
  * strain of excised human back skin, 54 ± 17 % (Ní Annaidh et al., J Mech Behav Biomed
  * Mater 5:139, 2012).
  */
-#include <suturesim/tearing/tear_criterion.h>
+#include <suturesim/tearing/threshold_criterion.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -14,12 +14,12 @@ namespace suturesim::tearing
 {
   namespace
   {
-    class MaxPrincipalStretch : public TearCriterion
+    class MaxPrincipalStretch : public ThresholdCriterion
     {
     public:
-      explicit MaxPrincipalStretch(const double critical_stretch) : critical_stretch(critical_stretch)
-      {
-      }
+      explicit MaxPrincipalStretch(const double critical_stretch)
+        : ThresholdCriterion(critical_stretch, "1")
+      {}
 
       Measure
       measure(const MaterialPointState &state) const override
@@ -27,21 +27,6 @@ namespace suturesim::tearing
         const auto [b_1, n] = largest_principal(dealii::symmetrize(state.F * dealii::transpose(state.F)));
         return {std::sqrt(b_1), n};
       }
-
-      double
-      critical_value(const double) const override
-      {
-        return critical_stretch;
-      }
-
-      std::string
-      unit() const override
-      {
-        return "1";
-      }
-
-    private:
-      double critical_stretch;
     };
 
     const bool registered = TearCriterion::Registry::instance().add(

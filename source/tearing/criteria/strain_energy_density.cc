@@ -4,7 +4,7 @@
  * mean strain energy to failure of excised human back skin, 3.6 ± 1.6 MJ/m³ (Ní Annaidh
  * et al., J Mech Behav Biomed Mater 5:139, 2012).
  */
-#include <suturesim/tearing/tear_criterion.h>
+#include <suturesim/tearing/threshold_criterion.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -12,33 +12,18 @@ namespace suturesim::tearing
 {
   namespace
   {
-    class StrainEnergyDensity : public TearCriterion
+    class StrainEnergyDensity : public ThresholdCriterion
     {
     public:
-      explicit StrainEnergyDensity(const double critical_energy) : critical_energy(critical_energy)
-      {
-      }
+      explicit StrainEnergyDensity(const double critical_energy)
+        : ThresholdCriterion(critical_energy, "J/m^3")
+      {}
 
       Measure
       measure(const MaterialPointState &state) const override
       {
         return {state.energy, largest_principal(state.cauchy_stress).second};
       }
-
-      double
-      critical_value(const double) const override
-      {
-        return critical_energy;
-      }
-
-      std::string
-      unit() const override
-      {
-        return "J/m^3";
-      }
-
-    private:
-      double critical_energy;
     };
 
     const bool registered = TearCriterion::Registry::instance().add(

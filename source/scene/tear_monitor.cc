@@ -1,0 +1,113 @@
+#include <suturesim/scene/tear_monitor.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace suturesim::scene
+{
+  TearMonitor::TearMonitor(const tearing::TearCriteria &criteria) : criteria(criteria)
+  {
+  }
+
+  namespace
+  {
+    tearing::Point3
+    point3(const dealii::Point<3> &X)
+    {
+      return {{X[0], X[1], X[2]}};
+    }
+  } // namespace
+
+  void
+  TearMonitor::update(const double t, const double tension, tissue::TissueModel &model,
+                      const std::vector<coupling::AccuratePiercePoint> &pierce)
+  {
+    // Newest first: an exit followed by an entry is one pass's tract, the entry made
+    // first. A tract is known by its entry point, which never moves (material point).
+    for (std::size_t k = 0; k + 1 < pierce.size(); ++k)
+      if (pierce[k].exit && !pierce[k + 1].exit)
+        {
+          const tearing::Tract tract{point3(pierce[k + 1].X), point3(pierce[k].X)};
+          const auto           known = std::find_if(tract_states.begin(), tract_states.end(),
+                                                    [&](const TractState &s) { return s.tract.entry == tract.entry; });
+          if (known == tract_states.end())
+            tract_states.push_back({tract, std::vector<double>(criteria.criteria.size(), 0.0),
+                                    std::vector<std::optional<Onset>>(criteria.criteria.size())});
+        }
+
+    std::vector<tearing::Tract> tracts;
+    for (const auto &s : tract_states)
+      tracts.push_back(s.tract);
+    // Evaluated with no tract too: the VTU's cell ratios show where the tissue stands.
+    const tearing::ProcessZones zones(tracts, criteria.process_zone_radius);
+    const auto                  samples = model.evaluate_tearing(criteria, zones);
+    for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
+      {
+        const double critical = criteria.criteria[c].second->critical_value(criteria.process_zone_radius);
+        for (std::size_t z = 0; z < tract_states.size(); ++z)
+          {
+            auto        &state  = tract_states[z];
+            const auto  &sample = samples[c][z];
+            const double ratio  = sample.mean() / critical;
+            if (std::isnan(ratio)) // an empty zone (radius below the cells' size): nothing to record
+              continue;
+            state.largest_ratio[c] = std::max(state.largest_ratio[c], ratio);
+            if (ratio >= 1 && !state.onset[c])
+              state.onset[c] = Onset{t, tension, sample.mean(), sample.peak_location, sample.peak_direction};
+          }
+      }
+  }
+
+  nlohmann::json
+  TearMonitor::summary() const
+  {
+    nlohmann::json result         = nlohmann::json::object();
+    result["process_zone_radius"] = criteria.process_zone_radius;
+    for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
+      {
+        const auto &[name, criterion] = criteria.criteria[c];
+        nlohmann::json per_tract      = nlohmann::json::array();
+        for (const auto &s : tract_states)
+          {
+            nlohmann::json onset = nullptr;
+            if (const auto &o = s.onset[c])
+              onset = {{"time", o->time},
+                       {"suture_tension", o->tension},
+                       {"mean", o->mean},
+                       {"location", o->location},
+                       {"direction", o->direction}};
+            per_tract.push_back({{"entry", s.tract.entry},
+                                 {"exit", s.tract.exit},
+                                 {"largest_mean_over_critical", s.largest_ratio[c]},
+                                 {"onset", onset}});
+          }
+        result["criteria"][name] = {{"unit", criterion->unit()},
+                                    {"critical_value", criterion->critical_value(criteria.process_zone_radius)},
+                                    {"tracts", per_tract}};
+      }
+    return result;
+  }
+
+  void
+  TearMonitor::restore(const nlohmann::json &summary)
+  {
+    tract_states.clear();
+    for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
+      {
+        const auto &per_tract = summary.at("criteria").at(criteria.criteria[c].first).at("tracts");
+        for (std::size_t z = 0; z < per_tract.size(); ++z)
+          {
+            const auto &j = per_tract[z];
+            if (z == tract_states.size())
+              tract_states.push_back({{j.at("entry").get<tearing::Point3>(), j.at("exit").get<tearing::Point3>()},
+                                      std::vector<double>(criteria.criteria.size(), 0.0),
+                                      std::vector<std::optional<Onset>>(criteria.criteria.size())});
+            tract_states[z].largest_ratio[c] = j.at("largest_mean_over_critical").get<double>();
+            if (const auto &o = j.at("onset"); !o.is_null())
+              tract_states[z].onset[c]
+                  = Onset{o.at("time").get<double>(), o.at("suture_tension").get<double>(), o.at("mean").get<double>(),
+                          o.at("location").get<tearing::Point3>(), o.at("direction").get<tearing::Point3>()};
+          }
+      }
+  }
+} // namespace suturesim::scene
