@@ -214,9 +214,23 @@ namespace
   }
 
   /// The accurate needle pass with its suture (parameters/needle_pass.prm, Model =
-  /// accurate: Q1 hexahedra of 2 mm) through both punctures and onto the suture.
+  /// accurate: Q1 hexahedra of 2 mm) through both punctures and onto the suture, with
+  /// two tear criteria over its tract (scene/tear_monitor.h): a restart takes their
+  /// record back (metrics.tearing is compared with the rest of the metrics). The zone's
+  /// energy peaks before the periodic checkpoint, at about 45 J/m³ (measured); the low
+  /// toughness, 0.3 J/m² (Ψ_c = 28 J/m³), puts the onset there too. A record lost in the
+  /// restart shows: without it the largest mean came out 0.0015 Ψ_c, not 0.48.
   const std::vector<std::string> accurate_pass{suturesim::test_support::source_path("parameters/needle_pass.prm"),
-                                               "--set", "Model=accurate", "--set", "Time/End time=1.4"};
+                                               "--set",
+                                               "Model=accurate",
+                                               "--set",
+                                               "Time/End time=1.4",
+                                               "--set",
+                                               "Tearing/Criteria=max-principal-stretch, fracture-energy",
+                                               "--set",
+                                               "Tearing/Process zone radius=0.002",
+                                               "--set",
+                                               "Tearing/fracture-energy/Fracture toughness=0.3"};
 
   /// A restarted run's record against the uninterrupted one's: status, metrics, events,
   /// the steps' solver account, and forces.csv row by row.
@@ -318,6 +332,14 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
     << restarted.output;
   expect_as_uninterrupted(restarted, whole);
   EXPECT_TRUE(restarted.summary.contains("restarted_from")) << restarted.summary.dump();
+  // the checkpoint (after step 25k, near the end) holds the tract made before it
+  const auto &tracts = whole.summary["metrics"]["tearing"]["criteria"]["max-principal-stretch"]["tracts"];
+  ASSERT_EQ(tracts.size(), 1u) << whole.summary["metrics"]["tearing"].dump();
+  EXPECT_GT(tracts[0]["largest_mean_over_critical"].get<double>(), 1 / 1.54); // stretched: λ > 1
+  const auto &onset = whole.summary["metrics"]["tearing"]["criteria"]["fracture-energy"]["tracts"][0]["onset"];
+  ASSERT_FALSE(onset.is_null());
+  EXPECT_LT(onset["time"].get<double>(), restarted.summary["restarted_from"]["t"].get<double>())
+    << restarted.summary["restarted_from"].dump();
 }
 
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)
