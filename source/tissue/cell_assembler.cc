@@ -27,6 +27,19 @@ namespace suturesim::tissue
     return {{1.0, d[0], d[1], d[2]}};
   }
 
+  std::pair<double, double>
+  MixedCell::at(const Point<3> &X, const Point<3> &center, const double h) const
+  {
+    const auto N = pressure_basis(X, center, h);
+    double     p_at = 0, J_at = 0;
+    for (unsigned a = 0; a < N.size(); ++a)
+      {
+        p_at += N[a] * p[a];
+        J_at += N[a] * J[a];
+      }
+    return {p_at, J_at};
+  }
+
   CellAssembler::CellAssembler(const Mapping<3>       &mapping,
                                const FiniteElement<3> &fe,
                                const Quadrature<3>    &quadrature,

@@ -55,13 +55,9 @@ namespace suturesim::tissue
             const double J = determinant(F);
             double       p = 0;
             if (pressure != nullptr)
-              {
-                const auto  N = pressure_basis(in.evaluation_points[q], cell->center(),
-                                              cell->diameter());
-                const auto &c = (*pressure)[cell->active_cell_index()].p;
-                for (unsigned a = 0; a < 4; ++a)
-                  p += N[a] * c[a];
-              }
+              p = (*pressure)[cell->active_cell_index()]
+                    .at(in.evaluation_points[q], cell->center(), cell->diameter())
+                    .first;
             else if (J > 0)
               p = material.volumetric().pressure(J);
             const SymTensor2 sigma =

@@ -10,6 +10,8 @@
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
 
+#include <tuple>
+
 namespace suturesim::tissue
 {
   using namespace dealii;
@@ -70,16 +72,8 @@ namespace suturesim::tissue
               const SymTensor2 C = symmetrize(transpose(state.F) * state.F);
               double           p = material.volumetric().pressure(J), J_tilde = J;
               if (mixed)
-                {
-                  const auto  N = pressure_basis(values.quadrature_point(q), cell->center(), cell->diameter());
-                  const auto &m = cell_mixed[cell->active_cell_index()];
-                  p = J_tilde = 0;
-                  for (unsigned a = 0; a < 4; ++a)
-                    {
-                      p += N[a] * m.p[a];
-                      J_tilde += N[a] * m.J[a];
-                    }
-                }
+                std::tie(p, J_tilde) =
+                  cell_mixed[cell->active_cell_index()].at(values.quadrature_point(q), cell->center(), cell->diameter());
               state.cauchy_stress = material.cauchy_stress(state.F, p);
               // Ψ = Ψ_iso(C̄) + Ψ_vol(J̃): the energy the mixed (Hu–Washizu) form stores.
               state.energy = material.isochoric_energy(C) + material.volumetric().energy(J_tilde);

@@ -57,6 +57,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace suturesim::tissue
@@ -88,6 +89,11 @@ namespace suturesim::tissue
     /// p̃ = p̃₀ + α Δp, J̃ = J̃₀ + α ΔJ (a Newton step scaled by a line search).
     void
     step(double alpha);
+
+    /// p̃ (Pa) and J̃ (1) at reference point @p X of the cell with centre @p center and
+    /// diameter @p h (the basis of pressure_basis()).
+    std::pair<double, double>
+    at(const dealii::Point<3> &X, const dealii::Point<3> &center, double h) const;
 
     /// The constraint residuals of the last assembly with MixedUpdate::newton: M⁻¹ R_p
     /// (1; the coefficients of J's projection minus J̃'s) and R_J (N·m = Pa·m³).
