@@ -52,8 +52,12 @@ namespace suturesim::tissue
     const std::size_t n_criteria = criteria.criteria.size();
     std::vector<std::vector<tearing::ZoneSample>> samples(n_criteria, std::vector<tearing::ZoneSample>(zones.size()));
     tear_fields.assign(n_criteria, {});
+    std::vector<double> critical(n_criteria);
     for (std::size_t c = 0; c < n_criteria; ++c)
-      tear_fields[c] = {"tear_" + criteria.criteria[c].first, dealii::Vector<float>(tria.n_active_cells())};
+      {
+        tear_fields[c] = {"tear_" + criteria.criteria[c].first, dealii::Vector<float>(tria.n_active_cells())};
+        critical[c]    = criteria.criteria[c].second->critical_value(zones.radius());
+      }
 
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
@@ -83,9 +87,8 @@ namespace suturesim::tissue
               cell_volume += values.JxW(q);
               for (std::size_t c = 0; c < n_criteria; ++c)
                 {
-                  const auto &criterion = *criteria.criteria[c].second;
-                  const auto  m         = criterion.measure(state);
-                  cell_ratio[c] += values.JxW(q) * m.value / criterion.critical_value(zones.radius());
+                  const auto m = criteria.criteria[c].second->measure(state);
+                  cell_ratio[c] += values.JxW(q) * m.value / critical[c];
                   for (const unsigned int z : inside)
                     samples[c][z].add(values.JxW(q), m.value, X, point3(m.direction));
                 }
