@@ -93,7 +93,7 @@ namespace suturesim::coupling
 
   bool
   NeedlePuncture::first_crossing(const Vector3d &from, const Vector3d &to, const Matrix3Xd &x,
-                                 SurfacePoint &point, Vector3d &normal)
+                                 SurfacePoint &point, Vector3d &normal, double &along)
   {
     const Vector3d path = to - from;
     if (path.squaredNorm() == 0)
@@ -118,19 +118,22 @@ namespace suturesim::coupling
         normal = n;
         point  = {t, bary};
       }
+    along = first;
     return first <= 1;
   }
 
   void
-  NeedlePuncture::update(const double time, const Vector3d &tip, const Matrix3Xd &x)
+  NeedlePuncture::update(const double time, const Vector3d &tip, const Vector3d &direction, const Matrix3Xd &x)
   {
-    SurfacePoint p;
-    double       d = 0;
-    Vector3d     n;
-    const bool   moved_from = looked;
-    const Vector3d from     = last_tip;
-    last_tip                = tip;
-    looked                  = true;
+    SurfacePoint   p;
+    double         d = 0, along = 1;
+    Vector3d       n;
+    const bool     moved_from     = looked;
+    const Vector3d from           = last_tip;
+    const Vector3d from_direction = last_direction;
+    last_tip                      = tip;
+    last_direction                = direction;
+    looked                        = true;
     switch (state)
       {
         case Phase::outside:
@@ -139,13 +142,19 @@ namespace suturesim::coupling
           // first look, or a tip on the surface at the last look). In a gap narrower
           // than the tip's step the nearest surface may be the next body's, seen from
           // the front: only the path tells which surface the tip left.
-          if ((moved_from && first_crossing(from, tip, x, p, n)) ||
+          if ((moved_from && first_crossing(from, tip, x, p, n, along)) ||
               (nearest(tip, x, p, d, n) && ((state == Phase::outside) == (d < 0))))
             {
-              // crossed the surface: from outside inwards (entry) or from inside out
+              // crossed the surface: from outside inwards (entry) or from inside out; the
+              // direction where the path crossed (the needle turns by at most a step's
+              // angle between two looks: linear within it to second order)
               contact.point     = p;
               contact.reference = position(p, reference);
               contact.normal    = n;
+              contact.direction = moved_from && along <= 1 ? Vector3d((1 - along) * from_direction + along * direction)
+                                                           : direction;
+              if (contact.direction.squaredNorm() > 0)
+                contact.direction.normalize();
               contact.exit      = state == Phase::inside;
               state             = contact.exit ? Phase::pressing_out : Phase::pressing_in;
               log.push_back({contact.exit ? "touch_exit" : "touch_entry", time, tip, 0});
@@ -179,7 +188,8 @@ namespace suturesim::coupling
     last_force = force;
     if (!pressing() || force < prm.threshold)
       return false;
-    log.push_back({contact.exit ? "puncture_exit" : "puncture_entry", time, tip, force});
+    log.push_back({contact.exit ? "puncture_exit" : "puncture_entry", time, tip, force, contact.reference,
+                   contact.normal, contact.direction});
     state      = contact.exit ? Phase::outside : Phase::inside;
     last_force = 0;
     return true;
@@ -188,14 +198,22 @@ namespace suturesim::coupling
   nlohmann::json
   event_state(const PunctureEvent &e)
   {
-    return {{"kind", e.kind}, {"time", e.time}, {"position", io::triple(e.position)}, {"force", e.force}};
+    return {{"kind", e.kind},           {"time", e.time},
+            {"position", io::triple(e.position)}, {"force", e.force},
+            {"reference", io::triple(e.reference)}, {"normal", io::triple(e.normal)},
+            {"direction", io::triple(e.direction)}};
   }
 
   PunctureEvent
   event_from(const nlohmann::json &j)
   {
-    return {j.at("kind").get<std::string>(), j.at("time").get<double>(), io::triple_as<Eigen::Vector3d>(j.at("position")),
-            j.at("force").get<double>()};
+    return {j.at("kind").get<std::string>(),
+            j.at("time").get<double>(),
+            io::triple_as<Eigen::Vector3d>(j.at("position")),
+            j.at("force").get<double>(),
+            io::triple_as<Eigen::Vector3d>(j.at("reference")),
+            io::triple_as<Eigen::Vector3d>(j.at("normal")),
+            io::triple_as<Eigen::Vector3d>(j.at("direction"))};
   }
 
   nlohmann::json
@@ -210,10 +228,12 @@ namespace suturesim::coupling
               {"weights", io::triple(contact.point.weights)},
               {"reference", io::triple(contact.reference)},
               {"normal", io::triple(contact.normal)},
+              {"direction", io::triple(contact.direction)},
               {"exit", contact.exit}}},
             {"events", events},
             {"last_force", last_force},
             {"last_tip", io::triple(last_tip)},
+            {"last_direction", io::triple(last_direction)},
             {"looked", looked}};
   }
 
@@ -226,12 +246,14 @@ namespace suturesim::coupling
     contact.point.weights  = io::triple_as<Eigen::Vector3d>(touch.at("weights"));
     contact.reference      = io::triple_as<Eigen::Vector3d>(touch.at("reference"));
     contact.normal         = io::triple_as<Eigen::Vector3d>(touch.at("normal"));
+    contact.direction      = io::triple_as<Eigen::Vector3d>(touch.at("direction"));
     contact.exit           = touch.at("exit").get<bool>();
     log.clear();
     for (const auto &e : j.at("events"))
       log.push_back(event_from(e));
     last_force = j.at("last_force").get<double>();
     last_tip   = io::triple_as<Eigen::Vector3d>(j.at("last_tip"));
+    last_direction = io::triple_as<Eigen::Vector3d>(j.at("last_direction"));
     looked     = j.at("looked").get<bool>();
   }
 } // namespace suturesim::coupling

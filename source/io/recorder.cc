@@ -126,10 +126,18 @@ namespace suturesim::io
         const std::string name = entry.path().filename().string();
         const std::string ext  = entry.path().extension().string();
         if (name == "summary.json" || name == "forces.csv" || name == "parameters.prm" || name == "surface_displacement.json" ||
+            name == "stitches.csv" ||
             ext == ".pvd" || ext == ".vtu" || ext == ".pvtu")
           fs::remove(entry.path());
       }
     remove_checkpoint(dir);
+  }
+
+  void
+  Recorder::write_file(const std::string &name, const std::string &text) const
+  {
+    if (root)
+      write_whole((fs::path(dir) / name).string(), text);
   }
 
   void

@@ -138,7 +138,7 @@ namespace suturesim::realtime
   void
   NeedleCoupling::detect(const Matrix3Xd &x)
   {
-    puncture.update(time, needle.tip(current_pose), x);
+    puncture.update(time, needle.tip(current_pose), needle.tangent(current_pose, 0), x);
     for (auto &p : points)
       p.at = thread_at(p.anchor, x);
   }

@@ -39,6 +39,7 @@ namespace suturesim::scene
                                                   scene.boundary_conditions, tria, timer);
     model->setup();
     surface = model->boundary_surface();
+    wound   = scene.wound(mesh_info, surface.reference, surface.triangles, surface.ids);
 
     coupling::TissueNeedleParameters parameters;
     parameters.puncture             = np.puncture;

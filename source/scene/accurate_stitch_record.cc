@@ -149,6 +149,9 @@ namespace suturesim::scene
   {
     auto &metrics = summary.metrics();
     summary.needle(stitch.np, stitch.needle->all_events(), peak_pull);
+    recorder.write_file("stitches.csv", tearing::stitches_csv(summary.stitch_evaluation(
+                                          stitch.np, stitch.needle->all_events(), stitch.wound,
+                                          stitch.scene.stitch_evaluation)));
     summary.pass_outcome(stitch.np, stitch.needle->all_events(), t, stitch.suture.has_value());
     metrics["simulated_time"] = t;
     if (stitch.suture)

@@ -121,6 +121,7 @@ namespace suturesim::scene
       mesh_info.boundary_names[id] = name;
     mesh_info.description = tissue_mesh.description;
     scene.boundary_conditions.resolve(mesh_info);
+    wound = scene.wound(mesh_info, tissue_mesh.vertices, surface.triangles, surface.tags);
     // the supports are known with the mesh's boundaries only: checked here, not at set-up
     const ParameterScope bc = scene.scope("Tissue/Boundary conditions");
     for (const auto &d : scene.boundary_conditions.dirichlet)

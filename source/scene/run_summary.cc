@@ -131,6 +131,15 @@ namespace suturesim::scene
       json["pierce_model"] = pierce_model;
   }
 
+  std::vector<tearing::StitchEvaluation>
+  RunSummary::stitch_evaluation(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
+                                const tearing::Wound &wound, const tearing::StitchLimits &limits)
+  {
+    auto stitches                        = tearing::evaluate_stitches(events, wound, np.radius, limits);
+    json["metrics"]["stitch_evaluation"] = tearing::stitches_json(stitches);
+    return stitches;
+  }
+
   void
   RunSummary::pass_outcome(const NeedleParameters &np, const std::vector<coupling::PunctureEvent> &events,
                            const double t, const bool suture)

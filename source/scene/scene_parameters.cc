@@ -1,4 +1,7 @@
+#include <suturesim/core/parameter_adapter.h>
 #include <suturesim/scene/scene_parameters.h>
+
+#include <deal.II/base/utilities.h>
 
 namespace suturesim::scene
 {
@@ -39,6 +42,11 @@ namespace suturesim::scene
     prm.leave_subsection();
     NeedleParameters::declare(prm);
     ClosureParameters::declare(prm);
+    prm.enter_subsection("Stitch evaluation");
+    ParameterDeclarations stitches;
+    tearing::StitchLimits::declare(stitches);
+    declare_plain(prm, stitches);
+    prm.leave_subsection();
     prm.enter_subsection("Tearing");
     tearing::TearCriteria::declare_parameters(prm);
     prm.leave_subsection();
@@ -53,6 +61,25 @@ namespace suturesim::scene
     bodies = prm.get("Bodies");
     needle.parse(prm, scope());
     closure.parse(prm, scope());
+    prm.enter_subsection("Stitch evaluation");
+    stitch_evaluation =
+      parse_plain(prm, scope("Stitch evaluation"), tearing::StitchLimits::declare, tearing::StitchLimits::parse);
+    prm.leave_subsection();
+  }
+
+  std::vector<dealii::types::boundary_id>
+  SceneParameters::wound_face_ids(const mesh::MeshInfo &mesh) const
+  {
+    std::vector<dealii::types::boundary_id> ids;
+    if (!stitch_evaluation.wound_faces.empty())
+      for (const auto &face : dealii::Utilities::split_string_list(stitch_evaluation.wound_faces, ','))
+        ids.push_back(mesh.boundary_id(face, scope("Stitch evaluation"), "Wound faces"));
+    else if (!closure.face_contact.empty())
+      {
+        const auto [a, b] = closure.face_contact_ids(mesh);
+        ids               = {a, b};
+      }
+    return ids;
   }
 
   void

@@ -220,7 +220,7 @@ TEST(NeedlePuncture, TouchPressPunctureInsideAndOutThroughTheFarSide)
     {
       const double          t   = step * 1e-3;
       const Eigen::Vector3d tip = start - Eigen::Vector3d(0, 0, 1e-5 * step); // 10 µm per step
-      puncture.update(t, tip, mesh.vertices);
+      puncture.update(t, tip, -Eigen::Vector3d::UnitZ(), mesh.vertices);
       double force = 0;
       if (const auto *touch = puncture.touch())
         {
@@ -244,7 +244,38 @@ TEST(NeedlePuncture, TouchPressPunctureInsideAndOutThroughTheFarSide)
   EXPECT_LT(entry.force, 0.5 + 0.0101);
   EXPECT_NEAR(entry.position[2], 0.01 - 5e-4, 1.01e-5);
   EXPECT_NEAR(exit.position[2], -5e-4, 1.01e-5);
+  // each puncture keeps the material point it pierced (on the face, under the tip), the
+  // face's outward normal and the direction the tip advanced in
+  EXPECT_NEAR(entry.reference[2], 0.01, 1e-15);
+  EXPECT_NEAR(exit.reference[2], 0, 1e-15);
+  EXPECT_NEAR(entry.reference[0], entry.position[0], 1e-15);
+  EXPECT_NEAR(entry.normal[2], 1, 1e-12);
+  EXPECT_NEAR(exit.normal[2], -1, 1e-12);
+  EXPECT_EQ(entry.direction, -Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(puncture.events()[0].reference, Eigen::Vector3d::Zero()); // a touch has none
   EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
+}
+
+TEST(NeedlePuncture, ATouchTakesTheNeedlesDirectionWhereItsPathCrossedTheSurface)
+{
+  // between two looks the tip goes from 0.1 mm above the top face (z = 0.01) to 0.3 mm
+  // below it, crossing at a quarter of its path, while the needle turns from 10 to 30
+  // degrees off the vertical: the touch's direction is the path's at the crossing,
+  // (3 d0 + d1) / 4 normalised (a needle turning about its centre: exact to second order)
+  const auto       mesh    = suturesim::test_support::box_mesh(0.04, 0.04, 0.01, 8, 8, 2);
+  const auto       surface = suturesim::mesh::extract_boundary(mesh);
+  NeedlePuncture   puncture({0.5, 1000, 1e-3}, surface.triangles, mesh.vertices);
+  const auto       at      = [](const double deg) {
+    const double a = deg * M_PI / 180;
+    return Eigen::Vector3d(std::sin(a), 0, -std::cos(a));
+  };
+  puncture.update(0, {0.0213, 0.0187, 0.0101}, at(10), mesh.vertices);
+  EXPECT_EQ(puncture.phase(), NeedlePuncture::Phase::outside);
+  puncture.update(1, {0.0213, 0.0187, 0.0097}, at(30), mesh.vertices);
+  ASSERT_NE(puncture.touch(), nullptr);
+  const Eigen::Vector3d expected = (0.75 * at(10) + 0.25 * at(30)).normalized();
+  EXPECT_NEAR((puncture.touch()->direction - expected).norm(), 0, 1e-12);
+  EXPECT_NEAR(puncture.touch()->reference[2], 0.01, 1e-15);
 }
 
 TEST(NeedlePuncture, ATipThatJumpsAThinGapInOneStepLeavesTheFirstBodyBeforeEnteringTheNext)
@@ -273,7 +304,7 @@ TEST(NeedlePuncture, ATipThatJumpsAThinGapInOneStepLeavesTheFirstBodyBeforeEnter
   for (int step = 0; step <= 80; ++step)
     {
       const Eigen::Vector3d tip(-0.00055 + 3e-4 * step, 0.0042, 0.0057);
-      puncture.update(step, tip, mesh.vertices);
+      puncture.update(step, tip, Eigen::Vector3d::UnitX(), mesh.vertices);
       double force = 0;
       if (const auto *touch = puncture.touch())
         {
@@ -320,7 +351,7 @@ TEST(NeedlePuncture, ATipThatBacksOffReleasesTheTouch)
       // down 0.4 mm (0.4 N, below the threshold), then back up
       const double          s   = step < 40 ? step : 80 - step;
       const Eigen::Vector3d tip = x0 - Eigen::Vector3d(0, 0, 1.25e-5 * s);
-      puncture.update(step, tip, mesh.vertices);
+      puncture.update(step, tip, -Eigen::Vector3d::UnitZ(), mesh.vertices);
       const double f = puncture.touch() ? puncture.normal_force(tip, puncture.position(puncture.touch()->point, mesh.vertices)) : 0;
       EXPECT_FALSE(puncture.accept(step, f, tip));
     }

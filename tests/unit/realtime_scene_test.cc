@@ -1,6 +1,7 @@
 // The realtime path as a user runs it: `Model = realtime` scenes through the suturesim
 // command (outputs, statistics, the guard's failure path, a mesh it cannot use).
 #include "run_scene.h"
+#include "stitch_checks.h"
 
 #include <suturesim/scene/wound_closure.h>
 
@@ -334,6 +335,10 @@ TEST(RealtimeScene, StitchPassesBothWoundSidesInOrderAcrossTheGap)
   EXPECT_LT(x[1], x[2]);
   EXPECT_GT(x[3], 0.004);                   // top of B
   expect_pierce_order(r, 4);
+
+  // seed 003's evaluation of the stitch against the planned pass: 1 ms looks turn the
+  // needle by 2 mrad; the faces' facets of 1.5 mm sit within 20 um of the edge
+  expect_planned_stitch(r, {1e-4, 1e-4, 2e-5});
 }
 
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)

@@ -77,6 +77,13 @@ namespace suturesim::coupling
     double      time  = 0;
     Vector3d    position = Vector3d::Zero(); ///< of the tip, m
     double      force = 0;                   ///< normal force at the event, N
+    /// A puncture's (zero for the other kinds): the material point pierced (X, m), and,
+    /// when the tip touched the surface there, the surface's outward normal and the
+    /// needle's unit tangent at the tip (its direction of advance); the angle between the
+    /// two is the needle's entry or exit angle (tearing/stitch_evaluation.h).
+    Vector3d reference = Vector3d::Zero();
+    Vector3d normal    = Vector3d::Zero();
+    Vector3d direction = Vector3d::Zero();
   };
 
   /// An event as JSON (a checkpoint's, io/checkpoint.h) and back.
@@ -102,6 +109,7 @@ namespace suturesim::coupling
       SurfacePoint point;
       Vector3d     reference = Vector3d::Zero(); ///< X of the point, m
       Vector3d     normal    = Vector3d::Zero(); ///< outward normal at the touch
+      Vector3d     direction = Vector3d::Zero(); ///< the needle's at the tip, at the touch
       bool         exit      = false;
     };
 
@@ -109,10 +117,12 @@ namespace suturesim::coupling
     NeedlePuncture(const PunctureParameters &parameters, const std::vector<mesh::Triangle> &triangles,
                    const Matrix3Xd &reference);
 
-    /// Starts or ends a touch for the tip at @p tip and the surface at @p current; call
-    /// once per accepted state, before the step's forces.
+    /// Starts or ends a touch for the tip at @p tip, advancing along the unit tangent
+    /// @p direction, and the surface at @p current; call once per accepted state, before
+    /// the step's forces. A touch found where the tip's path crossed the surface takes
+    /// the direction there, interpolated between the last look's and this one's.
     void
-    update(double time, const Vector3d &tip, const Matrix3Xd &current);
+    update(double time, const Vector3d &tip, const Vector3d &direction, const Matrix3Xd &current);
 
     Phase
     phase() const
@@ -195,10 +205,11 @@ namespace suturesim::coupling
     nearest(const Vector3d &tip, const Matrix3Xd &x, SurfacePoint &point, double &signed_distance,
             Vector3d &normal);
     /// The first crossing of the path [@p from, @p to] through the surface at @p x in the
-    /// direction the phase looks for (inwards when outside); false if none.
+    /// direction the phase looks for (inwards when outside), at @p along in [0, 1] of the
+    /// path; false if none.
     bool
     first_crossing(const Vector3d &from, const Vector3d &to, const Matrix3Xd &x, SurfacePoint &point,
-                   Vector3d &normal);
+                   Vector3d &normal, double &along);
 
     PunctureParameters                 prm;
     const std::vector<mesh::Triangle> &triangles;
@@ -210,6 +221,7 @@ namespace suturesim::coupling
     std::vector<PunctureEvent>         log;
     double                             last_force = 0;
     Vector3d                           last_tip   = Vector3d::Zero(); ///< at the last update()
+    Vector3d                           last_direction = Vector3d::Zero(); ///< at the last update()
     bool                               looked     = false;             ///< whether last_tip is set
   };
 } // namespace suturesim::coupling

@@ -49,6 +49,11 @@ namespace suturesim::io
     void
     write_parameters(const dealii::ParameterHandler &prm);
 
+    /// Writes @p text as the folder's file @p name whole (rank 0; checked_output.h), for
+    /// a table made once at the end (stitches.csv).
+    void
+    write_file(const std::string &name, const std::string &text) const;
+
     /// Column names, each with its unit in brackets, e.g. "time [s]".
     void
     set_columns(const std::vector<std::string> &names);

@@ -100,6 +100,7 @@ namespace suturesim::scene
     std::optional<ClosureMonitor>                   closure;
     std::unique_ptr<tissue::TissueModel>            model;
     tissue::BoundarySurface                         surface;
+    tearing::Wound                                  wound; ///< the stitch evaluation's, reference
     tools::CurvedNeedle                             geometry;
     std::unique_ptr<coupling::TissueNeedle>         needle;
     tools::Trajectory                               path;

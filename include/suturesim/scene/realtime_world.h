@@ -69,6 +69,7 @@ namespace suturesim::scene
     SceneParameters                                 &scene;
     mesh::SimplexMesh                                tissue_mesh;
     mesh::BoundarySurface                            surface;
+    tearing::Wound                                   wound; ///< the stitch evaluation's, reference
     std::unique_ptr<realtime::World>                 world;
     std::vector<Boundary>                            boundaries;
     std::optional<RealtimeNeedle>                    needle;

@@ -76,6 +76,13 @@ namespace suturesim::scene
     needle(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events, double peak_pull_force,
            const std::string &pierce_model = "");
 
+    /// Seed 003's evaluation of the needle's stitches through @p wound
+    /// (tearing/stitch_evaluation.h) under "metrics.stitch_evaluation"; returns them for
+    /// the same table as stitches.csv (tearing::stitches_csv()).
+    std::vector<tearing::StitchEvaluation>
+    stitch_evaluation(const NeedleParameters &needle, const std::vector<coupling::PunctureEvent> &events,
+                      const tearing::Wound &wound, const tearing::StitchLimits &limits);
+
     /// A pass that reached @p t without what it is for is incomplete (incomplete()): its
     /// tip turned past the planned exit without a puncture, or, with a @p suture on the
     /// needle, the suture's far end was drawn out of the tissue (too short for the pass;

@@ -15,6 +15,7 @@
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/scene/wound_closure.h>
+#include <suturesim/tearing/stitch_evaluation.h>
 #include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/boundary_conditions.h>
 #include <suturesim/tissue/material.h>
@@ -40,6 +41,7 @@ namespace suturesim::scene
     NeedleParameters                needle;
     ClosureParameters               closure;
     tearing::TearCriteria           tearing; ///< evaluated by the accurate stitch (scene/tear_monitor.h)
+    tearing::StitchLimits           stitch_evaluation; ///< seed 003's, both paths (tearing/stitch_evaluation.h)
     TimeParameters                  time;
 
     bool
@@ -59,6 +61,26 @@ namespace suturesim::scene
     {
       return ParameterScope(*file, path);
     }
+
+    /// The wound for the stitch evaluation: the triangles of a surface over @p vertices
+    /// (reference, m) whose @p tags are among Stitch evaluation/Wound faces, else among
+    /// Closure/Face contact's; none when both are empty. An unknown face in @p mesh is an
+    /// InputError naming the entry.
+    template <typename Tag>
+    tearing::Wound
+    wound(const mesh::MeshInfo &mesh, const Eigen::Matrix3Xd &vertices,
+          const std::vector<std::array<std::uint32_t, 3>> &triangles, const std::vector<Tag> &tags) const
+    {
+      const auto        faces = wound_face_ids(mesh);
+      std::vector<char> on_face(tags.size(), 0);
+      for (std::size_t t = 0; t < tags.size(); ++t)
+        for (const auto id : faces)
+          on_face[t] = on_face[t] || static_cast<long>(tags[t]) == static_cast<long>(id);
+      return tearing::Wound(vertices, triangles, on_face);
+    }
+    /// The ids of wound()'s faces.
+    std::vector<dealii::types::boundary_id>
+    wound_face_ids(const mesh::MeshInfo &mesh) const;
 
     /// Declares the top-level entries and the subsections above (the Time subsection
     /// with @p integrators, name → description, as the choices of Time/Integrator).

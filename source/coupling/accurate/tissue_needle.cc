@@ -209,7 +209,7 @@ namespace suturesim::coupling
     current               = pose;
     const bool   before   = puncture->pressing();
     const double was_at   = before ? puncture->touch()->reference.norm() : -1;
-    puncture->update(t, needle.tip(pose), surface);
+    puncture->update(t, needle.tip(pose), needle.tangent(pose, 0), surface);
     const bool changed = puncture->pressing() != before ||
                          (before && puncture->touch()->reference.norm() != was_at);
     if (changed)

@@ -1,0 +1,56 @@
+#pragma once
+// Seed 003's evaluation of the default stitch (parameters/stitch_interrupted.prm),
+// checked against its planned pass in both paths (tearing/stitch_evaluation.h).
+
+#include "run_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <string>
+
+namespace suturesim::test_support
+{
+  /// How closely a path's stitch meets the planned pass: the exit's point (m), the
+  /// angles (rad) and the edge distances (m, the faces' facets).
+  struct StitchTolerances
+  {
+    double exit, angle, edge;
+  };
+
+  /// The pass: R = 8 mm, E at x = -5 mm, delta = 1.755 mm, so alpha = acos(1 - delta/R)
+  /// = 0.6751 rad and the chord 10 mm; the wound's edge 0.2 mm off the mid-line on top
+  /// (Wg = 0.4 mm). The touches on entry are made on the undeformed skin, so the entry
+  /// is E (within the tip's path crossing, 2 um) and the needle meets it at alpha up to
+  /// the direction's interpolation within one look; the exit is found from inside
+  /// through tissue the pass has pushed. The depth over the chord within 1 %. The default
+  /// limits (the bite depth from the edge) flag nothing: 4.8 mm is clear of 1.76 mm.
+  inline void
+  expect_planned_stitch(const RunResult &r, const StitchTolerances &tolerance)
+  {
+    const auto &e = r.summary["metrics"]["stitch_evaluation"];
+    ASSERT_EQ(e["count"], 1) << e;
+    const auto &s = e["stitches"][0];
+    EXPECT_EQ(s["punctures"], 4);
+    EXPECT_TRUE(s["crosses_wound"].get<bool>());
+    EXPECT_NEAR(s["entry"][0].get<double>(), -0.005, 2e-6);
+    EXPECT_NEAR(s["exit"][0].get<double>(), 0.005, tolerance.exit);
+    EXPECT_NEAR(s["bite_depth"].get<double>(), 0.001755, 0.01 * 0.001755);
+    EXPECT_NEAR(s["entry_edge_distance"].get<double>(), 0.0048, tolerance.edge);
+    EXPECT_NEAR(s["exit_edge_distance"].get<double>(), 0.0048, tolerance.edge + tolerance.exit);
+    const double alpha = std::acos(1 - 0.001755 / 0.008);
+    EXPECT_NEAR(s["entry_angle"].get<double>(), alpha, tolerance.angle);
+    EXPECT_NEAR(s["exit_angle"].get<double>(), alpha, tolerance.angle);
+    EXPECT_TRUE(s["spacing"].is_null()); // one stitch
+    EXPECT_EQ(s["edge_limit"], s["bite_depth"]);
+    EXPECT_FALSE(s["too_close_to_edge"].get<bool>());
+    EXPECT_EQ(e["too_close_to_edge"], 0);
+    std::ifstream csv(r.directory + "/stitches.csv");
+    std::string   header, row, more;
+    ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row));
+    EXPECT_FALSE(std::getline(csv, more)) << "one stitch, one row";
+    EXPECT_EQ(row.rfind("1,", 0), 0u) << row;
+    EXPECT_NE(header.find("entry_edge_distance [m]"), std::string::npos) << header;
+  }
+} // namespace suturesim::test_support
