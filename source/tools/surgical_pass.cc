@@ -1,5 +1,8 @@
 #include <suturesim/tools/surgical_pass.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -80,5 +83,58 @@ namespace suturesim::tools
         pass.trajectory.add(pass.t_tightened, {last.position + p.pull + p.tighten, last.orientation});
       }
     return pass;
+  }
+
+  SurgicalSeries
+  plan_series(const CurvedNeedle &needle, const PassParameters &first, const SeriesParameters &series)
+  {
+    if (series.stitches == 0)
+      throw std::invalid_argument("surgical series: at least one stitch");
+    const Vector3d n = first.normal.normalized();
+    if (series.stitches > 1)
+      {
+        if (!(series.spacing.norm() > 0) || std::abs(series.spacing.normalized().dot(n)) > 1e-9)
+          throw std::invalid_argument("surgical series: the spacing must be > 0 and lie in the surface");
+        if (!(series.transfer_duration > 0))
+          throw std::invalid_argument("surgical series: the transfer duration must be > 0");
+        if (first.pull.dot(n) < 0)
+          throw std::invalid_argument("surgical series: the pull must not lower the needle towards the skin");
+      }
+    SurgicalSeries result;
+    PassParameters p = first;
+    for (unsigned k = 0; k < series.stitches; ++k)
+      {
+        const bool last = k + 1 == series.stitches;
+        p.entry         = first.entry + k * series.spacing;
+        p.tighten       = last ? first.tighten : Vector3d::Zero();
+        const auto pass = plan_pass(needle, p);
+        for (const auto &[t, pose] : pass.trajectory.keyframes())
+          result.trajectory.add(t, pose);
+        result.passes.push_back(pass);
+        result.t_end       = pass.t_end;
+        result.t_tightened = pass.t_tightened;
+        if (last)
+          break;
+        // on to the next pass's start, turning on about the pass's axis by the angle
+        // that completes the turn (2π less the short way back, when that is backwards)
+        PassParameters next           = p;
+        next.entry                    = p.entry + series.spacing;
+        next.start_time               = pass.t_end + series.transfer_duration;
+        const Pose              start = plan_pass(needle, next).trajectory.pose(next.start_time);
+        const Pose              from  = pass.trajectory.pose(pass.t_end);
+        const Vector3d          axis  = pass.trajectory.velocity(pass.t_tip_entry).second.normalized();
+        const Eigen::AngleAxisd rest(start.orientation * from.orientation.inverse());
+        const double            turn     = rest.axis().dot(axis) >= 0 ? rest.angle() : 2 * M_PI - rest.angle();
+        const unsigned          segments = std::max(1u, static_cast<unsigned>(std::ceil(turn / (M_PI / 12))));
+        for (unsigned j = 1; j < segments; ++j)
+          {
+            const double f = double(j) / segments;
+            result.trajectory.add(pass.t_end + f * series.transfer_duration,
+                                  {from.position + f * (start.position - from.position),
+                                   Quaterniond(Eigen::AngleAxisd(f * turn, axis)) * from.orientation});
+          }
+        p.start_time = next.start_time;
+      }
+    return result;
   }
 } // namespace suturesim::tools

@@ -139,3 +139,94 @@ TEST(SurgicalPass, RefusesImpossibleBites)
   p.bite_depth     = 0.008;
   EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
 }
+
+TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenThem)
+{
+  // the default stitch's pass (R = 8 mm, 3/8, delta = 1.755 mm, pulled 20 mm up) three
+  // times, 5 mm apart along the wound (+y): pass k is plan_pass() at E_k and its own
+  // start, and outside the passes' cutting (tip entry to swage exit) no point of the
+  // needle is below the skin, here the plane z = 6 mm, also while it is carried over
+  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  PassParameters     p;
+  p.entry          = Vector3d(-0.005, 0, 0.006);
+  p.bite_depth     = 0.001755;
+  p.angular_speed  = 2;
+  p.pull           = Vector3d(0, 0.01, 0.02);
+  p.tighten        = Vector3d(-0.03, -0.015, -0.03);
+  SeriesParameters s;
+  s.stitches          = 3;
+  s.spacing           = Vector3d(0, 0.005, 0);
+  s.transfer_duration = 1.5;
+  const auto series   = plan_series(needle, p, s);
+  ASSERT_EQ(series.passes.size(), 3u);
+  for (unsigned k = 0; k < 3; ++k)
+    {
+      const auto &pass = series.passes[k];
+      EXPECT_LT((pass.entry - p.entry - k * s.spacing).norm(), 1e-15);
+      PassParameters alone = p;
+      alone.entry          = pass.entry;
+      alone.start_time     = k == 0 ? 0 : series.passes[k - 1].t_end + s.transfer_duration;
+      alone.tighten        = k == 2 ? p.tighten : Vector3d::Zero();
+      const auto single    = plan_pass(needle, alone);
+      EXPECT_DOUBLE_EQ(pass.t_tip_entry, single.t_tip_entry);
+      for (double t = alone.start_time; t <= single.t_tightened; t += 0.01)
+        {
+          const Pose a = series.trajectory.pose(t), b = single.trajectory.pose(t);
+          EXPECT_LT((a.position - b.position).norm(), 1e-15) << k << " " << t;
+          EXPECT_LT(a.orientation.angularDistance(b.orientation), 1e-12) << k << " " << t;
+        }
+    }
+  EXPECT_DOUBLE_EQ(series.t_tightened, series.passes[2].t_tightened);
+  // (up to the last pull: the tightening draws the needle down beside the tissue)
+  double lowest_outside = 1;
+  for (double t = 0; t <= series.t_end; t += 0.002)
+    {
+      bool cutting = false;
+      for (const auto &pass : series.passes)
+        cutting = cutting || (t > pass.t_tip_entry && t < pass.t_swage_exit);
+      if (cutting)
+        continue;
+      const Pose pose = series.trajectory.pose(t);
+      for (int i = 0; i <= 40; ++i)
+        lowest_outside = std::min(lowest_outside, needle.point(pose, needle.length() * i / 40)[2] - 0.006);
+    }
+  // the tip touches the skin at each entry's instant, nowhere lower
+  EXPECT_GT(lowest_outside, -1e-9);
+  // a shallow bite, 0.2 mm with no approach and a pull 1 mm up: the short way from one
+  // pass's end to the next one's start is back through the tissue (Phi + 2 alpha < pi);
+  // the series turns on instead, through the arc's part above the skin
+  p.bite_depth         = 0.0002;
+  p.approach           = 0;
+  p.pull               = Vector3d(0, 0, 0.001);
+  p.tighten            = Vector3d::Zero();
+  const auto shallow   = plan_series(needle, p, s);
+  double     lowest    = 1;
+  for (double t = shallow.passes[0].t_swage_exit; t <= shallow.passes[1].t_tip_entry; t += 0.002)
+    for (int i = 0; i <= 40; ++i)
+      lowest = std::min(lowest, needle.point(shallow.trajectory.pose(t), needle.length() * i / 40)[2] - 0.006);
+  EXPECT_GT(lowest, -1e-9);
+  // one stitch is the single pass
+  s.stitches = 1;
+  EXPECT_EQ(plan_series(needle, p, s).trajectory.keyframes().size(), plan_pass(needle, p).trajectory.keyframes().size());
+}
+
+TEST(SurgicalSeries, RefusesASeriesItCannotPlan)
+{
+  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  PassParameters     p;
+  p.bite_depth = 0.002;
+  p.pull       = Vector3d(0, 0, 0.02);
+  SeriesParameters s;
+  s.stitches = 2;
+  s.spacing  = Vector3d(0, 0.005, 0);
+  EXPECT_NO_THROW(plan_series(needle, p, s));
+  p.pull = Vector3d(0, 0.03, -0.001); // lowers the needle
+  EXPECT_THROW(plan_series(needle, p, s), std::invalid_argument);
+  p.pull    = Vector3d(0, 0, 0.02);
+  s.spacing = Vector3d(0, 0, 0.005); // out of the surface
+  EXPECT_THROW(plan_series(needle, p, s), std::invalid_argument);
+  s.spacing = Vector3d::Zero();
+  EXPECT_THROW(plan_series(needle, p, s), std::invalid_argument);
+  s.stitches = 0;
+  EXPECT_THROW(plan_series(needle, p, s), std::invalid_argument);
+}

@@ -23,6 +23,8 @@
 
 #include <suturesim/tools/curved_needle.h>
 
+#include <vector>
+
 namespace suturesim::tools
 {
   struct PassParameters
@@ -57,4 +59,35 @@ namespace suturesim::tools
   /// tissue, ...).
   SurgicalPass
   plan_pass(const CurvedNeedle &needle, const PassParameters &parameters);
+
+  /// A running (continuous) suture: one needle makes @p stitches passes along a wound,
+  /// pass k entering at E_k = E_0 + k s (s, the spacing, in the surface).
+  struct SeriesParameters
+  {
+    unsigned stitches          = 1;
+    Vector3d spacing           = Vector3d::Zero(); ///< s, m
+    double   transfer_duration = 1;                ///< s, from one pass's pull to the next's start
+  };
+
+  struct SurgicalSeries
+  {
+    Trajectory                trajectory; ///< pose of the needle's body frame (origin at C)
+    std::vector<SurgicalPass> passes;     ///< each as plan_pass() plans it alone, at its own times
+    double                    t_end = 0, t_tightened = 0; ///< the last pull's end; the tightening's (s)
+  };
+
+  /// Plans the series: each pass as plan_pass() with its entry and start time; after
+  /// each but the last, its pull draws the suture through, then the needle is carried to
+  /// the next pass's start over the transfer time, its centre in a straight line and the
+  /// needle turning on the way it turned in the pass (keyframes every π/12), never back:
+  /// turned on, the arc runs round the circle's part above the skin (the exit side, the
+  /// top, the entry side), and with the centre no lower than the pass's that part stays
+  /// out of the tissue. Slerp between the two poses alone would turn the short way, which
+  /// for a shallow bite (Φ + 2α + 2 approach/R < π) is back through the tissue. The last
+  /// pass pulls and tightens as a single one. Throws std::invalid_argument as plan_pass()
+  /// does, and when the spacing is zero or out of the surface, the pull lowers the
+  /// needle (a series needs it at or above the pass's height), or the transfer time is
+  /// not positive.
+  SurgicalSeries
+  plan_series(const CurvedNeedle &needle, const PassParameters &first, const SeriesParameters &series);
 } // namespace suturesim::tools
