@@ -103,7 +103,7 @@ namespace suturesim::scene
     std::vector<Point<3>> arc;
     if (np.motion != "pass")
       return arc;
-    const auto     pass = np.planned_pass();
+    const auto     pass = np.planned_pass(); // one pass: SceneParameters refuses a series with it
     constexpr unsigned samples = 64;
     for (unsigned k = 0; k <= samples; ++k)
       {

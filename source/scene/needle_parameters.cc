@@ -99,6 +99,15 @@ namespace suturesim::scene
                       "A second translation after the pull, drawing the suture tight (0: none). Unit: m.");
     prm.declare_entry("Tighten duration", default_text(p.tighten_duration), Patterns::Double(0),
                       "Unit: s. Range: > 0.");
+    const tools::SeriesParameters &s = d.series;
+    prm.declare_entry("Stitches", default_text(s.stitches), Patterns::Integer(1, 100),
+                      "Passes of a running suture: the needle makes this many, each entering Spacing beyond the "
+                      "last; the pull follows each, the tightening the last. Unit: 1. Range: 1-100.");
+    prm.declare_entry("Spacing", to_text(s.spacing), vector_pattern(),
+                      "From one pass's entry point to the next's, in the surface (used with Stitches > 1). Unit: m.");
+    prm.declare_entry("Transfer duration", default_text(s.transfer_duration), Patterns::Double(0),
+                      "Time from one pass's pull to the next pass's start, the needle turning on about its "
+                      "centre (used with Stitches > 1). Unit: s. Range: > 0.");
     prm.leave_subsection();
     prm.leave_subsection();
   }
@@ -196,6 +205,9 @@ namespace suturesim::scene
     pass.pull_duration     = prm.get_double("Pull duration");
     pass.tighten           = get_vector(prm, "Tighten");
     pass.tighten_duration  = prm.get_double("Tighten duration");
+    series.stitches          = prm.get_integer("Stitches");
+    series.spacing           = get_vector(prm, "Spacing");
+    series.transfer_duration = prm.get_double("Transfer duration");
     prm.leave_subsection();
     prm.leave_subsection();
     if (!present() || motion != "pass")
@@ -207,7 +219,7 @@ namespace suturesim::scene
               "must not exceed the needle's Arc radius (" + std::to_string(radius) + " m)");
     try
       {
-        planned_pass();
+        planned_series();
       }
     catch (const std::invalid_argument &e)
       {
@@ -215,6 +227,9 @@ namespace suturesim::scene
         const std::string what = e.what();
         p.fail(what.find("surface normal") != std::string::npos ? "Surface normal"
                : what.find("entry angle") != std::string::npos  ? "Entry angle"
+               : what.find("spacing") != std::string::npos      ? "Spacing"
+               : what.find("pull") != std::string::npos         ? "Pull"
+               : what.find("transfer") != std::string::npos     ? "Transfer duration"
                                                                 : "Bite direction",
                what);
       }
@@ -263,37 +278,50 @@ namespace suturesim::scene
     return tools::plan_pass(needle(), pass);
   }
 
+  tools::SurgicalSeries
+  NeedleParameters::planned_series() const
+  {
+    return tools::plan_series(needle(), pass, series);
+  }
+
   void
   NeedleParameters::check_entry_on_surface(const std::vector<std::array<std::uint32_t, 3>> &triangles,
                                            const Eigen::Matrix3Xd &vertices, const ParameterScope &scope) const
   {
     if (motion != "pass" || triangles.empty())
       return;
-    const auto      planned = planned_pass();
-    double          nearest = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d at      = pass.entry, bary;
-    for (const auto &t : triangles)
+    const auto planned = planned_series();
+    for (std::size_t k = 0; k < planned.passes.size(); ++k)
       {
-        const Eigen::Vector3d q = collision::closest_point_on_triangle(pass.entry, vertices.col(t[0]),
-                                                                       vertices.col(t[1]), vertices.col(t[2]), bary);
-        if ((q - pass.entry).norm() < nearest)
+        const Eigen::Vector3d &entry   = planned.passes[k].entry;
+        double                 nearest = std::numeric_limits<double>::infinity();
+        Eigen::Vector3d        at      = entry, bary;
+        for (const auto &t : triangles)
           {
-            nearest = (q - pass.entry).norm();
-            at      = q;
+            const Eigen::Vector3d q = collision::closest_point_on_triangle(entry, vertices.col(t[0]),
+                                                                           vertices.col(t[1]), vertices.col(t[2]), bary);
+            if ((q - entry).norm() < nearest)
+              {
+                nearest = (q - entry).norm();
+                at      = q;
+              }
           }
+        if (nearest <= 0.5 * planned.passes[k].bite_depth)
+          continue;
+        std::ostringstream why;
+        if (k > 0)
+          why << "with Spacing, pass " << k + 1 << "'s entry (" << entry[0] << ", " << entry[1] << ", " << entry[2]
+              << " m) ";
+        why << "lies " << nearest << " m from the tissue's surface (nearest point " << at[0] << ", " << at[1] << ", "
+            << at[2] << " m), more than half the bite depth (" << planned.passes[k].bite_depth
+            << " m): the pass would miss the tissue or graze it; put the entry point on the surface";
+        scope.fail(k > 0 ? "Spacing" : "Entry point", why.str());
       }
-    if (nearest <= 0.5 * planned.bite_depth)
-      return;
-    std::ostringstream why;
-    why << "lies " << nearest << " m from the tissue's surface (nearest point " << at[0] << ", " << at[1] << ", "
-        << at[2] << " m), more than half the bite depth (" << planned.bite_depth
-        << " m): the pass would miss the tissue or graze it; put the entry point on the surface";
-    scope.fail("Entry point", why.str());
   }
 
   tools::Trajectory
   NeedleParameters::trajectory() const
   {
-    return motion == "pass" ? planned_pass().trajectory : keyframes;
+    return motion == "pass" ? planned_series().trajectory : keyframes;
   }
 } // namespace suturesim::scene

@@ -116,8 +116,13 @@ namespace suturesim::scene
                                   {"puncture_threshold", np.puncture.threshold}};
     if (np.motion == "pass")
       {
-        const auto pass        = np.planned_pass();
-        json["needle"]["pass"] = {{"entry_angle_rad", pass.entry_angle},
+        const auto     pass    = np.planned_pass();
+        nlohmann::json entries = nlohmann::json::array();
+        for (const auto &p : np.planned_series().passes)
+          entries.push_back({p.entry[0], p.entry[1], p.entry[2]});
+        json["needle"]["pass"] = {{"stitches", entries.size()},
+                                  {"entries", entries},
+                                  {"entry_angle_rad", pass.entry_angle},
                                   {"bite_depth", pass.bite_depth},
                                   {"bite_width", pass.bite_width},
                                   {"exit", {pass.exit[0], pass.exit[1], pass.exit[2]}},

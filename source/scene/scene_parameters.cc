@@ -96,6 +96,11 @@ namespace suturesim::scene
     prm.enter_subsection("Mesh");
     mesh.parse(prm, scope("Mesh"));
     prm.leave_subsection();
+    // the path is one polyline: a series' passes would be joined by a chord across the skin
+    if (mesh.local.near_path && needle.present() && needle.motion == "pass" && needle.series.stitches > 1)
+      scope("Mesh/Local refinement")
+        .fail("Near needle path", "refines along a single pass; not with Needle/Pass/Stitches > 1 (refine near the "
+                                  "wound's faces instead)");
     prm.enter_subsection("Tissue");
     const ParameterScope t = scope("Tissue");
     tissue.parse(prm, t);

@@ -448,6 +448,41 @@ TEST(AccurateNeedle, LagrangeTieHoldsTheTissueOnTheNeedleWhateverItsStiffness)
   EXPECT_LT(penalty, 0.9 * lagrange);
 }
 
+TEST(AccurateNeedle, ARunningSeriesStitchesOnAlongTheWound)
+{
+  // The coarse stitch's pass twice, 4 mm apart along the wound (Needle/Pass/Stitches),
+  // to the second pass's end (the tail's grasp after it, no tie-off; about 1.5 minutes):
+  // the accurate needle comes out of its first stitch, is carried on turning about its
+  // centre and pierces four times again, and the evaluation finds the two stitches 4 mm
+  // apart (measured 3.99997 mm), the second entering where it was planned (2.4 um off),
+  // as the realtime path does (RealtimeScene.ARunningSeries...).
+  const auto r = run_suturesim(
+    "stitch_accurate_running",
+    {source_path("parameters/stitch_interrupted.prm"), "--set", "Model=accurate", "--set", "Needle/Pass/Stitches=2",
+     "--set", "Needle/Pass/Spacing=0, 0.004, 0", "--set", "Closure/Tie off=false", "--set",
+     "Suture/Last end/Grasp time=7", "--set", "Suture/Last end/Keyframes=7.1: 0.0129, 0, 0.008; 8: 0.0309, 0, 0.008",
+     "--set", "Time/End time=6.5"},
+    {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "900"});
+  ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
+  unsigned punctures = 0;
+  for (const auto &e : r.summary["events"])
+    punctures += e["kind"].get<std::string>().rfind("puncture", 0) == 0;
+  EXPECT_EQ(punctures, 8u);
+  const auto &e = r.summary["metrics"]["stitch_evaluation"];
+  ASSERT_EQ(e["count"], 2) << e;
+  for (int k = 0; k < 2; ++k)
+    {
+      const auto &s = e["stitches"][k];
+      EXPECT_EQ(s["punctures"], 4) << k;
+      EXPECT_TRUE(s["crosses_wound"].get<bool>()) << k;
+      EXPECT_NEAR(s["entry"][0].get<double>(), -0.005, 5e-6) << k;
+      EXPECT_NEAR(s["entry"][1].get<double>(), 0.004 * k, 5e-6) << k;
+      EXPECT_NEAR(s["spacing"].get<double>(), 0.004, 5e-5) << k;
+      EXPECT_NEAR(s["bite_depth"].get<double>(), 0.001755, 0.01 * 0.001755) << k;
+    }
+  EXPECT_EQ(e["too_close_to_neighbour"], 0);
+}
+
 TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
 {
   // The default scene, accurate, at the resolution of its "subsection Model accurate"

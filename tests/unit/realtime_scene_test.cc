@@ -341,6 +341,57 @@ TEST(RealtimeScene, StitchPassesBothWoundSidesInOrderAcrossTheGap)
   expect_planned_stitch(r, {1e-4, 1e-4, 2e-5});
 }
 
+TEST(RealtimeScene, ARunningSeriesStitchesOnAlongTheWoundAndTheEvaluationSpacesItsStitches)
+{
+  // The stitch's pass twice (Needle/Pass/Stitches = 2), the second 4 mm along the wound
+  // (+y), to the second pass's end (6.5 s; the tail's grasp moved after it, no tie-off):
+  // eight punctures, four a pass, each pass the planned one at its own entry, and seed
+  // 003's evaluation finds two stitches crossing the wound their spacing apart (the
+  // chords' midpoints: 4 mm less what the first pass moved the skin, measured 2.4 um).
+  // The default spacing limit is twice the bite depth, 3.51 mm: 4 mm apart the stitches
+  // are clear of it, 3 mm apart both are too close to each other (seed 003's tear-into
+  // case 1, two insertions too close).
+  const std::string stitch = source_path("parameters/stitch_interrupted.prm");
+  const auto series = [&](const std::string &name, const std::string &spacing) {
+    return run_suturesim(name, {stitch, "--set", "Needle/Pass/Stitches=2", "--set", "Needle/Pass/Spacing=" + spacing,
+                                "--set", "Closure/Tie off=false", "--set", "Suture/Last end/Grasp time=7", "--set",
+                                "Suture/Last end/Keyframes=7.1: 0.0129, 0, 0.008; 8: 0.0309, 0, 0.008", "--set",
+                                "Time/End time=6.5"});
+  };
+  const auto r4 = series("running_4mm", "0, 0.004, 0");
+  ASSERT_EQ(r4.exit_code, 0) << r4.output;
+  std::vector<std::string> kinds;
+  for (const auto &e : r4.summary["events"])
+    if (e["kind"] == "puncture_entry" || e["kind"] == "puncture_exit")
+      kinds.push_back(e["kind"]);
+  ASSERT_EQ(kinds.size(), 8u);
+  for (std::size_t k = 0; k < 8; ++k)
+    EXPECT_EQ(kinds[k], k % 2 ? "puncture_exit" : "puncture_entry") << k;
+  EXPECT_EQ(r4.summary["needle"]["pass"]["stitches"], 2);
+  const auto &e4 = r4.summary["metrics"]["stitch_evaluation"];
+  ASSERT_EQ(e4["count"], 2) << e4;
+  for (int k = 0; k < 2; ++k)
+    {
+      const auto &s = e4["stitches"][k];
+      EXPECT_EQ(s["punctures"], 4) << k;
+      EXPECT_TRUE(s["crosses_wound"].get<bool>()) << k;
+      EXPECT_NEAR(s["entry"][0].get<double>(), -0.005, 5e-6) << k;
+      EXPECT_NEAR(s["entry"][1].get<double>(), 0.004 * k, 5e-6) << k;
+      EXPECT_NEAR(s["spacing"].get<double>(), 0.004, 5e-5) << k;
+      EXPECT_FALSE(s["too_close_to_neighbour"].get<bool>()) << k;
+    }
+  EXPECT_GT(e4["stitches"][1]["entry_time"].get<double>(), e4["stitches"][0]["exit_time"].get<double>());
+  EXPECT_EQ(e4["too_close_to_neighbour"], 0);
+
+  const auto r3 = series("running_3mm", "0, 0.003, 0");
+  ASSERT_EQ(r3.exit_code, 0) << r3.output;
+  const auto &e3 = r3.summary["metrics"]["stitch_evaluation"];
+  ASSERT_EQ(e3["count"], 2) << e3;
+  EXPECT_NEAR(e3["stitches"][0]["spacing"].get<double>(), 0.003, 5e-5);
+  EXPECT_EQ(e3["too_close_to_neighbour"], 2);
+  EXPECT_EQ(e3["too_close_to_edge"], 0);
+}
+
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
 {
   // The whole stitch scene (7.5 s): drawn tight, the wound's top edges meet (final gap

@@ -34,6 +34,7 @@ namespace suturesim::scene
     bool                  attach_suture = true;
     std::string           motion        = "pass"; ///< pass | keyframes
     tools::PassParameters pass          = default_pass();
+    tools::SeriesParameters series;    ///< a running suture's passes (one by default)
     /// "t: cx, cy, cz, rx, ry, rz; ...": the arc centre (m) and rotation vector (rad)
     std::string       keyframe_text = "0: 0, 0, 0.02, 0, 0, 0";
     tools::Trajectory keyframes; ///< pose of the arc centre (body frame of the needle)
@@ -66,11 +67,14 @@ namespace suturesim::scene
     tools::Trajectory
     trajectory() const;
 
-    /// The planned pass (motion = pass), for its times and points.
+    /// The planned pass (motion = pass), for its times and points; the first of a series.
     tools::SurgicalPass
     planned_pass() const;
+    /// Every pass of the series (Needle/Pass/Stitches), with the whole motion.
+    tools::SurgicalSeries
+    planned_series() const;
 
-    /// Refuses, through @p pass (the scope of Needle/Pass), a planned pass whose entry
+    /// Refuses, through @p pass (the scope of Needle/Pass), a planned pass (any of a series) whose entry
     /// point lies farther from the tissue's surface than half the bite depth δ: a pass
     /// planned for a flat surface through E reaches δ below E, so an entry point δ above
     /// the tissue misses it and one δ/2 away only grazes it (or starts deep inside).
