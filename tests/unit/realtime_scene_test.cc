@@ -360,27 +360,15 @@ TEST(RealtimeScene, ARunningSeriesStitchesOnAlongTheWoundAndTheEvaluationSpacesI
   };
   const auto r4 = series("running_4mm", "0, 0.004, 0");
   ASSERT_EQ(r4.exit_code, 0) << r4.output;
+  expect_series_of_two(r4, 0.004);
+  // puncture by puncture: in and out in turn
   std::vector<std::string> kinds;
   for (const auto &e : r4.summary["events"])
     if (e["kind"] == "puncture_entry" || e["kind"] == "puncture_exit")
       kinds.push_back(e["kind"]);
-  ASSERT_EQ(kinds.size(), 8u);
-  for (std::size_t k = 0; k < 8; ++k)
+  for (std::size_t k = 0; k < kinds.size(); ++k)
     EXPECT_EQ(kinds[k], k % 2 ? "puncture_exit" : "puncture_entry") << k;
-  EXPECT_EQ(r4.summary["needle"]["pass"]["stitches"], 2);
   const auto &e4 = r4.summary["metrics"]["stitch_evaluation"];
-  ASSERT_EQ(e4["count"], 2) << e4;
-  for (int k = 0; k < 2; ++k)
-    {
-      const auto &s = e4["stitches"][k];
-      EXPECT_EQ(s["punctures"], 4) << k;
-      EXPECT_TRUE(s["crosses_wound"].get<bool>()) << k;
-      EXPECT_NEAR(s["entry"][0].get<double>(), -0.005, 5e-6) << k;
-      EXPECT_NEAR(s["entry"][1].get<double>(), 0.004 * k, 5e-6) << k;
-      EXPECT_NEAR(s["spacing"].get<double>(), 0.004, 5e-5) << k;
-      EXPECT_FALSE(s["too_close_to_neighbour"].get<bool>()) << k;
-    }
-  EXPECT_GT(e4["stitches"][1]["entry_time"].get<double>(), e4["stitches"][0]["exit_time"].get<double>());
   EXPECT_EQ(e4["too_close_to_neighbour"], 0);
 
   const auto r3 = series("running_3mm", "0, 0.003, 0");

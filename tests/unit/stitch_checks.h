@@ -53,4 +53,31 @@ namespace suturesim::test_support
     EXPECT_EQ(row.rfind("1,", 0), 0u) << row;
     EXPECT_NE(header.find("entry_edge_distance [m]"), std::string::npos) << header;
   }
+
+  /// The default stitch's pass run as a series of two, @p spacing (m) apart along the
+  /// wound (+y): eight punctures, two stitches across the wound of four each, each
+  /// entering where it was planned (5 um: the first pass moves the skin), their chords'
+  /// midpoints the spacing apart (50 um) and as deep as the single pass (1 %).
+  inline void
+  expect_series_of_two(const RunResult &r, const double spacing)
+  {
+    unsigned punctures = 0;
+    for (const auto &e : r.summary["events"])
+      punctures += e["kind"].get<std::string>().rfind("puncture", 0) == 0;
+    EXPECT_EQ(punctures, 8u);
+    EXPECT_EQ(r.summary["needle"]["pass"]["stitches"], 2);
+    const auto &e = r.summary["metrics"]["stitch_evaluation"];
+    ASSERT_EQ(e["count"], 2) << e;
+    for (int k = 0; k < 2; ++k)
+      {
+        const auto &s = e["stitches"][k];
+        EXPECT_EQ(s["punctures"], 4) << k;
+        EXPECT_TRUE(s["crosses_wound"].get<bool>()) << k;
+        EXPECT_NEAR(s["entry"][0].get<double>(), -0.005, 5e-6) << k;
+        EXPECT_NEAR(s["entry"][1].get<double>(), spacing * k, 5e-6) << k;
+        EXPECT_NEAR(s["spacing"].get<double>(), spacing, 5e-5) << k;
+        EXPECT_NEAR(s["bite_depth"].get<double>(), 0.001755, 0.01 * 0.001755) << k;
+      }
+    EXPECT_GT(e["stitches"][1]["entry_time"].get<double>(), e["stitches"][0]["exit_time"].get<double>());
+  }
 } // namespace suturesim::test_support
