@@ -108,8 +108,11 @@ namespace suturesim::tools
         p.entry         = first.entry + k * series.spacing;
         p.tighten       = last ? first.tighten : Vector3d::Zero();
         const auto pass = plan_pass(needle, p);
-        for (const auto &[t, pose] : pass.trajectory.keyframes())
-          result.trajectory.add(t, pose);
+        if (k == 0) // as planned, bit for bit (add() normalises the orientation again)
+          result.trajectory = pass.trajectory;
+        else
+          for (const auto &[t, pose] : pass.trajectory.keyframes())
+            result.trajectory.add(t, pose);
         result.passes.push_back(pass);
         result.t_end       = pass.t_end;
         result.t_tightened = pass.t_tightened;

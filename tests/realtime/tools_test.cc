@@ -153,7 +153,8 @@ TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenT
   p.angular_speed  = 2;
   p.pull           = Vector3d(0, 0.01, 0.02);
   p.tighten        = Vector3d(-0.03, -0.015, -0.03);
-  SeriesParameters s;
+  const PassParameters stitch_pass = p; // the default stitch's, as the scene gives it
+  SeriesParameters     s;
   s.stitches          = 3;
   s.spacing           = Vector3d(0, 0.005, 0);
   s.transfer_duration = 1.5;
@@ -205,9 +206,17 @@ TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenT
     for (int i = 0; i <= 40; ++i)
       lowest = std::min(lowest, needle.point(shallow.trajectory.pose(t), needle.length() * i / 40)[2] - 0.006);
   EXPECT_GT(lowest, -1e-9);
-  // one stitch is the single pass
-  s.stitches = 1;
-  EXPECT_EQ(plan_series(needle, p, s).trajectory.keyframes().size(), plan_pass(needle, p).trajectory.keyframes().size());
+  // one stitch is the single pass, bit for bit (a scene's one pass runs as it did)
+  s.stitches       = 1;
+  const auto one   = plan_series(needle, stitch_pass, s).trajectory.keyframes();
+  const auto alone = plan_pass(needle, stitch_pass).trajectory.keyframes();
+  ASSERT_EQ(one.size(), alone.size());
+  for (auto a = one.begin(), b = alone.begin(); a != one.end(); ++a, ++b)
+    {
+      EXPECT_EQ(a->first, b->first);
+      EXPECT_EQ(a->second.position, b->second.position);
+      EXPECT_EQ(a->second.orientation.coeffs(), b->second.orientation.coeffs());
+    }
 }
 
 TEST(SurgicalSeries, RefusesASeriesItCannotPlan)
