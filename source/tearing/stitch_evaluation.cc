@@ -163,6 +163,13 @@ namespace suturesim::tearing
 
   namespace
   {
+    /// Entry, the punctures through the wound's faces, and the exit if there is one.
+    std::size_t
+    punctures(const StitchEvaluation &s)
+    {
+      return 1 + s.between.size() + (s.exit ? 1 : 0);
+    }
+
     nlohmann::json
     number(const double v)
     {
@@ -189,7 +196,7 @@ namespace suturesim::tearing
                         {"exit", s.exit ? point(s.exit->reference) : nlohmann::json(nullptr)},
                         {"entry_time", s.entry.time},
                         {"exit_time", s.exit ? nlohmann::json(s.exit->time) : nlohmann::json(nullptr)},
-                        {"punctures", 1 + s.between.size() + (s.exit ? 1 : 0)},
+                        {"punctures", punctures(s)},
                         {"crosses_wound", s.crosses_wound()},
                         {"bite_width", number(s.bite_width)},
                         {"bite_depth", number(s.bite_depth)},
@@ -235,7 +242,7 @@ namespace suturesim::tearing
           cell(s.entry.reference[d]);
         for (int d = 0; d < 3; ++d)
           cell(X[d]);
-        out << ',' << 1 + s.between.size() + (s.exit ? 1 : 0) << ',' << int(s.crosses_wound());
+        out << ',' << punctures(s) << ',' << int(s.crosses_wound());
         for (const double v : {s.bite_width, s.bite_depth, s.entry_edge_distance, s.exit_edge_distance, s.spacing,
                                s.entry_angle, s.exit_angle, s.edge_limit, s.spacing_limit})
           cell(v);
