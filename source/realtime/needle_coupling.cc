@@ -442,6 +442,7 @@ namespace suturesim::realtime
         p.anchor = model->first_anchor(needle.closest(current_pose, tissue_point(p, x)), thread_nodes);
         p.at     = thread_at(p.anchor, x);
         p.exit   = touch.exit;
+        p.surface_normal = touch.normal;
         // the newest point is nearest the tip: first in thread order
         points.insert(points.begin(), p);
       }
@@ -541,6 +542,17 @@ namespace suturesim::realtime
         s.on_suture      = points[k].at.on_suture;
         s.exit           = points[k].exit;
         s.position       = tissue_point(points[k], x);
+        s.reference      = tissue_point(points[k], sys.nodes.reference);
+        s.surface_normal = points[k].surface_normal;
+        if (taken_index[k] >= 0)
+          s.force = taken_force.size() > std::size_t(taken_index[k]) ? taken_force[taken_index[k]] : Vector3d::Zero();
+        else if (prm.project)
+          s.force = last_dt > 0 ? Vector3d((points[k].lambda_n * points[k].normal_direction -
+                                            points[k].lambda_t * points[k].at.t) /
+                                           (last_dt * last_dt))
+                                : Vector3d::Zero();
+        else
+          s.force = pierce_force(points[k], x, nullptr, nullptr);
         // thread between an exit point and the next entry point further along it lies
         // inside the tissue
         if (points[k].exit && k + 1 < points.size() && !points[k + 1].exit)
@@ -550,5 +562,27 @@ namespace suturesim::realtime
               inside[i] = inside[i] || (zeta > points[k].anchor - link && zeta < points[k + 1].anchor + link);
             }
       }
+  }
+
+  void
+  NeedleCoupling::tear_free(const std::size_t k)
+  {
+    events_on_thread.push_back({"torn_free", time, states[k].position, std::sqrt(states[k].force.squaredNorm())});
+    points.erase(points.begin() + k);
+    states.erase(states.begin() + k);
+    if (k < zeta_work.size())
+      zeta_work.erase(zeta_work.begin() + k);
+  }
+
+  void
+  NeedleCoupling::move_into(const std::size_t k, const std::size_t onto)
+  {
+    events_on_thread.push_back({"torn_into_hole", time, states[k].position, std::sqrt(states[k].force.squaredNorm())});
+    points[k].nodes          = points[onto].nodes;
+    points[k].weights        = points[onto].weights;
+    points[k].offset         = points[onto].offset;
+    points[k].surface_normal = points[onto].surface_normal;
+    states[k].reference      = states[onto].reference;
+    states[k].position       = states[onto].position;
   }
 } // namespace suturesim::realtime

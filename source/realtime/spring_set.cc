@@ -71,6 +71,26 @@ namespace suturesim::realtime
     parallel.clear();
   }
 
+  std::size_t
+  SpringSet::remove_if(const std::function<bool(std::uint32_t, std::uint32_t)> &cut)
+  {
+    std::vector<std::size_t> kept;
+    for (std::size_t s = 0; s < first.size(); ++s)
+      if (!cut(first[s], second[s]))
+        kept.push_back(s);
+    const std::size_t removed = first.size() - kept.size();
+    if (removed == 0)
+      return 0;
+    reorder(kept);
+    for (auto *v : {&rest, &stiffness, &lambda, &alpha_tilde})
+      v->resize(kept.size());
+    first.resize(kept.size());
+    second.resize(kept.size());
+    prepared_dt = 0;
+    sort(); // consecutive springs share no node again
+    return removed;
+  }
+
   std::vector<std::array<std::uint32_t, 2>>
   SpringSet::ends() const
   {

@@ -1,6 +1,8 @@
 #include <suturesim/collision/proximity.h>
+#include <suturesim/realtime/angle_springs.h>
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/self_collision.h>
+#include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/world.h>
 
 #include <chrono>
@@ -201,6 +203,35 @@ namespace suturesim::realtime
       for (const auto i : tool.nodes)
         tools_on_suture = tools_on_suture && i >= sys.suture.begin && i < sys.suture.end;
     initialized = true;
+  }
+
+  std::size_t
+  World::cut_tissue(const std::function<bool(const Vector3d &, const Vector3d &)> &crosses)
+  {
+    const Matrix3Xd &X   = sys.nodes.reference;
+    std::size_t      cut = 0;
+    for (std::size_t k = 0; k < tissue_interactions; ++k)
+      if (auto *springs = dynamic_cast<SpringSet *>(sys.interactions[k].get()))
+        cut += springs->remove_if(
+          [&](const std::uint32_t i, const std::uint32_t j) { return crosses(X.col(i), X.col(j)); });
+    // fewer springs cannot lower an explicit step's limit, but the estimate and its
+    // warning stay those of the tissue as it is
+    if (cut > 0)
+      assess_stability(false);
+    return cut;
+  }
+
+  std::string
+  World::uncuttable_tissue() const
+  {
+    for (std::size_t k = 0; k < tissue_interactions; ++k)
+      {
+        const Interaction *i = sys.interactions[k].get();
+        if (dynamic_cast<const SpringSet *>(i) == nullptr && dynamic_cast<const HomeSprings *>(i) == nullptr &&
+            dynamic_cast<const AngleSprings *>(i) == nullptr)
+          return i->name();
+      }
+    return "";
   }
 
   void

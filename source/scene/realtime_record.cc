@@ -4,6 +4,7 @@
 #include <suturesim/io/surface_field.h>
 #include <suturesim/scene/realtime_record.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -296,6 +297,16 @@ namespace suturesim::scene
         recorder.write_file("stitches.csv", tearing::stitches_csv(summary.stitch_evaluation(
                                               scene.needle, events, world.wound, scene.stitch_evaluation)));
         summary.pass_outcome(scene.needle, events, rw.time(), scene.needle.attach_suture && rw.suture() != nullptr);
+        if (world.tearing)
+          {
+            auto &list = summary.whole()["events"];
+            for (const auto &e : world.tearing->events())
+              list.push_back(e);
+            std::stable_sort(list.begin(), list.end(),
+                             [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
+            metrics["realtime_tearing"] = {{"ligament_strength", world.tearing->parameters().strength},
+                                           {"tears", world.tearing->tears().size()}};
+          }
       }
     for (const auto &[name, index] : world.probes)
       {

@@ -63,10 +63,15 @@ namespace suturesim::scene
     prm.declare_entry("Pacing", default_text(d.pacing), Patterns::Bool(),
                       "Wait for the wall clock between steps as a haptic loop does (true), "
                       "or step as fast as possible (false, for benchmarks). Unit: none.");
+    prm.enter_subsection("Tearing");
+    ParameterDeclarations tear;
+    tearing::LigamentTearParameters::declare(tear);
+    declare_plain(prm, tear);
+    prm.leave_subsection();
   }
 
   void
-  RealtimeSettings::parse(const ParameterHandler &prm)
+  RealtimeSettings::parse(ParameterHandler &prm, const ParameterScope &scope)
   {
     tissue_model       = prm.get("Tissue model");
     integrator         = prm.get("Integrator");
@@ -82,6 +87,10 @@ namespace suturesim::scene
     traction_subdivision = static_cast<unsigned>(prm.get_integer("Traction subdivision"));
     refuse_above_limit = prm.get("Above stability limit") == "refuse";
     pacing             = prm.get_bool("Pacing");
+    prm.enter_subsection("Tearing");
+    tearing = parse_plain(prm, scope.subsection("Tearing"), tearing::LigamentTearParameters::declare,
+                          tearing::LigamentTearParameters::parse);
+    prm.leave_subsection();
   }
 
   RealtimeModels::RealtimeModels(ParameterHandler &prm, const ParameterScope &scope, const RealtimeSettings &settings,

@@ -100,6 +100,24 @@ namespace suturesim::scene
       {
         fail_realtime(scene, settings, e);
       }
+    if (settings.tearing.strength > 0)
+      {
+        const ParameterScope tear = scene.scope("Realtime/Tearing");
+        if (!scene.has_tissue() || !needle)
+          tear.fail("Ligament strength", "tears start at the needle's pierce points: the scene needs tissue and a "
+                                         "needle");
+        tear.require(wound.present(), "Ligament strength",
+                     "the tear's path is classified against the wound: name its faces (Stitch evaluation/Wound "
+                     "faces or Closure/Face contact)");
+        try
+          {
+            tearing.emplace(settings.tearing, wound, *world);
+          }
+        catch (const std::invalid_argument &e)
+          {
+            tear.fail("Ligament strength", e.what());
+          }
+      }
     if (!world->warning().empty())
       std::cerr << "warning: " << scene.file->name() << ": " << world->warning() << '\n';
   }

@@ -116,7 +116,8 @@ namespace suturesim::scene
     prm.leave_subsection();
     if (model == "realtime" && !tearing.criteria.empty())
       scope("Tearing").fail("Criteria", "the continuum tear criteria are evaluated by the accurate path only (Model = "
-                                        "accurate)");
+                                        "accurate); the realtime path tears by seed 003's rule, Realtime/Tearing/"
+                                        "Ligament strength");
   }
 
   void

@@ -1,6 +1,8 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/tearing/stitch_evaluation.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -75,6 +77,44 @@ namespace suturesim::tearing
   Wound::on_face(const Eigen::Vector3d &X) const
   {
     return present() && distance(X) <= tolerance;
+  }
+
+  namespace
+  {
+    /// Where the line X + τ d meets triangle (A, B, C): τ, or NaN when it misses it or
+    /// runs parallel to it (Möller & Trumbore, J Graphics Tools 2:21, 1997).
+    double
+    line_hit(const Eigen::Vector3d &X, const Eigen::Vector3d &d, const std::array<Eigen::Vector3d, 3> &f)
+    {
+      const Eigen::Vector3d e1 = f[1] - f[0], e2 = f[2] - f[0], p = d.cross(e2);
+      const double          det = e1.dot(p);
+      if (std::abs(det) <= 1e-14 * e1.norm() * e2.norm() * d.norm())
+        return nan;
+      const Eigen::Vector3d s = X - f[0], q = s.cross(e1);
+      const double          u = s.dot(p) / det, v = d.dot(q) / det;
+      if (u < 0 || v < 0 || u + v > 1)
+        return nan;
+      return e2.dot(q) / det;
+    }
+  } // namespace
+
+  double
+  Wound::ray(const Eigen::Vector3d &X, const Eigen::Vector3d &d) const
+  {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto &f : faces)
+      if (const double tau = line_hit(X, d, f); tau >= 0)
+        nearest = std::min(nearest, tau);
+    return nearest;
+  }
+
+  bool
+  Wound::separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
+  {
+    return std::any_of(faces.begin(), faces.end(), [&](const auto &f) {
+      const double tau = line_hit(a, b - a, f);
+      return tau >= 0 && tau <= 1;
+    });
   }
 
   namespace

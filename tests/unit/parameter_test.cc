@@ -178,9 +178,9 @@ TEST(Parameters, NeedleClosureAndRealtimeDefaultsAreTheInClassDefaults)
 
   scene::RealtimeSettings realtime;
   const scene::RealtimeSettings r;
-  realtime.rate = realtime.contact_depth = realtime.pierce_mass_ratio = -1;
+  realtime.rate = realtime.contact_depth = realtime.pierce_mass_ratio = realtime.tearing.strength = -1;
   prm.enter_subsection("Realtime");
-  realtime.parse(prm);
+  realtime.parse(prm, root.subsection("Realtime"));
   prm.leave_subsection();
   EXPECT_EQ(realtime.tissue_model, r.tissue_model);
   EXPECT_EQ(realtime.integrator, r.integrator);
@@ -195,6 +195,7 @@ TEST(Parameters, NeedleClosureAndRealtimeDefaultsAreTheInClassDefaults)
   EXPECT_EQ(realtime.substeps, r.substeps);
   EXPECT_EQ(realtime.refuse_above_limit, r.refuse_above_limit);
   EXPECT_EQ(realtime.pacing, r.pacing);
+  EXPECT_EQ(realtime.tearing.strength, r.tearing.strength);
 }
 
 TEST(Parameters, EveryHelpTextNamesAUnitOrChoice)

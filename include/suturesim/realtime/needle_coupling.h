@@ -86,6 +86,11 @@ namespace suturesim::realtime
     double   normal     = 0;     ///< N, N
     double   friction   = 0;     ///< tangential force on the tissue point along −t, N
     Vector3d position   = Vector3d::Zero(); ///< of the tissue point, m
+    Vector3d reference  = Vector3d::Zero(); ///< of the tissue point at rest (X), m
+    /// the surface's outward normal where the point was born (at the touch)
+    Vector3d surface_normal = Vector3d::Zero();
+    /// what the tie exerts on the tissue point at the accepted state, N
+    Vector3d force = Vector3d::Zero();
   };
 
   class NeedleCoupling : public ContactSet
@@ -182,6 +187,15 @@ namespace suturesim::realtime
     {
       return events_on_thread;
     }
+    /// A tear (tearing/ligament_tear.h) between steps: pierce point @p k lets go of the
+    /// thread (event "torn_free").
+    void
+    tear_free(std::size_t k);
+    /// A tear that joined two holes: pierce point @p k holds the tissue point of point
+    /// @p onto from now on (event "torn_into_hole").
+    void
+    move_into(std::size_t k, std::size_t onto);
+
     /// Suture nodes (local index) between two pierce points, inside the tissue: the
     /// suture–surface contact leaves them alone.
     const std::vector<char> &
@@ -227,6 +241,7 @@ namespace suturesim::realtime
       double         lambda_n = 0, lambda_t = 0; ///< XPBD multipliers of the step
       Vector3d       normal_direction = Vector3d::Zero();
       bool           exit = false; ///< born where the tip came out of the tissue
+      Vector3d       surface_normal = Vector3d::Zero(); ///< outward, at the touch
       bool           passed_swage = false;
     };
 

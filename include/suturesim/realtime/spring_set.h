@@ -66,6 +66,12 @@ namespace suturesim::realtime
     void
     set(std::size_t s, std::uint32_t i, std::uint32_t j, double rest, double k);
 
+    /// Removes the springs between nodes i, j (i < j) for which @p cut(i, j) holds (a
+    /// tear, tearing/ligament_tear.h): a topology change; the rest are ordered again as
+    /// sort() does. Returns how many went.
+    std::size_t
+    remove_if(const std::function<bool(std::uint32_t, std::uint32_t)> &cut);
+
     /// Index of the spring between nodes @p i and @p j, or size() if there is none.
     std::size_t
     find(std::uint32_t i, std::uint32_t j) const;

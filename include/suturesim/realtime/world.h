@@ -119,6 +119,25 @@ namespace suturesim::realtime
     {
       return needle_coupling;
     }
+    /// The needle's coupling, to release or move its pierce points (a tear).
+    NeedleCoupling *
+    needle()
+    {
+      return needle_coupling;
+    }
+
+    /// A tear (tearing/ligament_tear.h): removes the tissue's springs whose rest segment
+    /// (X_i, X_j) @p crosses the tear's surface, between steps. Returns how many went.
+    /// The tear's faces do not join the tissue's surface: the suture's contact and the
+    /// needle's punctures do not see them.
+    std::size_t
+    cut_tissue(const std::function<bool(const Vector3d &, const Vector3d &)> &crosses);
+    /// The name of the first of the tissue's families a cut cannot part (its elements
+    /// couple more than the two ends of an edge: volume constraints, finite elements);
+    /// empty when springs (and one-node home springs and angle springs at chosen points)
+    /// are all it has.
+    std::string
+    uncuttable_tissue() const;
 
     /// External loads (tractions) at time t into the given 3 × n array (zeroed before).
     using Loads = std::function<void(double t, Matrix3Xd &external)>;

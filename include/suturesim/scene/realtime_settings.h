@@ -14,6 +14,7 @@
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/tissue_model.h>
+#include <suturesim/tearing/ligament_tear.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -41,12 +42,15 @@ namespace suturesim::scene
     unsigned    traction_subdivision = 1;
     bool        refuse_above_limit = false;
     bool        pacing             = false;
+    /// Seed 003's tear-into and tear-through (subsection Tearing; realtime/ligament_tearing.h)
+    tearing::LigamentTearParameters tearing;
 
-    /// Declares the entries of the current subsection ("Realtime").
+    /// Declares the entries of the current subsection ("Realtime"), and its subsection
+    /// Tearing.
     static void
     declare(dealii::ParameterHandler &prm);
     void
-    parse(const dealii::ParameterHandler &prm);
+    parse(dealii::ParameterHandler &prm, const ParameterScope &scope);
   };
 
   /// The models a RealtimeSettings chose, built (those of absent bodies left empty).

@@ -14,11 +14,14 @@
  *    nodes (a grasper fixes position and direction); a pinned end, or one prescribed by
  *    displacements only, a tool holding one; a grasper that closes later (Grasp time)
  *    holds nothing until then;
- *  - Needle (scene/realtime_needle.h), Closure (two probes per gap pair).
+ *  - Needle (scene/realtime_needle.h), Closure (two probes per gap pair);
+ *  - Realtime/Tearing: seed 003's tears at the needle's pierce points
+ *    (realtime/ligament_tearing.h), through the Stitch evaluation's wound.
  * It also gives each tool its pose at a time and measures the closure's gaps.
  */
 
 #include <suturesim/mesh/simplex_mesh.h>
+#include <suturesim/realtime/ligament_tearing.h>
 #include <suturesim/realtime/world.h>
 #include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_settings.h>
@@ -73,6 +76,7 @@ namespace suturesim::scene
     std::unique_ptr<realtime::World>                 world;
     std::vector<Boundary>                            boundaries;
     std::optional<RealtimeNeedle>                    needle;
+    std::optional<realtime::LigamentTearing>         tearing; ///< Realtime/Tearing, when on
     std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's
     std::vector<ToolEnd>                             tool_ends;
     std::vector<std::pair<std::string, std::size_t>> probes;

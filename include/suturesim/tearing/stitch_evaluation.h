@@ -88,6 +88,13 @@ namespace suturesim::tearing
     /// @p X lies on a face (within 1e-9 of the faces' extent).
     bool
     on_face(const Eigen::Vector3d &X) const;
+    /// Distance from @p X along the unit direction @p d to the first face it meets, m;
+    /// +∞ when it meets none.
+    double
+    ray(const Eigen::Vector3d &X, const Eigen::Vector3d &d) const;
+    /// The segment from @p a to @p b passes through a face (the wound lies between them).
+    bool
+    separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const;
 
   private:
     std::vector<std::array<Eigen::Vector3d, 3>> faces;

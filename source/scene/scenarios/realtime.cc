@@ -45,7 +45,7 @@ namespace suturesim::scene
                      "must be free: the needle holds the suture's start (Needle/Attach suture)");
         prm.enter_subsection("Realtime");
         const ParameterScope realtime = scene.scope("Realtime");
-        settings.parse(prm);
+        settings.parse(prm, realtime);
         // the guard of TimeParameters::parse() for the haptic step: End time = 1e308 at
         // 1 kHz overflowed the step count
         scene.time.check_counts(scene.time.end_time * settings.rate, scene.scope("Time"), "End time",
@@ -101,6 +101,9 @@ namespace suturesim::scene
                 failure = e.what();
                 break;
               }
+            // seed 003's tears, between steps
+            if (world.tearing)
+              world.tearing->check(rw);
             world.measure_closure();
             const bool output = interval > 0 && t >= next_output - 1e-12 * end_time;
             record.row(output || step == n_steps); // the last state is always written
