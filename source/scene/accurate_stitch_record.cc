@@ -47,7 +47,7 @@ namespace suturesim::scene
       }
     recorder.set_columns(columns);
     if (!scene.tearing.criteria.empty())
-      tears.emplace(scene.tearing);
+      tears.emplace(scene.tearing, stitch.wound);
   }
 
   void

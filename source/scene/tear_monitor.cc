@@ -5,9 +5,10 @@
 
 namespace suturesim::scene
 {
-  TearMonitor::TearMonitor(const tearing::TearCriteria &criteria) : criteria(criteria)
-  {
-  }
+  TearMonitor::TearMonitor(const tearing::TearCriteria &criteria, const tearing::Wound &wound)
+    : criteria(criteria)
+    , wound(wound)
+  {}
 
   namespace
   {
@@ -39,7 +40,12 @@ namespace suturesim::scene
     for (const auto &s : tract_states)
       tracts.push_back(s.tract);
     // Evaluated with no tract too: the VTU's cell ratios show where the tissue stands.
-    const tearing::ProcessZones zones(tracts, criteria.process_zone_radius);
+    tearing::ProcessZones::Separates cut;
+    if (wound.present())
+      cut = [this](const tearing::Point3 &a, const tearing::Point3 &b) {
+        return wound.separates(Eigen::Vector3d(a[0], a[1], a[2]), Eigen::Vector3d(b[0], b[1], b[2]));
+      };
+    const tearing::ProcessZones zones(tracts, criteria.process_zone_radius, cut);
     const auto                  samples = model.evaluate_tearing(criteria, zones);
     for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
       {

@@ -6,23 +6,32 @@
 
 namespace suturesim::tearing
 {
-  double
-  distance_to_segment(const Point3 &x, const Point3 &a, const Point3 &b)
+  Point3
+  closest_on_segment(const Point3 &x, const Point3 &a, const Point3 &b)
   {
-    Point3 ab{}, ax{};
+    Point3 ab{};
     double length2 = 0, along = 0;
     for (int i = 0; i < 3; ++i)
       {
         ab[i] = b[i] - a[i];
-        ax[i] = x[i] - a[i];
         length2 += ab[i] * ab[i];
-        along += ab[i] * ax[i];
+        along += ab[i] * (x[i] - a[i]);
       }
     // The closest point's parameter on [a, b], clamped to the ends (a point if a = b).
-    const double t  = length2 > 0 ? std::clamp(along / length2, 0.0, 1.0) : 0.0;
+    const double t = length2 > 0 ? std::clamp(along / length2, 0.0, 1.0) : 0.0;
+    Point3       c{};
+    for (int i = 0; i < 3; ++i)
+      c[i] = a[i] + t * ab[i];
+    return c;
+  }
+
+  double
+  distance_to_segment(const Point3 &x, const Point3 &a, const Point3 &b)
+  {
+    const Point3 c  = closest_on_segment(x, a, b);
     double       d2 = 0;
     for (int i = 0; i < 3; ++i)
-      d2 += (ax[i] - t * ab[i]) * (ax[i] - t * ab[i]);
+      d2 += (x[i] - c[i]) * (x[i] - c[i]);
     return std::sqrt(d2);
   }
 
@@ -58,7 +67,10 @@ namespace suturesim::tearing
     return volume > 0 ? integral / volume : std::numeric_limits<double>::quiet_NaN();
   }
 
-  ProcessZones::ProcessZones(std::vector<Tract> tracts, const double radius) : tracts(std::move(tracts)), ell(radius)
+  ProcessZones::ProcessZones(std::vector<Tract> tracts, const double radius, Separates cut)
+    : tracts(std::move(tracts))
+    , ell(radius)
+    , cut(std::move(cut))
   {
     if (!(radius > 0))
       throw std::invalid_argument("process zone radius must be > 0 m");
@@ -69,7 +81,8 @@ namespace suturesim::tearing
   {
     zones.clear();
     for (unsigned int i = 0; i < tracts.size(); ++i)
-      if (distance_to_segment(X, tracts[i].entry, tracts[i].exit) <= ell)
+      if (distance_to_segment(X, tracts[i].entry, tracts[i].exit) <= ell &&
+          !(cut && cut(X, closest_on_segment(X, tracts[i].entry, tracts[i].exit))))
         zones.push_back(i);
   }
 } // namespace suturesim::tearing

@@ -112,8 +112,9 @@ namespace suturesim::tearing
   Wound::separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
   {
     return std::any_of(faces.begin(), faces.end(), [&](const auto &f) {
+      // strictly between the ends: a point on a face (a tract's exit) is on its lip's side
       const double tau = line_hit(a, b - a, f);
-      return tau >= 0 && tau <= 1;
+      return tau > 1e-9 && tau < 1 - 1e-9;
     });
   }
 

@@ -5,6 +5,7 @@
 // a line load, whose mean converges under refinement while its pointwise peak does not.
 #include <suturesim/core/error.h>
 #include <suturesim/tearing/process_zone.h>
+#include <suturesim/tearing/stitch_evaluation.h>
 #include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/material.h>
 
@@ -209,6 +210,36 @@ TEST(ProcessZone, DistanceToASegment)
   EXPECT_DOUBLE_EQ(distance_to_segment(P(-3, 4, 0), a, b), 5.0); // beyond the entry
   EXPECT_DOUBLE_EQ(distance_to_segment(P(5, 0, 4), a, b), 5.0);  // beyond the exit
   EXPECT_DOUBLE_EQ(distance_to_segment(P(1, 1, 1), a, a), std::sqrt(3.0));
+}
+
+TEST(ProcessZone, AZoneDoesNotReachAcrossTheWound)
+{
+  // A slit: faces x = 0 (lip A) and x = 0.4 (lip B), z from 3 (the incision's floor) to
+  // 6 (the skin). A's tract runs from the skin 3 beside the slit to A's face (its exit
+  // on the face); ℓ = 2. Across the gap, lip B is within ℓ of the exit but not in the
+  // zone; lip A beside the exit is; under the floor, below the gap, the tissue is one
+  // and the zone goes on. Without the wound the capsule is whole.
+  Eigen::Matrix3Xd X(3, 8);
+  X << 0, 0, 0, 0, 0.4, 0.4, 0.4, 0.4, //
+    -10, 10, 10, -10, -10, 10, 10, -10, //
+    3, 3, 6, 6, 3, 3, 6, 6;
+  const Wound  wound(X, {{{0, 1, 2}}, {{0, 2, 3}}, {{4, 5, 6}}, {{4, 6, 7}}}, {1, 1, 1, 1});
+  const Tract  tract{P(-3, 0, 6), P(0, 0, 4.5)};
+  const auto   cut = [&](const Point3 &a, const Point3 &b) {
+    return wound.separates(Eigen::Vector3d(a[0], a[1], a[2]), Eigen::Vector3d(b[0], b[1], b[2]));
+  };
+  const ProcessZones        with({tract}, 2.0, cut), without({tract}, 2.0);
+  std::vector<unsigned int> in;
+  const auto                holds = [&](const ProcessZones &z, const Point3 &p) {
+    z.zones_containing(p, in);
+    return !in.empty();
+  };
+  EXPECT_FALSE(holds(with, P(1.0, 0, 4.5)));  // lip B, 1 from the exit
+  EXPECT_TRUE(holds(without, P(1.0, 0, 4.5)));
+  EXPECT_TRUE(holds(with, P(-1.0, 0.5, 4.5))); // lip A beside the exit
+  EXPECT_TRUE(holds(with, P(-0.5, 0, 5.2)));   // lip A between the tract and its face
+  EXPECT_TRUE(holds(with, P(0.2, 0, 2.8)));    // under the floor, below the gap
+  EXPECT_FALSE(holds(with, P(-3, 0, 3.5)));    // beyond ℓ
 }
 
 namespace

@@ -14,6 +14,7 @@
 
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/tearing/process_zone.h>
+#include <suturesim/tearing/stitch_evaluation.h>
 #include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/tissue_model.h>
 
@@ -27,7 +28,9 @@ namespace suturesim::scene
   class TearMonitor
   {
   public:
-    explicit TearMonitor(const tearing::TearCriteria &criteria);
+    /// @p wound: the cut the zones do not reach across (tearing::ProcessZones); it must
+    /// outlive the monitor (no faces: the zones are whole capsules).
+    TearMonitor(const tearing::TearCriteria &criteria, const tearing::Wound &wound);
 
     /// The tracts of @p pierce (the needle's pierce points, newest first) and every
     /// criterion over them at the accepted state of time @p t (s), with suture tension
@@ -59,6 +62,7 @@ namespace suturesim::scene
     };
 
     const tearing::TearCriteria &criteria;
+    const tearing::Wound        &wound;
     std::vector<TractState>      tract_states;
   };
 } // namespace suturesim::scene

@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -31,6 +32,10 @@ namespace suturesim::tearing
     Point3 entry;
     Point3 exit;
   };
+
+  /// The point of the segment [a, b] nearest @p x (a if a = b).
+  Point3
+  closest_on_segment(const Point3 &x, const Point3 &a, const Point3 &b);
 
   /// Euclidean distance from @p x to the segment [a, b] (a point if a = b).
   double
@@ -63,8 +68,16 @@ namespace suturesim::tearing
   class ProcessZones
   {
   public:
-    /// @p radius ℓ > 0 (m).
-    ProcessZones(std::vector<Tract> tracts, double radius);
+    /// Whether the straight path between two reference points crosses a cut (the
+    /// wound's faces: tearing/stitch_evaluation.h, Wound::separates()).
+    using Separates = std::function<bool(const Point3 &, const Point3 &)>;
+
+    /// @p radius ℓ > 0 (m). With @p cut, a point belongs to a zone only when the cut
+    /// does not separate it from its nearest point of the tract: a tract ending in one
+    /// wound face does not reach across the gap into the other lip, which is not loaded
+    /// through the wound (below the incision's floor the tissue is one and the zone goes
+    /// on).
+    ProcessZones(std::vector<Tract> tracts, double radius, Separates cut = {});
 
     /// Replaces @p zones by the indices of the zones that contain the reference point
     /// @p X; tracts closer than 2ℓ share points.
@@ -92,5 +105,6 @@ namespace suturesim::tearing
   private:
     std::vector<Tract> tracts;
     double             ell;
+    Separates          cut;
   };
 } // namespace suturesim::tearing

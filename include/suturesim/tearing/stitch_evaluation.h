@@ -92,7 +92,8 @@ namespace suturesim::tearing
     /// +∞ when it meets none.
     double
     ray(const Eigen::Vector3d &X, const Eigen::Vector3d &d) const;
-    /// The segment from @p a to @p b passes through a face (the wound lies between them).
+    /// The segment from @p a to @p b passes through a face strictly between its ends (the
+    /// wound lies between them; an end on a face is on its own side).
     bool
     separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const;
 
