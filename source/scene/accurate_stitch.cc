@@ -369,7 +369,7 @@ namespace suturesim::scene
       return {StepAttempt::Outcome::too_long, "", step_iterations};
     // an adaptive step longer than the nominal one does not tie off: the tie-off (a
     // step's state, the motions stop there) lands as finely as with fixed steps
-    if (dt > scene.time.step_size * (1 + 1e-9) && closure && closure->ties_off(tn, gaps(model->probe_displacements()).front()))
+    if (dt > scene.time.step_size * (1 + 1e-9) && closure && closure->ties_off(tn, gaps(model->probe_displacements())))
       return {StepAttempt::Outcome::too_long, "", step_iterations};
     return {StepAttempt::Outcome::converged, "", step_iterations};
   }

@@ -103,6 +103,13 @@ namespace suturesim::scene
                         {"time", e.time},
                         {"position", {e.position[0], e.position[1], e.position[2]}},
                         {"force", e.force}});
+        // a puncture's material point, the surface's normal and the needle's direction at
+        // the touch (seed 003's evaluation reads them; the angle between the last two is
+        // the entry or exit angle)
+        if (e.kind.rfind("puncture_", 0) == 0)
+          for (const auto &[key, v] : {std::pair{"reference", &e.reference}, std::pair{"normal", &e.normal},
+                                       std::pair{"direction", &e.direction}})
+            list.back()[key] = {(*v)[0], (*v)[1], (*v)[2]};
         for (const std::string kind : {"entry", "exit"})
           if (e.kind == "puncture_" + kind && !metrics.contains("puncture_force_" + kind))
             metrics["puncture_force_" + kind] = e.force;

@@ -29,9 +29,13 @@ namespace suturesim::scene
                       "tight), not while the needle crossing the wound moves its edges. "
                       "Unit: s. Range: >= 0.");
     prm.declare_entry("Tie off", default_text(d.tie_off), Patterns::Bool(),
-                      "Once the first pair's gap falls below 'Tie-off gap', every prescribed "
+                      "Once the deciding gap (Tie off when) falls below 'Tie-off gap', every prescribed "
                       "motion (needle, graspers) stops: the suture's ends are held where they "
                       "are. Unit: none.");
+    prm.declare_entry("Tie off when", "first pair", Patterns::Selection("first pair|every pair"),
+                      "Which gaps decide the tie-off: the first pair's (a single stitch), or "
+                      "every pair's at once (a series with a gap pair per stitch: the ends are "
+                      "held when the last of them falls below 'Tie-off gap').");
     prm.declare_entry("Tie-off gap", "0", Patterns::Double(0),
                       "The first pair's gap below which the ends are tied off (a surgeon "
                       "draws the throw a little past the edges' meeting); 0: at closure, "
@@ -69,6 +73,7 @@ namespace suturesim::scene
     closure_gap = prm.get_double("Closure gap");
     start_time  = prm.get_double("Start time");
     tie_off     = prm.get_bool("Tie off");
+    tie_off_every_pair = prm.get("Tie off when") == "every pair";
     scope.require(closure_gap > 0, "Closure gap", "must be > 0 m");
     tie_off_gap = prm.get_double("Tie-off gap");
     scope.require(tie_off_gap <= closure_gap, "Tie-off gap",
@@ -112,24 +117,31 @@ namespace suturesim::scene
       {
         initial = gaps;
         least   = gaps;
+        closed_at.assign(gaps.size(), std::numeric_limits<double>::infinity());
+        closed_tension.assign(gaps.size(), 0);
       }
     last = gaps;
     for (std::size_t k = 0; k < gaps.size(); ++k)
       least[k] = std::min(least[k], gaps[k]);
     if (t < prm.start_time || gaps.empty())
       return;
-    const double gap = gaps.front();
-    if (!closed() && gap < prm.closure_gap)
-      {
-        // the fraction of the last step at which the gap crossed; read at the step's
-        // end when there is no counted step before it
-        const Sample p = previous ? *previous : Sample{t, gap, tension};
-        const double s = p.gap > gap && p.gap >= prm.closure_gap ? (p.gap - prm.closure_gap) / (p.gap - gap) : 1;
-        closure_time    = p.t + s * (t - p.t);
-        closure_tension = p.tension + s * (tension - p.tension);
-      }
-    previous = Sample{t, gap, tension};
-    if (ties_off(t, gap))
+    for (std::size_t k = 0; k < gaps.size(); ++k)
+      if (closed_at[k] == std::numeric_limits<double>::infinity() && gaps[k] < prm.closure_gap)
+        {
+          // the fraction of the last step at which the gap crossed; read at the step's
+          // end when there is no counted step before it
+          const double p_t   = previous ? previous->t : t;
+          const double p_gap = previous ? previous->gaps[k] : gaps[k];
+          const double p_T   = previous ? previous->tension : tension;
+          const double s =
+            p_gap > gaps[k] && p_gap >= prm.closure_gap ? (p_gap - prm.closure_gap) / (p_gap - gaps[k]) : 1;
+          closed_at[k]      = p_t + s * (t - p_t);
+          closed_tension[k] = p_T + s * (tension - p_T);
+        }
+    closure_time    = closed_at.front();
+    closure_tension = closed_tension.front();
+    previous        = Sample{t, tension, gaps};
+    if (ties_off(t, gaps))
       {
         tie_time    = t;
         tie_tension = tension;
@@ -149,7 +161,15 @@ namespace suturesim::scene
     metrics["tie_off_time"]    = tied() ? nlohmann::json(tie_time) : nlohmann::json(nullptr);
     metrics["tie_off_tension"] = tied() ? nlohmann::json(tie_tension) : nlohmann::json(nullptr);
     for (std::size_t k = 0; k < prm.pairs.size(); ++k)
-      metrics["gaps"][prm.pairs[k].name] = {{"initial", initial[k]}, {"final", last[k]}, {"least", least[k]}};
+      {
+        const bool pair_closed = closed_at[k] < std::numeric_limits<double>::infinity();
+        metrics["gaps"][prm.pairs[k].name] = {
+          {"initial", initial[k]},
+          {"final", last[k]},
+          {"least", least[k]},
+          {"closure_time", pair_closed ? nlohmann::json(closed_at[k]) : nlohmann::json(nullptr)},
+          {"closure_tension", pair_closed ? nlohmann::json(closed_tension[k]) : nlohmann::json(nullptr)}};
+      }
   }
 
   nlohmann::json
@@ -161,9 +181,11 @@ namespace suturesim::scene
                      {"closure_time", closure_time},
                      {"tie_time", tie_time},
                      {"closure_tension", closure_tension},
-                     {"tie_tension", tie_tension}};
+                     {"tie_tension", tie_tension},
+                     {"closed_at", closed_at},
+                     {"closed_tension", closed_tension}};
     if (previous)
-      j["previous"] = {previous->t, previous->gap, previous->tension};
+      j["previous"] = {{"t", previous->t}, {"tension", previous->tension}, {"gaps", previous->gaps}};
     return j;
   }
 
@@ -177,8 +199,11 @@ namespace suturesim::scene
     tie_time        = j.at("tie_time").get<double>();
     closure_tension = j.at("closure_tension").get<double>();
     tie_tension     = j.at("tie_tension").get<double>();
+    closed_at       = j.at("closed_at").get<std::vector<double>>();
+    closed_tension  = j.at("closed_tension").get<std::vector<double>>();
     previous.reset();
     if (j.contains("previous"))
-      previous = Sample{j["previous"][0].get<double>(), j["previous"][1].get<double>(), j["previous"][2].get<double>()};
+      previous = Sample{j["previous"].at("t").get<double>(), j["previous"].at("tension").get<double>(),
+                        j["previous"].at("gaps").get<std::vector<double>>()};
   }
 } // namespace suturesim::scene

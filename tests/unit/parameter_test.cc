@@ -172,6 +172,7 @@ TEST(Parameters, NeedleClosureAndRealtimeDefaultsAreTheInClassDefaults)
   EXPECT_EQ(closure.start_time, c.start_time);
   EXPECT_EQ(closure.tie_off, c.tie_off);
   EXPECT_EQ(closure.tie_off_gap, c.tie_off_gap);
+  EXPECT_EQ(closure.tie_off_every_pair, c.tie_off_every_pair);
   EXPECT_EQ(closure.face_contact, c.face_contact);
   EXPECT_EQ(closure.face_contact_stiffness, c.face_contact_stiffness);
   EXPECT_EQ(closure.face_contact_margin, c.face_contact_margin);

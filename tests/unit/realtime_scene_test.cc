@@ -380,6 +380,64 @@ TEST(RealtimeScene, ARunningSeriesStitchesOnAlongTheWoundAndTheEvaluationSpacesI
   EXPECT_EQ(e3["too_close_to_edge"], 0);
 }
 
+TEST(RealtimeScene, ARunningSutureOnALongerWoundClosesStitchByStitch)
+{
+  // parameters/stitch_running.prm: three passes 5 mm apart along a 30 mm wound, then the
+  // tail drawn across from 12 s while the needle draws its end the other way. A gap pair
+  // at each stitch gives each its own closure (metrics.gaps.s<k>): they close one after
+  // the other from the tail's end (measured 12.17, 12.94 and 14.55 s), each at the
+  // interpolated crossing of 0.1 mm between the two forces.csv rows around it; the
+  // first pair's closure is the run's. The ends are tied off at the first step where
+  // every pair is below the closure gap at once (Tie off when = every pair).
+  const auto r = run_suturesim("stitch_running", {source_path("parameters/stitch_running.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto &m = r.summary["metrics"];
+  const auto &e = m["stitch_evaluation"];
+  ASSERT_EQ(e["count"], 3) << e;
+  EXPECT_EQ(e["too_close_to_neighbour"], 0);
+  EXPECT_EQ(e["too_close_to_edge"], 0);
+  for (int k = 0; k < 3; ++k)
+    {
+      EXPECT_NEAR(e["stitches"][k]["entry"][1].get<double>(), -0.005 + 0.005 * k, 1e-5) << k;
+      EXPECT_TRUE(e["stitches"][k]["crosses_wound"].get<bool>()) << k;
+    }
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  const auto  time = column(header, "time");
+  double      last = 0;
+  for (const std::string name : {"s1", "s2", "s3"})
+    {
+      SCOPED_TRACE(name);
+      const auto &g = m["gaps"][name];
+      ASSERT_TRUE(g["closure_time"].is_number()) << g;
+      const double t_c = g["closure_time"].get<double>();
+      EXPECT_GT(t_c, last); // one after the other, from the tail's end
+      last               = t_c;
+      const auto      gap = column(header, "gap_" + name);
+      std::size_t     k   = 0;
+      while (k + 1 < rows.size() && rows[k + 1][time] < t_c)
+        ++k;
+      ASSERT_LT(k + 1, rows.size());
+      EXPECT_GE(rows[k][gap], 1e-4);
+      EXPECT_LT(rows[k + 1][gap], 1e-4);
+      EXPECT_LE(rows[k + 1][time] - rows[k][time], 1.5e-3); // one haptic step
+    }
+  EXPECT_EQ(m["gaps"]["s1"]["closure_time"], m["closure_time"]);
+  EXPECT_EQ(m["gaps"]["s1"]["closure_tension"], m["closure_tension"]);
+  ASSERT_TRUE(m["tie_off_time"].is_number());
+  const double t_tie = m["tie_off_time"].get<double>();
+  EXPECT_GE(t_tie, last);
+  bool seen = false;
+  for (const auto &row : rows)
+    if (std::abs(row[time] - t_tie) < 1e-9)
+      {
+        seen = true;
+        for (const std::string name : {"s1", "s2", "s3"})
+          EXPECT_LT(row[column(header, "gap_" + name)], 1e-4) << name;
+      }
+  EXPECT_TRUE(seen);
+}
+
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
 {
   // The whole stitch scene (7.5 s): drawn tight, the wound's top edges meet (final gap
@@ -509,6 +567,29 @@ TEST(WoundClosure, GapIsTheOpeningAlongThePairAndClosureFreezesTheMotion)
   EXPECT_NEAR(m["closure_tension"].get<double>(), 2 + 1.5 * s, 1e-15);
   EXPECT_EQ(m["gaps"]["deep"]["least"].get<double>(), 5e-5);
   EXPECT_EQ(m["tie_off_time"].get<double>(), 2.0); // the motions stop at a step
+  // each pair's own closure: the first pair's is the run's; the deep pair reaches the
+  // closure gap at 2 s (1e-4 m, 3.5 N) and is below it at 3 s: it closed at 2 s
+  EXPECT_EQ(m["gaps"]["mid"]["closure_time"], m["closure_time"]);
+  EXPECT_EQ(m["gaps"]["mid"]["closure_tension"], m["closure_tension"]);
+  EXPECT_EQ(m["gaps"]["deep"]["closure_time"].get<double>(), 2.0);
+  EXPECT_EQ(m["gaps"]["deep"]["closure_tension"].get<double>(), 3.5);
+  // a pair that never closes has none, and a checkpoint's snapshot keeps what each has
+  suturesim::scene::ClosureMonitor open(prm);
+  open.update(1, {5e-4, 5e-4}, 1);
+  open.update(2, {5e-5, 5e-4}, 2);
+  open.restore(open.snapshot());
+  open.update(3, {4e-5, 6e-5}, 3);
+  nlohmann::json o;
+  open.write(o);
+  EXPECT_TRUE(o["gaps"]["mid"]["closure_time"].is_number());
+  EXPECT_NEAR(o["gaps"]["deep"]["closure_time"].get<double>(), 2 + 4e-4 / 4.4e-4, 1e-15);
+  suturesim::scene::ClosureMonitor never(prm);
+  never.update(1, {5e-4, 5e-4}, 1);
+  never.update(2, {5e-5, 5e-4}, 2);
+  nlohmann::json n;
+  never.write(n);
+  EXPECT_TRUE(n["gaps"]["deep"]["closure_time"].is_null());
+  EXPECT_TRUE(n["gaps"]["deep"]["closure_tension"].is_null());
 }
 
 TEST(WoundClosure, AGapAlreadyBelowAtTheFirstCountedStepClosesThere)

@@ -46,6 +46,19 @@ namespace suturesim::test_support
     EXPECT_EQ(s["edge_limit"], s["bite_depth"]);
     EXPECT_FALSE(s["too_close_to_edge"].get<bool>());
     EXPECT_EQ(e["too_close_to_edge"], 0);
+    // the puncture events list what the evaluation read: the entry's material point, and
+    // the normal and direction whose angle is the entry angle
+    for (const auto &event : r.summary["events"])
+      if (event["kind"] == "puncture_entry")
+        {
+          for (int d = 0; d < 3; ++d)
+            EXPECT_EQ(event["reference"][d], s["entry"][d]) << d;
+          double dot = 0;
+          for (int d = 0; d < 3; ++d)
+            dot += event["normal"][d].get<double>() * event["direction"][d].get<double>();
+          EXPECT_NEAR(std::asin(std::abs(dot)), s["entry_angle"].get<double>(), 1e-12);
+          break;
+        }
     std::ifstream csv(r.directory + "/stitches.csv");
     std::string   header, row, more;
     ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row));

@@ -30,6 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -50,6 +51,8 @@ namespace suturesim::scene
     double            start_time  = 0;    ///< s
     bool              tie_off     = true;
     double            tie_off_gap = 1e-4; ///< m; parsed 0 means the closure gap
+    /// the tie-off waits for every pair's gap (a series, a pair per stitch), not the first's
+    bool              tie_off_every_pair = false;
     /// Accurate path: the incision's two faces (boundary names or ids; empty: no
     /// contact between them), the penalty per vertex pair (N/m) and the gap below which
     /// a pair is loaded (m); coupling/accurate/wound_contact.h.
@@ -90,10 +93,13 @@ namespace suturesim::scene
     void
     update(double t, const std::vector<double> &gaps, double tension);
 
-    /// Whether a step at @p t whose first gap is @p gap would tie the stitch off.
+    /// Whether a step at @p t with gaps @p gaps (one per pair) would tie the stitch off:
+    /// the first pair's gap, or with Tie off when = every pair the largest, below the
+    /// tie-off gap (and the wound closed).
     bool
-    ties_off(double t, double gap) const
+    ties_off(double t, const std::vector<double> &gaps) const
     {
+      const double gap = prm.tie_off_every_pair ? *std::max_element(gaps.begin(), gaps.end()) : gaps.front();
       return prm.tie_off && !tied() && t >= prm.start_time && gap < prm.tie_off_gap &&
              (closed() || gap < prm.closure_gap);
     }
@@ -117,7 +123,9 @@ namespace suturesim::scene
 
     /// metrics.initial_gap, final_gap (first pair), closure_tension, closure_time (at the
     /// interpolated crossing; null when never closed), tie_off_time, tie_off_tension (null when never tied off),
-    /// gaps.<name>.{initial, final, least}.
+    /// gaps.<name>.{initial, final, least, closure_time, closure_tension}: every pair's own
+    /// closure, when its gap first fell below the closure gap (one pair per stitch of a
+    /// series gives each stitch's closure; the first pair's is the run's).
     void
     write(nlohmann::json &metrics) const;
 
@@ -131,6 +139,8 @@ namespace suturesim::scene
   private:
     const ClosureParameters &prm;
     std::vector<double>      initial, last, least;
+    /// per pair: the interpolated crossing of the closure gap (∞ before) and the tension then
+    std::vector<double>      closed_at, closed_tension;
     double                   closure_time = std::numeric_limits<double>::infinity();
     double                   tie_time     = std::numeric_limits<double>::infinity();
     double                   closure_tension = 0;
@@ -138,7 +148,8 @@ namespace suturesim::scene
     /// the last step counted (t ≥ Start time): the crossing's bracket
     struct Sample
     {
-      double t = 0, gap = 0, tension = 0;
+      double              t = 0, tension = 0;
+      std::vector<double> gaps;
     };
     std::optional<Sample> previous;
   };
