@@ -48,11 +48,13 @@ namespace suturesim::realtime
     const auto &states = needle->pierce_points();
     if (skin_normal.isZero() || states.size() < 2)
       return false;
-    const auto side = [&](const std::size_t k) {
-      if (wound.on_face(states[k].reference))
-        return tearing::TractEnd::groove;
-      return states[k].surface_normal.dot(skin_normal) >= 0 ? tearing::TractEnd::top : tearing::TractEnd::bottom;
-    };
+    // each point's side once a step: on_face() measures the distance to every face
+    sides.clear();
+    for (const auto &p : states)
+      sides.push_back(wound.on_face(p.reference)               ? tearing::TractEnd::groove
+                      : p.surface_normal.dot(skin_normal) >= 0 ? tearing::TractEnd::top
+                                                               : tearing::TractEnd::bottom);
+    const auto side = [&](const std::size_t k) { return sides[k]; };
     // tracts in thread order: an entry, and the exit made after it (nearer the tip)
     for (std::size_t k = 1; k < states.size(); ++k)
       {

@@ -78,5 +78,6 @@ namespace suturesim::realtime
     std::vector<LigamentTear>       done;
     std::vector<Vector3d>           insertions;      ///< scratch
     std::vector<std::size_t>        insertion_point; ///< their pierce points
+    std::vector<tearing::TractEnd>  sides;           ///< scratch: each pierce point's
   };
 } // namespace suturesim::realtime
