@@ -66,8 +66,9 @@ namespace suturesim::realtime
         if (side(top) != tearing::TractEnd::top)
           continue;
         const Vector3d &C = states[top].reference, &D = states[far].reference;
-        const double    F = states[top].force.norm();
-        Vector3d        d = states[top].force - states[top].force.dot(skin_normal) * skin_normal;
+        const Vector3d  f = needle->tissue_force(top);
+        const double    F = f.norm();
+        Vector3d        d = f - f.dot(skin_normal) * skin_normal;
         if (!(d.norm() > 1e-9 * F))
           continue;
         d.normalize();

@@ -544,15 +544,6 @@ namespace suturesim::realtime
         s.position       = tissue_point(points[k], x);
         s.reference      = tissue_point(points[k], sys.nodes.reference);
         s.surface_normal = points[k].surface_normal;
-        if (taken_index[k] >= 0)
-          s.force = taken_force.size() > std::size_t(taken_index[k]) ? taken_force[taken_index[k]] : Vector3d::Zero();
-        else if (prm.project)
-          s.force = last_dt > 0 ? Vector3d((points[k].lambda_n * points[k].normal_direction -
-                                            points[k].lambda_t * points[k].at.t) /
-                                           (last_dt * last_dt))
-                                : Vector3d::Zero();
-        else
-          s.force = pierce_force(points[k], x, nullptr, nullptr);
         // thread between an exit point and the next entry point further along it lies
         // inside the tissue
         if (points[k].exit && k + 1 < points.size() && !points[k + 1].exit)
@@ -564,12 +555,26 @@ namespace suturesim::realtime
       }
   }
 
+  Vector3d
+  NeedleCoupling::tissue_force(const std::size_t k) const
+  {
+    const auto &p = points[k];
+    if (taken_index[k] >= 0) // the model's force, as add_forces() last applied it
+      return std::size_t(taken_index[k]) < taken_force.size() ? taken_force[taken_index[k]] : Vector3d::Zero();
+    if (prm.project)
+      return last_dt > 0 ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) / (last_dt * last_dt))
+                         : Vector3d::Zero();
+    return pierce_force(p, sys.nodes.x, nullptr, nullptr);
+  }
+
   void
   NeedleCoupling::tear_free(const std::size_t k)
   {
-    events_on_thread.push_back({"torn_free", time, states[k].position, std::sqrt(states[k].force.squaredNorm())});
+    events_on_thread.push_back({"torn_free", time, states[k].position, tissue_force(k).norm()});
     points.erase(points.begin() + k);
     states.erase(states.begin() + k);
+    if (k < taken_index.size())
+      taken_index.erase(taken_index.begin() + k);
     if (k < zeta_work.size())
       zeta_work.erase(zeta_work.begin() + k);
   }
@@ -577,7 +582,7 @@ namespace suturesim::realtime
   void
   NeedleCoupling::move_into(const std::size_t k, const std::size_t onto)
   {
-    events_on_thread.push_back({"torn_into_hole", time, states[k].position, std::sqrt(states[k].force.squaredNorm())});
+    events_on_thread.push_back({"torn_into_hole", time, states[k].position, tissue_force(k).norm()});
     points[k].nodes          = points[onto].nodes;
     points[k].weights        = points[onto].weights;
     points[k].offset         = points[onto].offset;

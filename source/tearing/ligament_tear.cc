@@ -1,7 +1,7 @@
+#include <suturesim/collision/proximity.h>
 #include <suturesim/tearing/ligament_tear.h>
 
-#include <Eigen/Dense>
-
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -84,14 +84,11 @@ namespace suturesim::tearing
   bool
   TearSurface::crosses(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
   {
-    // a + u (b − a) = origin + s along_tract + t along_path, u, s, t in [0, 1]
-    Eigen::Matrix3d A;
-    A << b - a, -along_tract, -along_path;
-    const double det   = A.determinant();
-    const double scale = (b - a).norm() * along_tract.norm() * along_path.norm();
-    if (!(std::abs(det) > 1e-12 * scale))
-      return false; // parallel to it (or degenerate): it does not cut across
-    const Eigen::Vector3d ust = A.partialPivLu().solve(origin - a);
-    return (ust.array() >= 0).all() && (ust.array() <= 1).all();
+    // the parallelogram as two triangles; a segment in its plane does not cut across it
+    const Eigen::Vector3d corner = origin + along_tract + along_path;
+    double                s      = 0;
+    Eigen::Vector3d       bary;
+    return collision::segment_crosses_triangle(a, b, origin, origin + along_tract, corner, s, bary) ||
+           collision::segment_crosses_triangle(a, b, origin, corner, origin + along_path, s, bary);
   }
 } // namespace suturesim::tearing

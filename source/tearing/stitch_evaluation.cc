@@ -1,8 +1,6 @@
 #include <suturesim/collision/proximity.h>
 #include <suturesim/tearing/stitch_evaluation.h>
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,42 +77,30 @@ namespace suturesim::tearing
     return present() && distance(X) <= tolerance;
   }
 
-  namespace
-  {
-    /// Where the line X + τ d meets triangle (A, B, C): τ, or NaN when it misses it or
-    /// runs parallel to it (Möller & Trumbore, J Graphics Tools 2:21, 1997).
-    double
-    line_hit(const Eigen::Vector3d &X, const Eigen::Vector3d &d, const std::array<Eigen::Vector3d, 3> &f)
-    {
-      const Eigen::Vector3d e1 = f[1] - f[0], e2 = f[2] - f[0], p = d.cross(e2);
-      const double          det = e1.dot(p);
-      if (std::abs(det) <= 1e-14 * e1.norm() * e2.norm() * d.norm())
-        return nan;
-      const Eigen::Vector3d s = X - f[0], q = s.cross(e1);
-      const double          u = s.dot(p) / det, v = d.dot(q) / det;
-      if (u < 0 || v < 0 || u + v > 1)
-        return nan;
-      return e2.dot(q) / det;
-    }
-  } // namespace
-
   double
   Wound::ray(const Eigen::Vector3d &X, const Eigen::Vector3d &d) const
   {
-    double nearest = std::numeric_limits<double>::infinity();
+    // as a segment long enough to reach every face
+    double reach = 0;
     for (const auto &f : faces)
-      if (const double tau = line_hit(X, d, f); tau >= 0)
-        nearest = std::min(nearest, tau);
+      for (const auto &v : f)
+        reach = std::max(reach, (v - X).norm());
+    double          nearest = std::numeric_limits<double>::infinity(), s = 0;
+    Eigen::Vector3d bary;
+    for (const auto &f : faces)
+      if (collision::segment_crosses_triangle(X, X + 2 * reach * d, f[0], f[1], f[2], s, bary))
+        nearest = std::min(nearest, 2 * reach * s);
     return nearest;
   }
 
   bool
   Wound::separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
   {
+    // strictly between the ends: a point on a face (a tract's exit) is on its lip's side
+    double          s = 0;
+    Eigen::Vector3d bary;
     return std::any_of(faces.begin(), faces.end(), [&](const auto &f) {
-      // strictly between the ends: a point on a face (a tract's exit) is on its lip's side
-      const double tau = line_hit(a, b - a, f);
-      return tau > 1e-9 && tau < 1 - 1e-9;
+      return collision::segment_crosses_triangle(a, b, f[0], f[1], f[2], s, bary) && s > 1e-9 && s < 1 - 1e-9;
     });
   }
 

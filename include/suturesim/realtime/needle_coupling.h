@@ -89,8 +89,6 @@ namespace suturesim::realtime
     Vector3d reference  = Vector3d::Zero(); ///< of the tissue point at rest (X), m
     /// the surface's outward normal where the point was born (at the touch)
     Vector3d surface_normal = Vector3d::Zero();
-    /// what the tie exerts on the tissue point at the accepted state, N
-    Vector3d force = Vector3d::Zero();
   };
 
   class NeedleCoupling : public ContactSet
@@ -187,6 +185,11 @@ namespace suturesim::realtime
     {
       return events_on_thread;
     }
+    /// What the tie of pierce point @p k exerts on its tissue point at the accepted state
+    /// (the system's positions), N: found when asked, not every step (a tear's check).
+    Vector3d
+    tissue_force(std::size_t k) const;
+
     /// A tear (tearing/ligament_tear.h) between steps: pierce point @p k lets go of the
     /// thread (event "torn_free").
     void
