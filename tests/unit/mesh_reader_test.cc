@@ -79,8 +79,7 @@ namespace
       prm.enter_subsection("Mesh");
       parameters.parse(prm, ParameterScope(*file, "Mesh"));
       prm.leave_subsection();
-      const auto dir = test_support::scratch_path() / "local_refinement";
-      std::filesystem::create_directories(dir);
+      const auto dir = test_support::test_scratch("local_refinement");
       info = mesh::create_mesh(parameters, dir.string(), tria, path);
     }
 
@@ -412,8 +411,7 @@ namespace
     mesh::MeshParameters parameters;
     parameters.parse(prm, ParameterScope(file, "Mesh"));
     prm.leave_subsection();
-    const auto dir = test_support::scratch_path() / "snapped_pad";
-    std::filesystem::create_directories(dir);
+    const auto dir = test_support::test_scratch("snapped_pad");
     const mesh::MeshInfo info = mesh::create_mesh(parameters, dir.string(), tria);
     const double         Wg = 0.0004, Li = 0.020, H = 0.006;
     double               worst = 0;

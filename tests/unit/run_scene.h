@@ -83,6 +83,18 @@ namespace suturesim::test_support
     return dir;
   }
 
+  /// scratch_path()/<stem>_<test name>, created: a folder of the running test's own, for a
+  /// fixture that several tests use (ctest runs them in parallel; one shared folder let one
+  /// test delete the mesh another had just written).
+  inline std::filesystem::path
+  test_scratch(const std::string &stem)
+  {
+    const auto *test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const auto  dir  = scratch_path() / (stem + "_" + (test ? test->name() : "none"));
+    std::filesystem::create_directories(dir);
+    return dir;
+  }
+
   /// A launcher prefix for run_suturesim() that starts @p n fresh MPI processes (run_suturesim()
   /// gives a launched run mpi_environment()).
   inline Args
