@@ -84,6 +84,14 @@ namespace suturesim::scene
                       "Depth delta the tip reaches below the surface; the entry angle is "
                       "then arccos(1 - delta/R). 0: use the entry angle. Unit: m. Range: "
                       "[0, R].");
+    prm.declare_entry("Bite", default_text(p.bite), Patterns::Double(0),
+                      "The stitch's bite b, from where it crosses the wound (Wound crossing) to the entry and "
+                      "to the exit, symmetric: the entry is b before the crossing along Bite direction, the "
+                      "exit b beyond it, the entry angle arcsin(b/R); Entry point, Bite depth and Entry angle "
+                      "are then not used. 0: off. Unit: m. Range: [0, R].");
+    prm.declare_entry("Wound crossing", to_text(p.crossing), vector_pattern(),
+                      "With Bite > 0: the point of the surface where the stitch crosses the wound (the "
+                      "wound's mid-plane). Unit: m.");
     prm.declare_entry("Entry angle", default_text(p.entry_angle), Patterns::Double(0, 1.5707963267948966),
                       "Angle between the tip's path and the surface at entry (used when "
                       "Bite depth = 0). Unit: rad. Range: (0, pi/2].");
@@ -198,6 +206,8 @@ namespace suturesim::scene
     pass.bite_direction    = get_vector(prm, "Bite direction");
     pass.bite_depth        = prm.get_double("Bite depth");
     pass.entry_angle       = prm.get_double("Entry angle");
+    pass.bite              = prm.get_double("Bite");
+    pass.crossing          = get_vector(prm, "Wound crossing");
     pass.start_time        = prm.get_double("Start time");
     pass.angular_speed     = prm.get_double("Angular speed");
     pass.approach          = prm.get_double("Approach");
@@ -217,6 +227,7 @@ namespace suturesim::scene
     p.require(pass.tighten_duration > 0, "Tighten duration", "must be > 0 s");
     p.require(pass.bite_depth <= radius, "Bite depth",
               "must not exceed the needle's Arc radius (" + std::to_string(radius) + " m)");
+    p.require(pass.bite <= radius, "Bite", "must not exceed the needle's Arc radius (" + std::to_string(radius) + " m)");
     try
       {
         planned_series();

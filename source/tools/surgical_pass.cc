@@ -21,7 +21,14 @@ namespace suturesim::tools
     b.normalize();
 
     SurgicalPass pass;
-    if (p.bite_depth > 0)
+    if (p.bite > 0)
+      {
+        if (p.bite > R)
+          throw std::invalid_argument("surgical pass: a bite wider than the needle radius "
+                                      "(the arc cannot straddle the wound)");
+        pass.entry_angle = std::asin(p.bite / R);
+      }
+    else if (p.bite_depth > 0)
       {
         if (p.bite_depth > R)
           throw std::invalid_argument("surgical pass: a bite deeper than the needle radius "
@@ -38,9 +45,9 @@ namespace suturesim::tools
     const double h     = R * std::cos(alpha);
     pass.bite_depth    = R - h;
     pass.bite_width    = 2 * R * std::sin(alpha);
-    pass.entry         = p.entry;
-    pass.centre        = p.entry + R * std::sin(alpha) * b + h * n;
-    pass.exit          = p.entry + pass.bite_width * b;
+    pass.entry         = p.bite > 0 ? Vector3d(p.crossing - p.bite * b) : p.entry;
+    pass.centre        = pass.entry + R * std::sin(alpha) * b + h * n;
+    pass.exit          = pass.entry + pass.bite_width * b;
     if (!(p.angular_speed > 0) || !(p.pull_duration > 0) || !(p.approach >= 0) || !(p.tighten_duration > 0))
       throw std::invalid_argument("surgical pass: angular speed, pull and tighten durations must be > 0");
     if (2 * alpha + Phi >= 2 * M_PI)
@@ -106,6 +113,7 @@ namespace suturesim::tools
       {
         const bool last = k + 1 == series.stitches;
         p.entry         = first.entry + k * series.spacing;
+        p.crossing      = first.crossing + k * series.spacing;
         p.tighten       = last ? first.tighten : Vector3d::Zero();
         const auto pass = plan_pass(needle, p);
         if (k == 0) // as planned, bit for bit (add() normalises the orientation again)
@@ -122,6 +130,7 @@ namespace suturesim::tools
         // that completes the turn (2π less the short way back, when that is backwards)
         PassParameters next           = p;
         next.entry                    = p.entry + series.spacing;
+        next.crossing                 = p.crossing + series.spacing;
         next.start_time               = pass.t_end + series.transfer_duration;
         const Pose              start = plan_pass(needle, next).trajectory.pose(next.start_time);
         const Pose              from  = pass.trajectory.pose(pass.t_end);

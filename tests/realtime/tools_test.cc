@@ -140,6 +140,49 @@ TEST(SurgicalPass, RefusesImpossibleBites)
   EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
 }
 
+TEST(SurgicalPass, ABiteStraddlesTheWoundCrossingSymmetricallyAndIsTheEquivalentEntryAndDepth)
+{
+  // b = 5 mm with R = 8 mm is the default stitch: E = (-5, 0, 6) mm, delta = R - sqrt(R^2 - b^2)
+  // = 1.7550 mm; the entry and exit are b either side of the crossing, whatever Entry point
+  // and Bite depth say, and the pass is the one planned from that entry and depth
+  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  const double       R = needle.radius();
+  for (const double b : {0.002, 0.005, 0.0075})
+    {
+      PassParameters p;
+      p.bite           = b;
+      p.crossing       = Vector3d(0.001, -0.003, 0.006);
+      p.bite_direction = Vector3d(1, 0, 0.4); // projected into the surface
+      p.entry          = Vector3d(7, 7, 7);   // not used
+      p.bite_depth     = 0.0001;              // not used
+      p.pull           = Vector3d(0, 0, 0.02);
+      const auto pass  = plan_pass(needle, p);
+      EXPECT_LT((pass.entry - (p.crossing - b * Vector3d::UnitX())).norm(), 1e-15) << b;
+      EXPECT_LT((pass.exit - (p.crossing + b * Vector3d::UnitX())).norm(), 1e-15) << b;
+      EXPECT_NEAR(pass.bite_depth, R - std::sqrt(R * R - b * b), 1e-15) << b;
+      PassParameters same = p;
+      same.bite           = 0;
+      same.entry          = pass.entry;
+      same.bite_depth     = R - std::sqrt(R * R - b * b);
+      const auto twin     = plan_pass(needle, same);
+      EXPECT_LT((twin.exit - pass.exit).norm(), 1e-15) << b;
+      EXPECT_NEAR(twin.t_tip_exit, pass.t_tip_exit, 1e-12) << b;
+    }
+  // a series moves the crossing with the entry: pass k straddles crossing + k s
+  PassParameters p;
+  p.bite     = 0.004;
+  p.crossing = Vector3d(0, -0.003, 0.006);
+  p.pull     = Vector3d(0, 0, 0.02);
+  SeriesParameters s;
+  s.stitches        = 3;
+  s.spacing         = Vector3d(0, 0.004, 0);
+  const auto series = plan_series(needle, p, s);
+  for (unsigned k = 0; k < 3; ++k)
+    EXPECT_LT(((series.passes[k].entry + series.passes[k].exit) / 2 - p.crossing - k * s.spacing).norm(), 1e-15);
+  p.bite = 0.0081; // wider than R
+  EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
+}
+
 TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenThem)
 {
   // the default stitch's pass (R = 8 mm, 3/8, delta = 1.755 mm, pulled 20 mm up) three

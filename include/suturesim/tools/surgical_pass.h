@@ -34,6 +34,11 @@ namespace suturesim::tools
     Vector3d bite_direction = Vector3d::UnitX(); ///< towards the exit (made ⟂ n)
     double   bite_depth     = 0;    ///< δ, m; 0: from the entry angle
     double   entry_angle    = M_PI / 2; ///< α, rad (used when bite_depth = 0)
+    /// b, m; > 0: the pass straddles `crossing` symmetrically, entering b before it along
+    /// the bite direction and leaving b beyond it, so sin α = b/R (entry, bite_depth and
+    /// entry_angle are then not used). A bite × spacing study varies this one number.
+    double   bite           = 0;
+    Vector3d crossing       = Vector3d::Zero(); ///< where the stitch crosses the wound (with bite > 0), m
     double   start_time     = 0;    ///< s
     double   angular_speed  = 1;    ///< rad/s
     double   approach       = 1e-3; ///< arc length of the tip before E at the start, m
@@ -61,7 +66,8 @@ namespace suturesim::tools
   plan_pass(const CurvedNeedle &needle, const PassParameters &parameters);
 
   /// A running (continuous) suture: one needle makes @p stitches passes along a wound,
-  /// pass k entering at E_k = E_0 + k s (s, the spacing, in the surface).
+  /// pass k entering at E_k = E_0 + k s (s, the spacing, in the surface; with a bite, its
+  /// wound crossing moves by k s likewise).
   struct SeriesParameters
   {
     unsigned stitches          = 1;
