@@ -35,7 +35,7 @@ namespace suturesim::realtime
   }
 
   bool
-  LigamentTearing::check(World &world)
+  LigamentTearing::check(World &world, const double suture_tension)
   {
     NeedleCoupling *needle = world.needle();
     if (skin_normal.isZero())
@@ -89,17 +89,18 @@ namespace suturesim::realtime
           continue;
 
         LigamentTear tear;
-        tear.far_end       = side(far);
-        tear.kind          = tearing::tear_kind(tear.far_end);
-        tear.time          = world.time();
-        tear.tension       = F;
-        tear.ligament      = ligament.length;
-        tear.threshold     = prm.strength * ligament.length;
-        tear.crosses_wound = ligament.to_wound;
-        tear.top_start     = C;
-        tear.far           = D;
-        tear.end           = ligament.end;
-        tear.pull          = d;
+        tear.far_end        = side(far);
+        tear.kind           = tearing::tear_kind(tear.far_end);
+        tear.time           = world.time();
+        tear.tension        = F;
+        tear.suture_tension = suture_tension;
+        tear.ligament       = ligament.length;
+        tear.threshold      = prm.strength * ligament.length;
+        tear.crosses_wound  = ligament.to_wound;
+        tear.top_start      = C;
+        tear.far            = D;
+        tear.end            = ligament.end;
+        tear.pull           = d;
         const tearing::TearSurface surface(C, D, ligament.end - from, margin);
         tear.springs_cut
             = world.cut_tissue([&](const Vector3d &a, const Vector3d &b) { return surface.crosses(a, b); });
@@ -125,6 +126,7 @@ namespace suturesim::realtime
                       {"time", t.time},
                       {"position", point(t.top_start)},
                       {"force", t.tension},
+                      {"suture_tension", t.suture_tension},
                       {"crosses_wound", t.crosses_wound},
                       {"far_end", tearing::to_string(t.far_end)},
                       {"ligament", t.ligament},

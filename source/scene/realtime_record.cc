@@ -304,8 +304,17 @@ namespace suturesim::scene
               list.push_back(e);
             std::stable_sort(list.begin(), list.end(),
                              [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
+            const auto &tears           = world.tearing->tears();
             metrics["realtime_tearing"] = {{"ligament_strength", world.tearing->parameters().strength},
-                                           {"tears", world.tearing->tears().size()}};
+                                           {"tears", tears.size()}};
+            // the onset (the first tear's tension and time), what a bite x spacing map draws;
+            // absent without a tear, so that a study finds it missing rather than zero
+            if (!tears.empty())
+              {
+                metrics["realtime_tearing"]["onset_tension"] = tears.front().suture_tension;
+                metrics["realtime_tearing"]["onset_force"]   = tears.front().tension;
+                metrics["realtime_tearing"]["onset_time"]    = tears.front().time;
+              }
           }
       }
     for (const auto &[name, index] : world.probes)

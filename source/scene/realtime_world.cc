@@ -369,7 +369,7 @@ namespace suturesim::scene
   double
   RealtimeWorld::closure_tension() const
   {
-    if (!tool_ends.empty())
+    if (!tool_ends.empty() && tool_ends.back().grasped)
       return world->tool_forces()[first_end_tool + tool_ends.size() - 1].force.norm();
     if (needle)
       return world->tool_forces()[needle->tool()].force.norm();

@@ -73,8 +73,11 @@ namespace suturesim::scene
       {
         const auto &[name, criterion] = criteria.criteria[c];
         nlohmann::json per_tract      = nlohmann::json::array();
+        const Onset   *first          = nullptr; // the stitch's onset: its earliest tract's
         for (const auto &s : tract_states)
           {
+            if (s.onset[c] && (!first || s.onset[c]->time < first->time))
+              first = &*s.onset[c];
             nlohmann::json onset = nullptr;
             if (const auto &o = s.onset[c])
               onset = {{"time", o->time},
@@ -90,6 +93,12 @@ namespace suturesim::scene
         result["criteria"][name] = {{"unit", criterion->unit()},
                                     {"critical_value", criterion->critical_value(criteria.process_zone_radius)},
                                     {"tracts", per_tract}};
+        // absent without an onset, so that a study finds it missing rather than zero
+        if (first)
+          {
+            result["criteria"][name]["onset_tension"] = first->tension;
+            result["criteria"][name]["onset_time"]    = first->time;
+          }
       }
     return result;
   }

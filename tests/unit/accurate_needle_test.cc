@@ -547,6 +547,17 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
     {
       SCOPED_TRACE(name);
       ASSERT_EQ(c["tracts"].size(), 2u);
+      // the criterion's onset (what a bite x spacing map draws): its earliest tract's, absent without one
+      const nlohmann::json *first = nullptr;
+      for (const auto &s : c["tracts"])
+        if (!s["onset"].is_null() && (!first || s["onset"]["time"] < (*first)["time"]))
+          first = &s["onset"];
+      EXPECT_EQ(c.contains("onset_tension"), first != nullptr);
+      if (first)
+        {
+          EXPECT_EQ(c["onset_tension"], (*first)["suture_tension"]);
+          EXPECT_EQ(c["onset_time"], (*first)["time"]);
+        }
       for (const auto &s : c["tracts"])
         {
           const double largest = s["largest_mean_over_critical"].get<double>();

@@ -33,6 +33,7 @@ namespace suturesim::realtime
     std::string       kind;              ///< tear_into, tear_through
     double            time          = 0; ///< s
     double            tension       = 0; ///< |force| on the top start's tissue point, N
+    double            suture_tension = 0; ///< the suture's pulled end's (the caller's measure), N
     double            ligament      = 0; ///< ℓ, m
     double            threshold     = 0; ///< T_c ℓ, N
     bool              crosses_wound = false;
@@ -49,10 +50,11 @@ namespace suturesim::realtime
     /// (World::uncuttable_tissue()), or a world without a needle.
     LigamentTearing(const tearing::LigamentTearParameters &parameters, tearing::Wound wound, const World &world);
 
-    /// Looks for a tract to tear at the world's current (accepted) state, and tears it.
-    /// Returns whether it did.
+    /// Looks for a tract to tear at the world's current (accepted) state, and tears it,
+    /// recording @p suture_tension (N) with it: the pulled end's tension, which the accurate
+    /// path's criteria report at their onset too. Returns whether it did.
     bool
-    check(World &world);
+    check(World &world, double suture_tension);
 
     const tearing::LigamentTearParameters &
     parameters() const
@@ -67,7 +69,7 @@ namespace suturesim::realtime
     }
 
     /// The tears as summary.json events (kind, time, position of the top start at rest,
-    /// force: the tension, and the fields above).
+    /// force: the tension, suture_tension, and the fields above).
     nlohmann::json
     events() const;
 

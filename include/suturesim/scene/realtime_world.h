@@ -51,7 +51,9 @@ namespace suturesim::scene
     void
     measure_closure();
 
-    /// The tension the closure is charged to, N.
+    /// The suture's tension, as the closure and the tears are charged to it (the accurate
+    /// path's measure): the last end's grasper's pull once it holds the end, else the
+    /// needle's pull, N.
     double
     closure_tension() const;
 

@@ -103,7 +103,7 @@ namespace suturesim::scene
               }
             // seed 003's tears, between steps
             if (world.tearing)
-              world.tearing->check(rw);
+              world.tearing->check(rw, world.closure_tension());
             world.measure_closure();
             const bool output = interval > 0 && t >= next_output - 1e-12 * end_time;
             record.row(output || step == n_steps); // the last state is always written
