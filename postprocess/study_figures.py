@@ -11,6 +11,12 @@ Usage: /usr/bin/python3 postprocess/study_figures.py STUDY_FOLDER
 - stability.png, stability.pdf (when the study names stability axes): each case a cell
   stable / diverged / inaccurate, with the program's predicted boundary dt = dt_crit;
   one map per value of the study's other axes (its panels), side by side.
+- map.png, map.pdf (when the study names map axes and metrics): per metric (and panel) a
+  heat map of the cases' own values over the two axes, with the references' values and
+  the relative difference beside it when each cell has its own reference; cells without
+  a value are grey ("none": no onset within the run), flagged cells hatched (e.g. seed
+  003's "too close to the edge"). A vector value (a spacing "0, 0.004, 0") is placed at
+  its length.
 - convergence.png, convergence.pdf (when the study names a convergence metric): the
   metric against h, the Richardson extrapolation with Roache's GCI as its error bar.
 Run by `suturesim study` after the tables; runs by itself on an existing folder.
@@ -24,6 +30,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 COLORS = {"stable": "#2a9d3f", "diverged": "#d62728", "inaccurate": "#ff9f1c"}
 
@@ -184,6 +191,80 @@ def stability(study, folder):
     save(fig, folder, "stability", tight=False)
 
 
+def axis_number(value):
+    """An axis value as a number: a scalar, or a vector's length."""
+    parts = [float(p) for p in str(value).split(",")]
+    return parts[0] if len(parts) == 1 else math.sqrt(sum(p * p for p in parts))
+
+
+HATCHES = ["///", "\\\\\\", "xx", "..", "++"]
+
+
+def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None):
+    """A heat map of values[i] (None: grey) on the grid xs × ys; flagged cells hatched."""
+    grid = np.full((len(ys), len(xs)), np.nan)
+    for c, v in zip(cells, values):
+        if v is not None:
+            grid[ys.index(axis_number(c["y"])), xs.index(axis_number(c["x"]))] = v
+    masked = np.ma.masked_invalid(grid)
+    colormap = plt.get_cmap(cmap).copy()
+    colormap.set_bad("#cccccc")
+    lo, hi = limits if limits else (np.nanmin(grid) if np.isfinite(grid).any() else 0,
+                                    np.nanmax(grid) if np.isfinite(grid).any() else 1)
+    image = ax.imshow(masked, origin="lower", cmap=colormap, vmin=lo, vmax=hi, aspect="auto")
+    for c, v in zip(cells, values):
+        i, j = ys.index(axis_number(c["y"])), xs.index(axis_number(c["x"]))
+        ax.text(j, i, "none" if v is None else f"{v:.3g}", ha="center", va="center", fontsize=6)
+        for name, hatch in flags:
+            if (c["flags"].get(name) or 0) > 0:
+                ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch=hatch, edgecolor="black",
+                                           lw=0, alpha=0.5))
+    ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs], fontsize=7)
+    ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys], fontsize=7)
+    ax.set_title(title, fontsize=8)
+    plt.colorbar(image, ax=ax, label=unit, shrink=0.85)
+
+
+def study_map(study, folder):
+    """Per metric and panel: the cases' values, the references' and their difference."""
+    m = study["map"]
+    panels = list(dict.fromkeys(c["panel"] for c in m["cells"]))
+    rows = [(metric["case"], metric["reference"], panel) for metric in m["metrics"] for panel in panels]
+    with_reference = m["references_per_cell"] and any(
+        v is not None for c in m["cells"] for v in c["reference_values"].values())
+    columns = 3 if with_reference else 1
+    fig, axes = plt.subplots(len(rows), columns, figsize=(1 + 5 * columns, 0.5 + 4 * len(rows)), squeeze=False)
+    flags = [(f, HATCHES[k % len(HATCHES)]) for k, f in enumerate(m["flags"])]
+    for (metric, reference, panel), row in zip(rows, axes):
+        cells = [c for c in m["cells"] if c["panel"] == panel]
+        xs = sorted({axis_number(c["x"]) for c in cells})
+        ys = sorted({axis_number(c["y"]) for c in cells})
+        own = [c["values"][metric] for c in cells]
+        where = f" ({panel})" if panel else ""
+        if not with_reference:
+            map_panel(row[0], cells, xs, ys, own, flags, f"{metric}{where}", metric, "viridis")
+            continue
+        ref = [c["reference_values"][reference] for c in cells]
+        both = [v for v in own + ref if v is not None] or [0, 1]
+        limits = (min(both), max(both))
+        map_panel(row[0], cells, xs, ys, own, flags, f"cases: {metric}{where}", metric, "viridis", limits)
+        map_panel(row[1], cells, xs, ys, ref, flags, f"references: {reference}{where}", reference, "viridis",
+                  limits)
+        difference = [None if a is None or b in (None, 0) else (a - b) / abs(b) for a, b in zip(own, ref)]
+        spread = max([abs(d) for d in difference if d is not None] or [1])
+        map_panel(row[2], cells, xs, ys, difference, flags, "(case − reference) / |reference|", "1", "RdBu_r",
+                  (-spread, spread))
+    for ax in axes.flat:
+        ax.set_xlabel(f"{m['x']} [{m['x_unit'] or '-'}]", fontsize=7)
+        ax.set_ylabel(f"{m['y']} [{m['y_unit'] or '-'}]", fontsize=7)
+    if flags:
+        handles = [plt.Rectangle((0, 0), 1, 1, fill=False, hatch=h, label=f"{f} > 0") for f, h in flags]
+        fig.legend(handles=handles, fontsize=7, loc="lower center", ncol=len(handles))
+    fig.suptitle(f"study {study['name']}: map", fontsize=10)
+    fig.tight_layout(rect=(0, 0.05 if flags else 0, 1, 1))
+    save(fig, folder, "map", tight=False)
+
+
 def convergence(study, folder):
     c = study["convergence"]
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
@@ -224,6 +305,8 @@ def main():
         pareto(study, folder)
     if study.get("stability"):
         stability(study, folder)
+    if study.get("map"):
+        study_map(study, folder)
     if study.get("convergence"):
         convergence(study, folder)
 

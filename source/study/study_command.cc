@@ -162,10 +162,11 @@ namespace suturesim::study
       study.references = references;
     }
 
-    /// The row of a case that has run: its metrics against the reference.
+    /// The row of a case that has run (@p is_reference: one of the references): its metrics
+    /// against the reference.
     CaseRow
-    row_of(const StudyDefinition &study, const Case &c, const CaseOutcome &outcome, const RunData *data,
-           const RunData &reference)
+    row_of(const StudyDefinition &study, const Case &c, const bool is_reference, const CaseOutcome &outcome,
+           const RunData *data, const RunData &reference)
     {
       CaseRow row;
       row.definition = &c;
@@ -186,6 +187,11 @@ namespace suturesim::study
       row.dt_crit = seconds("dt_crit_s");
       for (const auto &[name, bound] : study.objective.limits)
         row.limit_values.push_back(run.metric(name).value_or(NAN));
+      // a reference row keeps the reference's metric of each map entry
+      for (const auto &[own, other] : study.figures.map_metrics)
+        row.map_values.push_back(run.metric(is_reference ? other : own).value_or(NAN));
+      for (const auto &name : study.figures.map_flags)
+        row.map_flags.push_back(run.metric(name).value_or(NAN));
       if (outcome.status != "completed")
         return row;
       std::vector<std::string> missing;
@@ -351,7 +357,7 @@ namespace suturesim::study
           if (k >= count && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
             own = RunData::read(p.jobs[k].folder);
           const RunData *data = k < count ? &references[k] : own ? &*own : nullptr;
-          rows.push_back(row_of(study, *p.cases[k], e.outcomes[k], data, against));
+          rows.push_back(row_of(study, *p.cases[k], k < count, e.outcomes[k], data, against));
         }
       const StudyReport report(study, std::move(rows), series ? series->account : nlohmann::json(nullptr));
       nlohmann::json    timing{{"jobs", o.jobs},

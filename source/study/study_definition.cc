@@ -196,6 +196,19 @@ namespace suturesim::study
       prm.declare_entry("Stability axes", "", Anything(),
                         "Two axis paths of Cases/Axes, \"x; y\", for the stability map (stable, diverged, "
                         "inaccurate, with dt_crit); empty for none. Unit: none.");
+      prm.declare_entry("Map axes", "", Anything(),
+                        "Two axis paths of Cases/Axes, \"x; y\", for a heat map of each Map metric "
+                        "(a vector value is placed at its length); empty for none. Unit: none.");
+      prm.declare_entry("Map metrics", "", Anything(),
+                        "summary.json metrics of each case drawn on the map, comma separated (the case's "
+                        "own values, and its reference's when the reference is per axis), e.g. "
+                        "realtime_tearing.onset_tension; \"case metric: reference metric\" reads the "
+                        "reference for another (the accurate path's onset of a criterion). A case "
+                        "without one is drawn as 'none'. Unit: none.");
+      prm.declare_entry("Map flags", "", Anything(),
+                        "summary.json metrics, comma separated, that mark a map cell when > 0 (e.g. "
+                        "stitch_evaluation.too_close_to_edge: seed 003's limits, as each run found them). "
+                        "Unit: none.");
       prm.declare_entry("Convergence metric", "", Anything(),
                         "A summary.json metric tabulated against the mesh size h of the cases "
                         "(observed order, Richardson extrapolation, GCI): each run's representative "
@@ -488,13 +501,32 @@ namespace suturesim::study
     {
       prm.enter_subsection("Figures");
       const auto figures   = top.subsection("Figures");
-      const auto stability = split(prm.get("Stability axes"), ';');
-      figures.require(stability.empty() || stability.size() == 2, "Stability axes", "needs two axes, 'x; y'");
-      for (const auto &a : stability)
-        figures.require(std::find(axes.begin(), axes.end(), unquote(a)) != axes.end(), "Stability axes",
-                        "'" + unquote(a) + "' is not an axis of Cases/Axes");
-      if (stability.size() == 2)
-        d.figures.stability_x = unquote(stability[0]), d.figures.stability_y = unquote(stability[1]);
+      // "x; y": two axes of Cases/Axes, or none
+      const auto two_axes = [&](const char *key, std::string &x, std::string &y) {
+        const auto pair = split(prm.get(key), ';');
+        figures.require(pair.empty() || pair.size() == 2, key, "needs two axes, 'x; y'");
+        for (const auto &a : pair)
+          figures.require(std::find(axes.begin(), axes.end(), unquote(a)) != axes.end(), key,
+                          "'" + unquote(a) + "' is not an axis of Cases/Axes");
+        if (pair.size() == 2)
+          x = unquote(pair[0]), y = unquote(pair[1]);
+      };
+      two_axes("Stability axes", d.figures.stability_x, d.figures.stability_y);
+      two_axes("Map axes", d.figures.map_x, d.figures.map_y);
+      for (const auto &entry : names(prm.get("Map metrics")))
+        {
+          const auto colon = entry.find(':');
+          const auto own   = unquote(entry.substr(0, colon));
+          const auto other = colon == std::string::npos ? own : unquote(entry.substr(colon + 1));
+          figures.require(!own.empty() && !other.empty(), "Map metrics", "'" + entry + "' names no metric");
+          d.figures.map_metrics.emplace_back(own, other);
+        }
+      d.figures.map_flags   = names(prm.get("Map flags"));
+      figures.require(d.figures.map_x.empty() == d.figures.map_metrics.empty(),
+                      d.figures.map_x.empty() ? "Map axes" : "Map metrics",
+                      "a map needs both its two axes and at least one metric");
+      figures.require(!d.figures.map_x.empty() || d.figures.map_flags.empty(), "Map flags",
+                      "flags need a map (Map axes)");
       d.figures.convergence_metric = unquote(prm.get("Convergence metric"));
       d.figures.convergence_sizes  = named_numbers(prm.get("Convergence sizes"), figures, "Convergence sizes");
       d.figures.convergence_series = unquote(prm.get("Convergence series"));
@@ -646,6 +678,7 @@ namespace suturesim::study
     for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
+                            "Figures/Map axes", "Figures/Map metrics", "Figures/Map flags",
                             "Figures/Convergence metric", "Figures/Convergence sizes", "Calibration/Parameters",
                             "Calibration/Weights", "Calibration/Validation"})
       d.lines[key] = file.line_of(key);

@@ -235,14 +235,58 @@ namespace suturesim::study
   } // namespace
 
   std::string
-  StudyReport::panel_of(const Case &c) const
+  StudyReport::panel_of(const Case &c, const std::string &x, const std::string &y) const
   {
     // the axes other than the map's two: one map (panel) per combination of their values
     std::string panel;
     for (const auto &[path, value] : c.axis_values)
-      if (path != study.figures.stability_x && path != study.figures.stability_y)
+      if (path != x && path != y)
         panel += (panel.empty() ? "" : ", ") + path + " = " + value;
     return panel;
+  }
+
+  nlohmann::json
+  StudyReport::map() const
+  {
+    const auto &f = study.figures;
+    if (f.map_x.empty())
+      return nullptr;
+    // values by metric name: the cases' by their own, the references' by theirs
+    const auto named = [](const std::vector<std::string> &names, const std::vector<double> &values) {
+      nlohmann::json out = nlohmann::json::object();
+      for (std::size_t k = 0; k < names.size(); ++k)
+        out[names[k]] = k < values.size() ? json_number(values[k]) : nullptr;
+      return out;
+    };
+    std::vector<std::string> own, other;
+    nlohmann::json           metrics = nlohmann::json::array();
+    for (const auto &[a, b] : f.map_metrics)
+      {
+        own.push_back(a), other.push_back(b);
+        metrics.push_back({{"case", a}, {"reference", b}});
+      }
+    nlohmann::json cells = nlohmann::json::array();
+    for (std::size_t k = study.references.size(); k < rows.size(); ++k)
+      {
+        const auto &r = rows[k];
+        const auto &c = *r.definition;
+        // a resolution series has no one reference row per case
+        const auto *reference = study.reference_series ? nullptr : &rows[c.reference];
+        cells.push_back({{"case", c.name},
+                         {"panel", panel_of(c, f.map_x, f.map_y)},
+                         {"x", axis_value(c, f.map_x)},
+                         {"y", axis_value(c, f.map_y)},
+                         {"status", r.outcome.status},
+                         {"reference", reference ? reference->definition->name : ""},
+                         {"values", named(own, r.map_values)},
+                         {"reference_values", named(other, reference ? reference->map_values : std::vector<double>{})},
+                         {"flags", named(f.map_flags, r.map_flags)}});
+      }
+    // the references' values are the case's own physics (per axis) or one number (a single reference)
+    const bool per_cell = study.references.size() > 1;
+    return {{"x", f.map_x},         {"y", f.map_y},          {"x_unit", parameter_unit(f.map_x)},
+            {"y_unit", parameter_unit(f.map_y)}, {"metrics", metrics}, {"flags", f.map_flags},
+            {"references_per_cell", per_cell}, {"cells", cells}};
   }
 
   nlohmann::json
@@ -258,7 +302,7 @@ namespace suturesim::study
     for (std::size_t k = study.references.size(); k < rows.size(); ++k)
       {
         const auto &r     = rows[k];
-        const auto  key   = std::make_pair(panel_of(*r.definition), axis_value(*r.definition, y));
+        const auto  key   = std::make_pair(panel_of(*r.definition, x, y), axis_value(*r.definition, y));
         cells.push_back({{"case", r.definition->name}, {"panel", key.first}, {"x", axis_value(*r.definition, x)},
                          {"y", key.second}, {"state", cell_state(r, bounded)}, {"dt", json_number(r.dt)},
                          {"dt_crit", json_number(r.dt_crit)}});
@@ -332,6 +376,7 @@ namespace suturesim::study
       out["best"][study.references[g].name] = name(chosen[g]);
     out["reference_series"] = series;
     out["stability"]  = stability();
+    out["map"]        = map();
     out["convergence"] = convergence();
     return out;
   }
@@ -482,6 +527,33 @@ namespace suturesim::study
   }
 
   void
+  StudyReport::write_map_csv(const std::string &file, const nlohmann::json &map) const
+  {
+    const auto   &f = study.figures;
+    std::ofstream csv(file);
+    const auto    value = [](const nlohmann::json &v) { return v.is_null() ? std::string() : number(v.get<double>()); };
+    csv << "case,panel," << field(f.map_x + " [" + parameter_unit(f.map_x) + "]") << ','
+        << field(f.map_y + " [" + parameter_unit(f.map_y) + "]") << ",status,reference";
+    for (const auto &[own, other] : f.map_metrics)
+      csv << ',' << field(own) << ',' << field("reference " + other);
+    for (const auto &flag : f.map_flags)
+      csv << ',' << field(flag);
+    csv << '\n';
+    for (const auto &c : map["cells"])
+      {
+        csv << field(c["case"].get<std::string>()) << ',' << field(c["panel"].get<std::string>()) << ','
+            << field(c["x"].get<std::string>()) << ',' << field(c["y"].get<std::string>()) << ','
+            << c["status"].get<std::string>() << ',' << field(c["reference"].get<std::string>());
+        for (const auto &[own, other] : f.map_metrics)
+          csv << ',' << value(c["values"][own]) << ',' << value(c["reference_values"][other]);
+        for (const auto &flag : f.map_flags)
+          csv << ',' << value(c["flags"][flag]);
+        csv << '\n';
+      }
+    io::check_written(csv, file);
+  }
+
+  void
   StudyReport::write(const std::string &folder, const nlohmann::json &timing) const
   {
     write_cases_csv((fs::path(folder) / "cases.csv").string());
@@ -506,6 +578,8 @@ namespace suturesim::study
               << (c["dt_crit"].is_null() ? "" : number(c["dt_crit"].get<double>())) << '\n';
         io::check_written(csv, name);
       }
+    if (!json["map"].is_null())
+      write_map_csv((fs::path(folder) / "map.csv").string(), json["map"]);
     if (!json["convergence"].is_null())
       {
         const auto    name = (fs::path(folder) / "convergence.csv").string();

@@ -106,6 +106,22 @@ TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
     {"unmatched", header + "subsection Reference\n  set Per axis = Time/Step size\nend\n" +
                     "subsection Cases\n  set List = a: Time/Step size=0.5; b: Time/End time=2\nend\n",
      ":4: Reference/Per axis: case 'b' does not set 'Time/Step size', so it has no reference"},
+    // a map over two axes with at least one metric; a metric entry names a metric on each side
+    {"map_not_an_axis", header + axes + "Time/Step size = 0.5 | 0.25\nend\nsubsection Figures\n set Map axes = "
+                          "Time/Step size; Time/End time\n set Map metrics = closure_tension\nend\n",
+     ":7: Figures/Map axes: 'Time/End time' is not an axis of Cases/Axes"},
+    {"map_one_axis", header + axes + "Time/Step size = 0.5 | 0.25\nend\nsubsection Figures\n set Map axes = "
+                       "Time/Step size\n set Map metrics = closure_tension\nend\n",
+     ":7: Figures/Map axes: needs two axes"},
+    {"map_no_metric", header + axes + "Time/Step size = 0.5 | 0.25; Time/End time = 1 | 2\nend\nsubsection Figures\n"
+                        " set Map axes = Time/Step size; Time/End time\nend\n",
+     "Figures/Map metrics (default): a map needs both its two axes and at least one metric"},
+    {"map_half_metric", header + axes + "Time/Step size = 0.5 | 0.25; Time/End time = 1 | 2\nend\nsubsection "
+                          "Figures\n set Map axes = Time/Step size; Time/End time\n set Map metrics = a: \nend\n",
+     ":8: Figures/Map metrics: 'a:' names no metric"},
+    {"flags_without_map", header + axes + "Time/Step size = 0.5 | 0.25\nend\nsubsection Figures\n set Map flags = "
+                            "stitch_evaluation.too_close_to_edge\nend\n",
+     ":7: Figures/Map flags: flags need a map"},
   };
   for (const auto &c : cases)
     {

@@ -91,6 +91,13 @@ namespace suturesim::study
     std::string convergence_metric;       ///< a summary metric for the convergence table (empty: none)
     std::vector<std::pair<std::string, double>> convergence_sizes; ///< case name: h (m)
     std::string convergence_series; ///< a parameter path whose value in a case names its series (e.g. Model)
+    /// The map (a heat map per metric over two axes, e.g. tear onset over bite × spacing):
+    std::string              map_x, map_y;  ///< axis paths (empty: none)
+    /// summary.json metrics drawn on the map: the case's, and the one its reference is
+    /// read for (the same unless the entry says "case metric: reference metric", as when
+    /// the two paths name their tear onsets differently)
+    std::vector<std::pair<std::string, std::string>> map_metrics;
+    std::vector<std::string> map_flags;     ///< summary.json metrics that mark a cell when > 0
   };
 
   /// A scene parameter that a calibration fits (Calibration/Parameters), within bounds.

@@ -20,6 +20,8 @@
  *   diverged, inaccurate = completed beyond a tolerance), dt and the predicted dt_crit;
  *   a study with more axes than the map's two has one map (panel) per combination of the
  *   others' values, named in the `panel` column.
+ * - `map.csv`: per case of the map's two axes (Figures/Map axes), its panel, each map
+ *   metric of the case and of its reference, and each flag.
  * - `convergence.csv`: the convergence metric against h, observed orders, Richardson
  *   extrapolation and Roache's grid-convergence index (study/convergence.h); h is each
  *   run's own representative cell size (V/N)^(1/3) (Celik et al. 2008), or the size the
@@ -49,6 +51,8 @@ namespace suturesim::study
     double              convergence_value = dt; ///< the convergence metric, if any
     double              mesh_size = dt; ///< summary.json mesh.representative_size, m
     std::vector<double> limit_values; ///< Objective/Limits' metrics of the case; NaN when absent
+    std::vector<double> map_values;   ///< Figures/Map metrics of the case; NaN when absent
+    std::vector<double> map_flags;    ///< Figures/Map flags of the case; NaN when absent
     /// The largest of |error|/tolerance and |value|/limit over the Objective's bounds:
     /// ≤ 1 within every one (NaN for a case not completed or a study without bounds).
     double              bound_ratio = std::numeric_limits<double>::quiet_NaN();
@@ -91,6 +95,9 @@ namespace suturesim::study
     error(const CaseRow &row) const;
     void
     write_cases_csv(const std::string &file) const;
+    /// map.csv, from @p map (map()).
+    void
+    write_map_csv(const std::string &file, const nlohmann::json &map) const;
     /// Writes best.prm (per reference best_<values>.prm).
     void
     write_best(const std::string &folder) const;
@@ -99,10 +106,13 @@ namespace suturesim::study
                const std::string &reference) const;
     nlohmann::json
     stability() const;
-    /// The stability-map panel of a case: the values of its axes other than the map's
-    /// two ("" when it has none).
+    /// The map of Figures/Map: per case, its metrics and flags and its reference's metrics.
+    nlohmann::json
+    map() const;
+    /// The panel of a case on a map over axes @p x and @p y: the values of its other axes
+    /// ("" when it has none).
     std::string
-    panel_of(const Case &c) const;
+    panel_of(const Case &c, const std::string &x, const std::string &y) const;
     nlohmann::json
     convergence() const;
   };
