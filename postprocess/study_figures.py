@@ -191,10 +191,21 @@ def stability(study, folder):
     save(fig, folder, "stability", tight=False)
 
 
-def axis_number(value):
-    """An axis value as a number: a scalar, or a vector's length."""
-    parts = [float(p) for p in str(value).split(",")]
+def axis_key(value):
+    """An axis value as a number (a scalar, or a vector's length), else as its text."""
+    try:
+        parts = [float(p) for p in str(value).split(",")]
+    except ValueError:
+        return str(value)
     return parts[0] if len(parts) == 1 else math.sqrt(sum(p * p for p in parts))
+
+
+def axis_grid(values):
+    """The map's positions along an axis: numbers in order, else the values as they come."""
+    keys = list(dict.fromkeys(axis_key(v) for v in values))
+    if all(isinstance(k, float) for k in keys):
+        keys.sort()
+    return keys
 
 
 HATCHES = ["///", "\\\\\\", "xx", "..", "++"]
@@ -205,7 +216,7 @@ def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None):
     grid = np.full((len(ys), len(xs)), np.nan)
     for c, v in zip(cells, values):
         if v is not None:
-            grid[ys.index(axis_number(c["y"])), xs.index(axis_number(c["x"]))] = v
+            grid[ys.index(axis_key(c["y"])), xs.index(axis_key(c["x"]))] = v
     masked = np.ma.masked_invalid(grid)
     colormap = plt.get_cmap(cmap).copy()
     colormap.set_bad("#cccccc")
@@ -213,14 +224,15 @@ def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None):
                                     np.nanmax(grid) if np.isfinite(grid).any() else 1)
     image = ax.imshow(masked, origin="lower", cmap=colormap, vmin=lo, vmax=hi, aspect="auto")
     for c, v in zip(cells, values):
-        i, j = ys.index(axis_number(c["y"])), xs.index(axis_number(c["x"]))
+        i, j = ys.index(axis_key(c["y"])), xs.index(axis_key(c["x"]))
         ax.text(j, i, "none" if v is None else f"{v:.3g}", ha="center", va="center", fontsize=6)
         for name, hatch in flags:
             if (c["flags"].get(name) or 0) > 0:
                 ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch=hatch, edgecolor="black",
                                            lw=0, alpha=0.5))
-    ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs], fontsize=7)
-    ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys], fontsize=7)
+    label = lambda k: f"{k:g}" if isinstance(k, float) else k  # noqa: E731
+    ax.set_xticks(range(len(xs)), [label(x) for x in xs], fontsize=7)
+    ax.set_yticks(range(len(ys)), [label(y) for y in ys], fontsize=7)
     ax.set_title(title, fontsize=8)
     plt.colorbar(image, ax=ax, label=unit, shrink=0.85)
 
@@ -237,8 +249,8 @@ def study_map(study, folder):
     flags = [(f, HATCHES[k % len(HATCHES)]) for k, f in enumerate(m["flags"])]
     for (metric, reference, panel), row in zip(rows, axes):
         cells = [c for c in m["cells"] if c["panel"] == panel]
-        xs = sorted({axis_number(c["x"]) for c in cells})
-        ys = sorted({axis_number(c["y"]) for c in cells})
+        xs = axis_grid(c["x"] for c in cells)
+        ys = axis_grid(c["y"] for c in cells)
         own = [c["values"][metric] for c in cells]
         where = f" ({panel})" if panel else ""
         if not with_reference:
