@@ -252,6 +252,20 @@ TEST(StudyRun, SnakemakeExportGivesTheSameTableAsJobs)
   const auto snake = read_csv(exported.folder + "/cases.csv");
   ASSERT_EQ(snake.size(), 6u);
   EXPECT_EQ(without_costs(snake), without_costs(read_csv(jobs.folder + "/cases.csv")));
+  // the map (Figures/Map): a row per case, each with its own run's value, both ways alike
+  const auto map = read_csv(jobs.folder + "/map.csv");
+  ASSERT_EQ(map.size(), 5u);
+  EXPECT_EQ(map, read_csv(exported.folder + "/map.csv"));
+  EXPECT_TRUE(fs::exists(fs::path(jobs.folder) / "map.png"));
+  for (const auto &cell : jobs.study.at("map").at("cells"))
+    {
+      const auto &c = *std::find_if(jobs.study.at("cases").begin(), jobs.study.at("cases").end(),
+                                    [&](const auto &k) { return k["name"] == cell["case"]; });
+      nlohmann::json summary;
+      std::ifstream(jobs.folder + "/cases/" + c["name"].get<std::string>() + "/summary.json") >> summary;
+      EXPECT_EQ(cell["values"]["top_centre_displacement_z"], summary["metrics"]["top_centre_displacement_z"]);
+      EXPECT_EQ(cell["reference_values"]["top_centre_displacement_z"].is_number(), true);
+    }
 }
 
 TEST(StudyRun, ACaseThatEndsWithoutWhatItsSceneAskedIsIncompleteWithTheReason)
