@@ -56,12 +56,13 @@ namespace suturesim::study
       return trim(out);
     }
 
-    /// "Path/Key=value" settings of @p text (separated by ","), unquoted.
+    /// The items of @p text separated by @p separator, unquoted: names, or
+    /// "Path/Key=value" settings.
     std::vector<std::string>
-    settings(const std::string &text)
+    names(const std::string &text, const char separator = ',')
     {
       std::vector<std::string> out;
-      for (const auto &s : split(text, ','))
+      for (const auto &s : split(text, separator))
         out.push_back(unquote(s));
       return out;
     }
@@ -289,7 +290,7 @@ namespace suturesim::study
           const auto colon = item.find(':');
           scope.require(colon != std::string::npos && colon > 0, key, "'" + item + "' is not 'name: settings'");
           Case c{file_name_part(unquote(item.substr(0, colon))), common, {}};
-          for (const auto &s : settings(item.substr(colon + 1)))
+          for (const auto &s : names(item.substr(colon + 1)))
             c.settings.push_back(s);
           cases.push_back(c);
         }
@@ -382,15 +383,6 @@ namespace suturesim::study
         c.reference = d.references.size() - 1;
     }
 
-    std::vector<std::string>
-    names(const std::string &text, const char separator = ',')
-    {
-      std::vector<std::string> out;
-      for (const auto &s : split(text, separator))
-        out.push_back(unquote(s));
-      return out;
-    }
-
     /// The references and the cases, each checked against the base scene with @p extra
     /// (--set) after its own settings; the axis paths of Cases/Axes.
     std::vector<std::string>
@@ -398,9 +390,10 @@ namespace suturesim::study
                const std::vector<std::string> &extra, const std::string *case_list)
     {
       prm.enter_subsection("Reference");
-      const auto reference_settings = settings(prm.get("Settings"));
+      const auto reference_settings = names(prm.get("Settings"));
       const auto per_axis           = names(prm.get("Per axis"), ';');
       const auto series             = prm.get("Series");
+      d.references_per_axis         = !per_axis.empty();
       const auto processes          = static_cast<unsigned>(prm.get_integer("Processes"));
       prm.leave_subsection();
       {
@@ -411,7 +404,7 @@ namespace suturesim::study
 
       prm.enter_subsection("Cases");
       const ParameterScope cases      = top.subsection("Cases");
-      const auto           common     = settings(prm.get("Settings"));
+      const auto           common     = names(prm.get("Settings"));
       const auto           axis_texts = case_list ? std::vector<std::string>{} : split(prm.get("Axes"), ';');
       d.cases                         = product(axis_texts, common, cases);
       const std::size_t from_axes     = d.cases.size();
@@ -586,7 +579,7 @@ namespace suturesim::study
       auto      &c     = d.calibration;
       const auto scope = top.subsection("Calibration");
       prm.enter_subsection("Cases");
-      const auto common = settings(prm.get("Settings"));
+      const auto common = names(prm.get("Settings"));
       prm.leave_subsection();
       prm.enter_subsection("Calibration");
       const auto weights    = named_numbers(prm.get("Weights"), scope, "Weights");

@@ -283,7 +283,7 @@ namespace suturesim::study
                          {"flags", named(f.map_flags, r.map_flags)}});
       }
     // the references' values are the case's own physics (per axis) or one number (a single reference)
-    const bool per_cell = study.references.size() > 1;
+    const bool per_cell = study.references_per_axis;
     return {{"x", f.map_x},         {"y", f.map_y},          {"x_unit", parameter_unit(f.map_x)},
             {"y_unit", parameter_unit(f.map_y)}, {"metrics", metrics}, {"flags", f.map_flags},
             {"references_per_cell", per_cell}, {"cells", cells}};

@@ -130,6 +130,9 @@ namespace suturesim::study
     /// a resolution series (Reference/Series, "reference_<name>")
     std::vector<Case> references;
     bool              reference_series = false; ///< the references are one series, every case against all of them
+    /// Reference/Per axis names axes: each case has the reference of its own values
+    /// there (even when --only leaves one)
+    bool references_per_axis = false;
     std::vector<Case> cases;      ///< the product of the axes, then the listed ones
     MetricsSpec       metrics;
     ObjectiveSpec     objective;
