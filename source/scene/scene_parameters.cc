@@ -16,11 +16,13 @@ namespace suturesim::scene
                       "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture) or "
                       "'realtime' (the seed papers' reduced models at haptic rate; subsection "
                       "Realtime).");
-    prm.declare_entry("Bodies", "tissue", Patterns::Selection("tissue|suture|tissue and suture"),
+    prm.declare_entry("Bodies", "tissue", Patterns::Selection("tissue|suture|tissue and suture|fracture specimen"),
                       "What the scene simulates: 'tissue' (subsections Mesh, Tissue), "
-                      "'suture' (subsection Suture), or both in contact ('tissue and "
+                      "'suture' (subsection Suture), both in contact ('tissue and "
                       "suture'; the accurate path couples them through a needle's pierce "
-                      "points, the suture attached at its swage). "
+                      "points, the suture attached at its swage), or a 'fracture specimen' "
+                      "(subsection Fracture specimen; accurate path: phase-field fracture "
+                      "against linear elastic fracture mechanics). "
                       "Unit: none.");
     prm.enter_subsection("Suture");
     rod::RodParameters::declare(prm);

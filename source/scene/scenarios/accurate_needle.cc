@@ -203,7 +203,8 @@ namespace suturesim::scene
        "when Bodies = tissue and suture (Model = accurate)",
        nullptr,
        [](const SceneParameters &s) {
-         return s.model == "accurate" && s.has_tissue() && (s.needle.present() || s.bodies == "tissue and suture");
+         return s.model == "accurate" && s.has_tissue() && s.bodies != "fracture specimen" &&
+                (s.needle.present() || s.bodies == "tissue and suture");
        },
        [](ParameterHandler &prm, SceneParameters &s) { return std::unique_ptr<Scenario>(new AccurateNeedle(prm, s)); }});
   } // namespace
