@@ -524,15 +524,21 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // its points of zero stiffness by 3.1e-12; a new virtual machine of the same model and
   // Debian packages, with no change of the accurate path, by 2.5e-12 on 2026-11-30),
   // against its Prescott ones by 6.4e-13 and 2.6e-15, the final gap by 3.5e-12.
-  // Tolerances: 1e-12 relative on the tensions, 1e-9 on
+  // The closure tension takes one of two values on virtual machines of this model,
+  // 8.644158949987604 or 8.64415895000956 N (2.5e-12 apart; the project's CI on
+  // 2026-12-01 gave the first, the machine that stored the second on 2026-11-30), so
+  // 1e-12 failed on one of them: the tolerance on the tensions is 1e-10 relative, 40x
+  // the spread machines and round-off reorderings have shown (at most 3.1e-12), and
+  // 1e-7 of the smallest change of the model recorded (0.17 %).
+  // Tolerances: 1e-10 relative on the tensions, 1e-9 on
   // the final gap, 1e-9 s on the times (a step earlier or later moves the
   // tie-off by 20 ms, the tension by per cents; the closure is read at the gap's
   // crossing, interpolated within its step). A change of the code that sums the same terms in
   // another order moves these values by up to a few tenths of a per cent through the
   // friction's memory of the path: each re-storing, with the value before and the
   // reason, is listed in docs/interrupted_stitch.md ("Regression values of the stitch").
-  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.64415895000956, 1e-12 * 8.64415895000956);
-  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.90727465918787, 1e-12 * 10.90727465918787);
+  EXPECT_NEAR(m["closure_tension"].get<double>(), 8.64415895000956, 1e-10 * 8.64415895000956);
+  EXPECT_NEAR(m["tie_off_tension"].get<double>(), 10.90727465918787, 1e-10 * 10.90727465918787);
   EXPECT_NEAR(m["closure_time"].get<double>(), 6.60181407266801, 1e-9);
   EXPECT_NEAR(m["tie_off_time"].get<double>(), 6.846875, 1e-9);
   EXPECT_NEAR(m["final_gap"].get<double>(), 4.671023086173193e-05, 1e-9 * 4.671023086173193e-05);
