@@ -1,5 +1,7 @@
 #include <suturesim/scene/tear_monitor.h>
 
+#include <suturesim/core/level_crossing.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,6 +10,13 @@ namespace suturesim::scene
   TearMonitor::TearMonitor(const tearing::TearCriteria &criteria, const tearing::Wound &wound)
     : criteria(criteria)
     , wound(wound)
+  {}
+
+  TearMonitor::TractState::TractState(const tearing::Tract &tract, const std::size_t n_criteria)
+    : tract(tract)
+    , largest_ratio(n_criteria, 0.0)
+    , last_ratio(n_criteria, std::nan(""))
+    , onset(n_criteria)
   {}
 
   namespace
@@ -32,8 +41,7 @@ namespace suturesim::scene
           const auto           known = std::find_if(tract_states.begin(), tract_states.end(),
                                                     [&](const TractState &s) { return s.tract.entry == tract.entry; });
           if (known == tract_states.end())
-            tract_states.push_back({tract, std::vector<double>(criteria.criteria.size(), 0.0),
-                                    std::vector<std::optional<Onset>>(criteria.criteria.size())});
+            tract_states.emplace_back(tract, criteria.criteria.size());
         }
 
     std::vector<tearing::Tract> tracts;
@@ -55,13 +63,29 @@ namespace suturesim::scene
             auto        &state  = tract_states[z];
             const auto  &sample = samples[c][z];
             const double ratio  = sample.mean() / critical;
-            if (std::isnan(ratio)) // an empty zone (radius below the cells' size): nothing to record
-              continue;
+            if (std::isnan(ratio)) // an empty zone (radius below the cells' size): nothing to record,
+              {                    // and no crossing to interpolate across it
+                state.last_ratio[c] = ratio;
+                continue;
+              }
             state.largest_ratio[c] = std::max(state.largest_ratio[c], ratio);
             if (ratio >= 1 && !state.onset[c])
-              state.onset[c] = Onset{t, tension, sample.mean(), sample.peak_location, sample.peak_direction};
+              {
+                // at the crossing of 1 within the last step; at this state when the last
+                // one has no mean (the tract's first state)
+                Onset onset{t, tension, sample.mean(), sample.peak_location, sample.peak_direction};
+                if (const double s = level_crossing(state.last_ratio[c], ratio, 1.0); s < 1)
+                  {
+                    onset.time    = last_time + s * (t - last_time);
+                    onset.tension = last_tension + s * (tension - last_tension);
+                  }
+                state.onset[c] = onset;
+              }
+            state.last_ratio[c] = ratio;
           }
       }
+    last_time    = t;
+    last_tension = tension;
   }
 
   nlohmann::json
@@ -69,13 +93,17 @@ namespace suturesim::scene
   {
     nlohmann::json result         = nlohmann::json::object();
     result["process_zone_radius"] = criteria.process_zone_radius;
+    if (std::isfinite(last_time))
+      result["last_state"] = {{"time", last_time}, {"suture_tension", last_tension}};
     for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
       {
         const auto &[name, criterion] = criteria.criteria[c];
         nlohmann::json per_tract      = nlohmann::json::array();
         const Onset   *first          = nullptr; // the stitch's onset: its earliest tract's
+        double         largest        = 0;
         for (const auto &s : tract_states)
           {
+            largest = std::max(largest, s.largest_ratio[c]);
             if (s.onset[c] && (!first || s.onset[c]->time < first->time))
               first = &*s.onset[c];
             nlohmann::json onset = nullptr;
@@ -88,11 +116,15 @@ namespace suturesim::scene
             per_tract.push_back({{"entry", s.tract.entry},
                                  {"exit", s.tract.exit},
                                  {"largest_mean_over_critical", s.largest_ratio[c]},
+                                 {"mean_over_critical", std::isnan(s.last_ratio[c]) ? nlohmann::json()
+                                                                                    : nlohmann::json(s.last_ratio[c])},
                                  {"onset", onset}});
           }
         result["criteria"][name] = {{"unit", criterion->unit()},
                                     {"critical_value", criterion->critical_value(criteria.process_zone_radius)},
                                     {"tracts", per_tract}};
+        if (!tract_states.empty())
+          result["criteria"][name]["largest_mean_over_critical"] = largest;
         // absent without an onset, so that a study finds it missing rather than zero
         if (first)
           {
@@ -107,6 +139,11 @@ namespace suturesim::scene
   TearMonitor::restore(const nlohmann::json &summary)
   {
     tract_states.clear();
+    if (const auto last = summary.find("last_state"); last != summary.end())
+      {
+        last_time    = last->at("time").get<double>();
+        last_tension = last->at("suture_tension").get<double>();
+      }
     for (std::size_t c = 0; c < criteria.criteria.size(); ++c)
       {
         const auto &per_tract = summary.at("criteria").at(criteria.criteria[c].first).at("tracts");
@@ -114,10 +151,12 @@ namespace suturesim::scene
           {
             const auto &j = per_tract[z];
             if (z == tract_states.size())
-              tract_states.push_back({{j.at("entry").get<tearing::Point3>(), j.at("exit").get<tearing::Point3>()},
-                                      std::vector<double>(criteria.criteria.size(), 0.0),
-                                      std::vector<std::optional<Onset>>(criteria.criteria.size())});
+              tract_states.emplace_back(
+                tearing::Tract{j.at("entry").get<tearing::Point3>(), j.at("exit").get<tearing::Point3>()},
+                criteria.criteria.size());
             tract_states[z].largest_ratio[c] = j.at("largest_mean_over_critical").get<double>();
+            if (const auto &r = j.value("mean_over_critical", nlohmann::json()); r.is_number())
+              tract_states[z].last_ratio[c] = r.get<double>();
             if (const auto &o = j.at("onset"); !o.is_null())
               tract_states[z].onset[c]
                   = Onset{o.at("time").get<double>(), o.at("suture_tension").get<double>(), o.at("mean").get<double>(),

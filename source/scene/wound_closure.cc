@@ -1,3 +1,4 @@
+#include <suturesim/core/level_crossing.h>
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/scene/wound_closure.h>
 
@@ -133,8 +134,7 @@ namespace suturesim::scene
           const double p_t   = previous ? previous->t : t;
           const double p_gap = previous ? previous->gaps[k] : gaps[k];
           const double p_T   = previous ? previous->tension : tension;
-          const double s =
-            p_gap > gaps[k] && p_gap >= prm.closure_gap ? (p_gap - prm.closure_gap) / (p_gap - gaps[k]) : 1;
+          const double s     = level_crossing(p_gap, gaps[k], prm.closure_gap);
           closed_at[k]      = p_t + s * (t - p_t);
           closed_tension[k] = p_T + s * (tension - p_T);
         }

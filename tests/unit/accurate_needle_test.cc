@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -564,10 +565,15 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
           EXPECT_EQ(c["onset_tension"], (*first)["suture_tension"]);
           EXPECT_EQ(c["onset_time"], (*first)["time"]);
         }
+      double largest_of_all = 0;
+      for (const auto &s : c["tracts"])
+        largest_of_all = std::max(largest_of_all, s["largest_mean_over_critical"].get<double>());
+      EXPECT_EQ(c["largest_mean_over_critical"].get<double>(), largest_of_all);
       for (const auto &s : c["tracts"])
         {
           const double largest = s["largest_mean_over_critical"].get<double>();
           EXPECT_TRUE(std::isfinite(largest));
+          EXPECT_LE(s["mean_over_critical"].get<double>(), largest);
           if (name != "max-principal-stress")
             {
               EXPECT_GT(largest, 0.0);
@@ -581,6 +587,14 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
             {
               EXPECT_GE(s["onset"]["mean"].get<double>(), c["critical_value"].get<double>());
               EXPECT_GT(s["onset"]["suture_tension"].get<double>(), 0.0);
+              // read at the crossing within a step (core/level_crossing.h), not at the
+              // accepted state that reached it: strictly between two rows of forces.csv
+              const double t_onset = s["onset"]["time"].get<double>();
+              const auto   after   = std::find_if(rows.begin(), rows.end(),
+                                                  [&](const std::vector<double> &row) { return row[0] >= t_onset; });
+              ASSERT_TRUE(after != rows.begin() && after != rows.end()) << t_onset;
+              EXPECT_GT(after->front(), t_onset);
+              EXPECT_LT(std::prev(after)->front(), t_onset);
             }
         }
     }

@@ -3,11 +3,13 @@
 #include "run_scene.h"
 #include "stitch_checks.h"
 
+#include <suturesim/core/level_crossing.h>
 #include <suturesim/scene/wound_closure.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -534,6 +536,21 @@ TEST(RealtimeScene, SpreadStitchWithDampingPerUnitMassHasAMeshLimit)
   std::printf("[ stitch ] spread loads, B per unit mass: closure tension %.4f N (1 mm), %.4f N (0.8 mm)\n",
               tension[0], tension[1]);
   EXPECT_LT(std::abs(tension[1] - tension[0]), 0.05 * tension[1]);
+}
+
+TEST(LevelCrossing, FractionOfTheStepInEitherDirectionAndTheStepsEndWithoutABracket)
+{
+  using suturesim::level_crossing;
+  // a linear quantity 3 -> 1 reaches 2.5 a quarter into the step, 1 -> 3 reaches 2.5 at
+  // three quarters; a level hit exactly at either end counts there
+  EXPECT_DOUBLE_EQ(level_crossing(3, 1, 2.5), 0.25);
+  EXPECT_DOUBLE_EQ(level_crossing(1, 3, 2.5), 0.75);
+  EXPECT_EQ(level_crossing(2.5, 1, 2.5), 0.0); // falling: on the level before
+  EXPECT_EQ(level_crossing(1, 2.5, 2.5), 1.0); // rising: on the level after
+  // no bracket (both on one side, or no sample before): the step's end
+  EXPECT_EQ(level_crossing(2, 1, 2.5), 1.0);
+  EXPECT_EQ(level_crossing(3, 4, 2.5), 1.0);
+  EXPECT_EQ(level_crossing(std::nan(""), 3, 2.5), 1.0);
 }
 
 TEST(WoundClosure, GapIsTheOpeningAlongThePairAndClosureFreezesTheMotion)

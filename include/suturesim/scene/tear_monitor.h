@@ -10,6 +10,13 @@
  * tension the closure is charged to: the grasper's pull on the far end once grasped, else the needle's), where the
  * zone's largest value lies and the direction the tear would open against. summary.json
  * "metrics.tearing"; the cell ratios m / m_c go into the tissue VTU (tear_<criterion>).
+ *
+ * The onset's time and tension are interpolated linearly in the mean between the last
+ * accepted state below the critical value and the first at or above it, as the closure
+ * is read at the gap's crossing (core/level_crossing.h): read at the step, an onset
+ * would move by up to a step's rise of the tension (0.23 N, 2.5 %, per 20 ms step near
+ * the default stitch's onset; adaptive steps reach 80 ms), which is of the order of the
+ * change under refinement it is meant to show (docs/tearing.md).
  */
 
 #include <suturesim/coupling/accurate/tissue_needle.h>
@@ -20,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -39,8 +47,10 @@ namespace suturesim::scene
     update(double t, double tension, tissue::TissueModel &model,
            const std::vector<coupling::AccuratePiercePoint> &pierce);
 
-    /// Per criterion: its unit, critical value and, per tract in the order the tracts
-    /// were made, the largest mean / critical so far and the onset (null before it).
+    /// Per criterion: its unit, critical value, the largest mean / critical over its
+    /// tracts (absent before the first tract) and, per tract in the order the tracts
+    /// were made, the largest mean / critical so far, the latest, and the onset (null
+    /// before it); the last state's time and tension, which a restart interpolates from.
     nlohmann::json
     summary() const;
 
@@ -58,11 +68,16 @@ namespace suturesim::scene
     {
       tearing::Tract                    tract;
       std::vector<double>               largest_ratio; ///< per criterion
+      std::vector<double>               last_ratio;    ///< per criterion, at the last state; NaN before it
       std::vector<std::optional<Onset>> onset;         ///< per criterion
+
+      TractState(const tearing::Tract &tract, std::size_t n_criteria);
     };
 
     const tearing::TearCriteria &criteria;
     const tearing::Wound        &wound;
     std::vector<TractState>      tract_states;
+    /// Time (s) and suture tension (N) of the last update(); NaN before the first.
+    double last_time = std::nan(""), last_tension = std::nan("");
   };
 } // namespace suturesim::scene
