@@ -38,10 +38,7 @@ def _decode(attributes, text, compressed):
     return np.frombuffer(b"".join(out), dtype=dtype)
 
 
-def read(path):
-    """Returns (points (n, 3), connectivity (flat), offsets, {name: array (n, components)})."""
-    text = open(path).read()
-    compressed = "vtkZLibDataCompressor" in text[:2000]
+def _piece(text, compressed):
     arrays = {}
     for attributes, body in re.findall(r"<DataArray([^>]*)>(.*?)</DataArray>", text, re.S):
         name = re.search(r'Name="([^"]*)"', attributes)
@@ -51,11 +48,34 @@ def read(path):
             values = values.reshape(-1, int(components.group(1)))
         key = name.group(1) if name else "points"
         arrays.setdefault(key, values)
-    points = np.asarray(arrays.pop("points"), dtype=float)
-    connectivity = arrays.pop("connectivity", None)
-    offsets = arrays.pop("offsets", None)
-    arrays.pop("types", None)
-    return points, connectivity, offsets, arrays
+    return arrays
+
+
+def read(path):
+    """Returns (points (n, 3), connectivity (flat), offsets, {name: array (n, components)}).
+
+    A file of several pieces (one per MPI process) is read whole: the pieces' points and
+    arrays one after the other, their cells renumbered to match."""
+    text = open(path).read()
+    compressed = "vtkZLibDataCompressor" in text[:2000]
+    pieces = [_piece(p, compressed) for p in re.findall(r"<Piece.*?</Piece>", text, re.S)]
+    points, connectivity, offsets = [], [], []
+    arrays = {key: [values] for key, values in _piece(text[:text.find("<Piece")], compressed).items()}  # CYCLE, TIME
+    n_points = n_connected = 0
+    for piece in pieces:
+        piece_points = np.asarray(piece.pop("points"), dtype=float)
+        if "connectivity" in piece:
+            connectivity.append(piece.pop("connectivity") + n_points)
+            offsets.append(piece.pop("offsets") + n_connected)
+            n_connected += len(connectivity[-1])
+        piece.pop("types", None)
+        for key, values in piece.items():
+            arrays.setdefault(key, []).append(values)
+        points.append(piece_points)
+        n_points += len(piece_points)
+    join = lambda parts: np.concatenate(parts) if parts else None  # noqa: E731
+    return (np.concatenate(points), join(connectivity), join(offsets),
+            {key: np.concatenate(parts) for key, parts in arrays.items()})
 
 
 def series(pvd_path):
