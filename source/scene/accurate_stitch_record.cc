@@ -45,19 +45,22 @@ namespace suturesim::scene
         columns.push_back("wound_face_contact_force [N]");
         columns.push_back("wound_face_contacts [1]");
       }
-    recorder.set_columns(columns);
     if (!scene.tearing.criteria.empty())
-      tears.emplace(scene.tearing, stitch.wound);
+      {
+        tears.emplace(scene.tearing, stitch.wound);
+        columns.push_back("pull_tension [N]");
+        for (const auto &criterion : scene.tearing.criteria)
+          columns.push_back("tear_" + criterion.first + " [1]");
+      }
+    recorder.set_columns(columns);
   }
 
   void
   AccurateStitchRecord::record_gaps(const double t, const std::vector<Tensor<1, 3>> &probes, std::vector<double> &row)
   {
-    // the gaps, charged to the tension the grasper on the far end feels (else the
-    // needle's pull), as in the realtime path
     const std::vector<double> gaps = stitch.gaps(probes);
     row.insert(row.end(), gaps.begin(), gaps.end());
-    stitch.closure->update(t, gaps, stitch.grasped ? stitch.end_tension : stitch.load.first.norm());
+    stitch.closure->update(t, gaps, pull_tension());
   }
 
   void
@@ -113,14 +116,16 @@ namespace suturesim::scene
         row.push_back(stitch.faces->total_force());
         row.push_back(stitch.faces->n_touching());
       }
-    recorder.add_row(row);
     if (tears)
       {
         // before the VTU, which shows the cell ratios of this state
-        tears->update(t, stitch.grasped ? stitch.end_tension : stitch.load.first.norm(), model,
-                      stitch.needle->pierce_points());
+        tears->update(t, pull_tension(), model, stitch.needle->pierce_points());
         metrics["tearing"] = tears->summary();
+        row.push_back(pull_tension());
+        for (const double ratio : tears->current())
+          row.push_back(ratio);
       }
+    recorder.add_row(row);
     if (stitch.scene.time.output_due(t, last_output))
       write_state(t);
     summary.step(statistics, t);

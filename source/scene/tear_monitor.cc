@@ -88,6 +88,17 @@ namespace suturesim::scene
     last_tension = tension;
   }
 
+  std::vector<double>
+  TearMonitor::current() const
+  {
+    std::vector<double> ratios(criteria.criteria.size(), std::nan(""));
+    for (std::size_t c = 0; c < ratios.size(); ++c)
+      for (const auto &s : tract_states)
+        if (!std::isnan(s.last_ratio[c]) && !(s.last_ratio[c] <= ratios[c]))
+          ratios[c] = s.last_ratio[c];
+    return ratios;
+  }
+
   nlohmann::json
   TearMonitor::summary() const
   {

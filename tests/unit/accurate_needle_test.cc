@@ -560,11 +560,31 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
         if (!s["onset"].is_null() && (!first || s["onset"]["time"] < (*first)["time"]))
           first = &s["onset"];
       EXPECT_EQ(c.contains("onset_tension"), first != nullptr);
+      // forces.csv: the criterion's largest zone mean / critical value per state, and the
+      // tension it is charged to; the stitch's onset lies where that column crosses 1,
+      // at a tension between the two rows' (interpolated within the step)
+      const std::size_t ratio = column(header, "tear_" + name + " ["), pull = column(header, "pull_tension [");
       if (first)
         {
           EXPECT_EQ(c["onset_tension"], (*first)["suture_tension"]);
           EXPECT_EQ(c["onset_time"], (*first)["time"]);
+          const double t_onset = (*first)["time"].get<double>(), tension = (*first)["suture_tension"].get<double>();
+          const auto   after   = std::find_if(rows.begin(), rows.end(),
+                                              [&](const std::vector<double> &row) { return row[0] >= t_onset; });
+          ASSERT_TRUE(after != rows.begin() && after != rows.end()) << t_onset;
+          const auto &before = *std::prev(after);
+          EXPECT_LT(before[ratio], 1.0);
+          EXPECT_GE((*after)[ratio], 1.0);
+          EXPECT_GE(tension, std::min(before[pull], (*after)[pull]));
+          EXPECT_LE(tension, std::max(before[pull], (*after)[pull]));
         }
+      else
+        for (const auto &row : rows)
+          EXPECT_FALSE(row[ratio] >= 1.0) << row[0];
+      double latest = 0;
+      for (const auto &s : c["tracts"])
+        latest = std::max(latest, s["mean_over_critical"].get<double>());
+      EXPECT_NEAR(rows.back()[ratio], latest, 1e-12 * latest);
       double largest_of_all = 0;
       for (const auto &s : c["tracts"])
         largest_of_all = std::max(largest_of_all, s["largest_mean_over_critical"].get<double>());

@@ -10,7 +10,9 @@
  *    force and count; with face contact its force and count;
  *  - tissue_*.vtu and suture_*.vtu at Time/Output interval (and the last state);
  *  - with Tearing/Criteria, the tear criteria per stitch at every accepted state
- *    (scene/tear_monitor.h): metrics.tearing, and their cell ratios in the VTU;
+ *    (scene/tear_monitor.h): metrics.tearing, their cell ratios in the VTU, and in
+ *    forces.csv the tension they are charged to (pull_tension) and each criterion's
+ *    largest zone mean / critical value (tear_<criterion>);
  *  - summary.json: the steps' solver account, the reactions and probes of the last
  *    state, events and puncture/pull metrics (NeedleParameters::write_summary), the
  *    suture nodes left inside the tissue, the closure metrics.
@@ -59,6 +61,13 @@ namespace suturesim::scene
     }
 
   private:
+    /// The tension the closure and the tear onsets are charged to: the grasper's pull on
+    /// the far end once grasped, else the needle's (as in the realtime path), N.
+    double
+    pull_tension() const
+    {
+      return stitch.grasped ? stitch.end_tension : stitch.load.first.norm();
+    }
     void
     write_state(double t);
     /// The closure's gaps from the probes @p probes, into the row and the monitor.

@@ -9,7 +9,8 @@
  * critical value; the first state that reaches it is the onset, kept with its time, the suture tension then (the
  * tension the closure is charged to: the grasper's pull on the far end once grasped, else the needle's), where the
  * zone's largest value lies and the direction the tear would open against. summary.json
- * "metrics.tearing"; the cell ratios m / m_c go into the tissue VTU (tear_<criterion>).
+ * "metrics.tearing"; the cell ratios m / m_c go into the tissue VTU (tear_<criterion>),
+ * and the largest zone mean / critical value of each state into forces.csv.
  *
  * The onset's time and tension are interpolated linearly in the mean between the last
  * accepted state below the critical value and the first at or above it, as the closure
@@ -57,6 +58,12 @@ namespace suturesim::scene
     /// Takes back the tracts of a summary() (a checkpoint's; io/checkpoint.h).
     void
     restore(const nlohmann::json &summary);
+
+    /// Per criterion, the largest zone mean / critical value over the tracts at the last
+    /// update() (forces.csv's tear_<criterion> columns: the criterion's history against
+    /// the tension); NaN while there is no tract or no tract's zone holds a point.
+    std::vector<double>
+    current() const;
 
   private:
     struct Onset
