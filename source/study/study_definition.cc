@@ -113,6 +113,10 @@ namespace suturesim::study
       prm.declare_entry("Name", "", Anything(), "The study's name (its output folder by default). Unit: none.");
       prm.declare_entry("Base scene", "", Anything(),
                         "The scene every case starts from; relative to the study file's folder. Unit: none.");
+      prm.declare_entry("Settings", "", Anything(),
+                        "Settings every run of the study shares, the references' and the cases', applied "
+                        "over the base scene before their own: \"Path/Key=value\", separated by commas (a "
+                        "part in double quotes keeps its commas). Unit: none.");
       prm.enter_subsection("Reference");
       prm.declare_entry("Settings", "", Anything(),
                         "Settings of the reference case over the base scene: \"Path/Key=value\", "
@@ -246,6 +250,14 @@ namespace suturesim::study
                         "Forward-difference step of the Jacobian: of ln p, or of p relative to "
                         "upper - lower for a parameter fitted in p. Unit: 1. Range: [1e-8, 0.5].");
       prm.leave_subsection();
+    }
+
+    /// @p first, then @p then.
+    std::vector<std::string>
+    concatenated(std::vector<std::string> first, const std::vector<std::string> &then)
+    {
+      first.insert(first.end(), then.begin(), then.end());
+      return first;
     }
 
     /// The product of @p axes (each "Path/Key = v1 | v2"), after @p common.
@@ -389,8 +401,13 @@ namespace suturesim::study
     read_cases(ParameterHandler &prm, StudyDefinition &d, const ParameterScope &top,
                const std::vector<std::string> &extra, const std::string *case_list)
     {
+      const auto shared = names(prm.get("Settings"));
+      {
+        Case all{"shared", shared, {}, 0};
+        check(all, d.base_scene, top, "Settings");
+      }
       prm.enter_subsection("Reference");
-      const auto reference_settings = names(prm.get("Settings"));
+      const auto reference_settings = concatenated(shared, names(prm.get("Settings")));
       const auto per_axis           = names(prm.get("Per axis"), ';');
       const auto series             = prm.get("Series");
       d.references_per_axis         = !per_axis.empty();
@@ -404,7 +421,7 @@ namespace suturesim::study
 
       prm.enter_subsection("Cases");
       const ParameterScope cases      = top.subsection("Cases");
-      const auto           common     = names(prm.get("Settings"));
+      const auto           common     = concatenated(shared, names(prm.get("Settings")));
       const auto           axis_texts = case_list ? std::vector<std::string>{} : split(prm.get("Axes"), ';');
       d.cases                         = product(axis_texts, common, cases);
       const std::size_t from_axes     = d.cases.size();
@@ -578,8 +595,9 @@ namespace suturesim::study
     {
       auto      &c     = d.calibration;
       const auto scope = top.subsection("Calibration");
+      const auto shared = names(prm.get("Settings"));
       prm.enter_subsection("Cases");
-      const auto common = names(prm.get("Settings"));
+      const auto common = concatenated(shared, names(prm.get("Settings")));
       prm.leave_subsection();
       prm.enter_subsection("Calibration");
       const auto weights    = named_numbers(prm.get("Weights"), scope, "Weights");
@@ -668,7 +686,7 @@ namespace suturesim::study
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
-    for (const char *key : {"Name", "Base scene", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
+    for (const char *key : {"Name", "Base scene", "Settings", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
                             "Figures/Map axes", "Figures/Map metrics", "Figures/Map flags",

@@ -82,6 +82,29 @@ TEST(StudyDefinition, APhysicalAxisGivesEachValueItsOwnReference)
     }
 }
 
+TEST(StudyDefinition, SharedSettingsComeFirstInEveryRun)
+{
+  const std::string file = (scratch_path() / "studies" / "shared.prm").string();
+  std::filesystem::create_directories(scratch_path() / "studies");
+  std::ofstream(file) << header << "set Settings = Time/End time=2, Time/Step size=0.5\n"
+                      << "subsection Reference\n  set Settings = Tissue/Element degree=2\nend\n"
+                         "subsection Cases\n  set Settings = Mesh/Elements per edge=2\n"
+                         "  set Axes = Tissue/Element degree = 1 | 2\n  set List = listed: Time/Step size=0.25\nend\n";
+  const auto d = study::StudyDefinition::read(file);
+  ASSERT_EQ(d.references.size(), 1u);
+  EXPECT_EQ(d.references[0].settings,
+            (std::vector<std::string>{"Time/End time=2", "Time/Step size=0.5", "Tissue/Element degree=2"}));
+  ASSERT_EQ(d.cases.size(), 3u);
+  EXPECT_EQ(d.cases[1].settings, (std::vector<std::string>{"Time/End time=2", "Time/Step size=0.5",
+                                                           "Mesh/Elements per edge=2", "Tissue/Element degree=2"}));
+  // a listed case's own settings go over the shared ones
+  EXPECT_EQ(d.cases[2].settings, (std::vector<std::string>{"Time/End time=2", "Time/Step size=0.5",
+                                                           "Mesh/Elements per edge=2", "Time/Step size=0.25"}));
+  EXPECT_NE(error_of("bad_shared", header + "set Settings = Tissue/Nonsense=1\n").find("bad_shared.prm:3: Settings:"),
+            std::string::npos)
+    << error_of("bad_shared", header + "set Settings = Tissue/Nonsense=1\n");
+}
+
 TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
 {
   // line 4 holds the axes in each of these

@@ -2,7 +2,8 @@
 /**
  * @file
  * A study file (issue 24): a deal.II .prm, checked like a scene (file:line errors), that
- * names a base scene, the settings of a reference case, the settings every case shares,
+ * names a base scene, the settings every run shares (`Settings`, before each run's own),
+ * the settings of a reference case, the settings every case shares,
  * the cases — the product of axes over any scene parameter by its path, and/or a list —
  * the metrics, the objective and the figures. Each case is the base scene with its
  * settings applied as `--set` would apply them, so it is an ordinary suturesim run,
