@@ -76,8 +76,8 @@ namespace suturesim::scene
                 Onset onset{t, tension, sample.mean(), sample.peak_location, sample.peak_direction};
                 if (const double s = level_crossing(state.last_ratio[c], ratio, 1.0); s < 1)
                   {
-                    onset.time    = last_time + s * (t - last_time);
-                    onset.tension = last_tension + s * (tension - last_tension);
+                    onset.time    = at_fraction(last_time, t, s);
+                    onset.tension = at_fraction(last_tension, tension, s);
                   }
                 state.onset[c] = onset;
               }

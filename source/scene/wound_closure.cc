@@ -135,12 +135,10 @@ namespace suturesim::scene
           const double p_gap = previous ? previous->gaps[k] : gaps[k];
           const double p_T   = previous ? previous->tension : tension;
           const double s     = level_crossing(p_gap, gaps[k], prm.closure_gap);
-          closed_at[k]      = p_t + s * (t - p_t);
-          closed_tension[k] = p_T + s * (tension - p_T);
+          closed_at[k]      = at_fraction(p_t, t, s);
+          closed_tension[k] = at_fraction(p_T, tension, s);
         }
-    closure_time    = closed_at.front();
-    closure_tension = closed_tension.front();
-    previous        = Sample{t, tension, gaps};
+    previous = Sample{t, tension, gaps};
     if (ties_off(t, gaps))
       {
         tie_time    = t;
@@ -156,8 +154,9 @@ namespace suturesim::scene
     metrics["initial_gap"]     = initial.front();
     metrics["final_gap"]       = last.front();
     metrics["closure_gap"]     = prm.closure_gap;
-    metrics["closure_tension"] = closed() ? nlohmann::json(closure_tension) : nlohmann::json(nullptr);
-    metrics["closure_time"]    = closed() ? nlohmann::json(closure_time) : nlohmann::json(nullptr);
+    // the run's closure is the first pair's
+    metrics["closure_tension"] = closed() ? nlohmann::json(closed_tension.front()) : nlohmann::json(nullptr);
+    metrics["closure_time"]    = closed() ? nlohmann::json(closed_at.front()) : nlohmann::json(nullptr);
     metrics["tie_off_time"]    = tied() ? nlohmann::json(tie_time) : nlohmann::json(nullptr);
     metrics["tie_off_tension"] = tied() ? nlohmann::json(tie_tension) : nlohmann::json(nullptr);
     for (std::size_t k = 0; k < prm.pairs.size(); ++k)
@@ -178,9 +177,7 @@ namespace suturesim::scene
     nlohmann::json j{{"initial", initial},
                      {"last", last},
                      {"least", least},
-                     {"closure_time", closure_time},
                      {"tie_time", tie_time},
-                     {"closure_tension", closure_tension},
                      {"tie_tension", tie_tension},
                      {"closed_at", closed_at},
                      {"closed_tension", closed_tension}};
@@ -195,9 +192,7 @@ namespace suturesim::scene
     initial         = j.at("initial").get<std::vector<double>>();
     last            = j.at("last").get<std::vector<double>>();
     least           = j.at("least").get<std::vector<double>>();
-    closure_time    = j.at("closure_time").get<double>();
     tie_time        = j.at("tie_time").get<double>();
-    closure_tension = j.at("closure_tension").get<double>();
     tie_tension     = j.at("tie_tension").get<double>();
     closed_at       = j.at("closed_at").get<std::vector<double>>();
     closed_tension  = j.at("closed_tension").get<std::vector<double>>();

@@ -24,4 +24,12 @@ namespace suturesim
     const bool rising  = before < level && after >= level;
     return falling || rising ? (before - level) / (before - after) : 1.0;
   }
+
+  /// A quantity read at the fraction @p s of the step, linear between its values
+  /// @p before and @p after at the step's ends.
+  inline double
+  at_fraction(const double before, const double after, const double s)
+  {
+    return before + s * (after - before);
+  }
 } // namespace suturesim

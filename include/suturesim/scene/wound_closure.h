@@ -110,10 +110,11 @@ namespace suturesim::scene
     {
       return t < tie_time ? t : tie_time;
     }
+    /// Whether the first pair, the run's closure, has closed.
     bool
     closed() const
     {
-      return closure_time < std::numeric_limits<double>::infinity();
+      return !closed_at.empty() && closed_at.front() < std::numeric_limits<double>::infinity();
     }
     bool
     tied() const
@@ -141,10 +142,8 @@ namespace suturesim::scene
     std::vector<double>      initial, last, least;
     /// per pair: the interpolated crossing of the closure gap (∞ before) and the tension then
     std::vector<double>      closed_at, closed_tension;
-    double                   closure_time = std::numeric_limits<double>::infinity();
-    double                   tie_time     = std::numeric_limits<double>::infinity();
-    double                   closure_tension = 0;
-    double                   tie_tension     = 0;
+    double                   tie_time    = std::numeric_limits<double>::infinity();
+    double                   tie_tension = 0;
     /// the last step counted (t ≥ Start time): the crossing's bracket
     struct Sample
     {
