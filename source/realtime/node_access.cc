@@ -62,18 +62,17 @@ namespace suturesim::realtime
     return (points[a].b - x.col(i)).norm() + (points[a].b - x.col(i + 1)).norm() - rest;
   }
 
-  void
+  double
   NodeAccess::gradient(const std::size_t a, const Matrix3Xd &x, Vector3d &gi, Vector3d &gj) const
   {
-    const auto i = first_node(a);
+    const auto     i  = first_node(a);
+    const Vector3d di = x.col(i) - points[a].b, dj = x.col(i + 1) - points[a].b;
+    const double   ni = di.norm(), nj = dj.norm();
     // A node exactly at b has no direction: its share of C is then stationary (the
     // subgradient's zero element), and the other node alone carries the constraint.
-    const auto unit = [](const Vector3d &v) {
-      const double n = v.norm();
-      return n > 0 ? Vector3d(v / n) : Vector3d::Zero();
-    };
-    gi = unit(x.col(i) - points[a].b);
-    gj = unit(x.col(i + 1) - points[a].b);
+    gi = ni > 0 ? Vector3d(di / ni) : Vector3d::Zero();
+    gj = nj > 0 ? Vector3d(dj / nj) : Vector3d::Zero();
+    return ni + nj - rest;
   }
 
   void
@@ -84,9 +83,8 @@ namespace suturesim::realtime
     Vector3d gi, gj;
     for (std::size_t a = 0; a < points.size(); ++a)
       {
-        const double tension = stiffness * violation(a, x);
-        gradient(a, x, gi, gj);
-        const auto i = first_node(a);
+        const double tension = stiffness * gradient(a, x, gi, gj);
+        const auto   i       = first_node(a);
         f.col(i) -= tension * gi;
         f.col(i + 1) -= tension * gj;
       }
@@ -132,12 +130,12 @@ namespace suturesim::realtime
     Vector3d     gi, gj;
     for (std::size_t a = 0; a < points.size(); ++a)
       {
-        const auto i = first_node(a);
-        gradient(a, x, gi, gj);
+        const auto   i           = first_node(a);
+        const double C           = gradient(a, x, gi, gj);
         const double denominator = w[i] * gi.squaredNorm() + w[i + 1] * gj.squaredNorm() + alpha;
         if (denominator == 0)
           continue;
-        const double d_lambda = (-violation(a, x) - alpha * points[a].lambda) / denominator;
+        const double d_lambda = (-C - alpha * points[a].lambda) / denominator;
         points[a].lambda += d_lambda;
         x.col(i) += w[i] * d_lambda * gi;
         x.col(i + 1) += w[i + 1] * d_lambda * gj;

@@ -94,8 +94,7 @@ namespace suturesim::scene
     std::vector<double> ratios(criteria.criteria.size(), std::nan(""));
     for (std::size_t c = 0; c < ratios.size(); ++c)
       for (const auto &s : tract_states)
-        if (!std::isnan(s.last_ratio[c]) && !(s.last_ratio[c] <= ratios[c]))
-          ratios[c] = s.last_ratio[c];
+        ratios[c] = std::fmax(ratios[c], s.last_ratio[c]); // NaN only where both are
     return ratios;
   }
 

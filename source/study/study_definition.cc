@@ -252,12 +252,17 @@ namespace suturesim::study
       prm.leave_subsection();
     }
 
-    /// @p first, then @p then.
+    /// What every case starts from: the study's shared Settings, then Cases/Settings.
+    /// Called at the file's top level.
     std::vector<std::string>
-    concatenated(std::vector<std::string> first, const std::vector<std::string> &then)
+    case_settings(ParameterHandler &prm)
     {
-      first.insert(first.end(), then.begin(), then.end());
-      return first;
+      auto common = names(prm.get("Settings"));
+      prm.enter_subsection("Cases");
+      const auto own = names(prm.get("Settings"));
+      prm.leave_subsection();
+      common.insert(common.end(), own.begin(), own.end());
+      return common;
     }
 
     /// The product of @p axes (each "Path/Key = v1 | v2"), after @p common.
@@ -407,7 +412,9 @@ namespace suturesim::study
         check(all, d.base_scene, top, "Settings");
       }
       prm.enter_subsection("Reference");
-      const auto reference_settings = concatenated(shared, names(prm.get("Settings")));
+      auto reference_settings = shared;
+      for (const auto &setting : names(prm.get("Settings")))
+        reference_settings.push_back(setting);
       const auto per_axis           = names(prm.get("Per axis"), ';');
       const auto series             = prm.get("Series");
       d.references_per_axis         = !per_axis.empty();
@@ -419,9 +426,9 @@ namespace suturesim::study
         check(reference, d.base_scene, top.subsection("Reference"), "Settings");
       }
 
+      const auto common = case_settings(prm);
       prm.enter_subsection("Cases");
       const ParameterScope cases      = top.subsection("Cases");
-      const auto           common     = concatenated(shared, names(prm.get("Settings")));
       const auto           axis_texts = case_list ? std::vector<std::string>{} : split(prm.get("Axes"), ';');
       d.cases                         = product(axis_texts, common, cases);
       const std::size_t from_axes     = d.cases.size();
@@ -595,10 +602,7 @@ namespace suturesim::study
     {
       auto      &c     = d.calibration;
       const auto scope = top.subsection("Calibration");
-      const auto shared = names(prm.get("Settings"));
-      prm.enter_subsection("Cases");
-      const auto common = concatenated(shared, names(prm.get("Settings")));
-      prm.leave_subsection();
+      const auto common = case_settings(prm);
       prm.enter_subsection("Calibration");
       const auto weights    = named_numbers(prm.get("Weights"), scope, "Weights");
       const auto validation = listed(prm.get("Validation"), {}, scope, "Validation");

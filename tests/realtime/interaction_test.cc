@@ -5,6 +5,7 @@
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/neo_hookean_tetrahedra.h>
 #include <suturesim/realtime/nodal_volumes.h>
+#include <suturesim/realtime/node_access.h>
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/volume_constraints.h>
 
@@ -201,6 +202,18 @@ TEST(RealtimeInteractions, ContactForcesAreMinusTheEnergyGradient)
 // the points slip freely; and the stick ½ k_t (ζ − ζ_a)² along the thread at a μ so high
 // they never slip. Slip at μN > 0 (its force follows N = N₀ + |f⊥| and the anchor's
 // history) and seed 002's soft constraints (one-sided tension loads) have no potential.
+TEST(RealtimeInteractions, NodeAccessForcesAreMinusTheEnergyGradient)
+{
+  // seed 004's access constraint, E = ½ k C² over two accesses on a bent suture
+  Matrix3Xd x(3, 4);
+  x << 0.0, 1.1e-3, 1.9e-3, 3.0e-3, 0.0, 0.3e-3, 0.1e-3, -0.2e-3, 0.0, 0.0, -0.2e-3, 0.1e-3;
+  NodeAccess access({0, 4}, 1e-3, 50);
+  access.add(Vector3d(1.4e-3, -0.1e-3, 0.1e-3), 1);
+  access.add(Vector3d(0.4e-3, 0.3e-3, -0.1e-3), 0);
+  access.detect(x);
+  EXPECT_LT(force_error(access, x), 1e-6);
+}
+
 TEST(RealtimeInteractions, NeedleTouchAndPiercePointForcesAreMinusTheEnergyGradient)
 {
   const auto                mesh = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);

@@ -100,9 +100,8 @@ TEST(StudyDefinition, SharedSettingsComeFirstInEveryRun)
   // a listed case's own settings go over the shared ones
   EXPECT_EQ(d.cases[2].settings, (std::vector<std::string>{"Time/End time=2", "Time/Step size=0.5",
                                                            "Mesh/Elements per edge=2", "Time/Step size=0.25"}));
-  EXPECT_NE(error_of("bad_shared", header + "set Settings = Tissue/Nonsense=1\n").find("bad_shared.prm:3: Settings:"),
-            std::string::npos)
-    << error_of("bad_shared", header + "set Settings = Tissue/Nonsense=1\n");
+  const std::string bad = error_of("bad_shared", header + "set Settings = Tissue/Nonsense=1\n");
+  EXPECT_NE(bad.find("bad_shared.prm:3: Settings:"), std::string::npos) << bad;
 }
 
 TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)

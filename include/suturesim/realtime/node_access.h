@@ -89,8 +89,9 @@ namespace suturesim::realtime
     /// C of access @p a at @p x, m.
     double
     violation(std::size_t a, const Matrix3Xd &x) const;
-    /// ∇C of access @p a at @p x: on node i (@p gi) and on node i + 1 (@p gj).
-    void
+    /// ∇C of access @p a at @p x, on node i (@p gi) and on node i + 1 (@p gj); returns
+    /// C, from the same two distances.
+    double
     gradient(std::size_t a, const Matrix3Xd &x, Vector3d &gi, Vector3d &gj) const;
     /// System index of node i of access @p a.
     std::uint32_t
