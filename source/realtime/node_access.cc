@@ -35,6 +35,7 @@ namespace suturesim::realtime
     const std::uint32_t last_segment = suture.size() - 2;
     for (auto &a : points)
       {
+        const std::uint32_t before = a.segment;
         // Walk towards b while it lies beyond either end of the segment's chord; a
         // suture can pass at most all its segments, so the walk is bounded.
         for (std::uint32_t walked = 0; walked <= last_segment; ++walked)
@@ -52,6 +53,8 @@ namespace suturesim::realtime
             else
               break;
           }
+        if (a.segment != before && moved)
+          moved(before, a.segment);
       }
   }
 

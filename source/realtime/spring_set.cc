@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <unordered_map>
@@ -49,6 +50,18 @@ namespace suturesim::realtime
     prepared_dt  = 0; // α̃ of the new stiffness at the next prepare_projection()
     parallel.clear(); // the new ends may span blocks
     ++changes;
+  }
+
+  void
+  SpringSet::set_stiffness(const std::size_t s, const double k)
+  {
+    if (s >= first.size())
+      throw std::out_of_range(label + ": no spring " + std::to_string(s));
+    if (!(k >= 0))
+      throw std::invalid_argument(label + ": spring stiffness must be >= 0 (∞: rigid)");
+    stiffness[s] = k;
+    lambda[s]    = 0;
+    prepared_dt  = 0; // α̃ of the new stiffness at the next prepare_projection()
   }
 
   std::size_t
@@ -320,7 +333,9 @@ namespace suturesim::realtime
     prepared_dt          = dt;
     const double inv_dt2 = 1 / (dt * dt);
     for (std::size_t s = 0; s < first.size(); ++s)
-      alpha_tilde[s] = inv_dt2 / stiffness[s]; // α̃ = α/dt², α = 1/k
+      // α̃ = α/dt², α = 1/k; a spring left out (k = 0) gets the largest finite α̃, which
+      // with λ = 0 makes its correction vanish where ∞ would give ∞·0 = NaN
+      alpha_tilde[s] = stiffness[s] > 0 ? inv_dt2 / stiffness[s] : std::numeric_limits<double>::max();
   }
 
   namespace

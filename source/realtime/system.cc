@@ -57,8 +57,10 @@ namespace suturesim::realtime
   System::total_forces(const Matrix3Xd &x)
   {
     Matrix3Xd &f = nodes.force;
-    internal_forces(x, f);
+    // detection first: a contact set may change an interaction for this state (the node
+    // access leaves out the suture link it moves onto, node_access.h)
     detect_contacts(x, Contacts::all);
+    internal_forces(x, f);
     for (const auto &c : contacts)
       c->add_forces(x, f);
     f += nodes.external;

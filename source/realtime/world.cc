@@ -5,8 +5,10 @@
 #include <suturesim/realtime/spring_set.h>
 #include <suturesim/realtime/world.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace suturesim::realtime
@@ -175,6 +177,48 @@ namespace suturesim::realtime
       }
     needle_tool = add_tool("needle", held, initial);
     return needle_tool;
+  }
+
+  void
+  World::add_access(const std::vector<Vector3d> &points, const double stiffness)
+  {
+    if (access_set != nullptr)
+      throw std::invalid_argument("realtime world: access points are added once");
+    if (!suture_model)
+      throw std::invalid_argument("realtime world: access points need a suture");
+    if (std::isinf(stiffness) && !time_integrator->position_based())
+      throw std::invalid_argument("realtime world: rigid access points need a position-based integrator");
+    const double k = stiffness > 0 ? stiffness : suture_model->link_stiffness(sys, 0);
+    auto set = std::make_unique<NodeAccess>(sys.suture, suture_model->link_length(), k);
+    accesses_on_link.assign(sys.suture.size() - 1, 0);
+    // one link carries one access, the others keep their springs: counted, so two
+    // accesses passing over the same link give it back only when both have left
+    const auto hold = [this](const std::uint32_t link, const bool on) {
+      unsigned &n = accesses_on_link[link];
+      n           = on ? n + 1 : n - 1;
+      if (n == (on ? 1U : 0U))
+        suture_model->leave_out_link(sys, link, on);
+    };
+    for (const auto &b : points)
+      {
+        std::uint32_t nearest  = 0;
+        double        distance = std::numeric_limits<double>::infinity();
+        for (std::uint32_t i = 0; i + 1 < sys.suture.size(); ++i)
+          {
+            const Vector3d p = sys.nodes.x.col(sys.suture.begin + i), d = sys.nodes.x.col(sys.suture.begin + i + 1) - p;
+            const double   t = std::clamp((b - p).dot(d) / d.squaredNorm(), 0.0, 1.0);
+            if (const double r = (p + t * d - b).norm(); r < distance)
+              distance = r, nearest = i;
+          }
+        set->add(b, nearest);
+        hold(nearest, true);
+      }
+    set->on_move([hold](const std::uint32_t from, const std::uint32_t to) {
+      hold(from, false);
+      hold(to, true);
+    });
+    access_set = set.get();
+    sys.contacts.push_back(std::move(set));
   }
 
   void

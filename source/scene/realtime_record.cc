@@ -264,6 +264,15 @@ namespace suturesim::scene
                                      {"min_distance_detected", least(c.min_distance_detected)},
                                      {"reach", c.reach}};
       }
+    if (const auto *access = rw.access())
+      {
+        // each access point's link at the end and the tension through it, k C (N)
+        auto &list = metrics["access"] = nlohmann::json::array();
+        for (std::size_t a = 0; a < access->list().size(); ++a)
+          list.push_back({{"name", world.access_names[a]},
+                          {"link", access->list()[a].segment},
+                          {"tension", access->tension(a, sys.nodes.x)}});
+      }
     if (world.closure)
       world.closure->write(metrics);
     if (scene.has_suture())

@@ -1,5 +1,6 @@
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/parameter_adapter.h>
+#include <suturesim/core/parameter_file.h>
 #include <suturesim/realtime/pierce_model.h>
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/scene/realtime_settings.h>
@@ -63,6 +64,17 @@ namespace suturesim::scene
     prm.declare_entry("Pacing", default_text(d.pacing), Patterns::Bool(),
                       "Wait for the wall clock between steps as a haptic loop does (true), "
                       "or step as fast as possible (false, for benchmarks). Unit: none.");
+    prm.declare_entry("Access points", "",
+                      Patterns::Map(Patterns::Anything(), vector_pattern(), 0, Patterns::Map::max_int_value, ";", ":"),
+                      "Seed 004's node-access constraints: fixed points the suture passes "
+                      "through, each between two of its nodes, which bend over it at their "
+                      "link's rest length (a frictionless peg), 'name: x, y, z; ...'. Each "
+                      "starts on the suture link nearest it and stands in for that link's "
+                      "spring while it holds it (suture models mass-spring and xpbd-rod). "
+                      "Unit: m.");
+    prm.declare_entry("Access stiffness", default_text(d.access_stiffness), Patterns::Double(0),
+                      "Stiffness k of the node-access constraints, E = k C^2 / 2 (compliance "
+                      "1/k under XPBD); 0: that of the suture's links. Unit: N/m. Range: >= 0.");
     prm.enter_subsection("Tearing");
     ParameterDeclarations tear;
     tearing::LigamentTearParameters::declare(tear);
@@ -87,6 +99,16 @@ namespace suturesim::scene
     traction_subdivision = static_cast<unsigned>(prm.get_integer("Traction subdivision"));
     refuse_above_limit = prm.get("Above stability limit") == "refuse";
     pacing             = prm.get_bool("Pacing");
+    access_stiffness   = prm.get_double("Access stiffness");
+    // in the file's order, as the tissue's probes are read
+    access_points.clear();
+    for (const auto &[name, x] : get_named_values(prm, "Access points"))
+      {
+        scope.require(!name.empty(), "Access points", "an access point needs a name, 'name: x, y, z'");
+        for (const auto &[other, point] : access_points)
+          scope.require(other != name, "Access points", "access point '" + name + "' is named twice");
+        access_points.emplace_back(name, Eigen::Vector3d(x[0], x[1], x[2]));
+      }
     prm.enter_subsection("Tearing");
     tearing = parse_plain(prm, scope.subsection("Tearing"), tearing::LigamentTearParameters::declare,
                           tearing::LigamentTearParameters::parse);

@@ -92,6 +92,7 @@ namespace suturesim::scene
       }
     add_tools(settings);
     add_probes();
+    add_access(settings);
     try
       {
         world->initialize();
@@ -313,6 +314,29 @@ namespace suturesim::scene
         const bool later = end->grasp_time > 0;
         world->add_tool(name, later ? std::vector<std::uint32_t>() : held, pose_of(*end, X, 0));
         tool_ends.push_back({name, end, X, held, !later});
+      }
+  }
+
+  void
+  RealtimeWorld::add_access(const RealtimeSettings &settings)
+  {
+    if (settings.access_points.empty())
+      return;
+    const ParameterScope realtime = scene.scope("Realtime");
+    realtime.require(scene.has_suture(), "Access points", "access points need a suture to pass through them");
+    std::vector<rt::Vector3d> points;
+    for (const auto &[name, b] : settings.access_points)
+      {
+        access_names.push_back(name);
+        points.push_back(b);
+      }
+    try
+      {
+        world->add_access(points, settings.access_stiffness);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        realtime.fail("Access points", e.what());
       }
   }
 

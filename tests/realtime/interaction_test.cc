@@ -400,3 +400,35 @@ TEST(RealtimeInteractions, XpbdDistanceProjectionMeetsStiffConstraintsAndSharesB
   // the node of inverse mass 3 moved three times as far
   EXPECT_NEAR(-(x(0, 1) - 1.5) / x(0, 0), 3.0, 1e-12);
 }
+
+TEST(RealtimeInteractions, ASpringLeftOutExertsNothingAndProjectsNothingUntilGivenBack)
+{
+  // SpringSet::set_stiffness(s, 0): the spring stays in place (no topology change) but
+  // has no force, no energy and, under XPBD, no correction (its α̃ the largest double, so
+  // no ∞·0); given its rigid stiffness back, it is met again.
+  Matrix3Xd x(3, 2);
+  x << 0, 1.5, 0, 0, 0, 0;
+  const Matrix3Xd start = x;
+  SpringSet       springs("one");
+  springs.add(0, 1, 1.0, std::numeric_limits<double>::infinity());
+  springs.set_stiffness(0, 0);
+  Matrix3Xd f = Matrix3Xd::Zero(3, 2);
+  springs.add_forces(x, f);
+  EXPECT_EQ(f.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(springs.energy(x), 0.0);
+  VectorXd w(2);
+  w << 1, 3;
+  springs.reset_multipliers();
+  springs.prepare_projection(1e-3);
+  for (int sweep = 0; sweep < 10; ++sweep)
+    springs.project(x, w, 1e-3);
+  ASSERT_TRUE(x.allFinite());
+  EXPECT_LT((x - start).cwiseAbs().maxCoeff(), 1e-300);
+  springs.set_stiffness(0, std::numeric_limits<double>::infinity());
+  springs.reset_multipliers();
+  springs.prepare_projection(1e-3);
+  springs.project(x, w, 1e-3);
+  EXPECT_NEAR((x.col(1) - x.col(0)).norm(), 1.0, 1e-14);
+  EXPECT_THROW(springs.set_stiffness(0, -1), std::invalid_argument);
+  EXPECT_THROW(springs.set_stiffness(1, 1), std::out_of_range);
+}

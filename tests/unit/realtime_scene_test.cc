@@ -681,3 +681,36 @@ TEST(RealtimeScene, RegionModuliNameAPhysicalVolumeOfTheMesh)
   EXPECT_NE(accurate.exit_code, 0);
   EXPECT_NE(accurate.output.find("realtime only"), std::string::npos) << accurate.output;
 }
+
+TEST(RealtimeScene, AccessPointsPassTheGraspersPullThroughUnchanged)
+{
+  // parameters/tasks/node_access_pull.prm as shipped: a suture through two fixed access
+  // points (seed 004's node access), its start pinned, its end lifted 10 mm. At rest the
+  // pegs are frictionless: the tension through both equals what the start's pin and the
+  // end's grasper feel, and the thread has slid on through both towards the grasper.
+  const auto r = run_suturesim("realtime_access", {source_path("parameters/tasks/node_access_pull.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  const auto &access = r.summary["metrics"]["access"];
+  ASSERT_EQ(access.size(), 2u);
+  EXPECT_EQ(access[0]["name"], "entry");
+  EXPECT_EQ(access[1]["name"], "exit");
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  ASSERT_NE(header.find("time [s],suture_start_force_x [N],suture_start_force_y [N],suture_start_force_z [N],"
+                        "suture_end_force_x [N],suture_end_force_y [N],suture_end_force_z [N]"),
+            std::string::npos)
+    << header;
+  const auto  &last  = rows.back();
+  const double start = std::hypot(last[1], last[2], last[3]), end = std::hypot(last[4], last[5], last[6]);
+  const double entry = access[0]["tension"], exit = access[1]["tension"];
+  std::printf("[ access ] tension through entry %.9f N, exit %.9f N; pin %.9f N, grasper %.9f N; links %d, %d\n",
+              entry, exit, start, end, access[0]["link"].get<int>(), access[1]["link"].get<int>());
+  EXPECT_GT(entry, 0.01); // N: the lift stretches the thread (0.08 N as shipped)
+  EXPECT_NEAR(exit, entry, 1e-6 * entry);
+  EXPECT_NEAR(start, entry, 1e-6 * entry);
+  EXPECT_NEAR(end, entry, 1e-6 * entry);
+  // from links 15 and 25 (b at 15.5 and 25.5 mm on the straight thread)
+  EXPECT_LT(access[0]["link"].get<int>(), 15);
+  EXPECT_LT(access[1]["link"].get<int>(), 25);
+}

@@ -26,6 +26,9 @@
 
 #include <suturesim/realtime/system.h>
 
+#include <cmath>
+#include <functional>
+#include <limits>
 #include <vector>
 
 namespace suturesim::realtime
@@ -54,6 +57,16 @@ namespace suturesim::realtime
     {
       return "node-access";
     }
+    /// Called by detect() when an access moves from segment @p from to segment @p to
+    /// (local indices): the owner of the suture gives the first link its own elasticity
+    /// back and leaves the second's out (realtime/world.h).
+    using Moved = std::function<void(std::uint32_t from, std::uint32_t to)>;
+    void
+    on_move(Moved callback)
+    {
+      moved = std::move(callback);
+    }
+
     /// Moves each access to the segment that holds b at @p x (see the file's comment).
     void
     detect(const Matrix3Xd &x) override;
@@ -89,6 +102,14 @@ namespace suturesim::realtime
     /// C of access @p a at @p x, m.
     double
     violation(std::size_t a, const Matrix3Xd &x) const;
+    /// The tension through access @p a at @p x, k C (N; a bilateral constraint, negative
+    /// when the segment is slack); NaN for a rigid access, whose force is its XPBD
+    /// multiplier's.
+    double
+    tension(std::size_t a, const Matrix3Xd &x) const
+    {
+      return std::isfinite(stiffness) ? stiffness * violation(a, x) : std::numeric_limits<double>::quiet_NaN();
+    }
     /// ∇C of access @p a at @p x, on node i (@p gi) and on node i + 1 (@p gj); returns
     /// C, from the same two distances.
     double
@@ -104,5 +125,6 @@ namespace suturesim::realtime
     NodeRange           suture;
     double              rest, stiffness;
     std::vector<Access> points;
+    Moved               moved;
   };
 } // namespace suturesim::realtime

@@ -66,6 +66,14 @@ namespace suturesim::realtime
     void
     set(std::size_t s, std::uint32_t i, std::uint32_t j, double rest, double k);
 
+    /// Spring @p s's stiffness becomes @p k (N/m, >= 0; ∞: rigid). k = 0 leaves the spring out
+    /// without a topology change: it exerts no force, stores no energy and, under XPBD,
+    /// corrects nothing (α̃ is then the largest double and its multiplier stays 0). A
+    /// constraint that stands in for the spring for a while (realtime/node_access.h)
+    /// leaves it out and gives it back.
+    void
+    set_stiffness(std::size_t s, double k);
+
     /// Removes the springs between nodes i, j (i < j) for which @p cut(i, j) holds (a
     /// tear, tearing/ligament_tear.h): a topology change; the rest are ordered again as
     /// sort() does. Returns how many went.

@@ -107,6 +107,17 @@ namespace suturesim::realtime
     virtual void
     segment_tension(const System &system, std::vector<double> &tension) const;
 
+    /// Leaves the link from local node @p segment to @p segment + 1 out of the suture's
+    /// springs (@p out) or gives it its stiffness back, while a constraint stands in for
+    /// it (seed 004's node access, realtime/node_access.h). Models whose links are the
+    /// "suture springs" (mass-spring, xpbd-rod) can; std::invalid_argument for the others.
+    void
+    leave_out_link(System &system, std::uint32_t segment, bool out);
+    /// The stiffness of that link's spring (also while left out), N/m; the same
+    /// std::invalid_argument.
+    double
+    link_stiffness(const System &system, std::uint32_t segment) const;
+
     /// Link length l (m).
     double
     link_length() const
@@ -126,6 +137,8 @@ namespace suturesim::realtime
     add_interactions(System &system, std::uint32_t first) = 0;
 
     SutureGeometry shape;
+    /// the stiffness of each link left out (leave_out_link), N/m; 0: in
+    std::vector<double> left_out;
     double         link        = 0;
     double         axial_stiffness = 0; ///< k of one link, N/m
   };

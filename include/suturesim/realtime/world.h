@@ -18,6 +18,7 @@
 #include <suturesim/realtime/divergence_guard.h>
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/needle_coupling.h>
+#include <suturesim/realtime/node_access.h>
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/surface_contact.h>
@@ -138,6 +139,23 @@ namespace suturesim::realtime
     /// are all it has.
     std::string
     uncuttable_tissue() const;
+
+    /// Seed 004's node-access constraints (node_access.h): the suture passes through the
+    /// fixed points @p points (m), each starting on the suture link nearest it. While an
+    /// access is on a link the constraint stands in for that link's spring (left out of
+    /// the suture, SutureModel::leave_out_link), and the pair moves on as the thread
+    /// slides. @p stiffness N/m (0: that of the suture's links; ∞, rigid, only under a
+    /// position-based integrator).
+    /// Call once, before initialize(). std::invalid_argument without a suture whose
+    /// links are springs.
+    void
+    add_access(const std::vector<Vector3d> &points, double stiffness);
+
+    const NodeAccess *
+    access() const
+    {
+      return access_set;
+    }
 
     /// External loads (tractions) at time t into the given 3 × n array (zeroed before).
     using Loads = std::function<void(double t, Matrix3Xd &external)>;
@@ -324,6 +342,8 @@ namespace suturesim::realtime
     SurfaceContact              *contact = nullptr;
     SelfCollision               *self_collision_set = nullptr;
     NeedleCoupling              *needle_coupling = nullptr;
+    NodeAccess                  *access_set      = nullptr;
+    std::vector<unsigned>        accesses_on_link; ///< how many accesses each suture link holds
     std::size_t                  needle_tool     = 0;
     double                       contact_stiffness = 0;
     bool                         refuse_above_limit = false;

@@ -20,6 +20,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace suturesim::scene
 {
@@ -42,6 +44,10 @@ namespace suturesim::scene
     unsigned    traction_subdivision = 1;
     bool        refuse_above_limit = false;
     bool        pacing             = false;
+    /// Seed 004's node-access points the suture passes through (name, position in m) and
+    /// their stiffness (N/m; 0: that of the suture's links), realtime/node_access.h
+    std::vector<std::pair<std::string, Eigen::Vector3d>> access_points;
+    double                                               access_stiffness = 0;
     /// Seed 003's tear-into and tear-through (subsection Tearing; realtime/ligament_tearing.h)
     tearing::LigamentTearParameters tearing;
 

@@ -82,6 +82,7 @@ namespace suturesim::scene
     std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's
     std::vector<ToolEnd>                             tool_ends;
     std::vector<std::pair<std::string, std::size_t>> probes;
+    std::vector<std::string>                         access_names; ///< Realtime/Access points, in order
     std::optional<ClosureMonitor>                    closure;
     std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
     std::vector<double>                              gaps; ///< of the last measure_closure()
@@ -101,5 +102,8 @@ namespace suturesim::scene
     add_tools(const RealtimeSettings &settings);
     void
     add_probes();
+    /// Realtime/Access points (seed 004's node access) on the suture.
+    void
+    add_access(const RealtimeSettings &settings);
   };
 } // namespace suturesim::scene
