@@ -109,8 +109,9 @@ namespace suturesim::collision
     if (slack < 0)
       {
         // first call: every leaf grown by the slack, every vertex fitted where it is
+        // the points of the build: nodes added since (a tool's) are no vertex of it
         slack  = s;
-        fitted = x;
+        fitted = x.leftCols(static_cast<Eigen::Index>(vertex_offsets.size()) - 1);
         escaped.reserve(x.cols());
         for (std::size_t l = 0; l < order.size(); ++l)
           leaf_sphere(l) = triangle_sphere(x, order[l], margin + slack);
@@ -123,7 +124,7 @@ namespace suturesim::collision
     // of them.
     escaped.clear();
     const double s2 = slack * slack;
-    for (Eigen::Index i = 0; i < x.cols(); ++i)
+    for (Eigen::Index i = 0; i < fitted.cols(); ++i)
       if ((x.col(i) - fitted.col(i)).squaredNorm() > s2)
         {
           fitted.col(i) = x.col(i);

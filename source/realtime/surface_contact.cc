@@ -4,15 +4,21 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
+#include <limits>
+#include <stdexcept>
 
 namespace suturesim::realtime
 {
   SurfaceContact::SurfaceContact(const System &s, const std::vector<mesh::Triangle> &surface,
-                                 const Parameters &parameters)
+                                 const Parameters &parameters, const NodeRange nodes, std::string name)
     : prm(parameters)
     , triangles(surface)
-    , suture(s.suture)
+    , suture(nodes)
+    , label(std::move(name))
   {
+    if (suture.size() < 2)
+      throw std::invalid_argument(label + ": a chain of at least two nodes");
     surface_tree.build(s.nodes.x, triangles, prm.depth);
     // the tissue moves micrometres per step: its tree is refitted lazily, a leaf only
     // when a vertex left a slack of one suture radius (TriangleSphereTree::update)
@@ -41,6 +47,11 @@ namespace suturesim::realtime
     suture_tree.refit_all(x.middleCols(suture.begin, suture.size()));
     suture_tree.overlaps(surface_tree, 0, candidates);
     contacts.clear();
+    if (prm.every_triangle)
+      {
+        detect_every_triangle(x);
+        return;
+      }
     std::fill(slot.begin(), slot.end(), -1);
     std::fill(nearest.begin(), nearest.end(), collision::NearestTriangle{});
     // First the nearest triangle of every candidate node, then the contact test on it
@@ -80,6 +91,50 @@ namespace suturesim::realtime
         }
   }
 
+
+  void
+  SurfaceContact::detect_every_triangle(const Matrix3Xd &x)
+  {
+    for (const auto &[segment, leaf] : candidates)
+      {
+        const std::uint32_t triangle = surface_tree.triangle(leaf);
+        const auto         &t        = triangles[triangle];
+        const std::uint32_t last     = segment + 2 == suture.size() ? segment + 1 : segment;
+        for (std::uint32_t k = segment; k <= last; ++k)
+          {
+            const std::uint32_t  node = suture.begin + k;
+            collision::NearestTriangle near;
+            near.offer(x.col(node), triangle, x.col(t[0]), x.col(t[1]), x.col(t[2]), prm.radius);
+            // outside: the direction from the closest point, which turns continuously
+            // over edges and corners; behind the face's plane: its normal
+            const bool     outside = near.signed_distance > 0 && near.distance > 0;
+            const double   d       = outside ? near.distance : near.signed_distance;
+            if (!(d < 1.25 * prm.radius && d > -prm.depth))
+              continue;
+            const Vector3d q = near.weights[0] * x.col(t[0]) + near.weights[1] * x.col(t[1]) +
+                               near.weights[2] * x.col(t[2]);
+            const Vector3d normal = outside ? Vector3d((x.col(node) - q) / near.distance) : near.normal;
+            // one contact per closest feature: faces that share the edge or corner nearest
+            // to the node would each push it out again
+            const auto feature = [](const mesh::Triangle &corners, const Vector3d &weights) {
+              // the feature's corners (those of non-zero weight), sorted, unused ones last
+              std::array<std::uint32_t, 3> f;
+              f.fill(std::numeric_limits<std::uint32_t>::max());
+              for (unsigned c = 0; c < 3; ++c)
+                if (weights[c] > 0)
+                  f[c] = corners[c];
+              std::sort(f.begin(), f.end());
+              return f;
+            };
+            const auto key  = feature(t, near.weights);
+            const bool seen = std::any_of(contacts.begin(), contacts.end(), [&](const Contact &c) {
+              return c.node == node && feature(c.triangle, c.bary) == key;
+            });
+            if (!seen)
+              contacts.push_back({node, t, near.weights, normal, 0});
+          }
+      }
+  }
 
   double
   SurfaceContact::gap(const Contact &c, const Matrix3Xd &x) const

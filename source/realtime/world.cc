@@ -48,7 +48,8 @@ namespace suturesim::realtime
         auto c = std::make_unique<SurfaceContact>(
           sys, tissue_model->surface(),
           SurfaceContact::Parameters{setup.contact_stiffness, setup.suture_geometry.radius,
-                                     setup.contact_depth, time_integrator->position_based()});
+                                     setup.contact_depth, time_integrator->position_based()},
+          sys.suture, "suture-tissue contact");
         contact = c.get();
         sys.contacts.push_back(std::move(c));
       }
@@ -157,6 +158,8 @@ namespace suturesim::realtime
         {
           if (contact != nullptr)
             contact->surface_changed(sys.nodes.x);
+          for (auto *probe : probe_contacts)
+            probe->surface_changed(sys.nodes.x);
           // the patch's springs (up to 4 k_mesh on a node with a smaller share of the
           // mass) lower an explicit step's limit: estimated again, and warned of
           assess_stability(false);
@@ -219,6 +222,39 @@ namespace suturesim::realtime
     });
     access_set = set.get();
     sys.contacts.push_back(std::move(set));
+  }
+
+  std::size_t
+  World::add_probe(const std::string &name, const Vector3d &tip, const Vector3d &axis, const double length,
+                   const double radius, const double stiffness)
+  {
+    if (!tissue_model)
+      throw std::invalid_argument("realtime world: probe '" + name + "' needs tissue to press on");
+    if (!(length > 0) || !(radius > 0) || !(stiffness > 0) || !(axis.norm() > 0) || !std::isfinite(length + radius))
+      throw std::invalid_argument("realtime world: probe '" + name +
+                                  "' needs a positive length, radius and stiffness and an axis");
+    // nodes at most a radius apart: their spheres of radius r leave no gap on the rod's
+    // surface wider than 0.13 r (at the midpoint, √(r² − (r/2)²) = 0.87 r)
+    const auto          n     = static_cast<std::uint32_t>(std::max(2.0, std::ceil(length / radius) + 1));
+    const std::uint32_t first = sys.nodes.size();
+    std::vector<std::uint32_t> held;
+    for (std::uint32_t k = 0; k < n; ++k)
+      {
+        // a nominal mass: the tool holds the nodes, so it moves none of them
+        sys.nodes.add(tip + axis.normalized() * (length * k / (n - 1)), 1e-6, 0);
+        held.push_back(first + k);
+      }
+    // every node pushed out, however deep the tool went in: a probe never pierces
+    auto c = std::make_unique<SurfaceContact>(
+      sys, tissue_model->surface(),
+      SurfaceContact::Parameters{stiffness, radius, length + radius, time_integrator->position_based(), true},
+      NodeRange{first, first + n}, name + "-tissue contact");
+    probe_contacts.push_back(c.get());
+    sys.contacts.push_back(std::move(c));
+    probe_stiffness = std::max(probe_stiffness, stiffness);
+    ToolPose pose;
+    pose.position = tip;
+    return add_tool(name, held, pose);
   }
 
   void
@@ -286,19 +322,30 @@ namespace suturesim::realtime
     // as able to make an explicit step unstable as a stiff spring).
     if (!time_integrator->position_based())
       {
-        std::unique_ptr<HomeSprings> potential_contact;
+        // a probe's penalty acts on the tissue's surface nodes it presses, once per face
+        // it touches: on each node as if every face around it were pressed
+        auto potential_contact = std::make_unique<HomeSprings>();
         if (contact != nullptr && contact_stiffness > 0)
+          for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
+            potential_contact->add(i, sys.nodes.x.col(i), contact_stiffness);
+        if (probe_stiffness > 0)
           {
-            potential_contact = std::make_unique<HomeSprings>();
-            for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
-              potential_contact->add(i, sys.nodes.x.col(i), contact_stiffness);
-            sys.interactions.push_back(std::move(potential_contact));
+            std::vector<unsigned> faces(sys.nodes.size(), 0);
+            for (const auto &t : tissue_model->surface())
+              for (const auto i : t)
+                ++faces[i];
+            for (std::uint32_t i = 0; i < sys.nodes.size(); ++i)
+              if (faces[i] > 0)
+                potential_contact->add(i, sys.nodes.x.col(i), faces[i] * probe_stiffness);
           }
+        const bool potential = potential_contact->size() > 0;
+        if (potential)
+          sys.interactions.push_back(std::move(potential_contact));
         dt_limit = time_integrator->stability_limit(sys);
-        if (contact != nullptr && contact_stiffness > 0)
+        if (potential)
           sys.interactions.pop_back();
         limit_text = time_integrator->limit_description() +
-                     (contact != nullptr ? " (contact stiffness included)" : "");
+                     (potential ? " (contact stiffness included)" : "");
       }
     else
       {

@@ -80,6 +80,8 @@ namespace suturesim::scene
       add_xyz(columns, t.name + "_force_", "N");
     if (world.needle)
       world.needle->add_columns(columns);
+    if (world.probe_tool)
+      add_xyz(columns, "probe_force_", "N");
     for (const auto &b : world.boundaries)
       {
         add_xyz(columns, b.name + "_reaction_", "N");
@@ -119,6 +121,14 @@ namespace suturesim::scene
         values[c++] = rw.tool_forces()[world.first_end_tool + k].force[d];
     if (world.needle)
       world.needle->fill_row(rw, values, c);
+    if (world.probe_tool)
+      {
+        for (int d = 0; d < 3; ++d)
+          values[c++] = rw.tool_forces()[*world.probe_tool].force[d];
+        const auto &contact = *rw.probe_contact().front();
+        for (const auto &k : contact.list())
+          probe_least_gap = std::min(probe_least_gap, contact.gap(k, sys.nodes.x));
+      }
     for (auto &set : reactions)
       {
         const auto r = rw.reaction(set);
@@ -263,6 +273,15 @@ namespace suturesim::scene
                                      {"min_distance", least(c.min_distance)},
                                      {"min_distance_detected", least(c.min_distance_detected)},
                                      {"reach", c.reach}};
+      }
+    if (world.probe_tool)
+      {
+        // the probe's push at the end and how far into its radius the tissue came (null:
+        // it never came within reach)
+        const auto f      = rw.tool_forces()[*world.probe_tool].force;
+        metrics["probe"] = {{"force", {f[0], f[1], f[2]}},
+                            {"least_gap", std::isfinite(probe_least_gap) ? nlohmann::json(probe_least_gap)
+                                                                         : nlohmann::json()}};
       }
     if (const auto *access = rw.access())
       {

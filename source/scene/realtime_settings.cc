@@ -75,6 +75,26 @@ namespace suturesim::scene
     prm.declare_entry("Access stiffness", default_text(d.access_stiffness), Patterns::Double(0),
                       "Stiffness k of the node-access constraints, E = k C^2 / 2 (compliance "
                       "1/k under XPBD); 0: that of the suture's links. Unit: N/m. Range: >= 0.");
+    prm.enter_subsection("Probe");
+    prm.declare_entry("Length", default_text(d.probe.length), Patterns::Double(0),
+                      "A blunt probe pressing on the tissue, which it may not penetrate "
+                      "(seed 004's external stage: node-triangle constraints between its "
+                      "nodes and the tissue surface): the length of its end that can touch, "
+                      "from the tip; 0: no probe. Realtime path. Unit: m. Range: >= 0.");
+    prm.declare_entry("Radius", default_text(d.probe.radius), Patterns::Double(0),
+                      "The probe's radius (its end a hemisphere). Unit: m. Range: > 0.");
+    prm.declare_entry("Stiffness", default_text(d.probe.stiffness), Patterns::Double(0),
+                      "Penalty stiffness k of the probe's contact with the tissue "
+                      "(compliance 1/k under XPBD). Unit: N/m. Range: > 0.");
+    prm.declare_entry("Tip", "0, 0, 0", vector_pattern(), "Where the probe's tip is at t = 0: the centre of its hemispherical end. Unit: m.");
+    prm.declare_entry("Axis", "0, 0, 1", vector_pattern(),
+                      "Direction from the tip towards the handle (normalised). Unit: none. Range: "
+                      "non-zero.");
+    prm.declare_entry("Keyframes", "",
+                      Patterns::Map(Patterns::Double(0), vector_pattern(), 0, Patterns::Map::max_int_value, ";", ":"),
+                      "'t: ux, uy, uz; ...': the tip's displacement from its start at time t; "
+                      "linear between keyframes, constant outside. Unit: s: m, m, m.");
+    prm.leave_subsection();
     prm.enter_subsection("Tearing");
     ParameterDeclarations tear;
     tearing::LigamentTearParameters::declare(tear);
@@ -109,6 +129,24 @@ namespace suturesim::scene
           scope.require(other != name, "Access points", "access point '" + name + "' is named twice");
         access_points.emplace_back(name, Eigen::Vector3d(x[0], x[1], x[2]));
       }
+    prm.enter_subsection("Probe");
+    {
+      const ParameterScope at = scope.subsection("Probe");
+      probe.length            = prm.get_double("Length");
+      probe.radius            = prm.get_double("Radius");
+      probe.stiffness         = prm.get_double("Stiffness");
+      probe.tip               = get_vector(prm, "Tip");
+      probe.axis              = get_vector(prm, "Axis");
+      probe.path.type         = "prescribed";
+      probe.path.keyframes    = get_keyframes(prm, "Keyframes", at);
+      if (probe.length > 0)
+        {
+          at.require(probe.radius > 0, "Radius", "a probe needs a radius > 0 m");
+          at.require(probe.stiffness > 0, "Stiffness", "a probe needs a stiffness > 0 N/m");
+          at.require(probe.axis.norm() > 0, "Axis", "the probe's axis must not be zero");
+        }
+    }
+    prm.leave_subsection();
     prm.enter_subsection("Tearing");
     tearing = parse_plain(prm, scope.subsection("Tearing"), tearing::LigamentTearParameters::declare,
                           tearing::LigamentTearParameters::parse);

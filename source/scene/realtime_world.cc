@@ -93,6 +93,7 @@ namespace suturesim::scene
     add_tools(settings);
     add_probes();
     add_access(settings);
+    add_probe(settings);
     try
       {
         world->initialize();
@@ -341,6 +342,24 @@ namespace suturesim::scene
   }
 
   void
+  RealtimeWorld::add_probe(const RealtimeSettings &settings)
+  {
+    if (!(settings.probe.length > 0))
+      return;
+    const ParameterScope at = scene.scope("Realtime/Probe");
+    at.require(scene.has_tissue(), "Length", "a probe presses on tissue: the scene has none");
+    probe = settings.probe;
+    try
+      {
+        probe_tool = world->add_probe("probe", probe.tip, probe.axis, probe.length, probe.radius, probe.stiffness);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        at.fail("Length", e.what());
+      }
+  }
+
+  void
   RealtimeWorld::add_probes()
   {
     for (const auto &[name, X] : scene.tissue.probes)
@@ -373,7 +392,7 @@ namespace suturesim::scene
   void
   RealtimeWorld::tool_poses(const double t, std::vector<rt::ToolPose> &poses)
   {
-    poses.resize(first_end_tool + tool_ends.size());
+    poses.resize(first_end_tool + tool_ends.size() + (probe_tool ? 1 : 0));
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       {
         auto &e = tool_ends[k];
@@ -388,6 +407,8 @@ namespace suturesim::scene
       }
     if (needle)
       poses[needle->tool()] = needle->pose(t);
+    if (probe_tool)
+      poses[*probe_tool].position = probe.position(t);
   }
 
   double

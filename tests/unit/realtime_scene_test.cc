@@ -714,3 +714,37 @@ TEST(RealtimeScene, AccessPointsPassTheGraspersPullThroughUnchanged)
   EXPECT_LT(access[0]["link"].get<int>(), 15);
   EXPECT_LT(access[1]["link"].get<int>(), 25);
 }
+
+TEST(RealtimeScene, TwoStageSceneKeepsTheProbeOutAndThePassPuncturesAtTheThreshold)
+{
+  // parameters/tasks/two_stage.prm as shipped (seed 004's two stages on its cubic
+  // tissue). External: a probe pressing the top 0.3 mm stays out of the tissue up to
+  // its penalty's give, and the needle's tip presses the surface until the threshold;
+  // internal: the punctures' pierce points carry the needle, then the suture, through.
+  const auto r = run_suturesim("realtime_two_stage", {source_path("parameters/tasks/two_stage.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  EXPECT_EQ(r.summary["status"], "completed");
+  std::vector<std::string> kinds;
+  for (const auto &e : r.summary["events"])
+    {
+      kinds.push_back(e["kind"]);
+      if (e["kind"] == "puncture_entry" || e["kind"] == "puncture_exit")
+        {
+          EXPECT_NEAR(e["force"].get<double>(), 0.7, 0.05 * 0.7) << e.dump(); // N, Puncture/Threshold
+        }
+    }
+  ASSERT_GE(kinds.size(), 4u);
+  EXPECT_EQ(std::vector<std::string>(kinds.begin(), kinds.begin() + 4),
+            (std::vector<std::string>{"touch_entry", "puncture_entry", "touch_exit", "puncture_exit"}));
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), "onto_suture"), kinds.end()); // the suture followed
+  const auto  &probe = r.summary["metrics"]["probe"];
+  const double push = probe["force"][2], gap = probe["least_gap"];
+  std::printf("[ two stages ] probe push %.4f N, least gap %.3e m (of a 3e-4 m press)\n", push, gap);
+  EXPECT_GT(push, 1.0); // N: the dermis pushes back (4.95 N as shipped)
+  EXPECT_LT(gap, 0.0);  // it pressed
+  EXPECT_GT(gap, -0.5 * 3e-4); // m: the penalty gives less than half the press, the surface took the rest
+  std::string header;
+  read_forces(r, &header);
+  EXPECT_NE(header.find("probe_force_x [N],probe_force_y [N],probe_force_z [N]"), std::string::npos) << header;
+}

@@ -2,7 +2,9 @@
 /**
  * @file
  * Suture–tissue-surface contact (seed 000 §VII.B, Fig. 8: "collision detection between
- * the model and the thread"). Broad phase: the suture's chain sphere tree against the
+ * the model and the thread"), and the same for a tool's chain of nodes: seed 004's
+ * external stage, node–triangle non-penetration C = (q − p₁)·n − ε ≥ 0 with ε the
+ * chain's radius and p₁ the closest point of the triangle. Broad phase: the suture's chain sphere tree against the
  * tissue surface's triangle sphere tree (collision/), both refitted bottom-up every
  * detection. Narrow phase: each suture node against the candidate triangles; a node
  * touches a triangle when its signed distance d = (p − c)·n to the closest point c
@@ -28,6 +30,7 @@
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/system.h>
 
+#include <string>
 #include <vector>
 
 namespace suturesim::realtime
@@ -41,15 +44,23 @@ namespace suturesim::realtime
       double radius    = 0; ///< r of the suture, m
       double depth     = 0; ///< how far inside a node is still pushed out, m
       bool   project   = false; ///< XPBD constraints instead of penalty forces
+      /// Each node against every triangle within reach, not only its nearest (a tool's
+      /// sphere pressing a dimple touches several faces at once; one contact on the
+      /// nearest would flip from face to face), one contact per closest feature (face,
+      /// edge or corner), its normal the direction from the closest point while the
+      /// node is outside the face's plane (continuous over edges and corners).
+      bool   every_triangle = false;
     };
 
+    /// Contact of the chain of nodes @p nodes (the suture's, or a tool's: realtime/
+    /// world.h's probe) with @p surface, named @p name.
     SurfaceContact(const System &system, const std::vector<mesh::Triangle> &surface,
-                   const Parameters &parameters);
+                   const Parameters &parameters, NodeRange nodes, std::string name);
 
     std::string
     name() const override
     {
-      return "suture-tissue contact";
+      return label;
     }
     void
     detect(const Matrix3Xd &x) override;
@@ -109,9 +120,14 @@ namespace suturesim::realtime
     gap(const Contact &c, const Matrix3Xd &x) const;
 
   private:
+    /// detect() of Parameters::every_triangle, from the broad phase's candidates.
+    void
+    detect_every_triangle(const Matrix3Xd &x);
+
     Parameters                      prm;
     const std::vector<mesh::Triangle> &triangles;
-    NodeRange                       suture;
+    NodeRange                       suture; ///< the chain's nodes (the suture's, or a tool's)
+    std::string                     label;
     collision::TriangleSphereTree   surface_tree;
     collision::SphereTree           suture_tree;
     collision::LeafPairs            candidates;

@@ -151,6 +151,25 @@ namespace suturesim::realtime
     void
     add_access(const std::vector<Vector3d> &points, double stiffness);
 
+    /// A blunt probe (seed 004's external stage: a tool that may not penetrate the
+    /// tissue): the last @p length (m) of a rod of radius @p radius (m) from its tip
+    /// @p tip (m) along @p axis (towards the handle), as a chain of nodes at most a
+    /// radius apart held by a tool (the returned index; pose: position at the tip,
+    /// orientation identity at t = 0). Each node keeps a radius from the tissue surface:
+    /// the node–triangle constraint of surface_contact.h, penalty @p stiffness (N/m) or
+    /// its XPBD compliance. Before initialize(); std::invalid_argument without tissue or
+    /// with a size or stiffness that is not positive.
+    std::size_t
+    add_probe(const std::string &name, const Vector3d &tip, const Vector3d &axis, double length, double radius,
+              double stiffness);
+
+    /// The probes' contacts with the tissue, in the order added.
+    const std::vector<SurfaceContact *> &
+    probe_contact() const
+    {
+      return probe_contacts;
+    }
+
     const NodeAccess *
     access() const
     {
@@ -343,6 +362,8 @@ namespace suturesim::realtime
     SelfCollision               *self_collision_set = nullptr;
     NeedleCoupling              *needle_coupling = nullptr;
     NodeAccess                  *access_set      = nullptr;
+    std::vector<SurfaceContact *> probe_contacts; ///< one per probe
+    double                        probe_stiffness = 0; ///< the stiffest probe's, N/m
     std::vector<unsigned>        accesses_on_link; ///< how many accesses each suture link holds
     std::size_t                  needle_tool     = 0;
     double                       contact_stiffness = 0;

@@ -15,6 +15,7 @@
 #include <suturesim/scene/realtime_world.h>
 #include <suturesim/scene/run_summary.h>
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -88,6 +89,8 @@ namespace suturesim::scene
     std::vector<realtime::World::ReactionSet> reactions; ///< per boundary
     std::size_t         n_outputs    = 0; ///< states asked for (haptic thread), dropped or not
     double              longest_link_squared = 0; ///< the suture's longest link so far, m²
+    /// the probe's least gap to the tissue so far (negative: within its radius), m
+    double              probe_least_gap = std::numeric_limits<double>::infinity();
     double              last_written = -1;
     std::unique_ptr<BackgroundWriter<RecordState>> writer; ///< last: joined first
 

@@ -12,12 +12,14 @@
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/realtime/integrator.h>
+#include <suturesim/rod/rod_parameters.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/tearing/ligament_tear.h>
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -48,6 +50,25 @@ namespace suturesim::scene
     /// their stiffness (N/m; 0: that of the suture's links), realtime/node_access.h
     std::vector<std::pair<std::string, Eigen::Vector3d>> access_points;
     double                                               access_stiffness = 0;
+    /// A blunt probe (seed 004's external stage, World::add_probe), subsection Probe:
+    /// length 0 for none
+    struct Probe
+    {
+      double                                length    = 0;       ///< m
+      double                                radius    = 1e-3;    ///< m
+      double                                stiffness = 1e3;     ///< N/m
+      Eigen::Vector3d                       tip       = Eigen::Vector3d::Zero(); ///< m, at t = 0
+      Eigen::Vector3d                       axis      = Eigen::Vector3d::UnitZ();
+      /// its keyframes, t (s) → displacement of the tip (m), as a prescribed end's
+      rod::EndCondition path;
+
+      /// The tip at time @p t: linear between keyframes, constant outside, m.
+      Eigen::Vector3d
+      position(const double t) const
+      {
+        return tip + path.motion(t).first;
+      }
+    } probe;
     /// Seed 003's tear-into and tear-through (subsection Tearing; realtime/ligament_tearing.h)
     tearing::LigamentTearParameters tearing;
 

@@ -83,6 +83,8 @@ namespace suturesim::scene
     std::vector<ToolEnd>                             tool_ends;
     std::vector<std::pair<std::string, std::size_t>> probes;
     std::vector<std::string>                         access_names; ///< Realtime/Access points, in order
+    std::optional<std::size_t>                       probe_tool; ///< Realtime/Probe's tool
+    RealtimeSettings::Probe                          probe;
     std::optional<ClosureMonitor>                    closure;
     std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
     std::vector<double>                              gaps; ///< of the last measure_closure()
@@ -105,5 +107,8 @@ namespace suturesim::scene
     /// Realtime/Access points (seed 004's node access) on the suture.
     void
     add_access(const RealtimeSettings &settings);
+    /// Realtime/Probe (seed 004's external stage), a tool after the others.
+    void
+    add_probe(const RealtimeSettings &settings);
   };
 } // namespace suturesim::scene
