@@ -207,6 +207,20 @@ namespace
     std::sort(out.begin(), out.end());
     return out;
   }
+
+  /// A straight mass-spring suture of @p n links of 1 mm along x from the origin, links
+  /// of 1000 N/m, under the quasi-static integrator at dt = 25 µs (under its limit
+  /// 2B/λ_max = 2·0.1/(4k) = 50 µs).
+  WorldSetup
+  quasi_static_suture(const unsigned n)
+  {
+    WorldSetup w;
+    w.suture = test_support::make_model<SutureModel::Registry>("mass-spring", {{"Stretch stiffness", "1000"}});
+    w.suture_geometry = test_support::straight_suture(n, n * 1e-3, Vector3d::Zero(), Vector3d::UnitX());
+    w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static", {{"Suture damping", "0.1"}});
+    w.substeps        = 40;
+    return w;
+  }
 } // namespace
 
 TEST(NodeAccess, WorldLeavesOutTheLinkItHoldsAndSettlesOnThePeg)
@@ -218,13 +232,7 @@ TEST(NodeAccess, WorldLeavesOutTheLinkItHoldsAndSettlesOnThePeg)
   const unsigned n = 10;
   const double   l = 1e-3, k = 1e3, F = 0.1, angle = M_PI / 3;
   const Vector3d b(3.5e-3, 0, 0), direction(std::cos(angle), std::sin(angle), 0);
-  WorldSetup     w;
-  w.suture = test_support::make_model<SutureModel::Registry>("mass-spring", {{"Stretch stiffness", "1000"}});
-  w.suture_geometry = test_support::straight_suture(n, n * l, Vector3d::Zero(), Vector3d::UnitX());
-  // dt = 25 µs, under the limit 2B/λ_max = 2·0.1/(4k) = 50 µs
-  w.integrator = test_support::make_model<Integrator::Registry>("quasi-static", {{"Suture damping", "0.1"}});
-  w.substeps   = 40;
-  World world(std::move(w));
+  World          world(quasi_static_suture(n));
   const auto s = world.system().suture;
   world.add_tool("holder", {s.begin}, {});
   world.add_access({b}, k);
@@ -263,12 +271,7 @@ TEST(NodeAccess, WorldGivesTheLinksBackAsTheThreadSlidesOn)
   const unsigned n = 20;
   const double   l = 1e-3, k = 1e3, W = 0.05, angle = M_PI / 6;
   const Vector3d b(9.5e-3, 0, 0), direction(std::cos(angle), std::sin(angle), 0);
-  WorldSetup     w;
-  w.suture = test_support::make_model<SutureModel::Registry>("mass-spring", {{"Stretch stiffness", "1000"}});
-  w.suture_geometry = test_support::straight_suture(n, n * l, Vector3d::Zero(), Vector3d::UnitX());
-  w.integrator = test_support::make_model<Integrator::Registry>("quasi-static", {{"Suture damping", "0.1"}});
-  w.substeps   = 40;
-  World world(std::move(w));
+  World          world(quasi_static_suture(n));
   const auto s = world.system().suture;
   world.add_tool("grasper", {s.end - 1}, {});
   world.add_access({b}, k);
