@@ -10,6 +10,24 @@
 
 namespace suturesim::realtime
 {
+  namespace
+  {
+    /// The closest feature of a triangle (a face, an edge or a corner) as the corners of
+    /// non-zero weight @p weights, sorted, the unused entries last: the same for every
+    /// triangle that shares it.
+    std::array<std::uint32_t, 3>
+    feature(const mesh::Triangle &corners, const Vector3d &weights)
+    {
+      std::array<std::uint32_t, 3> f;
+      f.fill(std::numeric_limits<std::uint32_t>::max());
+      for (unsigned c = 0; c < 3; ++c)
+        if (weights[c] > 0)
+          f[c] = corners[c];
+      std::sort(f.begin(), f.end());
+      return f;
+    }
+  } // namespace
+
   SurfaceContact::SurfaceContact(const System &s, const std::vector<mesh::Triangle> &surface,
                                  const Parameters &parameters, const NodeRange nodes, std::string name)
     : prm(parameters)
@@ -116,16 +134,6 @@ namespace suturesim::realtime
             const Vector3d normal = outside ? Vector3d((x.col(node) - q) / near.distance) : near.normal;
             // one contact per closest feature: faces that share the edge or corner nearest
             // to the node would each push it out again
-            const auto feature = [](const mesh::Triangle &corners, const Vector3d &weights) {
-              // the feature's corners (those of non-zero weight), sorted, unused ones last
-              std::array<std::uint32_t, 3> f;
-              f.fill(std::numeric_limits<std::uint32_t>::max());
-              for (unsigned c = 0; c < 3; ++c)
-                if (weights[c] > 0)
-                  f[c] = corners[c];
-              std::sort(f.begin(), f.end());
-              return f;
-            };
             const auto key  = feature(t, near.weights);
             const bool seen = std::any_of(contacts.begin(), contacts.end(), [&](const Contact &c) {
               return c.node == node && feature(c.triangle, c.bary) == key;

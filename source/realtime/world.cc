@@ -323,7 +323,8 @@ namespace suturesim::realtime
     if (!time_integrator->position_based())
       {
         // a probe's penalty acts on the tissue's surface nodes it presses, once per face
-        // it touches: on each node as if every face around it were pressed
+        // it touches: on each node as if every face around it were pressed (an estimate:
+        // two of the probe's nodes may press one face)
         auto potential_contact = std::make_unique<HomeSprings>();
         if (contact != nullptr && contact_stiffness > 0)
           for (auto i = sys.suture.begin; i < sys.suture.end; ++i)
