@@ -732,6 +732,22 @@ namespace suturesim
     return entries;
   }
 
+  std::vector<std::pair<std::string, Eigen::Vector3d>>
+  get_named_points(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope,
+                   const std::string &noun)
+  {
+    std::vector<std::pair<std::string, Eigen::Vector3d>> points;
+    for (const auto &[name, x] : get_named_values(prm, key))
+      {
+        scope.require(!name.empty(), key, noun + " without a name: write 'name: x, y, z'");
+        scope.require(x.size() == 3, key, noun + " '" + name + "' needs three coordinates");
+        for (const auto &[other, point] : points)
+          scope.require(other != name, key, noun + " '" + name + "' is named twice");
+        points.emplace_back(name, Eigen::Vector3d(x[0], x[1], x[2]));
+      }
+    return points;
+  }
+
   std::map<double, std::vector<double>>
   get_keyframes(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope)
   {

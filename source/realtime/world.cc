@@ -237,11 +237,12 @@ namespace suturesim::realtime
     // surface wider than 0.13 r (at the midpoint, √(r² − (r/2)²) = 0.87 r)
     const auto          n     = static_cast<std::uint32_t>(std::max(2.0, std::ceil(length / radius) + 1));
     const std::uint32_t first = sys.nodes.size();
+    const Vector3d      along = axis.normalized() * (length / (n - 1));
     std::vector<std::uint32_t> held;
     for (std::uint32_t k = 0; k < n; ++k)
       {
         // a nominal mass: the tool holds the nodes, so it moves none of them
-        sys.nodes.add(tip + axis.normalized() * (length * k / (n - 1)), 1e-6, 0);
+        sys.nodes.add(tip + k * along, 1e-6, 0);
         held.push_back(first + k);
       }
     // every node pushed out, however deep the tool went in: a probe never pierces

@@ -120,15 +120,7 @@ namespace suturesim::scene
     refuse_above_limit = prm.get("Above stability limit") == "refuse";
     pacing             = prm.get_bool("Pacing");
     access_stiffness   = prm.get_double("Access stiffness");
-    // in the file's order, as the tissue's probes are read
-    access_points.clear();
-    for (const auto &[name, x] : get_named_values(prm, "Access points"))
-      {
-        scope.require(!name.empty(), "Access points", "an access point needs a name, 'name: x, y, z'");
-        for (const auto &[other, point] : access_points)
-          scope.require(other != name, "Access points", "access point '" + name + "' is named twice");
-        access_points.emplace_back(name, Eigen::Vector3d(x[0], x[1], x[2]));
-      }
+    access_points      = get_named_points(prm, "Access points", scope, "access point");
     prm.enter_subsection("Probe");
     {
       const ParameterScope at = scope.subsection("Probe");

@@ -128,17 +128,9 @@ namespace suturesim::tissue
     pressure_degree = p < 0 ? std::min<unsigned>(degree - 1, 1) : static_cast<unsigned>(p);
     mixed_update    = prm.get("Mixed update");
 
-    // The pattern has validated the text; split it here to keep the order of the file
-    // (a std::map would sort the probes and merge duplicates silently).
     probes.clear();
-    for (const auto &[name, x] : get_named_values(prm, "Probes"))
-      {
-        scope.require(!name.empty(), "Probes", "a probe needs a name, 'name: x, y, z'");
-        scope.require(x.size() == 3, "Probes", "probe '" + name + "' needs three coordinates");
-        for (const auto &[other, point] : probes)
-          scope.require(other != name, "Probes", "probe '" + name + "' is named twice");
-        probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
-      }
+    for (const auto &[name, x] : get_named_points(prm, "Probes", scope, "probe"))
+      probes.emplace_back(name, Point<3>(x[0], x[1], x[2]));
 
     region_moduli.clear();
     for (const auto &[name, v] : get_named_values(prm, "Region moduli"))

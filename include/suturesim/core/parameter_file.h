@@ -11,6 +11,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace suturesim
@@ -149,6 +150,14 @@ namespace suturesim
   /// Reads a map entry @p key, "name: v, v, ...; name: ...", in its order; names trimmed.
   std::vector<std::pair<std::string, std::vector<double>>>
   get_named_values(const dealii::ParameterHandler &prm, const std::string &key);
+
+  /// Reads a map entry @p key of named points, "name: x, y, z; ...", in the file's order
+  /// (a std::map would sort them and merge duplicates silently); a point without a
+  /// name, without three coordinates or named twice fails through @p scope, calling it a
+  /// @p noun ("probe", "access point").
+  std::vector<std::pair<std::string, Eigen::Vector3d>>
+  get_named_points(const dealii::ParameterHandler &prm, const std::string &key, const ParameterScope &scope,
+                   const std::string &noun);
 
   /// Reads the keyframe entry @p key, "t: v, v, ...; t: ...", into time → values; a time
   /// given twice fails through @p scope. Value counts are the caller's to check.

@@ -66,7 +66,7 @@ namespace suturesim::scene
       Eigen::Vector3d
       position(const double t) const
       {
-        return tip + path.motion(t).first;
+        return path.position(t, tip);
       }
     } probe;
     /// Seed 003's tear-into and tear-through (subsection Tearing; realtime/ligament_tearing.h)
