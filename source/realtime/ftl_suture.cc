@@ -145,6 +145,12 @@ namespace suturesim::realtime
           }
       }
 
+      double
+      holding_stiffness() const override
+      {
+        return k_q;
+      }
+
       bool
       takes_soft_constraints() const override
       {

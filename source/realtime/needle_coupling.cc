@@ -356,8 +356,20 @@ namespace suturesim::realtime
       distribute(p, (p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2, f);
   }
 
+  void
+  NeedleCoupling::add_stiffness(Matrix6d &K, const Vector3d &centre) const
+  {
+    if (puncture.pressing())
+      add_point_stiffness(K, needle.tip(current_pose) - centre, prm.puncture.stiffness);
+    for (const auto &p : points)
+      if (!taken(p) && !p.at.on_suture)
+        add_point_stiffness(K, p.at.c - centre, prm.transverse_stiffness + prm.friction.stiffness);
+      else if (!taken(p) && prm.geometric_suture) // its stick, through the thread
+        add_point_stiffness(K, needle.swage(current_pose) - centre, prm.friction.stiffness);
+  }
+
   std::pair<Vector3d, Vector3d>
-  NeedleCoupling::needle_load(const Matrix3Xd &x, const Vector3d &origin, const double dt) const
+  NeedleCoupling::needle_load(const Matrix3Xd &x, const Vector3d &origin, const double dt, const bool free) const
   {
     Vector3d     force = Vector3d::Zero(), torque = Vector3d::Zero();
     const auto   add   = [&](const Vector3d &at, const Vector3d &f) {
@@ -366,6 +378,7 @@ namespace suturesim::realtime
     };
     const double   inv_dt2 = 1 / (dt * dt);
     const Vector3d tip     = needle.tip(current_pose);
+    const Vector3d swage   = needle.swage(current_pose), swage_tangent = needle.tangent(current_pose, needle.length());
     if (const auto *touch = puncture.touch())
       {
         const double F = prm.project ? touch_lambda * inv_dt2
@@ -378,7 +391,10 @@ namespace suturesim::realtime
           const Vector3d on_tissue = prm.project
                                        ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2)
                                        : pierce_force(p, x, nullptr, nullptr);
-          add(p.at.c, -on_tissue);
+          if (p.at.on_suture && free)
+            add(swage, -on_tissue.dot(p.at.t) * swage_tangent); // its pull along the thread, as tension
+          else
+            add(p.at.c, -on_tissue);
         }
     return {force, torque};
   }

@@ -69,6 +69,12 @@ namespace suturesim::realtime
           limit_strain(s, strain, sweeps);
       }
 
+      bool
+      quasi_static() const override
+      {
+        return true;
+      }
+
       double
       stability_limit(const System &s) const override
       {

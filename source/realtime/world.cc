@@ -397,11 +397,14 @@ namespace suturesim::realtime
         const double tk  = t + (k + 1) * dt;
         for (std::size_t j = 0; j < tools.size(); ++j)
           {
-            const ToolPose        pose = tools::interpolate(start_poses[j], poses[j], tau);
-            const Eigen::Matrix3d R    = pose.orientation.toRotationMatrix();
+            ToolPose   pose      = tools::interpolate(start_poses[j], poses[j], tau);
+            const bool is_needle = needle_coupling != nullptr && j == needle_tool;
+            if (is_needle) // the needle where it lies, or where the jaws hold it
+              pose = free_body ? free_body->pose() : ToolPose{pose.apply(grip.position), pose.orientation * grip.orientation};
+            const Eigen::Matrix3d R = pose.orientation.toRotationMatrix();
             for (std::size_t i = 0; i < tools[j].nodes.size(); ++i)
               n.target.col(tools[j].nodes[i]) = pose.position + R * tools[j].offsets.col(i);
-            if (needle_coupling != nullptr && j == needle_tool)
+            if (is_needle)
               needle_coupling->set_pose(pose, tk);
           }
         for (auto &p : prescribed)
@@ -428,6 +431,12 @@ namespace suturesim::realtime
           if (n.held[i] & Nodes::transient)
             transient_nodes.push_back(i);
         step_phases.collision += clock::now() - collision_start;
+        if (free_body)
+          {
+            const auto free_start = clock::now();
+            move_free_needle(dt);
+            step_phases.coupling += clock::now() - free_start;
+          }
       }
     step_phases.collision += sys.detection_time;
 
@@ -454,28 +463,74 @@ namespace suturesim::realtime
         // Tools holding suture nodes only feel the suture's own interactions and the
         // contacts: the tissue's springs and volumes (most of the work) are skipped.
         evaluate_forces(tools_on_suture ? tissue_interactions : 0);
-        for (std::size_t j = 0; j < tools.size(); ++j)
-          {
-            ToolForce &f = forces[j];
-            f            = ToolForce();
-            for (const auto i : tools[j].nodes)
-              {
-                Vector3d fi;
-                if (!(suture_model && suture_model->holding_force(sys, i, fi)))
-                  fi = n.force.col(i);
-                f.force += fi;
-                f.torque += (n.x.col(i) - poses[j].position).cross(fi);
-              }
-            if (needle_coupling != nullptr && j == needle_tool)
-              {
-                const auto [force, torque] = needle_coupling->needle_load(n.x, poses[j].position, h / n_substeps);
-                f.force += force;
-                f.torque += torque;
-              }
-          }
+        for (std::size_t j = 0; j < tools.size(); ++j) // open jaws feel nothing
+          forces[j] = free_body && j == needle_tool ? ToolForce() : load_on_tool(j, poses[j].position, h / n_substeps);
       }
     step_phases.coupling += clock::now() - forces_start;
     return forces;
+  }
+
+  ToolForce
+  World::load_on_tool(const std::size_t j, const Vector3d &origin, const double dt, const bool free) const
+  {
+    const Nodes &n = sys.nodes;
+    ToolForce    f;
+    for (const auto i : tools[j].nodes)
+      {
+        Vector3d fi;
+        if (!(suture_model && suture_model->holding_force(sys, i, fi)))
+          fi = n.force.col(i);
+        f.force += fi;
+        f.torque += (n.x.col(i) - origin).cross(fi);
+      }
+    if (needle_coupling != nullptr && j == needle_tool)
+      {
+        const auto [force, torque] = needle_coupling->needle_load(n.x, origin, dt, free);
+        f.force += force;
+        f.torque += torque;
+      }
+    return f;
+  }
+
+  void
+  World::release_needle(const double density, const double drag)
+  {
+    if (needle_coupling == nullptr)
+      throw std::invalid_argument("realtime world: no needle to let go");
+    if (free_body)
+      throw std::invalid_argument("realtime world: the needle is free already");
+    if (!time_integrator->quasi_static())
+      throw std::invalid_argument("realtime world: a released needle moves by the quasi-static law V = F/B; "
+                                  "this integrator carries momentum");
+    free_body.emplace(needle_coupling->geometry(), density, drag);
+    free_body->release(needle_coupling->pose());
+  }
+
+  void
+  World::grasp_needle(const ToolPose &tool_pose)
+  {
+    if (!free_body)
+      throw std::invalid_argument("realtime world: the needle is held already");
+    const ToolPose &at = free_body->pose();
+    grip.position      = tool_pose.inverse_apply(at.position);
+    grip.orientation   = tool_pose.orientation.conjugate() * at.orientation;
+    free_body.reset();
+  }
+
+  void
+  World::move_free_needle(const double dt)
+  {
+    // the suture's pull at the swage (the tissue's interactions do not touch the
+    // suture's nodes) and the needle's load
+    evaluate_forces(tissue_interactions);
+    const Vector3d  c    = free_body->centroid();
+    const ToolForce load = load_on_tool(needle_tool, free_body->pose().position, dt, true);
+    Matrix6d        K    = Matrix6d::Zero();
+    needle_coupling->add_stiffness(K, c);
+    if (suture_model)
+      for (const auto i : tools[needle_tool].nodes)
+        add_point_stiffness(K, sys.nodes.x.col(i) - c, suture_model->holding_stiffness());
+    free_body->step(load.force, load.torque, sys.gravity, K, dt);
   }
 
   void

@@ -221,25 +221,10 @@ TEST(RealtimeInteractions, NeedleTouchAndPiercePointForcesAreMinusTheEnergyGradi
   const auto                pass = test_support::block_pass(needle, 0.004);
   for (const double mu : {0.0, 1e3})
     {
-      WorldSetup w;
-      w.mesh            = &mesh;
-      w.material        = {1e5, 0.3, 1100, {}};
-      w.tissue          = test_support::make_model<TissueModel::Registry>("volume");
-      const auto start  = pass.trajectory.pose(0);
-      w.suture          = test_support::make_model<SutureModel::Registry>("ftl");
-      w.suture_geometry = test_support::straight_suture(100, 0.1, needle.swage(start),
-                                                        -needle.tangent(start, needle.length()), 119,
-                                                        3e-9, 1.1e-4, 1100);
-      w.contact_stiffness = 100;
-      w.contact_depth     = 1e-3;
-      w.integrator = test_support::make_model<Integrator::Registry>("quasi-static", {{"Tissue damping", "0.5"}});
-      w.substeps   = 4;
-      World world(std::move(w));
+      const auto start = pass.trajectory.pose(0);
+      World      world(test_support::needle_block(mesh, needle, start));
       world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
-      NeedleCouplingParameters p;
-      p.puncture             = {0.5, 2000, 1e-3};
-      p.friction             = {mu, 500, 0.05};
-      p.transverse_stiffness = 500;
+      NeedleCouplingParameters p = test_support::needle_block_coupling(mu);
       p.pierce_model         = "node-path";
       world.add_needle(needle, p, start, true);
       world.initialize();

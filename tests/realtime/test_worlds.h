@@ -143,6 +143,39 @@ namespace suturesim::test_support
     return tools::plan_pass(needle, p);
   }
 
+  /// The needle tests' block world: volume tissue (E = 100 kPa, ν = 0.3) on @p mesh (the
+  /// 40 × 40 × 10 mm block, fix its bottom), an ftl suture (100 links, 0.1 m, EA 119 N)
+  /// leaving the swage of @p needle at pose @p start backwards along it, suture–tissue
+  /// contact, quasi-static (tissue damping 0.5 N s/m, four substeps).
+  inline realtime::WorldSetup
+  needle_block(const mesh::SimplexMesh &mesh, const tools::CurvedNeedle &needle, const tools::Pose &start)
+  {
+    realtime::WorldSetup w;
+    w.mesh              = &mesh;
+    w.material          = {1e5, 0.3, 1100, {}};
+    w.tissue            = make_model<realtime::TissueModel::Registry>("volume");
+    w.suture            = make_model<realtime::SutureModel::Registry>("ftl");
+    w.suture_geometry   = straight_suture(100, 0.1, needle.swage(start), -needle.tangent(start, needle.length()), 119,
+                                          3e-9, 1.1e-4, 1100);
+    w.contact_stiffness = 100;
+    w.contact_depth     = 1e-3;
+    w.integrator        = make_model<realtime::Integrator::Registry>("quasi-static", {{"Tissue damping", "0.5"}});
+    w.substeps          = 4;
+    return w;
+  }
+
+  /// Its needle coupling: puncture at 0.5 N (k_c 2000 N/m, reach 1 mm), friction @p mu
+  /// with k_t 500 N/m and grip 0.05 N, k⊥ 500 N/m.
+  inline realtime::NeedleCouplingParameters
+  needle_block_coupling(const double mu)
+  {
+    realtime::NeedleCouplingParameters p;
+    p.puncture             = {0.5, 2000, 1e-3};
+    p.friction             = {mu, 500, 0.05};
+    p.transverse_stiffness = 500;
+    return p;
+  }
+
   /// A 20 mm FTL suture of 20 links along x, held by the tools "left" (at the origin)
   /// and "right" (at x = 20 mm), initialised; @p ftl overrides its parameters (gravity off).
   inline std::unique_ptr<realtime::World>

@@ -52,6 +52,14 @@ namespace suturesim::realtime
       return "";
     }
 
+    /// True for the quasi-static law V = F/B (no inertia), which a released needle
+    /// follows too (free_needle.h).
+    virtual bool
+    quasi_static() const
+    {
+      return false;
+    }
+
     /// True for XPBD: interactions are constraints, contacts are projected.
     virtual bool
     position_based() const

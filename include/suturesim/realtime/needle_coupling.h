@@ -43,6 +43,7 @@
 
 #include <suturesim/coupling/coulomb_friction.h>
 #include <suturesim/coupling/needle_puncture.h>
+#include <suturesim/realtime/free_needle.h>
 #include <suturesim/realtime/pierce_model.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/system.h>
@@ -159,8 +160,20 @@ namespace suturesim::realtime
     /// Force and moment (about @p origin) the tissue exerts on the needle at the state of
     /// the last detect(), N and N m (penalty forces, or the multipliers of the last solve
     /// under XPBD with @p dt).
+    /// The needle held by a tool feels the whole force of the points on a geometric
+    /// suture (FTL passes it straight on); a @p free needle only its part along the
+    /// thread, as the tension it adds at the swage: a thread without bending stiffness
+    /// carries no transverse force to a body free to move.
     std::pair<Vector3d, Vector3d>
-    needle_load(const Matrix3Xd &x, const Vector3d &origin, double dt) const;
+    needle_load(const Matrix3Xd &x, const Vector3d &origin, double dt, bool free = false) const;
+
+    /// Adds the Gauss–Newton stiffness of that load with respect to the needle's rigid
+    /// motion about @p centre to @p K (free_needle.h, add_point_stiffness): a point
+    /// spring where each acts, k_c for the touch and k⊥ + k_t for a tie (at least
+    /// k⊥ P⊥ + k_t t tᵀ); a point on a geometric suture pulls through the thread, k_t
+    /// at the swage (needle_load's free needle). A free needle's step.
+    void
+    add_stiffness(Matrix6d &K, const Vector3d &centre) const;
 
     const coupling::NeedlePuncture &
     puncture_state() const

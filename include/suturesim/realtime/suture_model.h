@@ -83,6 +83,15 @@ namespace suturesim::realtime
       return false;
     }
 
+    /// A bound of the stiffness of that force with respect to the held node's position
+    /// (N/m): a link's axial stiffness EA/l (the bending springs, ~EI/l³, are far
+    /// softer); FTL's quasi-spring constant k_q. A free needle's step (free_needle.h).
+    virtual double
+    holding_stiffness() const
+    {
+      return axial_stiffness;
+    }
+
     /// True for models that pass through pierce points as soft constraints (FTL); the
     /// others are coupled to the tissue by forces or constraints.
     virtual bool

@@ -16,6 +16,7 @@
  */
 
 #include <suturesim/realtime/divergence_guard.h>
+#include <suturesim/realtime/free_needle.h>
 #include <suturesim/realtime/integrator.h>
 #include <suturesim/realtime/needle_coupling.h>
 #include <suturesim/realtime/node_access.h>
@@ -125,6 +126,25 @@ namespace suturesim::realtime
     needle()
     {
       return needle_coupling;
+    }
+
+    /// Seed 001 §5–6: the needle driver lets go. From the next step the needle is a free
+    /// rigid body of wire density @p density (kg/m³) and drag @p drag (N s/m),
+    /// moved by what the bodies exert on it and by gravity (free_needle.h); its tool goes
+    /// on moving and feels nothing. std::invalid_argument without a needle, when it is
+    /// free already, or under an integrator that carries momentum (the law is the
+    /// quasi-static one).
+    void
+    release_needle(double density, double drag);
+    /// The jaws close on the needle again: from the next step it is held at its present
+    /// pose relative to the tool's pose @p tool_pose. std::invalid_argument unless free.
+    void
+    grasp_needle(const ToolPose &tool_pose);
+    /// The free needle, nullptr while a tool holds it.
+    const FreeNeedle *
+    free_needle() const
+    {
+      return free_body ? &*free_body : nullptr;
     }
 
     /// A tear (tearing/ligament_tear.h): removes the tissue's springs whose rest segment
@@ -347,6 +367,15 @@ namespace suturesim::realtime
     void
     hold(Tool &tool, const std::vector<std::uint32_t> &nodes, const ToolPose &pose);
 
+    /// What the bodies exert on the needle and the nodes tool @p j holds, about @p origin,
+    /// from nodes.force (evaluate_forces) and the needle's load with substep @p dt
+    /// (NeedleCoupling::needle_load, of a @p free needle).
+    ToolForce
+    load_on_tool(std::size_t j, const Vector3d &origin, double dt, bool free = false) const;
+    /// The free needle's step of length @p dt at the state the integrator left.
+    void
+    move_free_needle(double dt);
+
     /// Forces the bodies exert on every node at the current state (nodes.force), from
     /// the interactions from @p first_interaction on (0: all; nodes untouched by the
     /// skipped ones get their exact force).
@@ -366,6 +395,8 @@ namespace suturesim::realtime
     double                        probe_stiffness = 0; ///< the stiffest probe's, N/m
     std::vector<unsigned>        accesses_on_link; ///< how many accesses each suture link holds
     std::size_t                  needle_tool     = 0;
+    std::optional<FreeNeedle>    free_body;       ///< the needle while let go
+    ToolPose                     grip;            ///< the needle's pose in its tool's frame
     double                       contact_stiffness = 0;
     bool                         refuse_above_limit = false;
 
