@@ -70,16 +70,51 @@ namespace suturesim::tools
     pass.t_tip_exit             = pass.t_tip_entry + 2 * alpha / w;
     pass.t_swage_exit           = pass.t_tip_exit + Phi / w;
     pass.t_turn_end             = t0 + (psi_end - psi_start) / w;
-    pass.t_end                  = pass.t_turn_end + p.pull_duration;
 
+    // the driver's turn ψ_d(t): with a regrasp it holds at ψ_r while its jaws move β along
+    // the arc (its frame turning about the arc's axis), then turns on, β ahead
+    double psi_r = psi_end, beta = 0, hold = 0;
+    if (p.regrasp_exposure > 0)
+      {
+        const double L = needle.length(), zeta_jaws = (1 - p.grip) * L, zeta_take = p.regrasp_exposure / 2;
+        if (!(p.grip > 0 && p.grip < 1) || !(p.regrasp_duration > 0))
+          throw std::invalid_argument("surgical pass: the grip must lie in (0, 1) of the arc and the regrasp "
+                                      "duration be > 0");
+        psi_r = theta_E + 2 * alpha - Phi + p.regrasp_exposure / R; // the tip out by the exposure
+        if (!(psi_r < psi_end) || !(zeta_take < zeta_jaws))
+          throw std::invalid_argument("surgical pass: the regrasp exposure must leave the tip out before the turn "
+                                      "ends, with its middle nearer the tip than the driver's grip");
+        // the jaws let go above the skin: the point they hold, at world angle ψ_r + its
+        // body angle, lies above the surface's plane through E
+        const double jaws_angle = psi_r + Phi - zeta_jaws / R;
+        if (!(R * std::sin(jaws_angle) + h > 0))
+          throw std::invalid_argument("surgical pass: the driver's jaws would be in the tissue when they let the "
+                                      "needle go: the grip must lie nearer the swage");
+        beta = (zeta_jaws - zeta_take) / R;
+        hold = p.regrasp_duration;
+        const double t_r = t0 + (psi_r - psi_start) / w;
+        pass.jaws        = {{t_r, true}, {t_r + hold, false}};
+        pass.t_swage_exit += pass.t_swage_exit > t_r ? hold : 0;
+        pass.t_turn_end += hold;
+      }
+    pass.t_end = pass.t_turn_end + p.pull_duration;
     // keyframes every π/12 at most: slerp turns the short way, and the position (the
     // centre) stays put
-    const unsigned segments = static_cast<unsigned>(std::ceil((psi_end - psi_start) / (M_PI / 12)));
-    for (unsigned k = 0; k <= segments; ++k)
+    const auto turn = [&](const double from, const double to, const double t_from, const bool jaws_moving) {
+      const unsigned segments = std::max(1u, static_cast<unsigned>(std::ceil((to - from) / (M_PI / 12))));
+      for (unsigned k = 0; k <= segments; ++k)
+        {
+          const double psi = from + (to - from) * k / segments;
+          const double t   = t_from + (jaws_moving ? hold * k / segments : (psi - from) / w);
+          pass.trajectory.add(t, {pass.centre, base * Quaterniond(Eigen::AngleAxisd(psi, Vector3d::UnitZ()))});
+        }
+    };
+    turn(psi_start, psi_r, t0, false);
+    if (beta > 0)
       {
-        const double psi = psi_start + (psi_end - psi_start) * k / segments;
-        pass.trajectory.add(t0 + (psi - psi_start) / w,
-                            {pass.centre, base * Quaterniond(Eigen::AngleAxisd(psi, Vector3d::UnitZ()))});
+        const double t_r = pass.jaws.front().first;
+        turn(psi_r, psi_r + beta, t_r, true);              // the jaws move along the arc
+        turn(psi_r + beta, psi_end + beta, t_r + hold, false); // and the turn goes on
       }
     const Pose last = pass.trajectory.pose(pass.t_turn_end);
     pass.trajectory.add(pass.t_end, {last.position + p.pull, last.orientation});
@@ -108,6 +143,9 @@ namespace suturesim::tools
           throw std::invalid_argument("surgical series: the pull must not lower the needle towards the skin");
       }
     SurgicalSeries result;
+    if (series.stitches > 1 && first.regrasp_exposure > 0)
+      throw std::invalid_argument("surgical series: a regrasp in a running suture is not planned (the driver "
+                                  "would start the next pass holding the needle by its tip)");
     PassParameters p = first;
     for (unsigned k = 0; k < series.stitches; ++k)
       {
@@ -122,6 +160,7 @@ namespace suturesim::tools
           for (const auto &[t, pose] : pass.trajectory.keyframes())
             result.trajectory.add(t, pose);
         result.passes.push_back(pass);
+        result.jaws.insert(result.jaws.end(), pass.jaws.begin(), pass.jaws.end());
         result.t_end       = pass.t_end;
         result.t_tightened = pass.t_tightened;
         if (last)

@@ -47,11 +47,24 @@ namespace suturesim::tools
     /// a second translation after the pull (drawing the suture tight), m; zero: none
     Vector3d tighten        = Vector3d::Zero();
     double   tighten_duration = 1; ///< s
+    /// The needle driver's regrasp (seed 001 §5–6): once the tip is out of the exit by
+    /// this arc length (m; 0: none) the jaws let go, move along the needle to the middle
+    /// of its exposed part and take it there; the turn then goes on. The driver first
+    /// holds it at `grip` (fraction of the arc from the swage), which must then be out of
+    /// the tissue. The driver's way along the needle is not a body: nothing touches it.
+    double   regrasp_exposure = 0;
+    double   regrasp_duration = 0.5; ///< s, from letting go to taking again
+    double   grip             = 1.0 / 3; ///< 1
   };
 
   struct SurgicalPass
   {
-    Trajectory trajectory; ///< pose of the needle's body frame (origin at C)
+    /// pose of the needle's body frame (origin at C) while the driver holds it as at
+    /// the start; after a regrasp, the driver's, whose frame is the needle's turned
+    /// about the arc's axis by the angle its jaws moved along the arc
+    Trajectory trajectory;
+    /// when the driver's jaws open (true) and close (false), in time order (s)
+    std::vector<std::pair<double, bool>> jaws;
     Vector3d   centre, entry, exit;
     double     entry_angle = 0, bite_depth = 0, bite_width = 0;
     /// times at which the tip reaches E, the tip reaches X, the swage leaves at X, the
@@ -61,7 +74,8 @@ namespace suturesim::tools
 
   /// Plans the pass; throws std::invalid_argument for inconsistent input (a bite deeper
   /// than R, a bite direction along the normal, a needle too short to leave the
-  /// tissue, ...).
+  /// tissue, a regrasp the exposed tip cannot give, ...). A regrasp holds the turn for
+  /// its duration: every time after it is later by that much.
   SurgicalPass
   plan_pass(const CurvedNeedle &needle, const PassParameters &parameters);
 
@@ -79,6 +93,7 @@ namespace suturesim::tools
   {
     Trajectory                trajectory; ///< pose of the needle's body frame (origin at C)
     std::vector<SurgicalPass> passes;     ///< each as plan_pass() plans it alone, at its own times
+    std::vector<std::pair<double, bool>> jaws; ///< the passes' regrasps, in time order (s)
     double                    t_end = 0, t_tightened = 0; ///< the last pull's end; the tightening's (s)
   };
 
