@@ -21,6 +21,12 @@ namespace suturesim::scene
     , geometry(s.needle.needle())
     , path(s.needle.trajectory())
   {
+    // the accurate path moves its needle as a kinematic tool throughout: it has no free
+    // rigid body to let go
+    const auto [section, key] = np.release_entry();
+    scene.scope(section).require(!np.released(), key,
+                                 "the accurate path cannot let the needle go (it is a kinematic tool there); run "
+                                 "this scene under Model = realtime");
     {
       TimerOutput::Scope section(timer, "mesh");
       mesh_info = mesh::create_mesh(scene.mesh, directory, tria, needle_path());

@@ -71,6 +71,21 @@ namespace suturesim::scene
                       "the frame the arc lies in the x-y plane, swage on +x, tip at the arc "
                       "angle); positions linear and rotations by slerp between keyframes. "
                       "Unit: s: m, m, m, rad, rad, rad.");
+    prm.declare_entry("Jaws", d.jaws_text,
+                      Patterns::Map(Patterns::Double(0), Patterns::Selection("open|closed"), 0,
+                                    Patterns::Map::max_int_value, ";", ":"),
+                      "When the needle driver's jaws open and close, 't: open; t: closed; ...' "
+                      "(closed at the start; empty: never open). While open the needle is a free "
+                      "rigid body moved by the tissue's pierce points, the suture's pull and its "
+                      "weight (seed 001 sec. 5-6), by the quasi-static law V = F/B; closing takes it "
+                      "where it lies, relative to where the driver then is (Motion). Realtime path "
+                      "under the quasi-static integrator. Unit: s: none.");
+    prm.declare_entry("Density", default_text(d.density), Patterns::Double(0),
+                      "Of the needle's wire, for its weight while free: 7800, the martensitic "
+                      "stainless steels (type 420, 455) needles are made of. Unit: kg/m^3. Range: > 0.");
+    prm.declare_entry("Drag", default_text(d.drag), Patterns::Double(0),
+                      "B of the free needle in V = F/B (its rotation: B R^2 about the centroid); sets how "
+                      "fast it settles, not where. Unit: N s/m. Range: > 0.");
     const tools::PassParameters &p = d.pass;
     prm.enter_subsection("Pass");
     prm.declare_entry("Entry point", to_text(p.entry), vector_pattern(),
@@ -107,6 +122,17 @@ namespace suturesim::scene
                       "A second translation after the pull, drawing the suture tight (0: none). Unit: m.");
     prm.declare_entry("Tighten duration", default_text(p.tighten_duration), Patterns::Double(0),
                       "Unit: s. Range: > 0.");
+    prm.declare_entry("Regrasp exposure", default_text(p.regrasp_exposure), Patterns::Double(0),
+                      "The needle driver's regrasp (seed 001 sec. 5-6): once the tip is out of the exit by this "
+                      "arc length the jaws let the needle go, move along it to the middle of its exposed part and "
+                      "take it there, and the turn goes on (realtime path, quasi-static integrator; one pass). "
+                      "0: none. Unit: m. Range: [0, needle length).");
+    prm.declare_entry("Regrasp duration", default_text(p.regrasp_duration), Patterns::Double(0),
+                      "From letting the needle go to taking it again; the turn waits. Unit: s. Range: > 0.");
+    prm.declare_entry("Grip point", default_text(p.grip), Patterns::Double(0, 1),
+                      "Where the driver's jaws hold the needle at the start, as a fraction of its arc from the "
+                      "swage (surgeons hold it a third to a half of the way from the swage). Unit: 1. Range: "
+                      "(0, 1).");
     const tools::SeriesParameters &s = d.series;
     prm.declare_entry("Stitches", default_text(s.stitches), Patterns::Integer(1, 100),
                       "Passes of a running suture: the needle makes this many, each entering Spacing beyond the "
@@ -174,6 +200,33 @@ namespace suturesim::scene
   }
 
   void
+  NeedleParameters::parse_jaws(ParameterHandler &prm, const ParameterScope &scope)
+  {
+    density = prm.get_double("Density");
+    drag    = prm.get_double("Drag");
+    scope.require(density > 0, "Density", "must be > 0 kg/m^3");
+    scope.require(drag > 0, "Drag", "must be > 0 N s/m");
+    jaws_text = prm.get("Jaws");
+    jaws.clear();
+    bool open = false;
+    for (const auto &entry : Utilities::split_string_list(jaws_text, ';'))
+      {
+        const auto   pair = Utilities::split_string_list(entry, ':');
+        const double t    = Utilities::string_to_double(pair.at(0));
+        const bool   opens = pair.at(1) == "open";
+        std::ostringstream why;
+        if (!jaws.empty() && !(t > jaws.back().first))
+          why << "the times must increase: " << t << " s after " << jaws.back().first << " s";
+        else if (opens == open)
+          why << "at " << t << " s the jaws are " << (open ? "open" : "closed") << " already";
+        if (!why.str().empty())
+          scope.fail("Jaws", why.str());
+        jaws.emplace_back(t, opens);
+        open = opens;
+      }
+  }
+
+  void
   NeedleParameters::parse_needle(ParameterHandler &prm, const ParameterScope &scope)
   {
     prm.enter_subsection("Needle");
@@ -199,6 +252,7 @@ namespace suturesim::scene
           pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, r / angle));
         keyframes.add(t, pose);
       }
+    parse_jaws(prm, scope);
     prm.enter_subsection("Pass");
     const ParameterScope p = scope.subsection("Pass");
     pass.entry             = get_vector(prm, "Entry point");
@@ -215,11 +269,16 @@ namespace suturesim::scene
     pass.pull_duration     = prm.get_double("Pull duration");
     pass.tighten           = get_vector(prm, "Tighten");
     pass.tighten_duration  = prm.get_double("Tighten duration");
+    pass.regrasp_exposure  = prm.get_double("Regrasp exposure");
+    pass.regrasp_duration  = prm.get_double("Regrasp duration");
+    pass.grip              = prm.get_double("Grip point");
     series.stitches          = prm.get_integer("Stitches");
     series.spacing           = get_vector(prm, "Spacing");
     series.transfer_duration = prm.get_double("Transfer duration");
     prm.leave_subsection();
     prm.leave_subsection();
+    scope.require(jaws.empty() || motion != "pass" || pass.regrasp_exposure == 0, "Jaws",
+                  "the planned pass's regrasp (Pass/Regrasp exposure) opens and closes the jaws itself");
     if (!present() || motion != "pass")
       return;
     p.require(pass.angular_speed > 0, "Angular speed", "must be > 0 rad/s");
@@ -236,7 +295,9 @@ namespace suturesim::scene
       {
         // the entry the planner's refusal is about (tools/surgical_pass.cc's messages)
         const std::string what = e.what();
-        p.fail(what.find("surface normal") != std::string::npos ? "Surface normal"
+        p.fail(what.find("grip must") != std::string::npos        ? "Grip point"
+               : what.find("regrasp") != std::string::npos        ? "Regrasp exposure"
+               : what.find("surface normal") != std::string::npos ? "Surface normal"
                : what.find("entry angle") != std::string::npos  ? "Entry angle"
                : what.find("spacing") != std::string::npos      ? "Spacing"
                : what.find("pull") != std::string::npos         ? "Pull"
@@ -293,6 +354,12 @@ namespace suturesim::scene
   NeedleParameters::planned_series() const
   {
     return tools::plan_series(needle(), pass, series);
+  }
+
+  std::vector<std::pair<double, bool>>
+  NeedleParameters::jaw_changes() const
+  {
+    return present() && motion == "pass" && pass.regrasp_exposure > 0 ? planned_series().jaws : jaws;
   }
 
   void

@@ -1,5 +1,8 @@
 #include <suturesim/scene/realtime_needle.h>
 
+#include <suturesim/collision/volume_penetration.h>
+#include <suturesim/core/model_parameters.h>
+
 #include <algorithm>
 
 namespace suturesim::scene
@@ -20,6 +23,8 @@ namespace suturesim::scene
     c.load_radius          = prm.load_radius;
     c.mass_ratio           = mass_ratio;
     c.pierce_model         = pierce_model;
+    jaws                   = prm.jaw_changes();
+    jaw_point              = prm.needle().body_point((1 - prm.pass.grip) * prm.needle().length());
     tool_index             = world.add_needle(prm.needle(), c, path.pose(0),
                                               prm.attach_suture && world.suture() != nullptr);
   }
@@ -36,6 +41,59 @@ namespace suturesim::scene
     const Eigen::Vector3d away  = -needle.tangent(start, needle.length());
     for (std::size_t i = 0; i < points.size(); ++i)
       points[i] = swage + length * double(i) / double(points.size() - 1) * away;
+  }
+
+  void
+  RealtimeNeedle::operate_jaws(rt::World &world, const double t)
+  {
+    if (const auto *free = world.free_needle())
+      {
+        largest_move = std::max(largest_move, (free->centroid() - let_go).norm());
+      }
+    for (; next_jaw < jaws.size() && jaws[next_jaw].first <= t; ++next_jaw)
+      {
+        const auto [when, opens] = jaws[next_jaw];
+        const tools::Pose driver = path.pose(when);
+        const Eigen::Vector3d at = driver.apply(jaw_point);
+        // the jaws are not a body, but where they open or close must be out of the tissue
+        if (collision::winding_number(at, world.system().nodes.x, world.tissue()->surface()) > 0.5)
+          throw ParameterError("Jaws", "at " + default_text(when) + " s the jaws " + (opens ? "open" : "close") +
+                                         " inside the tissue, at (" + default_text(at[0]) + ", " +
+                                         default_text(at[1]) + ", " + default_text(at[2]) + ") m");
+        if (opens)
+          {
+            world.release_needle(prm.density, prm.drag);
+            let_go = world.free_needle()->centroid();
+            free_time -= world.time();
+          }
+        else
+          {
+            const auto  &needle = world.needle()->geometry();
+            const double gap    = (needle.point(world.needle()->pose(), needle.closest(world.needle()->pose(), at)) - at).norm();
+            if (gap > needle.wire_diameter())
+              throw ParameterError("Jaws", "at " + default_text(when) + " s the jaws close " + default_text(gap) +
+                                             " m from the needle (they take it within its wire diameter, " +
+                                             default_text(needle.wire_diameter()) + " m)");
+            world.grasp_needle(driver);
+            free_time += world.time();
+            holding.push_back(world.needle()->pierce_points().size());
+          }
+        coupling::PunctureEvent e;
+        e.kind     = opens ? "needle_released" : "needle_grasped";
+        e.time     = world.time();
+        e.position = at;
+        jaw_events.push_back(e);
+      }
+  }
+
+  nlohmann::json
+  RealtimeNeedle::free_record(const rt::World &world) const
+  {
+    if (jaws.empty() || next_jaw == 0)
+      return {};
+    // still free at the end: until now
+    const double time = free_time + (world.free_needle() != nullptr ? world.time() : 0);
+    return {{"time_free", time}, {"largest_move", largest_move}, {"pierce_points_at_grasp", holding}};
   }
 
   void
@@ -90,6 +148,7 @@ namespace suturesim::scene
     std::vector<coupling::PunctureEvent> events = world.needle()->puncture_state().events();
     const auto &thread                          = world.needle()->thread_events();
     events.insert(events.end(), thread.begin(), thread.end());
+    events.insert(events.end(), jaw_events.begin(), jaw_events.end());
     std::stable_sort(events.begin(), events.end(), [](const auto &a, const auto &b) { return a.time < b.time; });
     return events;
   }

@@ -322,6 +322,8 @@ namespace suturesim::scene
       {
         const auto events = world.needle->events(rw);
         summary.needle(scene.needle, events, world.needle->peak_pull_force(), rw.needle()->pierce_model());
+        if (const auto free = world.needle->free_record(rw); !free.empty())
+          metrics["free_needle"] = free;
         recorder.write_file("stitches.csv", tearing::stitches_csv(summary.stitch_evaluation(
                                               scene.needle, events, world.wound, scene.stitch_evaluation)));
         summary.pass_outcome(scene.needle, events, rw.time(), scene.needle.attach_suture && rw.suture() != nullptr);

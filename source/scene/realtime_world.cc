@@ -293,6 +293,10 @@ namespace suturesim::scene
               scene.scope("Realtime").fail("Pierce model", e.what());
             scene.scope("Needle").fail("Shape", e.what());
           }
+        const auto [section, key] = scene.needle.release_entry();
+        scene.scope(section).require(!scene.needle.released() || world->integrator().quasi_static(), key,
+                                     "a released needle moves by the quasi-static law V = F/B: it needs "
+                                     "Realtime/Integrator = quasi-static");
       }
     first_end_tool = needle ? 1 : 0;
     if (!scene.has_suture())
@@ -406,7 +410,18 @@ namespace suturesim::scene
         poses[first_end_tool + k] = pose_of(*e.end, e.initial, std::max(t, e.end->grasp_time));
       }
     if (needle)
-      poses[needle->tool()] = needle->pose(t);
+      {
+        try
+          {
+            needle->operate_jaws(*world, t);
+          }
+        catch (const ParameterError &e) // the jaws' (RealtimeNeedle::operate_jaws)
+          {
+            const auto [section, key] = scene.needle.release_entry();
+            scene.scope(section).fail(key, e.problem);
+          }
+        poses[needle->tool()] = needle->pose(t);
+      }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);
   }

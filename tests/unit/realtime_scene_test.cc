@@ -725,15 +725,7 @@ TEST(RealtimeScene, TwoStageSceneKeepsTheProbeOutAndThePassPuncturesAtTheThresho
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(r.has_summary);
   EXPECT_EQ(r.summary["status"], "completed");
-  std::vector<std::string> kinds;
-  for (const auto &e : r.summary["events"])
-    {
-      kinds.push_back(e["kind"]);
-      if (e["kind"] == "puncture_entry" || e["kind"] == "puncture_exit")
-        {
-          EXPECT_NEAR(e["force"].get<double>(), 0.7, 0.05 * 0.7) << e.dump(); // N, Puncture/Threshold
-        }
-    }
+  const auto kinds = event_kinds_punctures_at(r, 0.7); // N, Puncture/Threshold
   ASSERT_GE(kinds.size(), 4u);
   EXPECT_EQ(std::vector<std::string>(kinds.begin(), kinds.begin() + 4),
             (std::vector<std::string>{"touch_entry", "puncture_entry", "touch_exit", "puncture_exit"}));

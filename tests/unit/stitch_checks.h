@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace suturesim::test_support
 {
@@ -18,6 +19,23 @@ namespace suturesim::test_support
   {
     double exit, angle, edge;
   };
+
+  /// The kinds of a run's summary.json events in order, each puncture's force checked
+  /// to be the threshold @p threshold (N) within 5 % (issue 5's acceptance).
+  inline std::vector<std::string>
+  event_kinds_punctures_at(const RunResult &r, const double threshold)
+  {
+    std::vector<std::string> kinds;
+    for (const auto &e : r.summary["events"])
+      {
+        kinds.push_back(e["kind"]);
+        if (e["kind"] == "puncture_entry" || e["kind"] == "puncture_exit")
+          {
+            EXPECT_NEAR(e["force"].get<double>(), threshold, 0.05 * threshold) << e.dump();
+          }
+      }
+    return kinds;
+  }
 
   /// The pass: R = 8 mm, E at x = -5 mm, delta = 1.755 mm, so alpha = acos(1 - delta/R)
   /// = 0.6751 rad and the chord 10 mm; the wound's edge 0.2 mm off the mid-line on top

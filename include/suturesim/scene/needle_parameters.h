@@ -22,6 +22,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace suturesim::scene
@@ -38,6 +39,10 @@ namespace suturesim::scene
     /// "t: cx, cy, cz, rx, ry, rz; ...": the arc centre (m) and rotation vector (rad)
     std::string       keyframe_text = "0: 0, 0, 0.02, 0, 0, 0";
     tools::Trajectory keyframes; ///< pose of the arc centre (body frame of the needle)
+    std::string       jaws_text; ///< "t: open; t: closed; ..."
+    std::vector<std::pair<double, bool>> jaws; ///< (time, opens), in time order
+    double            density = 7800; ///< of the wire, kg/m³ (a free needle's weight)
+    double            drag    = 1e-3; ///< B of a free needle, N s/m
 
     coupling::PunctureParameters puncture;
     coupling::FrictionParameters friction;
@@ -52,6 +57,25 @@ namespace suturesim::scene
     /// The pass of a scene that gives none: 3 mm deep, drawn 30 mm up after the turn.
     static tools::PassParameters
     default_pass();
+
+    /// When the driver's jaws open (true) and close (false), in time order: Jaws, or the
+    /// planned pass's regrasp.
+    std::vector<std::pair<double, bool>>
+    jaw_changes() const;
+    /// The entry that lets the needle go, as (subsection, key): Needle/Jaws, or
+    /// Needle/Pass/Regrasp exposure for the planned regrasp.
+    std::pair<std::string, std::string>
+    release_entry() const
+    {
+      return jaws.empty() ? std::pair<std::string, std::string>{"Needle/Pass", "Regrasp exposure"}
+                          : std::pair<std::string, std::string>{"Needle", "Jaws"};
+    }
+    /// Whether the jaws ever let the needle go.
+    bool
+    released() const
+    {
+      return !jaws.empty() || (present() && motion == "pass" && pass.regrasp_exposure > 0);
+    }
 
     bool
     present() const
@@ -101,6 +125,8 @@ namespace suturesim::scene
     declare_needle(dealii::ParameterHandler &prm);
     void
     parse_needle(dealii::ParameterHandler &prm, const ParameterScope &scope);
+    void
+    parse_jaws(dealii::ParameterHandler &prm, const ParameterScope &scope);
     static void
     declare_pierce_points(dealii::ParameterHandler &prm);
     void

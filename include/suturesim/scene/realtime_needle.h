@@ -46,6 +46,16 @@ namespace suturesim::scene
       return path.pose(t);
     }
 
+    /// Opens or closes the driver's jaws at the changes up to time @p t (Needle/Jaws or
+    /// the planned regrasp): the needle let go (World::release_needle) or taken where it
+    /// lies, relative to the driver's pose at the change (World::grasp_needle); events
+    /// "needle_released" and "needle_grasped" at the jaws. The jaws sit where the driver
+    /// held the needle at the start (Pass/Grip point); ParameterError("Jaws") when they
+    /// open or close inside the tissue, or close farther than the wire's diameter from
+    /// the needle.
+    void
+    operate_jaws(realtime::World &world, double t);
+
     void
     add_columns(std::vector<std::string> &columns) const;
     /// Writes this step's values from row[c] on (advancing c) and tracks the metrics.
@@ -54,6 +64,12 @@ namespace suturesim::scene
     /// The events in time order (punctures, passage onto the suture, release).
     std::vector<coupling::PunctureEvent>
     events(const realtime::World &world) const;
+    /// While the jaws were open: metrics.free_needle of summary.json, with the time the
+    /// needle was free (s), the largest move of its centroid from where it was let go
+    /// (m), and the pierce points holding it when taken again; empty without a release.
+    nlohmann::json
+    free_record(const realtime::World &world) const;
+
     /// Largest needle force after the turn, N.
     double
     peak_pull_force() const
@@ -67,5 +83,12 @@ namespace suturesim::scene
     double                  pull_start = 0;
     std::size_t             tool_index = 0;
     double                  peak_pull  = 0;
+    std::vector<std::pair<double, bool>> jaws; ///< (time, opens)
+    std::size_t             next_jaw   = 0; ///< the next of jaws
+    Eigen::Vector3d         jaw_point;      ///< in the driver's frame, m
+    Eigen::Vector3d         let_go = Eigen::Vector3d::Zero(); ///< the centroid where last let go, m
+    double                  free_time = 0, largest_move = 0;   ///< s, m
+    std::vector<std::size_t> holding;       ///< pierce points at each grasp
+    std::vector<coupling::PunctureEvent> jaw_events;
   };
 } // namespace suturesim::scene
