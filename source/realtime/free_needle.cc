@@ -32,8 +32,7 @@ namespace suturesim::realtime
   FreeNeedle::release(const tools::Pose &pose)
   {
     current     = pose;
-    last_force  = Eigen::Vector3d::Zero();
-    last_moment = Eigen::Vector3d::Zero();
+    last_force = Eigen::Vector3d::Zero();
   }
 
   void
@@ -41,15 +40,15 @@ namespace suturesim::realtime
                    const Matrix6d &K, const double dt)
   {
     const Eigen::Vector3d c = centroid();
-    last_force       = force + m * gravity;
+    last_force              = force + m * gravity;
     // the moment about the centroid (the weight acts there)
-    last_moment = moment - (c - current.position).cross(force);
+    const Eigen::Vector3d moment_c = moment - (c - current.position).cross(force);
 
     Matrix6d A = K;
     A.diagonal().head<3>().array() += B / dt;
     A.diagonal().tail<3>().array() += B * R * R / dt;
     Eigen::Matrix<double, 6, 1> load;
-    load << last_force, last_moment;
+    load << last_force, moment_c;
     const Eigen::Matrix<double, 6, 1> delta = A.ldlt().solve(load);
     const Eigen::Vector3d c_new = c + delta.head<3>();
     const Eigen::Vector3d theta = delta.tail<3>();

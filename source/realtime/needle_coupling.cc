@@ -378,7 +378,6 @@ namespace suturesim::realtime
     };
     const double   inv_dt2 = 1 / (dt * dt);
     const Vector3d tip     = needle.tip(current_pose);
-    const Vector3d swage   = needle.swage(current_pose), swage_tangent = needle.tangent(current_pose, needle.length());
     if (const auto *touch = puncture.touch())
       {
         const double F = prm.project ? touch_lambda * inv_dt2
@@ -391,8 +390,8 @@ namespace suturesim::realtime
           const Vector3d on_tissue = prm.project
                                        ? Vector3d((p.lambda_n * p.normal_direction - p.lambda_t * p.at.t) * inv_dt2)
                                        : pierce_force(p, x, nullptr, nullptr);
-          if (p.at.on_suture && free)
-            add(swage, -on_tissue.dot(p.at.t) * swage_tangent); // its pull along the thread, as tension
+          if (p.at.on_suture && free) // its pull along the thread, as tension at the swage
+            add(needle.swage(current_pose), -on_tissue.dot(p.at.t) * needle.tangent(current_pose, needle.length()));
           else
             add(p.at.c, -on_tissue);
         }

@@ -277,7 +277,7 @@ namespace suturesim::scene
     series.transfer_duration = prm.get_double("Transfer duration");
     prm.leave_subsection();
     prm.leave_subsection();
-    scope.require(jaws.empty() || motion != "pass" || pass.regrasp_exposure == 0, "Jaws",
+    scope.require(jaws.empty() || !planned_regrasp(), "Jaws",
                   "the planned pass's regrasp (Pass/Regrasp exposure) opens and closes the jaws itself");
     if (!present() || motion != "pass")
       return;
@@ -359,7 +359,7 @@ namespace suturesim::scene
   std::vector<std::pair<double, bool>>
   NeedleParameters::jaw_changes() const
   {
-    return present() && motion == "pass" && pass.regrasp_exposure > 0 ? planned_series().jaws : jaws;
+    return planned_regrasp() ? planned_series().jaws : jaws;
   }
 
   void

@@ -47,9 +47,7 @@ namespace suturesim::scene
   RealtimeNeedle::operate_jaws(rt::World &world, const double t)
   {
     if (const auto *free = world.free_needle())
-      {
-        largest_move = std::max(largest_move, (free->centroid() - let_go).norm());
-      }
+      largest_move = std::max(largest_move, (free->centroid() - let_go).norm());
     for (; next_jaw < jaws.size() && jaws[next_jaw].first <= t; ++next_jaw)
       {
         const auto [when, opens] = jaws[next_jaw];
@@ -63,8 +61,8 @@ namespace suturesim::scene
         if (opens)
           {
             world.release_needle(prm.density, prm.drag);
-            let_go = world.free_needle()->centroid();
-            free_time -= world.time();
+            let_go      = world.free_needle()->centroid();
+            released_at = world.time();
           }
         else
           {
@@ -75,7 +73,7 @@ namespace suturesim::scene
                                              " m from the needle (they take it within its wire diameter, " +
                                              default_text(needle.wire_diameter()) + " m)");
             world.grasp_needle(driver);
-            free_time += world.time();
+            free_time += world.time() - released_at;
             holding.push_back(world.needle()->pierce_points().size());
           }
         coupling::PunctureEvent e;
@@ -92,7 +90,7 @@ namespace suturesim::scene
     if (jaws.empty() || next_jaw == 0)
       return {};
     // still free at the end: until now
-    const double time = free_time + (world.free_needle() != nullptr ? world.time() : 0);
+    const double time = free_time + (world.free_needle() != nullptr ? world.time() - released_at : 0);
     return {{"time_free", time}, {"largest_move", largest_move}, {"pierce_points_at_grasp", holding}};
   }
 

@@ -95,7 +95,6 @@ namespace
   /// the events.
   struct ReleaseRun
   {
-    double                               open = 0, close = 0;
     std::vector<double>                  time;     ///< while free, s
     std::vector<Vector3d>                centroid; ///< while free, m
     std::vector<std::vector<double>>     anchors;  ///< of the pierce points while free, m
@@ -122,8 +121,6 @@ namespace
     world.initialize();
 
     ReleaseRun run;
-    run.open  = open;
-    run.close = close;
     // the driver's time along its path: it waits while the jaws are open
     const auto driver = [&](const double t) { return t < open ? t : t < close ? open : t - (close - open); };
     std::vector<tools::Pose> poses(1);

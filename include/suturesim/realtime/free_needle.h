@@ -65,23 +65,17 @@ namespace suturesim::realtime
     step(const Eigen::Vector3d &force, const Eigen::Vector3d &moment, const Eigen::Vector3d &gravity,
          const Matrix6d &K, double dt);
 
-    /// The resultant of the last step's load and weight: force (N) and moment about the
-    /// centroid (N m); both vanish at rest.
+    /// The resultant force of the last step's load and weight (N); it vanishes at rest.
     const Eigen::Vector3d &
     resultant_force() const
     {
       return last_force;
-    }
-    const Eigen::Vector3d &
-    resultant_moment() const
-    {
-      return last_moment;
     }
 
   private:
     double   R, B, m;
     Eigen::Vector3d body_centroid;
     tools::Pose current;
-    Eigen::Vector3d last_force = Eigen::Vector3d::Zero(), last_moment = Eigen::Vector3d::Zero();
+    Eigen::Vector3d last_force = Eigen::Vector3d::Zero();
   };
 } // namespace suturesim::realtime

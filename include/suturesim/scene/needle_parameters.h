@@ -70,11 +70,17 @@ namespace suturesim::scene
       return jaws.empty() ? std::pair<std::string, std::string>{"Needle/Pass", "Regrasp exposure"}
                           : std::pair<std::string, std::string>{"Needle", "Jaws"};
     }
+    /// Whether the planned pass lets the needle go (Pass/Regrasp exposure).
+    bool
+    planned_regrasp() const
+    {
+      return present() && motion == "pass" && pass.regrasp_exposure > 0;
+    }
     /// Whether the jaws ever let the needle go.
     bool
     released() const
     {
-      return !jaws.empty() || (present() && motion == "pass" && pass.regrasp_exposure > 0);
+      return !jaws.empty() || planned_regrasp();
     }
 
     bool

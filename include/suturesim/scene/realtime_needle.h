@@ -87,7 +87,7 @@ namespace suturesim::scene
     std::size_t             next_jaw   = 0; ///< the next of jaws
     Eigen::Vector3d         jaw_point;      ///< in the driver's frame, m
     Eigen::Vector3d         let_go = Eigen::Vector3d::Zero(); ///< the centroid where last let go, m
-    double                  free_time = 0, largest_move = 0;   ///< s, m
+    double                  released_at = 0, free_time = 0, largest_move = 0; ///< s, s, m
     std::vector<std::size_t> holding;       ///< pierce points at each grasp
     std::vector<coupling::PunctureEvent> jaw_events;
   };
