@@ -518,6 +518,18 @@ namespace suturesim::realtime
   }
 
   void
+  World::hand_needle_over(const ToolPose &holder)
+  {
+    if (needle_coupling == nullptr || free_body)
+      throw std::invalid_argument("realtime world: only a held needle can be handed over");
+    const ToolPose &at        = needle_coupling->pose();
+    grip.position             = holder.inverse_apply(at.position);
+    grip.orientation          = holder.orientation.conjugate() * at.orientation;
+    start_poses[needle_tool]  = holder; // the step moves it from here, not from the last holder
+    tools[needle_tool].pose   = holder;
+  }
+
+  void
   World::move_free_needle(const double dt)
   {
     // the suture's pull at the swage (the tissue's interactions do not touch the

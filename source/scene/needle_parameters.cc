@@ -125,10 +125,13 @@ namespace suturesim::scene
     prm.declare_entry("Regrasp exposure", default_text(p.regrasp_exposure), Patterns::Double(0),
                       "The needle driver's regrasp (seed 001 sec. 5-6): once the tip is out of the exit by this "
                       "arc length the jaws let the needle go, move along it to the middle of its exposed part and "
-                      "take it there, and the turn goes on (realtime path, quasi-static integrator; one pass). "
-                      "0: none. Unit: m. Range: [0, needle length).");
+                      "take it there, and the turn goes on (realtime path, quasi-static integrator). With "
+                      "Stitches > 1 each pass but the last is followed by a reload: the other hand holds the needle "
+                      "still while the driver's jaws go back to the Grip point. 0: none. Unit: m. Range: [0, "
+                      "needle length).");
     prm.declare_entry("Regrasp duration", default_text(p.regrasp_duration), Patterns::Double(0),
-                      "From letting the needle go to taking it again; the turn waits. Unit: s. Range: > 0.");
+                      "From letting the needle go to taking it again (the turn waits), and the length of each "
+                      "reload. Unit: s. Range: > 0.");
     prm.declare_entry("Grip point", default_text(p.grip), Patterns::Double(0, 1),
                       "Where the driver's jaws hold the needle at the start, as a fraction of its arc from the "
                       "swage (surgeons hold it a third to a half of the way from the swage). Unit: 1. Range: "
@@ -360,6 +363,12 @@ namespace suturesim::scene
   NeedleParameters::jaw_changes() const
   {
     return planned_regrasp() ? planned_series().jaws : jaws;
+  }
+
+  std::vector<std::pair<double, double>>
+  NeedleParameters::reloads() const
+  {
+    return planned_regrasp() ? planned_series().reloads : std::vector<std::pair<double, double>>();
   }
 
   void

@@ -24,6 +24,7 @@ namespace suturesim::scene
     c.mass_ratio           = mass_ratio;
     c.pierce_model         = pierce_model;
     jaws                   = prm.jaw_changes();
+    reloads                = prm.reloads();
     jaw_point              = prm.needle().body_point((1 - prm.pass.grip) * prm.needle().length());
     tool_index             = world.add_needle(prm.needle(), c, path.pose(0),
                                               prm.attach_suture && world.suture() != nullptr);
@@ -58,7 +59,15 @@ namespace suturesim::scene
           throw ParameterError("Jaws", "at " + default_text(when) + " s the jaws " + (opens ? "open" : "close") +
                                          " inside the tissue, at (" + default_text(at[0]) + ", " +
                                          default_text(at[1]) + ", " + default_text(at[2]) + ") m");
-        if (opens)
+        const bool reload = std::any_of(reloads.begin(), reloads.end(), [when = when](const auto &r) {
+          return r.first == when;
+        });
+        if (opens && reload) // the other hand holds the needle where it is
+          {
+            parked = world.needle()->pose();
+            world.hand_needle_over(*parked);
+          }
+        else if (opens)
           {
             world.release_needle(prm.density, prm.drag);
             let_go      = world.free_needle()->centroid();
@@ -72,12 +81,21 @@ namespace suturesim::scene
               throw ParameterError("Jaws", "at " + default_text(when) + " s the jaws close " + default_text(gap) +
                                              " m from the needle (they take it within its wire diameter, " +
                                              default_text(needle.wire_diameter()) + " m)");
-            world.grasp_needle(driver);
-            free_time += world.time() - released_at;
-            holding.push_back(world.needle()->pierce_points().size());
+            if (parked) // from the other hand
+              {
+                world.hand_needle_over(driver);
+                parked.reset();
+              }
+            else
+              {
+                world.grasp_needle(driver);
+                free_time += world.time() - released_at;
+                const auto &points = world.needle()->pierce_points(); // those on the suture hold it not
+                holding.push_back(std::count_if(points.begin(), points.end(), [](const auto &q) { return !q.on_suture; }));
+              }
           }
         coupling::PunctureEvent e;
-        e.kind     = opens ? "needle_released" : "needle_grasped";
+        e.kind     = !opens ? "needle_grasped" : reload ? "needle_handed_over" : "needle_released";
         e.time     = world.time();
         e.position = at;
         jaw_events.push_back(e);

@@ -90,8 +90,9 @@ namespace suturesim::tools
         if (!(R * std::sin(jaws_angle) + h > 0))
           throw std::invalid_argument("surgical pass: the driver's jaws would be in the tissue when they let the "
                                       "needle go: the grip must lie nearer the swage");
-        beta = (zeta_jaws - zeta_take) / R;
-        hold = p.regrasp_duration;
+        beta              = (zeta_jaws - zeta_take) / R;
+        pass.regrasp_turn = beta;
+        hold              = p.regrasp_duration;
         const double t_r = t0 + (psi_r - psi_start) / w;
         pass.jaws        = {{t_r, true}, {t_r + hold, false}};
         pass.t_swage_exit += pass.t_swage_exit > t_r ? hold : 0;
@@ -143,9 +144,6 @@ namespace suturesim::tools
           throw std::invalid_argument("surgical series: the pull must not lower the needle towards the skin");
       }
     SurgicalSeries result;
-    if (series.stitches > 1 && first.regrasp_exposure > 0)
-      throw std::invalid_argument("surgical series: a regrasp in a running suture is not planned (the driver "
-                                  "would start the next pass holding the needle by its tip)");
     PassParameters p = first;
     for (unsigned k = 0; k < series.stitches; ++k)
       {
@@ -165,14 +163,31 @@ namespace suturesim::tools
         result.t_tightened = pass.t_tightened;
         if (last)
           break;
+        // the reload: the needle held still by the other hand while the driver's frame
+        // turns back by β about the arc's axis (its body z), jaws open
+        double     t_from = pass.t_end;
+        const Pose held   = pass.trajectory.pose(pass.t_end);
+        if (pass.regrasp_turn > 0)
+          {
+            const double   beta = pass.regrasp_turn, d = first.regrasp_duration;
+            const unsigned segments = std::max(1u, static_cast<unsigned>(std::ceil(beta / (M_PI / 12))));
+            for (unsigned j = 1; j <= segments; ++j)
+              result.trajectory.add(t_from + d * j / segments,
+                                    {held.position,
+                                     held.orientation * Quaterniond(Eigen::AngleAxisd(-beta * j / segments,
+                                                                                      Vector3d::UnitZ()))});
+            result.jaws.insert(result.jaws.end(), {{t_from, true}, {t_from + d, false}});
+            result.reloads.emplace_back(t_from, t_from + d);
+            t_from += d;
+          }
         // on to the next pass's start, turning on about the pass's axis by the angle
         // that completes the turn (2π less the short way back, when that is backwards)
         PassParameters next           = p;
         next.entry                    = p.entry + series.spacing;
         next.crossing                 = p.crossing + series.spacing;
-        next.start_time               = pass.t_end + series.transfer_duration;
+        next.start_time               = t_from + series.transfer_duration;
         const Pose              start = plan_pass(needle, next).trajectory.pose(next.start_time);
-        const Pose              from  = pass.trajectory.pose(pass.t_end);
+        const Pose              from  = result.trajectory.pose(t_from);
         const Vector3d          axis  = pass.trajectory.velocity(pass.t_tip_entry).second.normalized();
         const Eigen::AngleAxisd rest(start.orientation * from.orientation.inverse());
         const double            turn     = rest.axis().dot(axis) >= 0 ? rest.angle() : 2 * M_PI - rest.angle();
@@ -180,7 +195,7 @@ namespace suturesim::tools
         for (unsigned j = 1; j < segments; ++j)
           {
             const double f = double(j) / segments;
-            result.trajectory.add(pass.t_end + f * series.transfer_duration,
+            result.trajectory.add(t_from + f * series.transfer_duration,
                                   {from.position + f * (start.position - from.position),
                                    Quaterniond(Eigen::AngleAxisd(f * turn, axis)) * from.orientation});
           }

@@ -209,3 +209,43 @@ TEST(FreeNeedle, ReleasedMidPassStaysInTheTissueAndTakenAgainCompletesThePass)
     onto += e.kind == "onto_suture";
   EXPECT_EQ(onto, 2u) << "the suture drawn through both holes";
 }
+
+// A handover (World::hand_needle_over): another grasper takes the needle where it is,
+// and from then on the needle follows that grasper rigidly; handed back, it follows
+// the first. Never free, so a free needle cannot be handed over.
+TEST(FreeNeedle, HandedOverItStaysWhereItIsAndFollowsItsNewHolder)
+{
+  const auto        mesh  = test_support::box_mesh(0.04, 0.04, 0.01, 10, 10, 3);
+  const auto        pass  = test_support::block_pass(half_needle, 0.003);
+  const tools::Pose start = pass.trajectory.pose(0); // the tip before the entry, in the air
+  World             world(test_support::needle_block(mesh, half_needle, start));
+  world.fix_vertices(mesh::vertices_with_tag(mesh::extract_boundary(mesh), 1));
+  world.add_needle(half_needle, test_support::needle_block_coupling(0.2), start, true);
+  world.initialize();
+  const auto distance = [](const tools::Pose &a, const tools::Pose &b) {
+    return (a.position - b.position).norm() + a.orientation.angularDistance(b.orientation) * half_needle.radius();
+  };
+  std::vector<tools::Pose> poses{start};
+  world.step(poses);
+  // the other hand, 20 mm off and turned 0.7 rad about a skew axis
+  const tools::Pose other{start.position + Vector3d(0.02, -0.01, 0.005),
+                          Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized())) * start.orientation};
+  world.hand_needle_over(other);
+  poses[0] = other;
+  world.step(poses);
+  EXPECT_LT(distance(world.needle()->pose(), start), 1e-15); // it stays
+  // the other hand moves 5 mm and turns 0.3 rad about z: the needle with it, rigidly
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(0.3, Vector3d::UnitZ()));
+  const Vector3d    shift(0, 0, 0.005);
+  poses[0] = {turn * (other.position - start.position) + start.position + shift, turn * other.orientation};
+  world.step(poses);
+  const tools::Pose expected{start.position + shift, turn * start.orientation};
+  EXPECT_LT(distance(world.needle()->pose(), expected), 1e-15);
+  // handed back to the driver, still at start: the needle stays where the other hand left it
+  world.hand_needle_over(start);
+  poses[0] = start;
+  world.step(poses);
+  EXPECT_LT(distance(world.needle()->pose(), expected), 1e-15);
+  world.release_needle(7800, 1e-3);
+  EXPECT_THROW(world.hand_needle_over(start), std::invalid_argument);
+}

@@ -1,7 +1,7 @@
 // The needle driver's planned regrasp (tools/surgical_pass.h, seed 001 §5–6): when the
 // jaws let go and take again, where they take the needle, and that the needle, taken
 // by its tip, goes on along the pass without the regrasp, later by the regrasp's
-// duration.
+// duration; in a running suture, the reload between passes.
 #include <suturesim/tools/surgical_pass.h>
 
 #include <gtest/gtest.h>
@@ -98,9 +98,54 @@ TEST(Regrasp, RefusesWhatTheExposedTipCannotGive)
   p.grip             = 0.15;
   p.regrasp_duration = 0;
   EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
-  SeriesParameters series;
-  series.stitches = 2;
-  series.spacing  = Vector3d(0, 0.005, 0);
-  p.regrasp_duration = 0.5;
-  EXPECT_THROW(plan_series(needle, p, series), std::invalid_argument);
+}
+
+// A running suture with the regrasp: after the first pass's pull the other hand holds
+// the needle still while the driver's jaws go back to the grip point; the second pass
+// then goes as in the series without a regrasp, later by the regrasp and the reload.
+TEST(Regrasp, TheReloadHoldsTheNeedleStillAndTheNextPassGoesAsWithoutARegrasp)
+{
+  const CurvedNeedle needle(0.008, 3 * M_PI / 4, 4e-4);
+  PassParameters     p = stitch_pass();
+  SeriesParameters   series;
+  series.stitches             = 2;
+  series.spacing              = Vector3d(0, 0.005, 0);
+  series.transfer_duration    = 1;
+  const SurgicalSeries plain  = plan_series(needle, p, series);
+  p.regrasp_exposure          = 0.004;
+  p.regrasp_duration          = 0.5;
+  const SurgicalSeries series_r = plan_series(needle, p, series);
+  ASSERT_EQ(series_r.passes.size(), 2u);
+  ASSERT_EQ(series_r.reloads.size(), 1u); // none after the last pass
+  ASSERT_EQ(series_r.jaws.size(), 6u);    // regrasp, reload, regrasp
+  const auto [t_a, t_b] = series_r.reloads[0];
+  const SurgicalPass &first = series_r.passes[0];
+  EXPECT_NEAR(t_a, first.t_end, 1e-12);
+  EXPECT_NEAR(t_b - t_a, 0.5, 1e-12);
+  EXPECT_EQ(series_r.jaws[2], std::make_pair(t_a, true));
+  EXPECT_EQ(series_r.jaws[3], std::make_pair(t_b, false));
+  // held by the other hand: the needle where the driver left it, whose frame is back
+  // on the needle's own at the end (β = 0: the grip point at the start)
+  const double beta = first.regrasp_turn;
+  EXPECT_NEAR(beta, (0.85 * needle.length() - 0.002) / needle.radius(), 1e-12);
+  const Pose held = needle_in(series_r.trajectory.pose(t_a), beta);
+  const Pose back = series_r.trajectory.pose(t_b);
+  EXPECT_LT((needle.tip(back) - needle.tip(held)).norm(), 1e-12);
+  EXPECT_LT((needle.swage(back) - needle.swage(held)).norm(), 1e-12);
+  EXPECT_LT((series_r.trajectory.pose(t_b).apply(needle.body_point(0.85 * needle.length())) -
+             needle.point(held, 0.85 * needle.length())) // arc length from the tip
+              .norm(),
+            1e-12);
+  // the transfer and the second pass up to its regrasp, as without one, later by 1 s
+  const SurgicalPass &second = series_r.passes[1];
+  const double        shift  = second.t_tip_entry - plain.passes[1].t_tip_entry;
+  EXPECT_NEAR(shift, 1.0, 1e-12);
+  ASSERT_EQ(second.jaws.size(), 2u);
+  for (double t = t_b; t < second.jaws[0].first; t += 0.05)
+    {
+      const Pose as = plain.trajectory.pose(t - shift);
+      const Pose is = series_r.trajectory.pose(t);
+      EXPECT_LT((needle.tip(is) - needle.tip(as)).norm(), 1e-9) << t;
+      EXPECT_LT((needle.swage(is) - needle.swage(as)).norm(), 1e-9) << t;
+    }
 }

@@ -1,6 +1,7 @@
 // The needle-driver task as shipped (parameters/tasks/needle_driver.prm, issue 31 item 1):
 // the pass, the driver letting go and taking the needle again by its tip, the suture
-// drawn through; and the one-line refusals of what cannot let a needle go.
+// drawn through, the reload and the second pass; and the one-line refusals of what
+// cannot let a needle go.
 #include "run_scene.h"
 #include "stitch_checks.h"
 
@@ -28,33 +29,72 @@ namespace
   }
 } // namespace
 
-TEST(NeedleDriver, LetsGoTakesTheTipAndDrawsTheSutureThroughAllFourHoles)
+TEST(NeedleDriver, LetsGoTakesTheTipReloadsAndMakesASecondPass)
 {
   const auto r = run_suturesim("needle_driver", driver_with({}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_TRUE(r.has_summary);
   EXPECT_EQ(r.summary["status"], "completed");
-  // the issue's acceptance: each of the four punctures at the threshold within 5 %
+  // the issue's acceptance: each puncture at the threshold within 5 %
   const auto kinds = event_kinds_punctures_at(r, 0.7); // N, Puncture/Threshold
-  const auto at = [&](const std::string &kind) { return std::find(kinds.begin(), kinds.end(), kind) - kinds.begin(); };
-  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_entry"), 2);
-  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_exit"), 2);
-  // let go after the fourth puncture, taken again before the suture reaches a hole
-  const auto last_puncture = kinds.rend() - std::find(kinds.rbegin(), kinds.rend(), "puncture_exit") - 1;
-  EXPECT_GT(at("needle_released"), last_puncture);
-  EXPECT_GT(at("needle_grasped"), at("needle_released"));
-  EXPECT_LT(at("needle_grasped"), at("onto_suture"));
-  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "onto_suture"), 4) << "the suture through all four holes";
+  const auto nth   = [&](const std::string &kind, const long k) {
+    long seen = 0;
+    for (std::size_t i = 0; i < kinds.size(); ++i)
+      if (kinds[i] == kind && seen++ == k)
+        return static_cast<long>(i);
+    return static_cast<long>(kinds.size());
+  };
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_entry"), 4);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_exit"), 4);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "onto_suture"), 8) << "the suture through all eight holes";
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "released"), 0) << "and none left";
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "needle_handed_over"), 1) << "one reload, between the passes";
+  for (const long pass : {0L, 1L})
+    {
+      // let go after the pass's fourth puncture, taken again before the suture reaches
+      // one of its holes
+      const long released = nth("needle_released", pass), grasped = nth("needle_grasped", 2 * pass);
+      EXPECT_GT(released, nth("puncture_exit", 2 * pass + 1)) << pass;
+      EXPECT_GT(grasped, released) << pass;
+      EXPECT_LT(grasped, nth("onto_suture", 4 * pass)) << pass;
+    }
+  // the reload after the first pass's pull: the suture through its four holes, the
+  // driver's jaws back on the needle before the second pass's first touch
+  const long reload = nth("needle_handed_over", 0);
+  EXPECT_GT(reload, nth("onto_suture", 3));
+  EXPECT_EQ(nth("needle_grasped", 1), reload + 1);
+  EXPECT_LT(nth("needle_grasped", 1), nth("puncture_entry", 2));
 
   const auto  &free = r.summary["metrics"]["free_needle"];
   const double move = free["largest_move"];
-  std::printf("[ needle driver ] free %.3f s, the centroid moved %.3e m, held by %d pierce points\n",
-              free["time_free"].get<double>(), move, free["pierce_points_at_grasp"][0].get<int>());
-  EXPECT_NEAR(free["time_free"].get<double>(), 0.5, 1.5e-3); // s: Regrasp duration, to a step
-  EXPECT_EQ(free["pierce_points_at_grasp"], nlohmann::json::array({4}));
+  std::printf("[ needle driver ] free %.3f s, the centroid moved at most %.3e m, held by %s pierce points\n",
+              free["time_free"].get<double>(), move, free["pierce_points_at_grasp"].dump().c_str());
+  EXPECT_NEAR(free["time_free"].get<double>(), 1.0, 3e-3); // s: twice Regrasp duration, to a step each
+  EXPECT_EQ(free["pierce_points_at_grasp"], nlohmann::json::array({4, 4}));
   // it stayed in the tissue where it was let go, to a quarter of its wire's diameter
   EXPECT_LT(move, 4e-4 / 4);
+}
+
+// The first pass alone under gravity: let go, the needle rests on its four pierce
+// points against its weight and the suture's pull (the shipped scene has no gravity,
+// its comment says why).
+TEST(NeedleDriver, OnePassHoldsTheNeedleAgainstItsWeight)
+{
+  const auto r = run_suturesim("needle_driver_weight", driver_with({"Needle/Pass/Stitches=1", "Time/End time=3.5",
+                                                                   "Tissue/Boundary conditions/Gravity=0,0,-9.81"}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto kinds = event_kinds_punctures_at(r, 0.7); // N, Puncture/Threshold
+  const auto at = [&](const std::string &kind) { return std::find(kinds.begin(), kinds.end(), kind) - kinds.begin(); };
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_exit"), 2);
+  EXPECT_GT(at("needle_grasped"), at("needle_released"));
+  EXPECT_LT(at("needle_grasped"), at("onto_suture"));
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "onto_suture"), 4) << "the suture through all four holes";
+  const auto  &free = r.summary["metrics"]["free_needle"];
+  const double move = free["largest_move"];
+  std::printf("[ needle driver, weight ] the centroid moved %.3e m\n", move);
+  EXPECT_NEAR(free["time_free"].get<double>(), 0.5, 1.5e-3); // s: Regrasp duration, to a step
+  EXPECT_EQ(free["pierce_points_at_grasp"], nlohmann::json::array({4}));
+  EXPECT_LT(move, 4e-4 / 4); // a quarter of the wire's diameter
 }
 
 TEST(NeedleDriver, RefusesWhatCannotLetTheNeedleGoInOneLine)

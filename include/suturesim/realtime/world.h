@@ -140,6 +140,12 @@ namespace suturesim::realtime
     /// pose relative to the tool's pose @p tool_pose. std::invalid_argument unless free.
     void
     grasp_needle(const ToolPose &tool_pose);
+    /// A handover: another grasper, at pose @p holder, takes the needle a tool holds
+    /// (the first lets go at once, so the needle is never free). From the next step the
+    /// needle keeps its present pose relative to @p holder, and the poses step() gets
+    /// for the needle's tool are the new holder's. std::invalid_argument when free.
+    void
+    hand_needle_over(const ToolPose &holder);
     /// The free needle, nullptr while a tool holds it.
     const FreeNeedle *
     free_needle() const

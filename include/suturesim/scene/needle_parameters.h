@@ -62,6 +62,10 @@ namespace suturesim::scene
     /// planned pass's regrasp.
     std::vector<std::pair<double, bool>>
     jaw_changes() const;
+    /// The planned series' reloads (from, to), s: the driver's jaws open while the other
+    /// hand holds the needle still (tools::SurgicalSeries::reloads); none otherwise.
+    std::vector<std::pair<double, double>>
+    reloads() const;
     /// The entry that lets the needle go, as (subsection, key): Needle/Jaws, or
     /// Needle/Pass/Regrasp exposure for the planned regrasp.
     std::pair<std::string, std::string>

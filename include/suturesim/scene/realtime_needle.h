@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,19 +41,23 @@ namespace suturesim::scene
     {
       return tool_index;
     }
+    /// The pose of the needle's holder at @p t: the driver's, or during a reload the
+    /// other hand's (the needle's pose when it took it).
     tools::Pose
     pose(double t) const
     {
-      return path.pose(t);
+      return parked ? *parked : path.pose(t);
     }
 
     /// Opens or closes the driver's jaws at the changes up to time @p t (Needle/Jaws or
     /// the planned regrasp): the needle let go (World::release_needle) or taken where it
     /// lies, relative to the driver's pose at the change (World::grasp_needle); events
-    /// "needle_released" and "needle_grasped" at the jaws. The jaws sit where the driver
-    /// held the needle at the start (Pass/Grip point); ParameterError("Jaws") when they
-    /// open or close inside the tissue, or close farther than the wire's diameter from
-    /// the needle.
+    /// "needle_released" and "needle_grasped" at the jaws. A reload (the planned series'
+    /// reloads) hands the needle to the other hand instead of letting it go, and back to
+    /// the driver when the jaws close (World::hand_needle_over; events
+    /// "needle_handed_over" and "needle_grasped"). The jaws sit where the driver held the
+    /// needle at the start (Pass/Grip point); ParameterError("Jaws") when they open or
+    /// close inside the tissue, or close farther than the wire's diameter from the needle.
     void
     operate_jaws(realtime::World &world, double t);
 
@@ -85,6 +90,8 @@ namespace suturesim::scene
     double                  peak_pull  = 0;
     std::vector<std::pair<double, bool>> jaws; ///< (time, opens)
     std::size_t             next_jaw   = 0; ///< the next of jaws
+    std::vector<std::pair<double, double>> reloads; ///< (from, to), s
+    std::optional<tools::Pose> parked; ///< the other hand's pose during a reload
     Eigen::Vector3d         jaw_point;      ///< in the driver's frame, m
     Eigen::Vector3d         let_go = Eigen::Vector3d::Zero(); ///< the centroid where last let go, m
     double                  released_at = 0, free_time = 0, largest_move = 0; ///< s, s, m

@@ -67,6 +67,9 @@ namespace suturesim::tools
     std::vector<std::pair<double, bool>> jaws;
     Vector3d   centre, entry, exit;
     double     entry_angle = 0, bite_depth = 0, bite_width = 0;
+    /// β, rad: how far the regrasp moved the jaws along the arc (as a turn about its
+    /// axis, towards the tip); 0 without a regrasp
+    double     regrasp_turn = 0;
     /// times at which the tip reaches E, the tip reaches X, the swage leaves at X, the
     /// turn ends, the pull ends, the tightening ends (= t_end without one) (s)
     double t_tip_entry = 0, t_tip_exit = 0, t_swage_exit = 0, t_turn_end = 0, t_end = 0, t_tightened = 0;
@@ -93,7 +96,10 @@ namespace suturesim::tools
   {
     Trajectory                trajectory; ///< pose of the needle's body frame (origin at C)
     std::vector<SurgicalPass> passes;     ///< each as plan_pass() plans it alone, at its own times
-    std::vector<std::pair<double, bool>> jaws; ///< the passes' regrasps, in time order (s)
+    std::vector<std::pair<double, bool>> jaws; ///< the passes' regrasps and reloads, in time order (s)
+    /// the reloads (from, to), s: while the driver's jaws are open, the other hand's
+    /// grasper holds the needle where it is
+    std::vector<std::pair<double, double>> reloads;
     double                    t_end = 0, t_tightened = 0; ///< the last pull's end; the tightening's (s)
   };
 
@@ -109,6 +115,13 @@ namespace suturesim::tools
   /// does, and when the spacing is zero or out of the surface, the pull lowers the
   /// needle (a series needs it at or above the pass's height), or the transfer time is
   /// not positive.
+  ///
+  /// With a regrasp, each pass but the last ends with the driver holding the needle near
+  /// its tip. Before the transfer the needle is reloaded, as a surgeon does with the
+  /// other hand: that hand's grasper takes the needle and holds it still, the driver's
+  /// jaws open and move back along the arc to the grip point (the frame turning back by
+  /// the pass's β about the arc's axis) over the regrasp's duration, close, and the
+  /// other hand lets go. The next pass then starts as the first did.
   SurgicalSeries
   plan_series(const CurvedNeedle &needle, const PassParameters &first, const SeriesParameters &series);
 } // namespace suturesim::tools
