@@ -506,14 +506,22 @@ namespace suturesim::realtime
     free_body->release(needle_coupling->pose());
   }
 
+  namespace
+  {
+    /// @p at in the frame of @p holder: the grip whose holder∘grip is @p at.
+    ToolPose
+    pose_in(const ToolPose &holder, const ToolPose &at)
+    {
+      return {holder.inverse_apply(at.position), holder.orientation.conjugate() * at.orientation};
+    }
+  } // namespace
+
   void
   World::grasp_needle(const ToolPose &tool_pose)
   {
     if (!free_body)
       throw std::invalid_argument("realtime world: the needle is held already");
-    const ToolPose &at = free_body->pose();
-    grip.position      = tool_pose.inverse_apply(at.position);
-    grip.orientation   = tool_pose.orientation.conjugate() * at.orientation;
+    grip = pose_in(tool_pose, free_body->pose());
     free_body.reset();
   }
 
@@ -522,11 +530,9 @@ namespace suturesim::realtime
   {
     if (needle_coupling == nullptr || free_body)
       throw std::invalid_argument("realtime world: only a held needle can be handed over");
-    const ToolPose &at        = needle_coupling->pose();
-    grip.position             = holder.inverse_apply(at.position);
-    grip.orientation          = holder.orientation.conjugate() * at.orientation;
-    start_poses[needle_tool]  = holder; // the step moves it from here, not from the last holder
-    tools[needle_tool].pose   = holder;
+    grip                     = pose_in(holder, needle_coupling->pose());
+    start_poses[needle_tool] = holder; // the step moves it from here, not from the last holder
+    tools[needle_tool].pose  = holder;
   }
 
   void

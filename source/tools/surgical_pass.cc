@@ -8,6 +8,17 @@
 
 namespace suturesim::tools
 {
+  namespace
+  {
+    /// Keyframes for a turn by @p angle (rad): one every π/12 at most, since slerp between
+    /// two keyframes turns the short way.
+    unsigned
+    turn_segments(const double angle)
+    {
+      return std::max(1u, static_cast<unsigned>(std::ceil(angle / (M_PI / 12))));
+    }
+  } // namespace
+
   SurgicalPass
   plan_pass(const CurvedNeedle &needle, const PassParameters &p)
   {
@@ -102,7 +113,7 @@ namespace suturesim::tools
     // keyframes every π/12 at most: slerp turns the short way, and the position (the
     // centre) stays put
     const auto turn = [&](const double from, const double to, const double t_from, const bool jaws_moving) {
-      const unsigned segments = std::max(1u, static_cast<unsigned>(std::ceil((to - from) / (M_PI / 12))));
+      const unsigned segments = turn_segments(to - from);
       for (unsigned k = 0; k <= segments; ++k)
         {
           const double psi = from + (to - from) * k / segments;
@@ -170,7 +181,7 @@ namespace suturesim::tools
         if (pass.regrasp_turn > 0)
           {
             const double   beta = pass.regrasp_turn, d = first.regrasp_duration;
-            const unsigned segments = std::max(1u, static_cast<unsigned>(std::ceil(beta / (M_PI / 12))));
+            const unsigned segments = turn_segments(beta);
             for (unsigned j = 1; j <= segments; ++j)
               result.trajectory.add(t_from + d * j / segments,
                                     {held.position,
@@ -191,7 +202,7 @@ namespace suturesim::tools
         const Vector3d          axis  = pass.trajectory.velocity(pass.t_tip_entry).second.normalized();
         const Eigen::AngleAxisd rest(start.orientation * from.orientation.inverse());
         const double            turn     = rest.axis().dot(axis) >= 0 ? rest.angle() : 2 * M_PI - rest.angle();
-        const unsigned          segments = std::max(1u, static_cast<unsigned>(std::ceil(turn / (M_PI / 12))));
+        const unsigned          segments = turn_segments(turn);
         for (unsigned j = 1; j < segments; ++j)
           {
             const double f = double(j) / segments;
