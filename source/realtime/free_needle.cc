@@ -13,6 +13,8 @@ namespace suturesim::realtime
   {
     if (!(density > 0) || !(drag > 0))
       throw std::invalid_argument("a free needle needs a positive density and drag");
+    if (needle.straight()) // its centroid and turning drag below are an arc's
+      throw std::invalid_argument("a double-pointed needle is always held by one of the Endo Stitch's jaws");
     const double d   = needle.wire_diameter();
     const double phi = needle.arc_angle();
     m                = density * M_PI * d * d / 4 * needle.length();

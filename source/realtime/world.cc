@@ -1,4 +1,5 @@
 #include <suturesim/collision/proximity.h>
+#include <suturesim/collision/volume_penetration.h>
 #include <suturesim/realtime/angle_springs.h>
 #include <suturesim/realtime/home_springs.h>
 #include <suturesim/realtime/self_collision.h>
@@ -177,6 +178,8 @@ namespace suturesim::realtime
         if ((sys.nodes.x.col(sys.suture.begin) - geometry.swage(initial)).norm() > tolerance)
           throw std::invalid_argument("realtime world: the suture does not start at the needle's swage");
         held = {sys.suture.begin, sys.suture.begin + 1};
+        if (geometry.straight()) // pinned at the middle, not clamped
+          held.pop_back();
       }
     needle_tool = add_tool("needle", held, initial);
     return needle_tool;
@@ -533,6 +536,30 @@ namespace suturesim::realtime
     grip                     = pose_in(holder, needle_coupling->pose());
     start_poses[needle_tool] = holder; // the step moves it from here, not from the last holder
     tools[needle_tool].pose  = holder;
+  }
+
+  void
+  World::reverse_needle()
+  {
+    if (needle_coupling == nullptr || free_body || !needle_coupling->geometry().straight())
+      throw std::invalid_argument("realtime world: only a held double-pointed needle is passed across");
+    if (needle_coupling->puncture_state().phase() != coupling::NeedlePuncture::Phase::outside)
+      throw std::invalid_argument(needle_coupling->puncture_state().touch() != nullptr ? "its tip touches the tissue"
+                                                                                      : "its tip is in the tissue");
+    // the other point, which leads next, must be out of the tissue too: mirrored about
+    // the middle
+    const auto    &needle = needle_coupling->geometry();
+    const Vector3d other  = 2 * needle.swage(needle_coupling->pose()) - needle.tip(needle_coupling->pose());
+    if (collision::winding_number(other, sys.nodes.x, tissue_model->surface()) > 0.5)
+      throw std::invalid_argument("its other point is still in the tissue");
+    const auto &points = needle_coupling->pierce_points();
+    const auto  on_needle =
+      std::count_if(points.begin(), points.end(), [](const PiercePointState &p) { return !p.on_suture; });
+    if (on_needle > 0)
+      throw std::invalid_argument(std::to_string(on_needle) + (on_needle == 1 ? " hole is" : " holes are") +
+                                  " still on the needle, not yet on the suture");
+    grip.orientation = grip.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Vector3d::UnitZ()));
+    needle_coupling->forget_tip_path();
   }
 
   void

@@ -27,6 +27,9 @@ namespace suturesim::scene
     scene.scope(section).require(!np.released(), key,
                                  "the accurate path cannot let the needle go (it is a kinematic tool there); run "
                                  "this scene under Model = realtime");
+    scene.scope("Needle").require(np.shape != "double-pointed", "Shape",
+                                  "the accurate path's needle is a curved arc (coupling/accurate/tissue_needle.h), "
+                                  "and its jaws cannot pass a needle across; run this scene under Model = realtime");
     {
       TimerOutput::Scope section(timer, "mesh");
       mesh_info = mesh::create_mesh(scene.mesh, directory, tria, needle_path());

@@ -4,6 +4,7 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -47,9 +48,19 @@ namespace suturesim::scene
   {
     const NeedleParameters d;
     prm.enter_subsection("Needle");
-    prm.declare_entry("Shape", d.shape, Patterns::Selection("none|3/8|1/2"),
-                      "The curved suture needle: none, a 3/8 circle (135 degrees of arc) or a "
-                      "1/2 circle (180 degrees). Unit: none.");
+    prm.declare_entry("Shape", d.shape, Patterns::Selection("none|3/8|1/2|double-pointed"),
+                      "The suture needle: none; a curved needle, a 3/8 circle (135 degrees of arc) or a "
+                      "1/2 circle (180 degrees); or double-pointed, the Endo Stitch's straight needle pointed at "
+                      "both ends with the suture attached at its middle (seed 001 sec. 5; Length, Passes across; "
+                      "realtime path, Motion = keyframes). Unit: none.");
+    prm.declare_entry("Length", default_text(d.length), Patterns::Double(0),
+                      "For Shape = double-pointed: the needle's length, point to point. Unit: m. Range: > 0.");
+    prm.declare_entry("Passes across", d.passes_text, Patterns::Anything(),
+                      "For Shape = double-pointed: when the Endo Stitch passes the needle to its other jaw, "
+                      "'t; t; ...' (increasing). From each the other point leads: the needle turns half a turn "
+                      "about its middle, whose frame Keyframes move (the device's: +y from the jaw that holds "
+                      "the needle at the start towards the other). Then the needle must be out of the tissue, "
+                      "with every hole it made on the suture. Unit: s. Range: >= 0.");
     prm.declare_entry("Arc radius", default_text(d.radius), Patterns::Double(0),
                       "Radius R of the needle's arc. Unit: m. Range: > 0.");
     prm.declare_entry("Wire diameter", default_text(d.wire_diameter), Patterns::Double(0),
@@ -230,6 +241,31 @@ namespace suturesim::scene
   }
 
   void
+  NeedleParameters::parse_passes_across(ParameterHandler &prm, const ParameterScope &scope)
+  {
+    passes_text = prm.get("Passes across");
+    passes.clear();
+    for (const auto &entry : Utilities::split_string_list(passes_text, ';'))
+      {
+        double      t    = 0;
+        std::size_t read = 0;
+        try
+          {
+            t = std::stod(entry, &read);
+          }
+        catch (const std::exception &)
+          {
+            read = 0;
+          }
+        if (read == 0 || read != entry.size())
+          scope.fail("Passes across", "'" + entry + "' is not a time in s");
+        if (!std::isfinite(t) || t < 0 || (!passes.empty() && !(t > passes.back())))
+          scope.fail("Passes across", "the times must be finite, >= 0 s and increase: " + entry + " s");
+        passes.push_back(t);
+      }
+  }
+
+  void
   NeedleParameters::parse_needle(ParameterHandler &prm, const ParameterScope &scope)
   {
     prm.enter_subsection("Needle");
@@ -238,7 +274,16 @@ namespace suturesim::scene
     wire_diameter = prm.get_double("Wire diameter");
     attach_suture = prm.get_bool("Attach suture");
     motion        = prm.get("Motion");
-    if (present())
+    length        = prm.get_double("Length");
+    if (shape == "double-pointed")
+      {
+        scope.require(length > 0, "Length", "must be > 0 m");
+        scope.require(wire_diameter > 0 && wire_diameter < length / 2, "Wire diameter", "must lie in (0, Length/2) m");
+        scope.require(motion == "keyframes", "Motion",
+                      "a double-pointed needle moves with the Endo Stitch's jaws by Keyframes (a planned pass turns "
+                      "a curved needle about its arc centre)");
+      }
+    else if (present())
       {
         scope.require(radius > 0, "Arc radius", "must be > 0 m");
         scope.require(wire_diameter > 0 && wire_diameter < radius, "Wire diameter", "must lie in (0, Arc radius) m");
@@ -256,6 +301,7 @@ namespace suturesim::scene
         keyframes.add(t, pose);
       }
     parse_jaws(prm, scope);
+    parse_passes_across(prm, scope);
     prm.enter_subsection("Pass");
     const ParameterScope p = scope.subsection("Pass");
     pass.entry             = get_vector(prm, "Entry point");
@@ -280,6 +326,10 @@ namespace suturesim::scene
     series.transfer_duration = prm.get_double("Transfer duration");
     prm.leave_subsection();
     prm.leave_subsection();
+    scope.require(jaws.empty() || shape != "double-pointed", "Jaws",
+                  "the Endo Stitch holds its double-pointed needle in one jaw or the other throughout (Passes "
+                  "across)");
+    scope.require(passes.empty() || shape == "double-pointed", "Passes across", "needs Shape = double-pointed");
     scope.require(jaws.empty() || !planned_regrasp(), "Jaws",
                   "the planned pass's regrasp (Pass/Regrasp exposure) opens and closes the jaws itself");
     if (!present() || motion != "pass")
@@ -344,6 +394,8 @@ namespace suturesim::scene
   tools::CurvedNeedle
   NeedleParameters::needle() const
   {
+    if (shape == "double-pointed")
+      return tools::CurvedNeedle::double_pointed(length, wire_diameter);
     return {radius, tools::CurvedNeedle::arc_angle_of(shape), wire_diameter};
   }
 

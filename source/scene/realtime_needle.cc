@@ -100,6 +100,23 @@ namespace suturesim::scene
         e.position = at;
         jaw_events.push_back(e);
       }
+    for (; next_pass < prm.passes.size() && prm.passes[next_pass] <= t; ++next_pass)
+      {
+        try
+          {
+            world.reverse_needle();
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw ParameterError("Passes across", "at " + default_text(prm.passes[next_pass]) +
+                                                    " s the needle cannot go to the other jaw: " + e.what());
+          }
+        coupling::PunctureEvent e;
+        e.kind     = "needle_passed_across";
+        e.time     = world.time();
+        e.position = world.needle()->geometry().swage(world.needle()->pose());
+        jaw_events.push_back(e);
+      }
   }
 
   nlohmann::json
@@ -152,9 +169,10 @@ namespace suturesim::scene
     std::vector<double> tension;
     if (world.suture() != nullptr)
       world.suture()->segment_tension(world.system(), tension);
-    // at the swage: the first segment the needle does not hold (it holds the first
-    // two nodes, so the first segment carries no tension of its own)
-    row[c++] = tension.size() < 2 ? 0.0 : tension[1];
+    // at the swage: the first segment the needle does not hold (a curved needle holds
+    // the first two nodes, so the first segment carries no tension of its own)
+    const std::size_t first = world.needle()->geometry().straight() ? 0 : 1;
+    row[c++]                = tension.size() <= first ? 0.0 : tension[first];
     row[c++] = tension.empty() ? 0.0 : tension.back();
   }
 

@@ -324,8 +324,11 @@ namespace suturesim::scene
         summary.needle(scene.needle, events, world.needle->peak_pull_force(), rw.needle()->pierce_model());
         if (const auto free = world.needle->free_record(rw); !free.empty())
           metrics["free_needle"] = free;
-        recorder.write_file("stitches.csv", tearing::stitches_csv(summary.stitch_evaluation(
-                                              scene.needle, events, world.wound, scene.stitch_evaluation)));
+        // seed 003's evaluation measures a curved needle's pass from entry to exit across
+        // a wound; an Endo Stitch's passes each go straight through one piece
+        if (scene.needle.shape != "double-pointed")
+          recorder.write_file("stitches.csv", tearing::stitches_csv(summary.stitch_evaluation(
+                                                scene.needle, events, world.wound, scene.stitch_evaluation)));
         summary.pass_outcome(scene.needle, events, rw.time(), scene.needle.attach_suture && rw.suture() != nullptr);
         if (world.tearing)
           {

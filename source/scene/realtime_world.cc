@@ -417,7 +417,8 @@ namespace suturesim::scene
           }
         catch (const ParameterError &e) // the jaws' (RealtimeNeedle::operate_jaws)
           {
-            const auto [section, key] = scene.needle.release_entry();
+            const auto [section, key] = e.key == "Passes across" ? std::pair<std::string, std::string>{"Needle", e.key}
+                                                                 : scene.needle.release_entry();
             scene.scope(section).fail(key, e.problem);
           }
         poses[needle->tool()] = needle->pose(t);

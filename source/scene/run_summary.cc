@@ -116,11 +116,14 @@ namespace suturesim::scene
       }
     metrics["peak_pull_force"] = peak_pull_force;
     json["needle"]             = {{"shape", np.shape},
-                                  {"arc_radius", np.radius},
                                   {"wire_diameter", np.wire_diameter},
                                   {"motion", np.motion},
                                   {"enforcement", np.enforcement},
                                   {"puncture_threshold", np.puncture.threshold}};
+    if (np.shape == "double-pointed")
+      json["needle"].update({{"length", np.length}, {"passes_across", np.passes}});
+    else
+      json["needle"]["arc_radius"] = np.radius;
     if (np.motion == "pass")
       {
         const auto     pass    = np.planned_pass();

@@ -23,6 +23,9 @@ namespace suturesim::tools
   plan_pass(const CurvedNeedle &needle, const PassParameters &p)
   {
     const double R = needle.radius(), Phi = needle.arc_angle();
+    if (needle.straight())
+      throw std::invalid_argument("surgical pass: a pass turns a curved needle about its arc centre; a straight needle "
+                                  "moves by keyframes");
     if (!(p.normal.norm() > 0))
       throw std::invalid_argument("surgical pass: the surface normal is zero");
     const Vector3d n = p.normal.normalized();

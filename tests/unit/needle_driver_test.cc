@@ -14,18 +14,10 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  const std::string driver_scene = "parameters/tasks/needle_driver.prm";
-
   Args
   driver_with(const Args &sets)
   {
-    Args a = {source_path(driver_scene)};
-    for (const auto &s : sets)
-      {
-        a.push_back("--set");
-        a.push_back(s);
-      }
-    return a;
+    return scene_with("parameters/tasks/needle_driver.prm", sets);
   }
 } // namespace
 
@@ -37,13 +29,7 @@ TEST(NeedleDriver, LetsGoTakesTheTipReloadsAndMakesASecondPass)
   EXPECT_EQ(r.summary["status"], "completed");
   // the acceptance: each puncture at the threshold within 5 %
   const auto kinds = event_kinds_punctures_at(r, 0.7); // N, Puncture/Threshold
-  const auto nth   = [&](const std::string &kind, const long k) {
-    long seen = 0;
-    for (std::size_t i = 0; i < kinds.size(); ++i)
-      if (kinds[i] == kind && seen++ == k)
-        return static_cast<long>(i);
-    return static_cast<long>(kinds.size());
-  };
+  const auto nth   = [&](const std::string &kind, const long k) { return nth_event(kinds, kind, k); };
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_entry"), 4);
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "puncture_exit"), 4);
   EXPECT_EQ(std::count(kinds.begin(), kinds.end(), "onto_suture"), 8) << "the suture through all eight holes";

@@ -53,6 +53,20 @@ namespace suturesim::test_support
     return std::string(source_directory()) + "/" + relative;
   }
 
+  /// The shipped scene @p relative (to the source tree) with each of @p sets given as
+  /// "--set" on the command line.
+  inline Args
+  scene_with(const std::string &relative, const Args &sets)
+  {
+    Args a = {source_path(relative)};
+    for (const auto &s : sets)
+      {
+        a.push_back("--set");
+        a.push_back(s);
+      }
+    return a;
+  }
+
   /// The scene of a benchmark folder: benchmarks/<name>/<name>.prm.
   inline std::string
   benchmark_scene(const std::string &name)

@@ -20,6 +20,18 @@ namespace suturesim::test_support
     double exit, angle, edge;
   };
 
+  /// The index in @p kinds of the @p k-th (from 0) event of kind @p kind; kinds.size()
+  /// when there are fewer.
+  inline long
+  nth_event(const std::vector<std::string> &kinds, const std::string &kind, const long k)
+  {
+    long seen = 0;
+    for (std::size_t i = 0; i < kinds.size(); ++i)
+      if (kinds[i] == kind && seen++ == k)
+        return static_cast<long>(i);
+    return static_cast<long>(kinds.size());
+  }
+
   /// The kinds of a run's summary.json events in order, each puncture's force checked
   /// to be the threshold @p threshold (N) within 5 % (issue 5's acceptance).
   inline std::vector<std::string>

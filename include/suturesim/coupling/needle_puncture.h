@@ -124,6 +124,14 @@ namespace suturesim::coupling
     void
     update(double time, const Vector3d &tip, const Vector3d &direction, const Matrix3Xd &current);
 
+    /// The tip jumped (a double-pointed needle's other point leads now): the next
+    /// update() finds the surface from the tip alone, not along a path from the last.
+    void
+    forget_path()
+    {
+      looked = false;
+    }
+
     Phase
     phase() const
     {

@@ -180,6 +180,12 @@ namespace suturesim::realtime
     {
       return puncture;
     }
+    /// The other point leads from the next pose on (World::reverse_needle).
+    void
+    forget_tip_path()
+    {
+      puncture.forget_path();
+    }
     /// The normal force of the touch at the last accepted step, N.
     double
     touch_force() const

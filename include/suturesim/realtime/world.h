@@ -109,7 +109,9 @@ namespace suturesim::realtime
     /// t = 0: its tip punctures the tissue surface and its pierce points slide along
     /// it and on along the suture (needle_coupling.h). With @p hold_suture the needle
     /// holds the suture's first two nodes (a hard constraint in position and tangent at
-    /// the swage, seed 002); they must lie at the swage and on the line leaving it.
+    /// the swage, seed 002); they must lie at the swage and on the line leaving it. A
+    /// double-pointed needle holds the first node only: the Endo Stitch's suture is
+    /// fixed in a hole at the needle's middle, free to swing whichever point leads.
     std::size_t
     /// parameters.pierce_model "automatic": seed 002's soft constraints when the suture
     /// takes them under a force-based integrator, else seed 004's node-path.
@@ -146,6 +148,16 @@ namespace suturesim::realtime
     /// for the needle's tool are the new holder's. std::invalid_argument when free.
     void
     hand_needle_over(const ToolPose &holder);
+    /// The Endo Stitch passes its double-pointed needle to the other jaw (seed 001 §5):
+    /// from the next step the other point leads. The needle turns half a turn about the
+    /// z axis of its frame, about its middle where the suture is pinned
+    /// (tools::CurvedNeedle::double_pointed, add_needle). The tip's last position is
+    /// forgotten: it moved without sweeping the space between.
+    /// std::invalid_argument when the needle is not double-pointed or is free, when either
+    /// point touches or is in the tissue, or a hole is still on the needle (not yet on the
+    /// suture).
+    void
+    reverse_needle();
     /// The free needle, nullptr while a tool holds it.
     const FreeNeedle *
     free_needle() const

@@ -29,8 +29,9 @@ namespace suturesim::scene
 {
   struct NeedleParameters
   {
-    std::string           shape         = "none"; ///< none, 3/8, 1/2
+    std::string           shape         = "none"; ///< none, 3/8, 1/2, double-pointed
     double                radius        = 0.008;  ///< m
+    double                length        = 0.01;   ///< m, a double-pointed needle's, point to point
     double                wire_diameter = 4e-4;   ///< m
     bool                  attach_suture = true;
     std::string           motion        = "pass"; ///< pass | keyframes
@@ -41,6 +42,8 @@ namespace suturesim::scene
     tools::Trajectory keyframes; ///< pose of the arc centre (body frame of the needle)
     std::string       jaws_text; ///< "t: open; t: closed; ..."
     std::vector<std::pair<double, bool>> jaws; ///< (time, opens), in time order
+    std::string         passes_text; ///< "t; t; ...": Passes across
+    std::vector<double> passes;      ///< when the Endo Stitch passes the needle to its other jaw, s
     double            density = 7800; ///< of the wire, kg/m³ (a free needle's weight)
     double            drag    = 1e-3; ///< B of a free needle, N s/m
 
@@ -137,6 +140,8 @@ namespace suturesim::scene
     parse_needle(dealii::ParameterHandler &prm, const ParameterScope &scope);
     void
     parse_jaws(dealii::ParameterHandler &prm, const ParameterScope &scope);
+    void
+    parse_passes_across(dealii::ParameterHandler &prm, const ParameterScope &scope);
     static void
     declare_pierce_points(dealii::ParameterHandler &prm);
     void

@@ -58,6 +58,9 @@ namespace suturesim::scene
     /// "needle_handed_over" and "needle_grasped"). The jaws sit where the driver held the
     /// needle at the start (Pass/Grip point); ParameterError("Jaws") when they open or
     /// close inside the tissue, or close farther than the wire's diameter from the needle.
+    /// The Endo Stitch's passes across (Needle/Passes across) turn its double-pointed
+    /// needle end for end (World::reverse_needle; event "needle_passed_across" at its
+    /// middle); ParameterError("Passes across") when the needle is still in the tissue.
     void
     operate_jaws(realtime::World &world, double t);
 
@@ -90,6 +93,7 @@ namespace suturesim::scene
     double                  peak_pull  = 0;
     std::vector<std::pair<double, bool>> jaws; ///< (time, opens)
     std::size_t             next_jaw   = 0; ///< the next of jaws
+    std::size_t             next_pass  = 0; ///< the next of NeedleParameters::passes
     std::vector<std::pair<double, double>> reloads; ///< (from, to), s
     std::optional<tools::Pose> parked; ///< the other hand's pose during a reload
     Eigen::Vector3d         jaw_point;      ///< in the driver's frame, m

@@ -13,6 +13,15 @@
  * suture). Tissue that the needle pierces enters at ζ = 0 and slides towards larger ζ.
  * The unit tangent t(ζ) points the way the needle advances (towards the tip),
  * t = (−sin φ, cos φ, 0).
+ *
+ * A straight needle pointed at both ends (double_pointed(): the Endo Stitch's, seed 001
+ * §5) is the limit R → ∞ with the suture attached at its middle. Body frame: the middle
+ * at the origin, the needle along y, the leading point at (0, ℓ, 0) for a needle 2ℓ
+ * long. The thread runs from the leading point to the middle, ζ = ℓ − y ∈ [0, ℓ], with
+ * t = (0, 1, 0): a hole slides along the leading half and, at the middle, onto the
+ * suture. The trailing half is not part of the thread (it follows the suture through
+ * the same hole). Which point leads is the holder's business
+ * (realtime::World::reverse_needle).
  */
 
 #include <suturesim/tools/trajectory.h>
@@ -24,6 +33,19 @@ namespace suturesim::tools
   public:
     /// @p radius R (m), @p arc_angle Φ (rad, in (0, 2π)), @p wire_diameter d (m).
     CurvedNeedle(double radius, double arc_angle, double wire_diameter);
+
+    /// A straight needle @p length long (m, point to point), pointed at both ends, the
+    /// suture attached at its middle; std::invalid_argument unless 0 < @p wire_diameter <
+    /// @p length / 2.
+    static CurvedNeedle
+    double_pointed(double length, double wire_diameter);
+
+    /// Whether it is double_pointed() (straight): radius() and arc_angle() are then 0.
+    bool
+    straight() const
+    {
+      return R == 0;
+    }
 
     /// Φ of a needle shape by name: "3/8" (3π/4) or "1/2" (π); throws
     /// std::invalid_argument otherwise.
@@ -45,11 +67,12 @@ namespace suturesim::tools
     {
       return d;
     }
-    /// Arc length L = R Φ, m.
+    /// Length L of the thread's needle part, tip to swage: R Φ, or ℓ for a straight
+    /// needle. m.
     double
     length() const
     {
-      return R * phi_max;
+      return straight() ? half_length : R * phi_max;
     }
 
     /// Body-frame point and unit tangent (direction of advance) at thread coordinate
@@ -87,6 +110,9 @@ namespace suturesim::tools
     closest(const Pose &pose, const Vector3d &x) const;
 
   private:
-    double R, phi_max, d;
+    CurvedNeedle() = default;
+
+    double R = 0, phi_max = 0, d = 0;
+    double half_length = 0; ///< ℓ of a straight needle, m
   };
 } // namespace suturesim::tools
