@@ -4,7 +4,6 @@
 
 #include <deal.II/base/utilities.h>
 
-#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -55,7 +54,8 @@ namespace suturesim::scene
                       "realtime path, Motion = keyframes). Unit: none.");
     prm.declare_entry("Length", default_text(d.length), Patterns::Double(0),
                       "For Shape = double-pointed: the needle's length, point to point. Unit: m. Range: > 0.");
-    prm.declare_entry("Passes across", d.passes_text, Patterns::Anything(),
+    prm.declare_entry("Passes across", d.passes_text,
+                      Patterns::List(Patterns::Double(0), 0, Patterns::List::max_int_value, ";"),
                       "For Shape = double-pointed: when the Endo Stitch passes the needle to its other jaw, "
                       "'t; t; ...' (increasing). From each the other point leads: the needle turns half a turn "
                       "about its middle, whose frame Keyframes move (the device's: +y from the jaw that holds "
@@ -243,26 +243,13 @@ namespace suturesim::scene
   void
   NeedleParameters::parse_passes_across(ParameterHandler &prm, const ParameterScope &scope)
   {
+    // the pattern has checked each time (a number >= 0); only their order is left
     passes_text = prm.get("Passes across");
-    passes.clear();
-    for (const auto &entry : Utilities::split_string_list(passes_text, ';'))
-      {
-        double      t    = 0;
-        std::size_t read = 0;
-        try
-          {
-            t = std::stod(entry, &read);
-          }
-        catch (const std::exception &)
-          {
-            read = 0;
-          }
-        if (read == 0 || read != entry.size())
-          scope.fail("Passes across", "'" + entry + "' is not a time in s");
-        if (!std::isfinite(t) || t < 0 || (!passes.empty() && !(t > passes.back())))
-          scope.fail("Passes across", "the times must be finite, >= 0 s and increase: " + entry + " s");
-        passes.push_back(t);
-      }
+    passes      = Utilities::string_to_double(Utilities::split_string_list(passes_text, ';'));
+    for (std::size_t k = 1; k < passes.size(); ++k)
+      if (!(passes[k] > passes[k - 1]))
+        scope.fail("Passes across", "the times must increase: " + default_text(passes[k]) + " s after " +
+                                      default_text(passes[k - 1]) + " s");
   }
 
   void
