@@ -1,0 +1,150 @@
+#pragma once
+/**
+ * @file
+ * The knot diagram of an open rope: its centreline (a polyline of nodes p_0 … p_n)
+ * projected onto a plane with unit normal n, as seed 002 §5 reads a knot ("the suture
+ * must be projected onto a plane. It is then easy to identify the crossings").
+ *
+ *  - A crossing is a pair of non-adjacent segments whose projections intersect. Each
+ *    point of the rope is named by its arc index a = i + s (segment i, s ∈ [0, 1)), so a
+ *    crossing has two occurrences a < b; the strand higher along n there is over.
+ *  - The Gauss code lists the occurrences in the order of a along the rope, each as O
+ *    (over) or U (under) with the crossing's label, crossings labelled 1, 2, … by first
+ *    occurrence: the overhand knot (trefoil) tied in an open rope reads
+ *    "O1 U2 O3 U1 O2 U3" (or its mirror image, O and U swapped), the figure-eight
+ *    "O1 U2 O3 U4 O2 U1 O4 U3" when read from a point where the closed knot is cut open
+ *    (tests/realtime/knot_diagram_test.cc draws both from their parametric curves).
+ *  - Spans (seed 002 §5 A): "each span is a section of suture between crossings",
+ *    numbered from the first node: 2k occurrences cut the rope into 2k + 1 spans.
+ *  - reduced(): the code after Reidemeister moves I (a crossing whose two occurrences
+ *    are next to each other: a twist loop) and II (two crossings next to each other at
+ *    both places, one strand over both: a strand lying across another and back), applied
+ *    until none is left. Wiggles of a simulated rope add such pairs without changing the
+ *    knot; the reduced code is the knot's diagram as a reader would draw it.
+ *
+ * Plain C++ and Eigen (the realtime library); every pair of segments is tested, O(n²):
+ * 5 000 pairs for a 100-node rope.
+ */
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace suturesim::knot
+{
+  /// One occurrence of a crossing in a Gauss code.
+  struct GaussEntry
+  {
+    unsigned label = 0; ///< 1, 2, … by first occurrence
+    bool     over  = false;
+
+    bool
+    operator==(const GaussEntry &o) const
+    {
+      return label == o.label && over == o.over;
+    }
+  };
+
+  /// A Gauss code: the occurrences along the rope from its first node.
+  class GaussCode
+  {
+  public:
+    GaussCode() = default;
+    explicit GaussCode(std::vector<GaussEntry> entries);
+    /// Reads "O1 U2 O3 U1 O2 U3" (empty: no crossing); std::invalid_argument if a label
+    /// does not occur exactly twice, once over and once under.
+    static GaussCode
+    parse(const std::string &text);
+
+    /// The code after Reidemeister I and II moves until none applies, relabelled.
+    GaussCode
+    reduced() const;
+
+    std::size_t
+    crossings() const
+    {
+      return entries_.size() / 2;
+    }
+    const std::vector<GaussEntry> &
+    entries() const
+    {
+      return entries_;
+    }
+    std::string
+    text() const;
+
+    bool
+    operator==(const GaussCode &o) const
+    {
+      return entries_ == o.entries_;
+    }
+
+  private:
+    std::vector<GaussEntry> entries_;
+  };
+
+  /// The plane the rope is projected onto: unit normal n and in-plane axes u, v.
+  struct Projection
+  {
+    /// @p normal need not be unit; std::invalid_argument if it is zero.
+    explicit Projection(const Eigen::Vector3d &normal);
+    Eigen::Vector3d n, u, v;
+
+    Eigen::Vector2d
+    in_plane(const Eigen::Vector3d &x) const
+    {
+      return {u.dot(x), v.dot(x)};
+    }
+    double
+    height(const Eigen::Vector3d &x) const
+    {
+      return n.dot(x);
+    }
+  };
+
+  struct Crossing
+  {
+    double a = 0, b = 0;   ///< arc indices of the two occurrences, a < b
+    bool   a_over = false; ///< the strand at a is higher along n
+  };
+
+  class KnotDiagram
+  {
+  public:
+    /// The diagram of the rope through the columns of @p nodes (m) projected along
+    /// @p projection.
+    KnotDiagram(const Eigen::Matrix3Xd &nodes, const Projection &projection);
+
+    const std::vector<Crossing> &
+    crossings() const
+    {
+      return crossings_;
+    }
+    GaussCode
+    gauss_code() const;
+
+    /// The arc indices where spans begin and end: 0, the 2k occurrences in order, n.
+    const std::vector<double> &
+    span_bounds() const
+    {
+      return bounds;
+    }
+    std::size_t
+    spans() const
+    {
+      return bounds.size() - 1;
+    }
+    /// The span holding arc index @p a.
+    std::size_t
+    span_of(double a) const;
+    /// The point at arc index @p a (m).
+    Eigen::Vector3d
+    point(double a) const;
+
+  private:
+    Eigen::Matrix3Xd      x;
+    std::vector<Crossing> crossings_; ///< ordered by a
+    std::vector<double>   bounds;
+  };
+} // namespace suturesim::knot

@@ -1,0 +1,161 @@
+// Knot diagrams (knot/diagram.h): the crossings, Gauss codes and spans of ropes drawn
+// from parametric knots, whose diagrams are known, and the Reidemeister reductions.
+#include <suturesim/knot/diagram.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+using namespace suturesim::knot;
+using Eigen::Vector3d;
+
+namespace
+{
+  /// @p n + 1 nodes of the curve @p f over [t0, t1].
+  Eigen::Matrix3Xd
+  sample(const std::function<Vector3d(double)> &f, const double t0, const double t1, const int n)
+  {
+    Eigen::Matrix3Xd x(3, n + 1);
+    for (int k = 0; k <= n; ++k)
+      x.col(k) = f(t0 + (t1 - t0) * k / n);
+    return x;
+  }
+
+  /// The trefoil sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t: three crossings seen
+  /// along z, alternating.
+  Vector3d
+  trefoil(const double t)
+  {
+    return {std::sin(t) + 2 * std::sin(2 * t), std::cos(t) - 2 * std::cos(2 * t), -std::sin(3 * t)};
+  }
+
+  /// The figure-eight knot (2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t.
+  Vector3d
+  figure_eight(const double t)
+  {
+    return {(2 + std::cos(2 * t)) * std::cos(3 * t), (2 + std::cos(2 * t)) * std::sin(3 * t), std::sin(4 * t)};
+  }
+
+  /// The Gauss code of @p code with O and U swapped (the mirror image).
+  std::string
+  mirrored(const std::string &code)
+  {
+    std::string m = code;
+    for (char &c : m)
+      c = c == 'O' ? 'U' : c == 'U' ? 'O' : c;
+    return m;
+  }
+
+  /// Whether @p code reads the closed knot @p reference (or its mirror image) cut open
+  /// somewhere: a rotation of its entries, relabelled.
+  bool
+  is_cut_of(const GaussCode &code, const std::string &reference)
+  {
+    for (const std::string &r : {reference, mirrored(reference)})
+      {
+        const auto entries = GaussCode::parse(r).entries();
+        for (std::size_t k = 0; k < entries.size(); ++k)
+          {
+            std::vector<GaussEntry> rotated(entries.begin() + static_cast<long>(k), entries.end());
+            rotated.insert(rotated.end(), entries.begin(), entries.begin() + static_cast<long>(k));
+            if (GaussCode(rotated) == code)
+              return true;
+          }
+      }
+    return false;
+  }
+
+  const Projection along_z(Vector3d::UnitZ());
+} // namespace
+
+TEST(KnotDiagram, StraightAndPlanarRopesHaveNoCrossingAndOneSpan)
+{
+  const KnotDiagram straight(sample([](double t) { return Vector3d(t, 0, 0); }, 0, 1, 20), along_z);
+  EXPECT_TRUE(straight.crossings().empty());
+  EXPECT_EQ(straight.spans(), 1u);
+  EXPECT_EQ(straight.gauss_code().text(), "");
+  // a C-shaped rope seen from above, its plane tilted: still no crossing
+  const KnotDiagram arc(sample([](double t) { return Vector3d(std::cos(t), std::sin(t), 0.3 * std::cos(t)); }, 0, 5,
+                               50),
+                        along_z);
+  EXPECT_TRUE(arc.crossings().empty());
+}
+
+TEST(KnotDiagram, OneLoopHasOneCrossingWhoseOverStrandIsTheHigher)
+{
+  // a prolate cycloid's loop: the rope comes back across itself at x = 0 (t = ±1.4958),
+  // rising along it, so the later strand is the higher
+  const auto loop = [](double t) { return Vector3d(t - 1.5 * std::sin(t), 1 - 1.5 * std::cos(t), 1e-3 * t); };
+  // seen from above the later strand is over; from below (n = −z) the earlier one
+  for (const double sign : {1.0, -1.0})
+    {
+      const KnotDiagram d(sample(loop, -2.5, 2.5, 200), Projection(sign * Vector3d::UnitZ()));
+      ASSERT_EQ(d.crossings().size(), 1u);
+      EXPECT_EQ(d.gauss_code().text(), sign > 0 ? "U1 O1" : "O1 U1");
+      EXPECT_EQ(d.spans(), 3u);
+      // the occurrences bound the middle span, which is the loop
+      const auto &c = d.crossings().front();
+      EXPECT_EQ(d.span_of(0.5 * (c.a + c.b)), 1u);
+      EXPECT_EQ(d.span_of(0), 0u);
+      EXPECT_EQ(d.span_of(200), 2u);
+      // the two occurrences are one point in the plane
+      const Vector3d pa = d.point(c.a), pb = d.point(c.b);
+      EXPECT_NEAR((along_z.in_plane(pa) - along_z.in_plane(pb)).norm(), 0, 1e-12);
+      // a twist loop is Reidemeister I: nothing is knotted
+      EXPECT_EQ(d.gauss_code().reduced().crossings(), 0u);
+    }
+}
+
+TEST(KnotDiagram, CutTrefoilReadsTheAlternatingCodeOfThreeCrossings)
+{
+  // cut open away from a crossing, at every sampling of the curve
+  for (const int n : {60, 150, 400})
+    {
+      const KnotDiagram d(sample(trefoil, 0.1, 0.1 + 2 * M_PI - 1e-3, n), along_z);
+      const std::string code = d.gauss_code().text();
+      EXPECT_TRUE(code == "O1 U2 O3 U1 O2 U3" || code == mirrored("O1 U2 O3 U1 O2 U3")) << code;
+      EXPECT_TRUE(is_cut_of(d.gauss_code(), "O1 U2 O3 U1 O2 U3"));
+      EXPECT_FALSE(is_cut_of(d.gauss_code(), "O1 U2 O3 U4 O2 U1 O4 U3"));
+      EXPECT_EQ(d.spans(), 7u);
+      // alternating and minimal: the moves leave it as it is
+      EXPECT_EQ(d.gauss_code().reduced().text(), code);
+    }
+  // the mirror image (z → −z) swaps over and under
+  const KnotDiagram d(sample(trefoil, 0.1, 0.1 + 2 * M_PI - 1e-3, 150), along_z);
+  const KnotDiagram m(sample([](double t) { return Vector3d(trefoil(t).cwiseProduct(Vector3d(1, 1, -1))); }, 0.1,
+                             0.1 + 2 * M_PI - 1e-3, 150),
+                      along_z);
+  EXPECT_EQ(m.gauss_code().text(), mirrored(d.gauss_code().text()));
+}
+
+TEST(KnotDiagram, CutFigureEightReducesToItsFourCrossings)
+{
+  const KnotDiagram d(sample(figure_eight, 0.05, 0.05 + 2 * M_PI - 1e-3, 600), along_z);
+  const GaussCode   reduced = d.gauss_code().reduced();
+  ASSERT_EQ(reduced.crossings(), 4u) << d.gauss_code().text();
+  // where the closed knot is cut moves the start of its code round: some rotation of the
+  // figure-eight's code, or of its mirror image's (the figure-eight is amphichiral)
+  EXPECT_TRUE(is_cut_of(reduced, "O1 U2 O3 U4 O2 U1 O4 U3")) << reduced.text();
+  EXPECT_FALSE(is_cut_of(reduced, "O1 U2 O3 U1 O2 U3"));
+}
+
+TEST(KnotDiagram, ReidemeisterTwoRemovesAStrandLaidAcrossAnotherAndBack)
+{
+  // strand 1 passes over strand 2 twice, nothing else: unknotted
+  EXPECT_EQ(GaussCode::parse("O1 O2 U2 U1").reduced().text(), "");
+  EXPECT_EQ(GaussCode::parse("O1 O2 U1 U2").reduced().text(), "");
+  // over then under is a clasp, not a Reidemeister II pair: it stays
+  EXPECT_EQ(GaussCode::parse("O1 U2 U1 O2").reduced().text(), "O1 U2 U1 O2");
+  // a trefoil with a twist and a pair laid over it reduces to the trefoil
+  EXPECT_EQ(GaussCode::parse("O1 U2 O7 U7 O3 O8 O9 U1 O2 U3 U9 U8").reduced().text(), "O1 U2 O3 U1 O2 U3");
+}
+
+TEST(KnotDiagram, RefusesAMalformedCodeAndAZeroNormal)
+{
+  EXPECT_THROW(GaussCode::parse("O1 U2"), std::invalid_argument);
+  EXPECT_THROW(GaussCode::parse("O1 O1"), std::invalid_argument);
+  EXPECT_THROW(GaussCode::parse("X1 U1"), std::invalid_argument);
+  EXPECT_THROW(Projection(Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(KnotDiagram(Eigen::Matrix3Xd(3, 1), along_z), std::invalid_argument);
+}
