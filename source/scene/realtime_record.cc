@@ -294,6 +294,13 @@ namespace suturesim::scene
       }
     if (world.closure)
       world.closure->write(metrics);
+    if (world.planner)
+      {
+        metrics["knot"] = knot::knot_metrics(*world.planner, sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size()));
+        auto &list      = summary.whole()["events"];
+        for (const auto &e : knot::knot_events(*world.planner))
+          list.push_back(e);
+      }
     if (scene.has_suture())
       {
         const auto tip             = sys.nodes.x.col(sys.suture.end - 1);

@@ -94,6 +94,7 @@ namespace suturesim::scene
     add_probes();
     add_access(settings);
     add_probe(settings);
+    add_knot_planner();
     try
       {
         world->initialize();
@@ -425,6 +426,40 @@ namespace suturesim::scene
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);
+    if (planner)
+      {
+        const auto             &sys  = world->system();
+        const rt::Matrix3Xd     rope = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
+        const std::size_t       tool = first_end_tool + tool_ends.size() - 1;
+        poses[tool].position = planner->move(rope, t, t - planner_time, world->tool_forces()[tool].force.norm());
+        planner_time         = t;
+      }
+  }
+
+  void
+  RealtimeWorld::check_knot(const SceneParameters &scene)
+  {
+    if (scene.knot.knot == "none")
+      return;
+    const ParameterScope knot = scene.scope("Knot");
+    knot.require(scene.has_suture(), "Knot", "a knot needs a suture (Bodies = suture or tissue and suture)");
+    knot.require(!scene.needle.present(), "Knot",
+                 "the planner ties a free suture (no Needle): a stitch tied off with a knot is not modelled yet");
+    const auto &ends = scene.suture;
+    knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
+                 "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
+    knot.require(ends.start_end.type != "free", "Knot",
+                 "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
+                 "clamped or prescribed)");
+    knot.require(ends.elements >= 2, "Knot", "the suture needs at least two elements");
+  }
+
+  void
+  RealtimeWorld::add_knot_planner()
+  {
+    check_knot(scene);
+    if (scene.knot.knot != "none")
+      planner.emplace(scene.knot);
   }
 
   double

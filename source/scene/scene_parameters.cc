@@ -1,4 +1,5 @@
 #include <suturesim/core/parameter_adapter.h>
+#include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/scene_parameters.h>
 
 #include <deal.II/base/utilities.h>
@@ -44,6 +45,7 @@ namespace suturesim::scene
     prm.leave_subsection();
     NeedleParameters::declare(prm);
     ClosureParameters::declare(prm);
+    KnotParameters::declare(prm);
     prm.enter_subsection("Stitch evaluation");
     ParameterDeclarations stitches;
     tearing::StitchLimits::declare(stitches);
@@ -63,6 +65,9 @@ namespace suturesim::scene
     bodies = prm.get("Bodies");
     needle.parse(prm, scope());
     closure.parse(prm, scope());
+    prm.enter_subsection("Knot");
+    knot = KnotParameters::parse(prm, scope("Knot"), model);
+    prm.leave_subsection();
     prm.enter_subsection("Stitch evaluation");
     stitch_evaluation =
       parse_plain(prm, scope("Stitch evaluation"), tearing::StitchLimits::declare, tearing::StitchLimits::parse);

@@ -22,8 +22,8 @@
  *    until none is left. Wiggles of a simulated rope add such pairs without changing the
  *    knot; the reduced code is the knot's diagram as a reader would draw it.
  *
- * Plain C++ and Eigen (the realtime library); every pair of segments is tested, O(n²):
- * 5 000 pairs for a 100-node rope.
+ * Plain C++ and Eigen (the realtime library); every pair of non-adjacent segments is
+ * tested, O(n²): 4 753 pairs for a 100-node rope.
  */
 
 #include <Eigen/Core>

@@ -16,10 +16,13 @@
  *    holds nothing until then;
  *  - Needle (scene/realtime_needle.h), Closure (two probes per gap pair);
  *  - Realtime/Tearing: seed 003's tears at the needle's pierce points
- *    (realtime/ligament_tearing.h), through the Stitch evaluation's wound.
+ *    (realtime/ligament_tearing.h), through the Stitch evaluation's wound;
+ *  - Knot: seed 002's planner (knot/planner.h) moves the grasper on the suture's last
+ *    end, the first held.
  * It also gives each tool its pose at a time and measures the closure's gaps.
  */
 
+#include <suturesim/knot/planner.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/ligament_tearing.h>
 #include <suturesim/realtime/world.h>
@@ -51,6 +54,11 @@ namespace suturesim::scene
     void
     measure_closure();
 
+    /// Refuses a Knot the realtime world cannot tie (one line naming Knot/Knot): called
+    /// when the scene is read (so --validate finds it) and again when the world is built.
+    static void
+    check_knot(const SceneParameters &scene);
+
     /// The suture's tension, as the closure and the tears are charged to it (the accurate
     /// path's measure): the last end's grasper's pull once it holds the end, else the
     /// needle's pull, N.
@@ -79,6 +87,7 @@ namespace suturesim::scene
     std::vector<Boundary>                            boundaries;
     std::optional<RealtimeNeedle>                    needle;
     std::optional<realtime::LigamentTearing>         tearing; ///< Realtime/Tearing, when on
+    std::optional<knot::KnotPlanner>                 planner; ///< Knot, when one is tied
     std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's
     std::vector<ToolEnd>                             tool_ends;
     std::vector<std::pair<std::string, std::size_t>> probes;
@@ -110,5 +119,10 @@ namespace suturesim::scene
     /// Realtime/Probe (seed 004's external stage), a tool after the others.
     void
     add_probe(const RealtimeSettings &settings);
+    /// Knot: the planner and the checks of what it needs.
+    void
+    add_knot_planner();
+
+    double planner_time = 0; ///< of the planner's last move, s
   };
 } // namespace suturesim::scene

@@ -3,14 +3,15 @@
  * @file
  * What a scene file says that every model path reads: its name, the model path, the
  * bodies and their subsections (Mesh, Tissue, Suture), the needle, the closure
- * measurement and the time. Each part is declared and parsed by the class that owns it
- * (mesh/, tissue/, rod/, scene/needle_parameters.h, scene/wound_closure.h,
- * core/time_parameters.h); this struct only gathers them, so that a scenario
- * (scene/scenario.h) finds everything it needs in one place.
+ * measurement, the knot and the time. Each part is declared and parsed by the class
+ * that owns it (mesh/, tissue/, rod/, scene/needle_parameters.h, scene/wound_closure.h,
+ * scene/knot_parameters.h, core/time_parameters.h); this struct only gathers them, so
+ * that a scenario (scene/scenario.h) finds everything it needs in one place.
  */
 
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/core/time_parameters.h>
+#include <suturesim/knot/planner.h>
 #include <suturesim/mesh/mesh_loader.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>
@@ -43,6 +44,7 @@ namespace suturesim::scene
     tearing::TearCriteria           tearing; ///< evaluated by the accurate stitch (scene/tear_monitor.h)
     tearing::StitchLimits           stitch_evaluation; ///< seed 003's, both paths (tearing/stitch_evaluation.h)
     TimeParameters                  time;
+    knot::PlannerSettings           knot; ///< Knot (scene/knot_parameters.h)
 
     bool
     has_tissue() const

@@ -55,6 +55,7 @@ namespace suturesim::scene
         if (scene.has_tissue() && scene.has_suture() && settings.contact)
           realtime.require(settings.contact_stiffness > 0, "Contact stiffness", "must be > 0 N/m when Contact = true");
         refuse_what_is_not_modelled();
+        RealtimeWorld::check_knot(scene);
       }
 
       void

@@ -1,0 +1,239 @@
+#include <suturesim/knot/planner.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace suturesim::knot
+{
+  std::vector<Instruction>
+  instructions(const std::string &name)
+  {
+    if (name == "overhand")
+      return {{false, 0}, {true, 1}, {false, 2}};
+    if (name == "figure-eight")
+      return {{true, 0, 0.3}, {false, 0, 0.7}, {true, 2, 0.5}, {false, 2, 0.5}};
+    throw std::invalid_argument("no knot planner instructions for '" + name + "' (overhand, figure-eight)");
+  }
+
+  GaussCode
+  tied_code(const std::vector<Instruction> &plan)
+  {
+    std::vector<GaussEntry> entries;
+    unsigned                label = 0;
+    for (const auto &step : plan)
+      {
+        // span m lies between occurrences m − 1 and m; the moving end's own occurrence
+        // is the rope's last so far
+        if (step.span > entries.size())
+          throw std::invalid_argument("a knot instruction's span is past the rope's spans");
+        ++label;
+        entries.insert(entries.begin() + static_cast<long>(step.span), GaussEntry{label, !step.over});
+        entries.push_back({label, step.over});
+      }
+    return GaussCode(std::move(entries));
+  }
+
+  std::string
+  KnotPlanner::name(const Phase phase)
+  {
+    switch (phase)
+      {
+        case Phase::waiting:
+          return "waiting";
+        case Phase::tying:
+          return "tying";
+        case Phase::tightening:
+          return "tightening";
+        case Phase::done:
+          return "done";
+        case Phase::failed:
+          return "failed";
+      }
+    return "";
+  }
+
+  KnotPlanner::KnotPlanner(const PlannerSettings &settings)
+    : settings_(settings)
+    , projection_(settings.normal)
+    , plan_(instructions(settings.knot))
+  {
+    if (!(settings.speed > 0) || !(settings.clearance > 0) || !(settings.inertia >= 0) ||
+        !(settings.instruction_time > 0))
+      throw std::invalid_argument("the knot planner needs a speed, clearance and instruction time > 0");
+  }
+
+  void
+  KnotPlanner::fail(const std::string &why, const double t)
+  {
+    phase_   = Phase::failed;
+    failure_ = why;
+    failed_at = t;
+  }
+
+  void
+  KnotPlanner::check(const KnotDiagram &d, const double t)
+  {
+    const std::size_t n = d.crossings().size();
+    if (n == stage)
+      {
+        if (t - stage_start > settings_.instruction_time)
+          fail("instruction " + std::to_string(stage + 1) + " was not done within " +
+               std::to_string(settings_.instruction_time) + " s (Knot/Instruction time)",
+             t);
+        return;
+      }
+    std::ostringstream why;
+    why << "instruction " << stage + 1 << " (" << (plan_[stage].over ? "over" : "under") << " span "
+        << plan_[stage].span << "): ";
+    if (n != stage + 1)
+      return fail(why.str() + "the diagram went from " + std::to_string(stage) + " to " + std::to_string(n) +
+                  " crossings (" + d.gauss_code().text() + ")",
+                  t);
+    // the new crossing is the moving end's: its occurrence nearest the end
+    const auto  &c        = *std::max_element(d.crossings().begin(), d.crossings().end(),
+                                              [](const Crossing &l, const Crossing &r) { return l.b < r.b; });
+    const bool   end_over = !c.a_over;
+    const double lo = bounds[plan_[stage].span], hi = bounds[plan_[stage].span + 1];
+    if (end_over != plan_[stage].over)
+      return fail(why.str() + "the end crossed " + (end_over ? "over" : "under"), t);
+    if (c.a < lo || c.a > hi)
+      {
+        why << "the end crossed the strand at arc index " << c.a << ", outside the target span [" << lo << ", "
+            << hi << "]";
+        return fail(why.str(), t);
+      }
+    ++stage;
+    stage_start = t;
+    events_.push_back({t, stage, d.gauss_code().text()});
+    if (stage == plan_.size())
+      phase_ = Phase::tightening;
+  }
+
+  Eigen::Vector3d
+  KnotPlanner::tying_direction(const KnotDiagram &d, const Eigen::Matrix3Xd &rope) const
+  {
+    const Instruction &step = plan_[stage];
+    const auto        &b    = d.span_bounds();
+    const double       mid  = b[step.span] + step.at * (b[step.span + 1] - b[step.span]);
+    const auto         in_plane = [&](const Eigen::Vector3d &w) -> Eigen::Vector3d {
+      return w - projection_.n * projection_.n.dot(w);
+    };
+    const auto unit = [](const Eigen::Vector3d &w) -> Eigen::Vector3d {
+      return w.norm() > 0 ? Eigen::Vector3d(w.normalized()) : Eigen::Vector3d::Zero();
+    };
+    const Eigen::Vector3d T       = d.point(mid);
+    const Eigen::Vector3d tangent = unit(in_plane(d.point(mid + 0.5) - d.point(mid - 0.5)));
+    const Eigen::Vector3d across  = projection_.n.cross(tangent); // in the plane, normal to the span
+    const Eigen::Vector3d w       = in_plane(end - T);
+    // the point aimed at: beside the span on the end's side until the end is within the
+    // clearance of the perpendicular through T and at its height (within half the
+    // clearance), then as far on the other side, so that the end crosses at right angles
+    // and over (or under) rather than along the span or through it
+    const double          goal  = projection_.height(T) + (step.over ? 1 : -1) * settings_.clearance;
+    const bool            ready = std::abs(w.dot(tangent)) <= settings_.clearance &&
+                                  std::abs(projection_.height(end) - goal) < 0.5 * settings_.clearance;
+    const double          side  = w.dot(across) >= 0 ? 1 : -1;
+    const Eigen::Vector3d aim   = T + (ready ? -side : side) * settings_.clearance * across;
+    const Eigen::Vector3d to_target = unit(in_plane(aim - end));          // (1)
+    const Eigen::Vector3d to_normal = unit(-w.dot(tangent) * tangent);    // (2)
+    const Eigen::Vector3d rise =
+      projection_.n * std::clamp((goal - projection_.height(end)) / settings_.clearance, -1.0, 1.0); // (3)
+    const Eigen::Index    last  = rope.cols() - 1;
+    const Eigen::Vector3d along = unit(rope.col(last) - rope.col(last - 1)); // (4)
+    return unit(to_target + to_normal + rise + settings_.inertia * along);
+  }
+
+  Eigen::Vector3d
+  KnotPlanner::move(const Eigen::Matrix3Xd &rope, const double t, const double dt, const double end_force)
+  {
+    if (rope.cols() < 3)
+      throw std::invalid_argument("the knot planner needs a rope of at least three nodes");
+    if (phase_ == Phase::waiting)
+      {
+        end = rope.col(rope.cols() - 1);
+        if (t < settings_.start_time)
+          return end;
+        phase_      = Phase::tying;
+        stage_start = t;
+      }
+    const KnotDiagram  d(rope, projection_);
+    const Eigen::Index last = rope.cols() - 1;
+    if (link == 0)
+      link = (rope.col(last) - rope.col(last - 1)).norm();
+    // a rope held behind its end (a node in a collision constraint every step) lets its
+    // last link stretch rather than follow: what the end then crosses is not the rope
+    const double stretch = (rope.col(last) - rope.col(last - 1)).norm() / link - 1;
+    if ((phase_ == Phase::tying || phase_ == Phase::tightening) && stretch > 0.1)
+      fail("the end's link is stretched by " + std::to_string(100 * stretch) +
+             " % (over 10 %): the rope behind the end is held and does not follow it",
+           t);
+    if (phase_ == Phase::tying)
+      {
+        if (!bounds.empty())
+          check(d, t);
+        if (phase_ == Phase::tying)
+          end += settings_.speed * dt * tying_direction(d, rope);
+      }
+    if (phase_ == Phase::tightening)
+      {
+        if (pull.isZero())
+          {
+            Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+            for (const auto &c : d.crossings())
+              centre += 0.5 * (d.point(c.a) + d.point(c.b)) / static_cast<double>(d.crossings().size());
+            const Eigen::Vector3d w = end - centre;
+            pull                    = (w - projection_.n * projection_.n.dot(w)).normalized();
+          }
+        const bool far    = pulled >= settings_.tighten_distance;
+        const bool strong = settings_.tighten_force > 0 && end_force >= settings_.tighten_force;
+        if (far || strong)
+          phase_ = Phase::done;
+        else
+          {
+            end += settings_.speed * dt * pull;
+            pulled += settings_.speed * dt;
+          }
+      }
+    bounds = d.span_bounds();
+    return end;
+  }
+
+  nlohmann::json
+  knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope)
+  {
+    const GaussCode  raw = KnotDiagram(rope, planner.projection()).gauss_code(), code = raw.reduced();
+    const GaussCode  planned = tied_code(planner.plan());
+    const auto      &n       = planner.projection().n;
+    nlohmann::json   m       = {{"knot", planner.settings().knot},
+                                {"phase", KnotPlanner::name(planner.phase())},
+                                {"instructions", planner.plan().size()},
+                                {"instructions_done", planner.instructions_done()},
+                                {"crossings", code.crossings()},
+                                {"gauss_code", code.text()},
+                                {"raw_crossings", raw.crossings()},
+                                {"raw_gauss_code", raw.text()},
+                                {"planned_gauss_code", planned.text()},
+                                {"tied", code == planned},
+                                {"projection_normal", {n[0], n[1], n[2]}},
+                                {"shortening", planner.shortening()}};
+    if (!planner.failure().empty())
+      {
+        m["failure"]      = planner.failure();
+        m["failure_time"] = planner.failure_time();
+      }
+    return m;
+  }
+
+  nlohmann::json
+  knot_events(const KnotPlanner &planner)
+  {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto &e : planner.events())
+      list.push_back({{"kind", "knot_crossing"}, {"time", e.time}, {"instruction", e.instruction}, {"gauss_code", e.code}});
+    return list;
+  }
+} // namespace suturesim::knot

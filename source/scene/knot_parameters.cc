@@ -1,0 +1,73 @@
+#include <suturesim/scene/knot_parameters.h>
+
+namespace suturesim::scene
+{
+  using namespace dealii;
+
+  namespace
+  {
+    std::string
+    vector_text(const Eigen::Vector3d &v)
+    {
+      return shortest_text(v[0]) + ", " + shortest_text(v[1]) + ", " + shortest_text(v[2]);
+    }
+  } // namespace
+
+  void
+  KnotParameters::declare(ParameterHandler &prm)
+  {
+    const knot::PlannerSettings d;
+    prm.enter_subsection("Knot");
+    prm.declare_entry("Knot", d.knot, Patterns::Selection("none|overhand|figure-eight"),
+                      "The knot seed 002's planner ties by moving the suture's last end (Suture/Last end/Type = "
+                      "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', or 'none'. Unit: "
+                      "none.");
+    prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
+                      "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
+                      "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");
+    prm.declare_entry("Speed", default_text(d.speed), Patterns::Double(0),
+                      "Speed of the moving end. Unit: m/s. Range: > 0.");
+    prm.declare_entry("Clearance", default_text(d.clearance), Patterns::Double(0),
+                      "Height over (or under) the target span the end aims at when it crosses it. Unit: m. Range: "
+                      "> 0.");
+    prm.declare_entry("Inertia weight", default_text(d.inertia), Patterns::Double(0),
+                      "Weight W of seed 002's fourth factor, the rope's orientation at the end, against the other "
+                      "three (unit vectors). Unit: none. Range: >= 0.");
+    prm.declare_entry("Start time", default_text(d.start_time), Patterns::Double(0),
+                      "When the planner starts moving the end. Unit: s. Range: >= 0.");
+    prm.declare_entry("Instruction time", default_text(d.instruction_time), Patterns::Double(0),
+                      "The longest one instruction (one crossing) may take before the plan fails. Unit: s. Range: "
+                      "> 0.");
+    prm.declare_entry("Tighten distance", default_text(d.tighten_distance), Patterns::Double(0),
+                      "How far the end is pulled away from the knot once tied. Unit: m. Range: >= 0.");
+    prm.declare_entry("Tighten force", default_text(d.tighten_force), Patterns::Double(0),
+                      "The tightening stops early when the suture pulls the end back with this force; 0: no limit. "
+                      "Unit: N. Range: >= 0.");
+    prm.leave_subsection();
+  }
+
+  knot::PlannerSettings
+  KnotParameters::parse(const ParameterHandler &prm, const ParameterScope &scope, const std::string &model)
+  {
+    knot::PlannerSettings s;
+    s.knot             = prm.get("Knot");
+    s.normal           = get_vector(prm, "Projection normal");
+    s.speed            = prm.get_double("Speed");
+    s.clearance        = prm.get_double("Clearance");
+    s.inertia          = prm.get_double("Inertia weight");
+    s.start_time       = prm.get_double("Start time");
+    s.instruction_time = prm.get_double("Instruction time");
+    s.tighten_distance = prm.get_double("Tighten distance");
+    s.tighten_force    = prm.get_double("Tighten force");
+    if (s.knot == "none")
+      return s;
+    scope.require(model == "realtime", "Knot",
+                  "the accurate path does not tie knots yet (its rod's self-contact has no friction to hold one): "
+                  "use Model = realtime");
+    scope.require(s.normal.norm() > 0, "Projection normal", "must not be zero");
+    scope.require(s.speed > 0, "Speed", "must be > 0 m/s");
+    scope.require(s.clearance > 0, "Clearance", "must be > 0 m");
+    scope.require(s.instruction_time > 0, "Instruction time", "must be > 0 s");
+    return s;
+  }
+} // namespace suturesim::scene

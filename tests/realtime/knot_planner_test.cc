@@ -1,0 +1,108 @@
+// Seed 002's knot planner (knot/planner.h) on ropes laid out by hand: the codes its plans
+// tie, an instruction done, and every way a plan fails, each with its reason.
+#include <suturesim/knot/planner.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace suturesim::knot;
+using Eigen::Vector3d;
+
+namespace
+{
+  /// A rope 1 mm a link (coordinates in mm): along x from the origin to 20, round a half
+  /// circle of radius 5 and back along y = 10 to x = 10, then @p down links down towards
+  /// the first part at height @p z, which it crosses from 11 links on (at x = 10); the
+  /// last link is @p last long.
+  Eigen::Matrix3Xd
+  rope(const int down, const double z, const double last = 1)
+  {
+    std::vector<Vector3d> p;
+    for (int i = 0; i <= 20; ++i)
+      p.emplace_back(i, 0, 0);
+    for (int k = 1; k <= 15; ++k)
+      p.emplace_back(20 + 5 * std::sin(M_PI * k / 15), 5 - 5 * std::cos(M_PI * k / 15), 0);
+    for (int x = 19; x >= 10; --x)
+      p.emplace_back(x, 10, 0);
+    for (int k = 1; k <= down; ++k)
+      p.emplace_back(10, 10 - k - (k == down ? last - 1 : 0), z);
+    Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(p.size()));
+    for (std::size_t k = 0; k < p.size(); ++k)
+      m.col(static_cast<Eigen::Index>(k)) = 1e-3 * p[k];
+    return m;
+  }
+
+  PlannerSettings
+  overhand()
+  {
+    PlannerSettings s;
+    s.knot             = "overhand";
+    s.clearance        = 2e-3;
+    s.instruction_time = 1;
+    return s;
+  }
+} // namespace
+
+TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
+{
+  EXPECT_EQ(tied_code(instructions("overhand")).text(), "O1 U2 O3 U1 O2 U3");
+  EXPECT_EQ(tied_code(instructions("figure-eight")).text(), "O1 U2 O3 U4 O2 U1 O4 U3");
+  EXPECT_THROW(instructions("bowline"), std::invalid_argument);
+  EXPECT_THROW(tied_code({{true, 3}}), std::invalid_argument);
+}
+
+TEST(KnotPlanner, MovesTheEndDownAndOnForAnUnderCrossingAndCountsItDone)
+{
+  KnotPlanner     planner(overhand());
+  const auto      start = rope(5, 0);
+  const Vector3d  from  = start.col(start.cols() - 1);
+  const Vector3d  to    = planner.move(start, 1e-3, 1e-3, 0);
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tying);
+  EXPECT_NEAR((to - from).norm(), 0.02 * 1e-3, 1e-12) << "one step at the planner's speed";
+  EXPECT_LT(to.z(), from.z()) << "instruction 1 passes under: the end goes down";
+  // the end has come down across the first part below it: instruction 1 done
+  planner.move(rope(13, -1), 2e-3, 1e-3, 0);
+  EXPECT_EQ(planner.instructions_done(), 1u);
+  ASSERT_EQ(planner.events().size(), 1u);
+  EXPECT_EQ(planner.events()[0].code, "O1 U1");
+  EXPECT_TRUE(planner.failure().empty());
+}
+
+TEST(KnotPlanner, FailsOnACrossingTheWrongWay)
+{
+  KnotPlanner planner(overhand());
+  planner.move(rope(5, 0), 1e-3, 1e-3, 0);
+  planner.move(rope(13, 1), 2e-3, 1e-3, 0); // over, where the plan says under
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::failed);
+  EXPECT_NE(planner.failure().find("the end crossed over"), std::string::npos) << planner.failure();
+  EXPECT_DOUBLE_EQ(planner.failure_time(), 2e-3);
+  // a failed plan holds the end where it was
+  const Vector3d held = planner.move(rope(13, 1), 3e-3, 1e-3, 0);
+  EXPECT_EQ(held, planner.move(rope(13, 1), 4e-3, 1e-3, 0));
+}
+
+TEST(KnotPlanner, FailsWhenAnInstructionTakesTooLongOrTheRopeDoesNotFollow)
+{
+  KnotPlanner slow(overhand());
+  for (double t = 1e-3; t < 1.5; t += 0.1)
+    slow.move(rope(5, 0), t, 1e-3, 0);
+  EXPECT_EQ(slow.phase(), KnotPlanner::Phase::failed);
+  EXPECT_NE(slow.failure().find("was not done within"), std::string::npos) << slow.failure();
+
+  KnotPlanner held(overhand());
+  held.move(rope(5, 0), 1e-3, 1e-3, 0);
+  held.move(rope(5, 0, 1.2), 2e-3, 1e-3, 0); // the end's link 1.2 mm
+  EXPECT_EQ(held.phase(), KnotPlanner::Phase::failed);
+  EXPECT_NE(held.failure().find("stretched by 20"), std::string::npos) << held.failure();
+}
+
+TEST(KnotPlanner, WaitsForItsStartTime)
+{
+  PlannerSettings s = overhand();
+  s.start_time      = 0.5;
+  KnotPlanner     planner(s);
+  const auto      r = rope(5, 0);
+  EXPECT_EQ(planner.move(r, 0.1, 1e-3, 0), Vector3d(r.col(r.cols() - 1)));
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::waiting);
+}
