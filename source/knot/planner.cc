@@ -160,6 +160,9 @@ namespace suturesim::knot
         phase_      = Phase::tying;
         stage_start = t;
       }
+    // a finished or failed plan holds the end: no diagram to read any more
+    if (phase_ == Phase::done || phase_ == Phase::failed)
+      return end;
     const KnotDiagram  d(rope, projection_);
     const Eigen::Index last = rope.cols() - 1;
     if (link == 0)
@@ -167,7 +170,7 @@ namespace suturesim::knot
     // a rope held behind its end (a node in a collision constraint every step) lets its
     // last link stretch rather than follow: what the end then crosses is not the rope
     const double stretch = (rope.col(last) - rope.col(last - 1)).norm() / link - 1;
-    if ((phase_ == Phase::tying || phase_ == Phase::tightening) && stretch > 0.1)
+    if (stretch > 0.1)
       fail("the end's link is stretched by " + std::to_string(100 * stretch) +
              " % (over 10 %): the rope behind the end is held and does not follow it",
            t);
@@ -185,8 +188,11 @@ namespace suturesim::knot
             Eigen::Vector3d centre = Eigen::Vector3d::Zero();
             for (const auto &c : d.crossings())
               centre += 0.5 * (d.point(c.a) + d.point(c.b)) / static_cast<double>(d.crossings().size());
-            const Eigen::Vector3d w = end - centre;
-            pull                    = (w - projection_.n * projection_.n.dot(w)).normalized();
+            // away from the knot in the plane; along the end's link if the end is over it
+            Eigen::Vector3d w = end - centre;
+            if ((w - projection_.n * projection_.n.dot(w)).norm() == 0)
+              w = rope.col(last) - rope.col(last - 1);
+            pull = (w - projection_.n * projection_.n.dot(w)).normalized();
           }
         const bool far    = pulled >= settings_.tighten_distance;
         const bool strong = settings_.tighten_force > 0 && end_force >= settings_.tighten_force;
