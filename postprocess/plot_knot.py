@@ -1,11 +1,12 @@
 #!/usr/bin/python3
 """Picture of a knot a run tied: the suture's last state seen along the planner's
-projection normal, coloured by height, the crossings numbered as in the Gauss code.
+projection normal, coloured by height; below it the knot zoomed, its crossings numbered
+as in the raw Gauss code (metrics.knot.raw_gauss_code).
 
 Usage: /usr/bin/python3 postprocess/plot_knot.py OUTPUT_DIR [OUTPUT_DIR ...] [--out FIGURE]
 
-One panel per run (its summary.json needs metrics.knot: a scene with a Knot subsection),
-titled with the knot, the Gauss code after the Reidemeister reductions and whether it is
+Two panels per run (its summary.json needs metrics.knot: a scene with a Knot subsection),
+the whole rope titled with the knot, the Gauss code after the Reidemeister reductions and whether it is
 the code the plan ties; the moving end is marked with a star. FIGURE (default
 OUTPUT_DIR/knot.png, and .pdf beside it) holds them side by side.
 """
@@ -43,6 +44,52 @@ def frame(normal):
     return n, u, np.cross(n, u)
 
 
+def crossings(p):
+    """The crossings of the projected rope p (nodes x 2) between non-adjacent segments:
+    (point, arc index on the earlier strand, arc index on the later one), labelled in
+    the order of their first occurrence along the rope, as the Gauss code labels them
+    (knot::KnotDiagram)."""
+    found = []
+    for i in range(len(p) - 1):
+        for j in range(i + 2, len(p) - 1):
+            a, b, c, d = p[i], p[i + 1], p[j], p[j + 1]
+            m = np.column_stack([b - a, c - d])
+            if abs(np.linalg.det(m)) < 1e-15:
+                continue
+            s, t = np.linalg.solve(m, c - a)
+            if 0 <= s < 1 and 0 <= t < 1:
+                found.append((a + s * (b - a), i + s, j + t))
+    return sorted(found, key=lambda c: c[1])
+
+
+def draw(ax, p, h, knot, zoom):
+    """The projected rope p coloured by height h; zoomed on its crossings, numbered."""
+    ax.plot(p[:, 0], p[:, 1], color="0.6", lw=0.8, zorder=1)
+    dots = ax.scatter(p[:, 0], p[:, 1], c=h, s=9 if not zoom else 16, cmap="coolwarm", zorder=2,
+                      vmin=-np.abs(h).max(), vmax=np.abs(h).max())
+    ax.plot(*p[0], "ks", ms=7, label="held end")
+    ax.plot(*p[-1], "g*", ms=12, label="moving end")
+    ax.set_aspect("equal")
+    ax.set_xlabel("u [mm]")
+    ax.set_ylabel("v [mm]")
+    found = crossings(p)
+    if zoom and found:
+        at = np.array([c[0] for c in found])
+        lo, hi = at.min(axis=0) - 3, at.max(axis=0) + 3
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        for k, (point, _, _) in enumerate(found, start=1):
+            ax.annotate(str(k), point, xytext=(4, 4), textcoords="offset points", fontsize=9,
+                        fontweight="bold", zorder=3)
+        ax.set_title("the knot, crossings numbered as in the raw Gauss code", fontsize=9)
+    else:
+        ax.set_title(f"{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
+                     f" ({'as planned' if knot['tied'] else 'not the planned ' + knot['planned_gauss_code']})",
+                     fontsize=9)
+        ax.legend(fontsize=8, loc="best")
+    return dots
+
+
 def main(argv):
     out = None
     if "--out" in argv:
@@ -52,27 +99,17 @@ def main(argv):
     runs = [Path(a) for a in argv]
     if not runs:
         sys.exit(__doc__)
-    fig, axes = plt.subplots(1, len(runs), figsize=(5.5 * len(runs), 5), squeeze=False)
-    for ax, run in zip(axes[0], runs):
+    fig, axes = plt.subplots(2, len(runs), figsize=(5.5 * len(runs), 8), squeeze=False)
+    for column, run in enumerate(runs):
         knot = json.load(open(run / "summary.json"))["metrics"].get("knot")
         if knot is None:
             sys.exit(f"{run}/summary.json has no metrics.knot (the scene ties no knot)")
         n, u, v = frame(knot["projection_normal"])
         x = last_state(run)
         p, h = np.column_stack([x @ u, x @ v]) * 1e3, x @ n * 1e3
-        ax.plot(p[:, 0], p[:, 1], color="0.6", lw=0.8, zorder=1)
-        dots = ax.scatter(p[:, 0], p[:, 1], c=h, s=9, cmap="coolwarm", zorder=2,
-                          vmin=-np.abs(h).max(), vmax=np.abs(h).max())
-        ax.plot(*p[0], "ks", ms=7, label="held end")
-        ax.plot(*p[-1], "g*", ms=12, label="moving end")
-        ax.set_aspect("equal")
-        ax.set_xlabel("u [mm]")
-        ax.set_ylabel("v [mm]")
-        ax.set_title(f"{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
-                     f" ({'as planned' if knot['tied'] else 'not the planned ' + knot['planned_gauss_code']})",
-                     fontsize=9)
-        ax.legend(fontsize=8, loc="best")
-        fig.colorbar(dots, ax=ax, label="height along the normal [mm]", shrink=0.8)
+        for row in (0, 1):
+            dots = draw(axes[row][column], p, h, knot, zoom=row == 1)
+            fig.colorbar(dots, ax=axes[row][column], label="height along the normal [mm]", shrink=0.8)
     out = out or runs[0] / "knot.png"
     fig.tight_layout()
     fig.savefig(out, dpi=110)

@@ -181,6 +181,17 @@ namespace suturesim::knot
         if (phase_ == Phase::tying)
           end += settings_.speed * dt * tying_direction(d, rope);
       }
+    // a knot pulled tight in a rope that cannot hold it (a geometric suture has no
+    // contact force, only corrections after each step) has its strands pass through each
+    // other: the code it reads is no longer the plan's, and the run says so
+    if (phase_ == Phase::tightening)
+      if (const GaussCode now = d.gauss_code().reduced(); !(now == tied_code(plan_)))
+        {
+          std::ostringstream why;
+          why << "the knot came undone while tightening, after " << 1e3 * pulled << " mm: its diagram reads '"
+              << now.text() << "'";
+          fail(why.str(), t);
+        }
     if (phase_ == Phase::tightening)
       {
         if (pull.isZero())

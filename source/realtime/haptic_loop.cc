@@ -18,14 +18,24 @@ namespace suturesim::realtime
       v->reserve(expected_steps);
   }
 
-  const std::vector<ToolForce> &
-  HapticLoop::tick(const std::vector<ToolPose> &poses)
+  void
+  HapticLoop::begin_tick()
   {
     if (pacing)
       {
         next_tick += period;
         std::this_thread::sleep_until(next_tick);
       }
+    begun = std::chrono::steady_clock::now();
+    open  = true;
+  }
+
+  const std::vector<ToolForce> &
+  HapticLoop::tick(const std::vector<ToolPose> &poses)
+  {
+    if (!open)
+      begin_tick();
+    open                                 = false;
     started                              = std::chrono::steady_clock::now();
     const std::vector<ToolForce> &result = world.step(poses);
     const auto                    spent  = std::chrono::steady_clock::now() - started;
@@ -33,7 +43,8 @@ namespace suturesim::realtime
     const auto                   &phases = world.phases();
     times.push_back(us(spent));
     collision.push_back(us(phases.collision));
-    coupling.push_back(us(phases.coupling));
+    // the tools' poses computed before the step are part of the coupling
+    coupling.push_back(us(phases.coupling + (started - begun)));
     solve.push_back(us(spent - phases.collision - phases.coupling));
     return result;
   }
@@ -41,9 +52,11 @@ namespace suturesim::realtime
   void
   HapticLoop::end_tick()
   {
-    const auto spent = std::chrono::steady_clock::now() - started;
-    whole.push_back(std::chrono::duration<float, std::micro>(spent).count());
-    recording.push_back(whole.back() - times.back());
+    const auto now = std::chrono::steady_clock::now();
+    const auto us  = [](const auto d) { return std::chrono::duration<float, std::micro>(d).count(); };
+    whole.push_back(us(now - begun));
+    // after the step
+    recording.push_back(us(now - started) - times.back());
   }
 
   namespace

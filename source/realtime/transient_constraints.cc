@@ -17,6 +17,13 @@
  * The averaged correction repeats on the pairs found, at their new closest points, until
  * none overlaps by more than 0.1 % of 2r ("moved apart until they are not colliding"), at
  * most 64 rounds a step.
+ *
+ * `Hold = false` keeps the correction and drops the hold: the moved nodes are free in the
+ * next step, so a strand pressed on another can slide along it (a position projection as
+ * in position-based dynamics, Müller et al. 2007, J. Vis. Commun. Image R. 18:109, §3.5).
+ * Seed 002's hold stops a follow-the-leader strand that rubs along another: the rope
+ * behind a moving end is held step after step and the end's link stretches instead
+ * (docs/knots.md: the figure-eight).
  */
 #include <suturesim/realtime/self_collision.h>
 
@@ -29,8 +36,9 @@ namespace suturesim::realtime
     class TransientConstraints : public SelfCollision
     {
     public:
-      TransientConstraints(const ParameterValues &, const SelfCollisionSetup &s)
+      TransientConstraints(const ParameterValues &p, const SelfCollisionSetup &s)
         : SelfCollision(s, 2 * s.radius)
+        , hold(p.boolean("Hold"))
         , shift(Matrix3Xd::Zero(3, s.suture.size()))
         , count(s.suture.size(), 0)
       {}
@@ -104,8 +112,11 @@ namespace suturesim::realtime
                 {
                   // held where the last round that moved it left it
                   n.x.col(b0 + k) += shift.col(k) / count[k];
-                  n.target.col(b0 + k) = n.x.col(b0 + k);
-                  n.set_held(b0 + k, Nodes::transient, true);
+                  if (hold)
+                    {
+                      n.target.col(b0 + k) = n.x.col(b0 + k);
+                      n.set_held(b0 + k, Nodes::transient, true);
+                    }
                 }
           }
         count_after(n.x);
@@ -119,6 +130,7 @@ namespace suturesim::realtime
       static constexpr unsigned rounds = 64;
       /// The overlap, as a fraction of 2r, that ends the rounds (0.2 µm on a 3-0 suture).
       static constexpr double tolerance = 1e-3;
+      bool                      hold; ///< seed 002's hold for the next step
       Matrix3Xd                 shift;
       std::vector<unsigned>     count;
     };
@@ -126,7 +138,12 @@ namespace suturesim::realtime
     const bool registered = SelfCollision::Registry::instance().add(
       {"transient-constraint",
        "colliding nodes are moved apart and held for the next step (seed 002 sec. 3).",
-       nullptr,
+       [](ParameterDeclarations &d) {
+         d.add_bool("Hold", true,
+                    "Whether moved nodes are held for the next step, as seed 002 does (true), "
+                    "or only moved apart and free to slide along each other (false). "
+                    "Unit: none. Range: true or false.");
+       },
        [](const ParameterValues &p, const SelfCollisionSetup &s) {
          return std::unique_ptr<SelfCollision>(new TransientConstraints(p, s));
        }});

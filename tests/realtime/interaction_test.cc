@@ -191,6 +191,7 @@ TEST(RealtimeInteractions, ContactForcesAreMinusTheEnergyGradient)
     w.suture_geometry           = test_support::folded_suture(1e-4, 1, 0, 1e-4);
     w.integrator                = test_support::make_model<Integrator::Registry>("quasi-static");
     w.self_collision            = "transient-constraint";
+    w.self_collision_parameters = test_support::parameters_of("transient-constraint");
     World world(std::move(w));
     EXPECT_FALSE(world.system().contacts.front()->energy(world.system().nodes.x).has_value());
   }

@@ -106,3 +106,65 @@ TEST(KnotPlanner, WaitsForItsStartTime)
   EXPECT_EQ(planner.move(r, 0.1, 1e-3, 0), Vector3d(r.col(r.cols() - 1)));
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::waiting);
 }
+
+namespace
+{
+  /// The mirror image of the trefoil sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t of
+  /// tests/realtime/knot_diagram_test.cc (z → −z: its code from +z, cut at t = 0.1, is
+  /// the overhand plan's), scaled by 5 mm and laid as a rope of @p nodes nodes 1 mm apart
+  /// along its arc from t = 0.1.
+  Eigen::Matrix3Xd
+  trefoil_rope(const Eigen::Index nodes)
+  {
+    const auto at = [](const double t) -> Vector3d {
+      constexpr double mm5 = 5e-3;
+      return {mm5 * (std::sin(t) + 2 * std::sin(2 * t)), mm5 * (std::cos(t) - 2 * std::cos(2 * t)),
+              mm5 * std::sin(3 * t)};
+    };
+    Eigen::Matrix3Xd m(3, nodes);
+    double           t    = 0.1;
+    Vector3d         last = at(t);
+    m.col(0)              = last;
+    for (Eigen::Index k = 1; k < nodes; ++k)
+      {
+        // march along the curve in fine steps until 1 mm from the last node
+        while ((at(t) - last).norm() < 1e-3)
+          t += 1e-5;
+        last     = at(t);
+        m.col(k) = last;
+      }
+    return m;
+  }
+} // namespace
+
+TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsWhenItComesUndoneWhileTightening)
+{
+  // the rope grows along the trefoil, its end tracing the curve: its crossings come one at
+  // a time, the way and in the spans the overhand's instructions ask for
+  PlannerSettings s  = overhand();
+  s.instruction_time = 100;
+  s.tighten_distance = 1; // tightening until the knot comes undone
+  KnotPlanner planner(s);
+  const auto  full = trefoil_rope(200);
+  Eigen::Index n   = 10;
+  double       t   = 0;
+  for (; n <= full.cols() && planner.phase() != KnotPlanner::Phase::tightening; ++n)
+    planner.move(full.leftCols(n), t += 1e-3, 1e-3, 0);
+  ASSERT_EQ(planner.phase(), KnotPlanner::Phase::tightening) << planner.failure();
+  ASSERT_EQ(planner.events().size(), 3u);
+  EXPECT_EQ(planner.events()[2].code, "O1 U2 O3 U1 O2 U3");
+  // pulled on while the rope keeps the knot: still tightening
+  planner.move(full.leftCols(n), t += 1e-3, 1e-3, 0);
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tightening);
+  EXPECT_GT(planner.shortening(), 0);
+  // the same rope rising along its length (every strand over the ones before it, an
+  // ascending diagram: U1 U2 U3 O1 O2 O3, which the Reidemeister moves undo) reads no
+  // knot: it came undone, as an FTL knot pulled tight does, its strands passing through
+  // each other
+  Eigen::Matrix3Xd undone = full.leftCols(n);
+  for (Eigen::Index k = 0; k < n; ++k)
+    undone(2, k) = 1e-5 * static_cast<double>(k);
+  planner.move(undone, t += 1e-3, 1e-3, 0);
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::failed);
+  EXPECT_NE(planner.failure().find("came undone while tightening"), std::string::npos) << planner.failure();
+}

@@ -1,44 +1,73 @@
-// Knots tied by seed 002's planner in a shipped scene (issue 30, item 3): the overhand
-// knot in the realtime path, read back from the suture's last state as its Gauss code
-// in the planner's projection.
+// Knots tied by seed 002's planner in the shipped scenes (issue 30, item 3): the overhand
+// and the figure-eight knots in the realtime path, read back from the suture's last state
+// as their Gauss codes in the planner's projection.
 #include "run_scene.h"
 
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 using namespace suturesim::test_support;
 
+namespace
+{
+  /// Runs the shipped knot scene @p scene and checks that it tied @p code (the knot cut
+  /// open; tests/realtime/knot_diagram_test.cc draws both from their parametric curves)
+  /// crossing by crossing as @p steps (the diagram's code after each instruction), the
+  /// rope following its end (no link stretched by @p stretch or more) and the collision
+  /// response acting.
+  void
+  expect_tied(const std::string &scene, const std::string &code, const std::vector<std::string> &steps,
+              const double stretch)
+  {
+    const auto r = run_suturesim("knot_" + scene, {source_path("parameters/knots/" + scene + ".prm")});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    ASSERT_TRUE(r.has_summary);
+    const auto &knot = r.summary["metrics"]["knot"];
+    EXPECT_EQ(knot["phase"], "done") << knot.dump();
+    EXPECT_EQ(knot["instructions_done"], steps.size());
+    // read from the last state, not from the planner
+    EXPECT_EQ(knot["gauss_code"], code);
+    EXPECT_EQ(knot["crossings"], steps.size());
+    EXPECT_EQ(knot["raw_gauss_code"], knot["gauss_code"]) << "no wiggle to reduce";
+    EXPECT_TRUE(knot["tied"].get<bool>());
+    // one event per instruction, in order, each adding the crossing it made
+    std::vector<std::string> codes;
+    double                   last = 0;
+    for (const auto &e : r.summary["events"])
+      if (e["kind"] == "knot_crossing")
+        {
+          EXPECT_GT(e["time"].get<double>(), last);
+          last = e["time"].get<double>();
+          codes.push_back(e["gauss_code"]);
+        }
+    EXPECT_EQ(codes, steps);
+    // the rope followed its end and the collision response acted where strands touched:
+    // after its correction no two segments are closer than the suture's diameter (to 1 %)
+    EXPECT_LT(r.summary["metrics"]["suture_stretch_max"].get<double>(), stretch);
+    const auto &self = r.summary["metrics"]["self_collision"];
+    EXPECT_GT(self["pair_steps"].get<double>(), 0);
+    EXPECT_GT(self["min_distance"].get<double>(), 0.99 * self["reach"].get<double>());
+    // and no strand passed through another within a step: even as detected, before the
+    // correction, they stayed more than a radius apart (measured: 95 % of the diameter
+    // in the overhand, 58 % in the figure-eight)
+    EXPECT_GT(self["min_distance_detected"].get<double>(), 0.5 * self["reach"].get<double>());
+  }
+} // namespace
+
 TEST(KnotScene, TheOverhandIsTiedWithTheTrefoilsCrossings)
 {
-  const auto r = run_suturesim("knot_overhand", {source_path("parameters/knots/overhand.prm")});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  ASSERT_TRUE(r.has_summary);
-  const auto &knot = r.summary["metrics"]["knot"];
-  EXPECT_EQ(knot["phase"], "done") << knot.dump();
-  EXPECT_EQ(knot["instructions_done"], 3);
-  // read from the last state, not from the planner: the trefoil cut open
-  // (tests/realtime/knot_diagram_test.cc draws it from its parametric curve)
-  EXPECT_EQ(knot["gauss_code"], "O1 U2 O3 U1 O2 U3");
-  EXPECT_EQ(knot["crossings"], 3);
-  EXPECT_EQ(knot["raw_gauss_code"], knot["gauss_code"]) << "no wiggle to reduce";
-  EXPECT_TRUE(knot["tied"].get<bool>());
-  // one event per instruction, in order, each adding the crossing it made
-  std::vector<std::string> codes;
-  double                   last = 0;
-  for (const auto &e : r.summary["events"])
-    if (e["kind"] == "knot_crossing")
-      {
-        EXPECT_GT(e["time"].get<double>(), last);
-        last = e["time"].get<double>();
-        codes.push_back(e["gauss_code"]);
-      }
-  EXPECT_EQ(codes, (std::vector<std::string>{"O1 U1", "O1 U2 U1 O2", "O1 U2 O3 U1 O2 U3"}));
-  // the rope followed its end (the planner fails at 10 % stretch of the end's link) and
-  // the transient collision constraints acted where strands touched: after their
-  // correction no two segments are closer than the suture's diameter (to 1 %)
-  EXPECT_LT(r.summary["metrics"]["suture_stretch_max"].get<double>(), 0.05);
-  const auto &self = r.summary["metrics"]["self_collision"];
-  EXPECT_GT(self["pair_steps"].get<double>(), 0);
-  EXPECT_GT(self["min_distance"].get<double>(), 0.99 * self["reach"].get<double>());
+  // seed 002's collision constraints, holding moved nodes for the next step
+  // (measured: 1.3 % stretch at most)
+  expect_tied("overhand", "O1 U2 O3 U1 O2 U3", {"O1 U1", "O1 U2 U1 O2", "O1 U2 O3 U1 O2 U3"}, 0.05);
+}
+
+TEST(KnotScene, TheFigureEightIsTiedWithItsCrossings)
+{
+  // the collision constraints without the hold (Hold = false): with it the plan fails at
+  // the fourth crossing (docs/knots.md). Measured: 6.0 % stretch at most; the bound is
+  // the planner's guard on the end's link (10 %), here over the whole rope
+  expect_tied("figure_eight", "O1 U2 O3 U4 O2 U1 O4 U3",
+              {"U1 O1", "O1 U2 O2 U1", "O1 U2 U3 O2 U1 O3", "O1 U2 O3 U4 O2 U1 O4 U3"}, 0.1);
 }

@@ -28,7 +28,10 @@
  *
  * After the last instruction the end is pulled away from the knot (in the plane, along
  * the line from the crossings' centroid to the end) to tighten it, until it has moved
- * the tightening distance or the rope pulls back with the tightening force.
+ * the tightening distance or the rope pulls back with the tightening force. A knot whose
+ * code (after the Reidemeister reductions) is no longer the plan's while it is pulled
+ * fails the plan: it came undone, the strands of a rope that cannot hold a tight knot
+ * passing through each other.
  *
  * Knots (instructions derived in docs/knots.md from the Gauss codes):
  *  - overhand (trefoil): under span 0 (a loop), over span 1 (into the loop), under span 2
@@ -41,6 +44,7 @@
  */
 
 #include <suturesim/knot/diagram.h>
+#include <suturesim/knot/planner_settings.h>
 
 #include <Eigen/Core>
 
@@ -67,19 +71,6 @@ namespace suturesim::knot
   /// The Gauss code @p instructions tie in a rope whose diagram had no crossing.
   GaussCode
   tied_code(const std::vector<Instruction> &instructions);
-
-  struct PlannerSettings
-  {
-    std::string     knot = "none";                   ///< none, overhand, figure-eight
-    Eigen::Vector3d normal{0, 0, 1};                 ///< projection plane's normal
-    double          speed            = 0.02;         ///< of the moving end, m/s
-    double          clearance        = 3e-3;         ///< height over or under the target, m
-    double          inertia          = 2;            ///< W, weight of factor (4)
-    double          start_time       = 0;            ///< s
-    double          instruction_time = 10;           ///< the longest an instruction may take, s
-    double          tighten_distance = 0;            ///< m
-    double          tighten_force    = 0;            ///< N; 0: none
-  };
 
   class KnotPlanner
   {

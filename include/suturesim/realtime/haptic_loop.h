@@ -3,9 +3,11 @@
  * @file
  * The fixed-rate loop a haptic device runs: every 1/rate seconds, step(tool poses) →
  * tool forces. Two times are measured (steady clock) against the deadline 1/rate: the
- * step alone (tick() to its return) and the whole tick, from the step's start to
- * end_tick(), which the caller calls once the haptic thread's other work for the tick
- * is done (the closure measured, the row recorded, a state written). The whole tick is
+ * step alone (tick() to its return) and the whole tick, from begin_tick() (or the step's
+ * start when the caller does not call it) to end_tick(), which the caller calls once the
+ * haptic thread's other work for the tick is done (the closure measured, the row
+ * recorded, a state written). Between begin_tick() and tick() the caller computes the
+ * tool poses (prescribed paths, a knot planner reading the rope). The whole tick is
  * what a device waits for. Their statistics (median, 99th percentile, maximum, misses)
  * are what summary.json reports. With pacing on, the loop sleeps until the next tick, as a device
  * thread would; offline runs leave it off and step back to back.
@@ -32,7 +34,8 @@ namespace suturesim::realtime
   };
 
   /// The whole tick by phase: contact detection and collision responses (collision),
-  /// the tools, prescribed motions, loads, the suture model's preparation of the step
+  /// the tools' poses computed before the step (between begin_tick() and tick()), the
+  /// tools, prescribed motions, loads, the suture model's preparation of the step
   /// (SutureModel::before_step) and tool forces (coupling), the rest of the
   /// step (solve: the integrator's sweeps, the divergence guard), and what the haptic
   /// thread does after the step until end_tick() (recording: the closure measured, the
@@ -48,6 +51,11 @@ namespace suturesim::realtime
     /// @p expected_steps reserves the timing record (no allocation while stepping).
     HapticLoop(World &world, double rate, std::size_t expected_steps, bool pacing = false);
 
+    /// Begins a tick before the work that computes its tool poses (after the pacing
+    /// sleep): the whole tick and its coupling phase count that work.
+    void
+    begin_tick();
+
     /// One tick: the world's step, timed; the tick itself runs on until end_tick().
     const std::vector<ToolForce> &
     tick(const std::vector<ToolPose> &poses);
@@ -61,7 +69,7 @@ namespace suturesim::realtime
     LoopStatistics
     statistics() const;
 
-    /// The whole tick (tick() to end_tick()).
+    /// The whole tick (begin_tick() or tick() to end_tick()).
     LoopStatistics
     tick_statistics() const;
 
@@ -88,7 +96,9 @@ namespace suturesim::realtime
     std::chrono::nanoseconds              period;
     bool                                  pacing;
     std::chrono::steady_clock::time_point next_tick;
+    std::chrono::steady_clock::time_point begun;   ///< the current tick began
     std::chrono::steady_clock::time_point started; ///< the current tick's step began
+    bool                                  open = false; ///< begin_tick() began this tick
     std::vector<float>                    times, whole;
     std::vector<float>                    collision, solve, coupling, recording; ///< µs, per tick
   };

@@ -9,7 +9,7 @@
 
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/parameter_file.h>
-#include <suturesim/knot/planner.h>
+#include <suturesim/knot/planner_settings.h>
 
 #include <deal.II/base/parameter_handler.h>
 

@@ -11,7 +11,7 @@
 
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/core/time_parameters.h>
-#include <suturesim/knot/planner.h>
+#include <suturesim/knot/planner_settings.h>
 #include <suturesim/mesh/mesh_loader.h>
 #include <suturesim/rod/rod_parameters.h>
 #include <suturesim/scene/needle_parameters.h>

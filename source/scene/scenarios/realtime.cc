@@ -92,6 +92,8 @@ namespace suturesim::scene
           {
             // prescribed motions stop at a tie-off
             const double t = world.closure ? world.closure->motion_time(step / rate) : step / rate;
+            // the tools' poses (a knot planner reading the rope) are part of the tick
+            loop.begin_tick();
             world.tool_poses(t, poses);
             try
               {
