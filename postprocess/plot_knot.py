@@ -62,7 +62,14 @@ def crossings(p):
     return sorted(found, key=lambda c: c[1])
 
 
-def draw(ax, p, h, knot, zoom):
+def about(summary):
+    """The scene and, for the realtime path, its suture model and self-collision."""
+    rt = summary.get("realtime") or {}
+    model = f" ({rt['suture_model']}, {rt['self_collision']})" if rt else ""
+    return f"{summary.get('scene', '')}{model}"
+
+
+def draw(ax, p, h, knot, zoom, about):
     """The projected rope p coloured by height h; zoomed on its crossings, numbered."""
     ax.plot(p[:, 0], p[:, 1], color="0.6", lw=0.8, zorder=1)
     dots = ax.scatter(p[:, 0], p[:, 1], c=h, s=9 if not zoom else 16, cmap="coolwarm", zorder=2,
@@ -83,7 +90,7 @@ def draw(ax, p, h, knot, zoom):
                         fontweight="bold", zorder=3)
         ax.set_title("the knot, crossings numbered as in the raw Gauss code", fontsize=9)
     else:
-        ax.set_title(f"{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
+        ax.set_title(f"{about}\n{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
                      f" ({'as planned' if knot['tied'] else 'not the planned ' + knot['planned_gauss_code']})",
                      fontsize=9)
         ax.legend(fontsize=8, loc="best")
@@ -101,14 +108,15 @@ def main(argv):
         sys.exit(__doc__)
     fig, axes = plt.subplots(2, len(runs), figsize=(5.5 * len(runs), 8), squeeze=False)
     for column, run in enumerate(runs):
-        knot = json.load(open(run / "summary.json"))["metrics"].get("knot")
+        summary = json.load(open(run / "summary.json"))
+        knot = summary["metrics"].get("knot")
         if knot is None:
             sys.exit(f"{run}/summary.json has no metrics.knot (the scene ties no knot)")
         n, u, v = frame(knot["projection_normal"])
         x = last_state(run)
         p, h = np.column_stack([x @ u, x @ v]) * 1e3, x @ n * 1e3
         for row in (0, 1):
-            dots = draw(axes[row][column], p, h, knot, zoom=row == 1)
+            dots = draw(axes[row][column], p, h, knot, zoom=row == 1, about=about(summary))
             fig.colorbar(dots, ax=axes[row][column], label="height along the normal [mm]", shrink=0.8)
     out = out or runs[0] / "knot.png"
     fig.tight_layout()
