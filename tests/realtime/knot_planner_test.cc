@@ -137,7 +137,7 @@ namespace
   }
 } // namespace
 
-TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsWhenItComesUndoneWhileTightening)
+TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsOnlyWhenItComesUndoneWhileTightening)
 {
   // the rope grows along the trefoil, its end tracing the curve: its crossings come one at
   // a time, the way and in the spans the overhand's instructions ask for
@@ -157,6 +157,12 @@ TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsWhenItComesUndoneWhileTigh
   planner.move(full.leftCols(n), t += 1e-3, 1e-3, 0);
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tightening);
   EXPECT_GT(planner.shortening(), 0);
+  // the knot turned over (seen from its other side: over and under swapped) is the
+  // same knot, with the knot's three crossings: still tightening
+  Eigen::Matrix3Xd turned = full.leftCols(n);
+  turned.row(2) *= -1;
+  planner.move(turned, t += 1e-3, 1e-3, 0);
+  EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tightening) << planner.failure();
   // the same rope rising along its length (every strand over the ones before it, an
   // ascending diagram: U1 U2 U3 O1 O2 O3, which the Reidemeister moves undo) reads no
   // knot: it came undone, as an FTL knot pulled tight does, its strands passing through
@@ -167,4 +173,5 @@ TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsWhenItComesUndoneWhileTigh
   planner.move(undone, t += 1e-3, 1e-3, 0);
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::failed);
   EXPECT_NE(planner.failure().find("came undone while tightening"), std::string::npos) << planner.failure();
+  EXPECT_NE(planner.failure().find("fewer crossings than the knot's 3"), std::string::npos) << planner.failure();
 }

@@ -29,9 +29,11 @@
  * After the last instruction the end is pulled away from the knot (in the plane, along
  * the line from the crossings' centroid to the end) to tighten it, until it has moved
  * the tightening distance or the rope pulls back with the tightening force. A knot whose
- * code (after the Reidemeister reductions) is no longer the plan's while it is pulled
- * fails the plan: it came undone, the strands of a rope that cannot hold a tight knot
- * passing through each other.
+ * diagram, after the Reidemeister reductions, has fewer crossings than the plan's (each
+ * instruction one crossing of a minimal diagram: the knot's crossing number) while it is
+ * pulled fails the plan: it came undone, the strands of a rope that cannot hold a tight
+ * knot passing through each other. Other changes of the code (the knot turning over in
+ * the plane's view) are not failures; metrics.knot.tied reads the last state.
  *
  * Knots (instructions derived in docs/knots.md from the Gauss codes):
  *  - overhand (trefoil): under span 0 (a loop), over span 1 (into the loop), under span 2
