@@ -44,24 +44,6 @@ def frame(normal):
     return n, u, np.cross(n, u)
 
 
-def crossings(p):
-    """The crossings of the projected rope p (nodes x 2) between non-adjacent segments:
-    (point, arc index on the earlier strand, arc index on the later one), labelled in
-    the order of their first occurrence along the rope, as the Gauss code labels them
-    (knot::KnotDiagram)."""
-    found = []
-    for i in range(len(p) - 1):
-        for j in range(i + 2, len(p) - 1):
-            a, b, c, d = p[i], p[i + 1], p[j], p[j + 1]
-            m = np.column_stack([b - a, c - d])
-            if abs(np.linalg.det(m)) < 1e-15:
-                continue
-            s, t = np.linalg.solve(m, c - a)
-            if 0 <= s < 1 and 0 <= t < 1:
-                found.append((a + s * (b - a), i + s, j + t))
-    return sorted(found, key=lambda c: c[1])
-
-
 def about(summary):
     """The scene and, for the realtime path, its suture model and self-collision."""
     rt = summary.get("realtime") or {}
@@ -69,8 +51,9 @@ def about(summary):
     return f"{summary.get('scene', '')}{model}"
 
 
-def draw(ax, p, h, knot, zoom, about):
-    """The projected rope p coloured by height h; zoomed on its crossings, numbered."""
+def draw(ax, p, h, at, knot, zoom, heading):
+    """The projected rope p coloured by height h; zoomed on its crossings at (projected,
+    in the order of their labels), numbered."""
     ax.plot(p[:, 0], p[:, 1], color="0.6", lw=0.8, zorder=1)
     dots = ax.scatter(p[:, 0], p[:, 1], c=h, s=9 if not zoom else 16, cmap="coolwarm", zorder=2,
                       vmin=-np.abs(h).max(), vmax=np.abs(h).max())
@@ -79,18 +62,16 @@ def draw(ax, p, h, knot, zoom, about):
     ax.set_aspect("equal")
     ax.set_xlabel("u [mm]")
     ax.set_ylabel("v [mm]")
-    found = crossings(p)
-    if zoom and found:
-        at = np.array([c[0] for c in found])
+    if zoom and len(at):
         lo, hi = at.min(axis=0) - 3, at.max(axis=0) + 3
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])
-        for k, (point, _, _) in enumerate(found, start=1):
+        for k, point in enumerate(at, start=1):
             ax.annotate(str(k), point, xytext=(4, 4), textcoords="offset points", fontsize=9,
                         fontweight="bold", zorder=3)
         ax.set_title("the knot, crossings numbered as in the raw Gauss code", fontsize=9)
     else:
-        ax.set_title(f"{about}\n{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
+        ax.set_title(f"{heading}\n{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
                      f" ({'as planned' if knot['tied'] else 'not the planned ' + knot['planned_gauss_code']})",
                      fontsize=9)
         ax.legend(fontsize=8, loc="best")
@@ -115,8 +96,11 @@ def main(argv):
         n, u, v = frame(knot["projection_normal"])
         x = last_state(run)
         p, h = np.column_stack([x @ u, x @ v]) * 1e3, x @ n * 1e3
+        # the crossings as the run found them (knot::KnotDiagram), labelled as its code
+        c = np.asarray(knot.get("crossing_points", []), float).reshape(-1, 3)
+        at = np.column_stack([c @ u, c @ v]) * 1e3
         for row in (0, 1):
-            dots = draw(axes[row][column], p, h, knot, zoom=row == 1, about=about(summary))
+            dots = draw(axes[row][column], p, h, at, knot, zoom=row == 1, heading=about(summary))
             fig.colorbar(dots, ax=axes[row][column], label="height along the normal [mm]", shrink=0.8)
     out = out or runs[0] / "knot.png"
     fig.tight_layout()

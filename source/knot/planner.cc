@@ -172,7 +172,8 @@ namespace suturesim::knot
     const double stretch = (rope.col(last) - rope.col(last - 1)).norm() / link - 1;
     if (stretch > 0.1)
       fail("the end's link is stretched by " + std::to_string(100 * stretch) +
-             " % (over 10 %): the rope behind the end is held and does not follow it",
+             " % (over 10 %): the rope behind the end does not follow it (held by collision constraints, or "
+             "dragged)",
            t);
     if (phase_ == Phase::tying)
       {
@@ -183,11 +184,13 @@ namespace suturesim::knot
       }
     // a knot pulled tight in a rope that cannot hold it (a geometric suture has no
     // contact force, only corrections after each step) has its strands pass through each
-    // other. Its diagram may also change while the knot turns in the plane's view (a
-    // Reidemeister III move, the knot seen from its other side), so only what no
-    // diagram of the knot can read is taken as undone: fewer crossings, after the
-    // reductions, than the plan's, the knot's crossing number (3 for the trefoil, 4 for
-    // the figure-eight; Reidemeister moves keep the knot, and no diagram of it has fewer)
+    // other. Its diagram may also change while the knot turns in the plane's view (the
+    // knot seen from its other side, or a Reidemeister III move, neither of which
+    // reduced() undoes), so only what no diagram of the knot can read is taken as
+    // undone: fewer crossings, after the reductions, than the knot's crossing number
+    // (Reidemeister moves keep the knot, and no diagram of it has fewer). The plans of
+    // instructions() are minimal, one crossing each: 3 for the trefoil, 4 for the
+    // figure-eight (KnotPlanner.PlansTieTheTrefoilAndTheFigureEight)
     if (phase_ == Phase::tightening)
       if (const GaussCode now = d.gauss_code().reduced(); now.crossings() < plan_.size())
         {
@@ -226,7 +229,8 @@ namespace suturesim::knot
   nlohmann::json
   knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope)
   {
-    const GaussCode  raw = KnotDiagram(rope, planner.projection()).gauss_code(), code = raw.reduced();
+    const KnotDiagram diagram(rope, planner.projection());
+    const GaussCode  raw = diagram.gauss_code(), code = raw.reduced();
     const GaussCode  planned = tied_code(planner.plan());
     const auto      &n       = planner.projection().n;
     nlohmann::json   m       = {{"knot", planner.settings().knot},
@@ -241,6 +245,16 @@ namespace suturesim::knot
                                 {"tied", code == planned},
                                 {"projection_normal", {n[0], n[1], n[2]}},
                                 {"shortening", planner.shortening()}};
+    // where the raw code's crossings lie (on their first strand, m), in the order of their
+    // labels: their first occurrences along the rope
+    std::vector<Crossing> crossings(diagram.crossings());
+    std::sort(crossings.begin(), crossings.end(), [](const Crossing &l, const Crossing &r) { return l.a < r.a; });
+    m["crossing_points"] = nlohmann::json::array();
+    for (const auto &c : crossings)
+      {
+        const Eigen::Vector3d p = diagram.point(c.a);
+        m["crossing_points"].push_back({p[0], p[1], p[2]});
+      }
     if (!planner.failure().empty())
       {
         m["failure"]      = planner.failure();

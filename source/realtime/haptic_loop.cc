@@ -21,6 +21,9 @@ namespace suturesim::realtime
   void
   HapticLoop::begin_tick()
   {
+    // a tick already begun keeps its start (and a paced loop does not sleep twice)
+    if (open)
+      return;
     if (pacing)
       {
         next_tick += period;

@@ -137,7 +137,8 @@ namespace suturesim::realtime
 
     const bool registered = SelfCollision::Registry::instance().add(
       {"transient-constraint",
-       "colliding nodes are moved apart and held for the next step (seed 002 sec. 3).",
+       "colliding nodes are moved apart and held for the next step (seed 002 sec. 3), or "
+       "only moved apart (Hold = false).",
        [](ParameterDeclarations &d) {
          d.add_bool("Hold", true,
                     "Whether moved nodes are held for the next step, as seed 002 does (true), "

@@ -47,6 +47,10 @@ namespace
 TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
 {
   EXPECT_EQ(tied_code(instructions("overhand")).text(), "O1 U2 O3 U1 O2 U3");
+  // minimal plans, one instruction a crossing: the planner takes their length as the
+  // knot's crossing number when it checks a pulled knot
+  EXPECT_EQ(tied_code(instructions("overhand")).crossings(), instructions("overhand").size());
+  EXPECT_EQ(tied_code(instructions("figure-eight")).crossings(), instructions("figure-eight").size());
   EXPECT_EQ(tied_code(instructions("figure-eight")).text(), "O1 U2 O3 U4 O2 U1 O4 U3");
   EXPECT_THROW(instructions("bowline"), std::invalid_argument);
   EXPECT_THROW(tied_code({{true, 3}}), std::invalid_argument);
@@ -151,16 +155,20 @@ TEST(KnotPlanner, CountsATrefoilTracedByItsEndAndFailsOnlyWhenItComesUndoneWhile
   for (; n <= full.cols() && planner.phase() != KnotPlanner::Phase::tightening; ++n)
     planner.move(full.leftCols(n), t += 1e-3, 1e-3, 0);
   ASSERT_EQ(planner.phase(), KnotPlanner::Phase::tightening) << planner.failure();
+  --n; // the rope that made the last crossing
   ASSERT_EQ(planner.events().size(), 3u);
   EXPECT_EQ(planner.events()[2].code, "O1 U2 O3 U1 O2 U3");
   // pulled on while the rope keeps the knot: still tightening
   planner.move(full.leftCols(n), t += 1e-3, 1e-3, 0);
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tightening);
   EXPECT_GT(planner.shortening(), 0);
-  // the knot turned over (seen from its other side: over and under swapped) is the
-  // same knot, with the knot's three crossings: still tightening
+  // the knot turned over (half a turn about x: seen from its other side, over and under
+  // swapped) is the same knot with its three crossings, though its code is no longer
+  // the plan's: still tightening
   Eigen::Matrix3Xd turned = full.leftCols(n);
+  turned.row(1) *= -1;
   turned.row(2) *= -1;
+  EXPECT_EQ(KnotDiagram(turned, Projection(Vector3d::UnitZ())).gauss_code().text(), "U1 O2 U3 O1 U2 O3");
   planner.move(turned, t += 1e-3, 1e-3, 0);
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tightening) << planner.failure();
   // the same rope rising along its length (every strand over the ones before it, an

@@ -234,7 +234,7 @@ TEST(SelfCollision, TransientConstraintsSeparateANodeInTwoPairsAtOnceHeldOrNot)
       // them free to slide
       if (!hold)
         for (std::uint32_t k = 0; k < chain.size(); ++k)
-          {
+          { // braces: EXPECT_* expands to an if-else
             EXPECT_FALSE(n.held[k] & Nodes::transient) << "node " << k;
           }
       EXPECT_EQ(static_cast<bool>(n.held[1] & Nodes::transient), hold);

@@ -34,8 +34,9 @@ TEST(RealtimeScene, RunsTheSeed004ScaleSceneAndRecordsItsHapticStatistics)
   EXPECT_EQ(m["steps"], 200);
   EXPECT_GT(m["step_time_median_us"].get<double>(), 0);
   EXPECT_GE(m["step_time_p99_us"].get<double>(), m["step_time_median_us"].get<double>());
-  // the whole tick holds the step and what the haptic thread does after it (the row, the
-  // states written): tick by tick no shorter, so neither are its order statistics
+  // the whole tick holds the tools' poses computed before the step, the step and what the
+  // haptic thread does after it (the row, the states written): tick by tick no shorter,
+  // so neither are its order statistics
   for (const char *q : {"median", "p99", "max"})
     EXPECT_GE(m[std::string("tick_time_") + q + "_us"].get<double>(),
               m[std::string("step_time_") + q + "_us"].get<double>())

@@ -32,8 +32,9 @@
  * diagram, after the Reidemeister reductions, has fewer crossings than the plan's (each
  * instruction one crossing of a minimal diagram: the knot's crossing number) while it is
  * pulled fails the plan: it came undone, the strands of a rope that cannot hold a tight
- * knot passing through each other. Other changes of the code (the knot turning over in
- * the plane's view) are not failures; metrics.knot.tied reads the last state.
+ * knot passing through each other. Other changes of the code (the knot seen from its
+ * other side, a Reidemeister III move) are not failures; metrics.knot.tied reads the
+ * last state.
  *
  * Knots (instructions derived in docs/knots.md from the Gauss codes):
  *  - overhand (trefoil): under span 0 (a loop), over span 1 (into the loop), under span 2
@@ -179,8 +180,9 @@ namespace suturesim::knot
   /// What @p planner did and what the rope @p rope (m; the run's last state) shows, for
   /// summary.json's metrics.knot: the knot's crossings and Gauss code in the planner's
   /// projection after the Reidemeister reductions (raw_*: before them), the code the
-  /// plan ties and whether they agree ("tied"), the phase, the instructions done, the
-  /// failure, the shortening.
+  /// plan ties and whether they agree ("tied"), where the raw code's crossings lie
+  /// (crossing_points, m, in the order of their labels), the phase, the instructions
+  /// done, the failure, the shortening.
   nlohmann::json
   knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope);
   /// The planner's events for summary.json (kind "knot_crossing": time, instruction,

@@ -12,6 +12,7 @@
 
 namespace suturesim::knot
 {
+  /// The knot the planner ties and how it moves the end (scene subsection Knot).
   struct PlannerSettings
   {
     std::string     knot = "none";           ///< none, overhand, figure-eight

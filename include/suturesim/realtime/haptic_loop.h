@@ -52,7 +52,8 @@ namespace suturesim::realtime
     HapticLoop(World &world, double rate, std::size_t expected_steps, bool pacing = false);
 
     /// Begins a tick before the work that computes its tool poses (after the pacing
-    /// sleep): the whole tick and its coupling phase count that work.
+    /// sleep): the whole tick and its coupling phase count that work. A second call
+    /// before tick() does nothing.
     void
     begin_tick();
 
@@ -60,8 +61,8 @@ namespace suturesim::realtime
     const std::vector<ToolForce> &
     tick(const std::vector<ToolPose> &poses);
 
-    /// Ends the tick the last tick() began: its time from the step's start is the whole
-    /// tick's (tick_times()).
+    /// Ends the tick the last begin_tick() (or tick()) began: its time from then is the
+    /// whole tick's (tick_times()).
     void
     end_tick();
 
