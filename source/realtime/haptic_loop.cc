@@ -7,6 +7,17 @@
 
 namespace suturesim::realtime
 {
+  namespace
+  {
+    /// A steady-clock duration in µs, as the timing records keep it.
+    template <typename Duration>
+    float
+    microseconds(const Duration d)
+    {
+      return std::chrono::duration<float, std::micro>(d).count();
+    }
+  } // namespace
+
   HapticLoop::HapticLoop(World &w, const double rate, const std::size_t expected_steps,
                          const bool pace)
     : world(w)
@@ -42,13 +53,12 @@ namespace suturesim::realtime
     started                              = std::chrono::steady_clock::now();
     const std::vector<ToolForce> &result = world.step(poses);
     const auto                    spent  = std::chrono::steady_clock::now() - started;
-    const auto                    us     = [](const auto d) { return std::chrono::duration<float, std::micro>(d).count(); };
     const auto                   &phases = world.phases();
-    times.push_back(us(spent));
-    collision.push_back(us(phases.collision));
+    times.push_back(microseconds(spent));
+    collision.push_back(microseconds(phases.collision));
     // the tools' poses computed before the step are part of the coupling
-    coupling.push_back(us(phases.coupling + (started - begun)));
-    solve.push_back(us(spent - phases.collision - phases.coupling));
+    coupling.push_back(microseconds(phases.coupling + (started - begun)));
+    solve.push_back(microseconds(spent - phases.collision - phases.coupling));
     return result;
   }
 
@@ -56,10 +66,9 @@ namespace suturesim::realtime
   HapticLoop::end_tick()
   {
     const auto now = std::chrono::steady_clock::now();
-    const auto us  = [](const auto d) { return std::chrono::duration<float, std::micro>(d).count(); };
-    whole.push_back(us(now - begun));
+    whole.push_back(microseconds(now - begun));
     // after the step
-    recording.push_back(us(now - started) - times.back());
+    recording.push_back(microseconds(now - started) - times.back());
   }
 
   namespace
