@@ -1,3 +1,4 @@
+#include <suturesim/core/coulomb_law.h>
 #include <suturesim/coupling/coulomb_friction.h>
 
 #include <cmath>
@@ -12,7 +13,7 @@ namespace suturesim::coupling
     const double   capacity = friction_limit(p, normal);
     const double   gap      = zeta - anchor;
     const double   trial    = -p.stiffness * gap;
-    if (branch ? !branch->slipping : std::abs(trial) <= capacity)
+    if (branch ? !branch->slipping : coulomb_sticks(p.stiffness, capacity, gap))
       {
         r.force      = trial;
         r.derivative = -p.stiffness;
@@ -22,7 +23,7 @@ namespace suturesim::coupling
     const double sign = branch ? branch->sign : gap > 0 ? 1.0 : -1.0;
     r.force           = -sign * capacity;
     r.derivative      = 0;
-    r.anchor          = p.stiffness > 0 ? zeta - sign * capacity / p.stiffness : zeta;
+    r.anchor          = zeta - sign * coulomb_slip_gap(p.stiffness, capacity);
     r.slipping        = true;
     return r;
   }

@@ -24,6 +24,7 @@ namespace suturesim::rod
         ga.initialize(std::vector<Vec3>(p.model.n_nodes(), Vec3::Zero()),
                       std::vector<Vec3>(p.model.n_nodes(), Vec3::Zero()));
         observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr);
+        p.model.commit_contact();
         double       t          = 0;
         const auto   prescribed = p.prescribed_nodes();
         NewtonResult result;
@@ -44,6 +45,7 @@ namespace suturesim::rod
                              {"step_size", dt},
                              {"kinetic_energy", p.model.kinetic_energy(ga.velocities(), ga.angular_velocities())}},
                             &ga.last_residual());
+          p.model.commit_contact();
         };
         hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
           throw SolverError("suture dynamics step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +

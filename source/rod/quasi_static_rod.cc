@@ -16,6 +16,7 @@ namespace suturesim::rod
       {
         p.set_time(0);
         observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr);
+        p.model.commit_contact();
         double                 t = 0;
         std::vector<Vec3>      x;
         std::vector<Quat>      q;
@@ -39,6 +40,7 @@ namespace suturesim::rod
           observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
                                 {"step_size", dt}},
                             nullptr);
+          p.model.commit_contact();
         };
         hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
           throw SolverError("suture load step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +

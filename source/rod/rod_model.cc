@@ -46,6 +46,22 @@ namespace suturesim::rod
           for (int j = 0; j < 3; ++j)
             extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
     }
+
+    /// Adds a 6×6 block at nodes (a, b).
+    void
+    add_block(const std::size_t a, const std::size_t b, const Mat6 &k)
+    {
+      if (a == b)
+        J.diagonal(a) += k;
+      else if (b == a + 1)
+        J.upper(a) += k;
+      else if (a == b + 1)
+        J.lower(b) += k;
+      else
+        for (int i = 0; i < 6; ++i)
+          for (int j = 0; j < 6; ++j)
+            extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
+    }
   };
 
   RodModel::RodModel(const std::vector<Vec3> &x, const std::vector<Quat> &q,
@@ -106,10 +122,21 @@ namespace suturesim::rod
   void
   RodModel::set_contact(const ContactParameters &parameters)
   {
-    std::vector<double> lengths;
+    std::vector<double> lengths, arc{0.0};
     for (const auto &r : reference)
-      lengths.push_back(r.length);
+      {
+        lengths.push_back(r.length);
+        arc.push_back(arc.back() + r.length);
+      }
     self_contact.setup(parameters, pos, lengths);
+    contact_friction.setup(parameters, arc);
+  }
+
+  void
+  RodModel::commit_contact()
+  {
+    if (contact_friction.active())
+      contact_friction.commit(self_contact.update(pos), pos, rot);
   }
 
   double
@@ -118,7 +145,8 @@ namespace suturesim::rod
     double e = 0;
     for (std::size_t k = 0; k < n_elements(); ++k)
       e += element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness).energy;
-    self_contact.update(pos);
+    for (const auto &c : self_contact.update(pos))
+      e += contact_friction.evaluate(c, pos, rot, false).energy;
     e += self_contact.energy();
     for (std::size_t i = 0; i < n_nodes(); ++i)
       e -= force[i].dot(pos[i]);
@@ -235,6 +263,16 @@ namespace suturesim::rod
               for (int j = 0; j < 4; ++j)
                 s.add_translational(node[i], node[j], H.block<3, 3>(3 * i, 3 * j));
           }
+        if (!contact_friction.active())
+          continue;
+        const FrictionTerm f = contact_friction.evaluate(c, pos, rot, with_jacobian);
+        if (!f.anchored)
+          continue;
+        for (int i = 0; i < 8; ++i)
+          s.r.segment<6>(6 * f.node[i]) += f.residual.segment<6>(6 * i);
+        for (int i = 0; i < 4 && with_jacobian; ++i) // rows: the anchors' nodes only
+          for (int j = 0; j < 8; ++j)
+            s.add_block(f.node[i], f.node[j], f.jacobian.block<6, 6>(6 * i, 6 * j));
       }
   }
 

@@ -229,6 +229,14 @@ namespace suturesim::rod
     prm.declare_entry("Smoothing width", "0", Patterns::Double(0),
                       "Penetration over which the penalty stiffens from 0 to k (C2 "
                       "penalty); 0 = plain quadratic. Unit: m. Range: >= 0.");
+    prm.declare_entry("Friction coefficient", "0", Patterns::Double(0, 10),
+                      "Coulomb mu of the thread on itself, regularised by an elastic stick "
+                      "with history (the pierce points' law), isotropic in the contact's "
+                      "tangent plane (docs/cosserat_rod.md); 0 = frictionless. Unit: 1. "
+                      "Range: [0, 10].");
+    prm.declare_entry("Stick stiffness", "1e3", Patterns::Double(0),
+                      "k_t of the elastic stick before the strands slip on each other. "
+                      "Unit: N/m. Range: > 0.");
     prm.leave_subsection();
 
     prm.enter_subsection("Tissue contact");
@@ -422,6 +430,8 @@ namespace suturesim::rod
     contact.stiffness = prm.get_double("Penalty stiffness");
     contact.smoothing = prm.get_double("Smoothing width");
     contact.radius    = section.radius;
+    contact.friction  = prm.get_double("Friction coefficient");
+    contact.stick_stiffness = prm.get_double("Stick stiffness");
     prm.leave_subsection();
     sc.require(!contact.enabled || contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
 

@@ -430,6 +430,7 @@ namespace suturesim::scene
         swage_pull              = -r.head<6>();
         end_tension             = r.tail<6>().head<3>().norm(); // the grasper's reaction
         stabilization_force     = drag ? drag->total_force(suture->positions()) : 0.0;
+        suture->commit_contact();
       }
     load           = needle->needle_load(x, swage_pull);
     points_changed = needle->accept_step(x);
@@ -472,7 +473,11 @@ namespace suturesim::scene
             x.insert(x.end(), {suture->positions()[i][0], suture->positions()[i][1], suture->positions()[i][2]});
             q.insert(q.end(), {r.w(), r.x(), r.y(), r.z()});
           }
-        j["suture"] = {{"x", x}, {"q", q}};
+        // the self-contact's friction history (rod/contact_friction.h)
+        std::vector<double> anchors;
+        for (const auto &a : suture->friction().anchors())
+          a.write(anchors);
+        j["suture"] = {{"x", x}, {"q", q}, {"friction_anchors", anchors}};
       }
     if (contact)
       j["contact"] = contact->snapshot();
@@ -502,6 +507,18 @@ namespace suturesim::scene
         for (std::size_t i = 0; i < suture->n_nodes(); ++i)
           suture->set_node(i, rod::Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]),
                            rod::Quat(q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]));
+        const auto anchors = j.at("suture").value("friction_anchors", std::vector<double>{});
+        if (anchors.size() % rod::FrictionAnchor::size != 0)
+          throw InputError("--restart: the checkpoint's suture friction anchors are not whole records");
+        std::vector<rod::FrictionAnchor> records;
+        for (std::size_t i = 0; i < anchors.size(); i += rod::FrictionAnchor::size)
+          {
+            records.push_back(rod::FrictionAnchor::read(&anchors[i]));
+            const auto &h = records.back();
+            if (h.a + 1 >= suture->n_nodes() || h.b + 1 >= suture->n_nodes())
+              throw InputError("--restart: a suture friction anchor names a segment the suture does not have");
+          }
+        suture->set_friction_anchors(std::move(records));
         grasped = j.at("grasped").get<bool>();
         grasped_at = io::triple_as<rod::Vec3>(j.at("grasped_at"));
         // the grasper's hold, as hold_suture() set it at the grasp

@@ -62,8 +62,8 @@ namespace suturesim::scene
     if (s.knot == "none")
       return s;
     scope.require(model == "realtime", "Knot",
-                  "the accurate path does not tie knots yet (its rod's self-contact has no friction to hold one): "
-                  "use Model = realtime");
+                  "the accurate path does not tie knots yet (no graspers drive its rod's ends along "
+                  "the planner's instructions): use Model = realtime");
     scope.require(s.normal.norm() > 0, "Projection normal", "must not be zero");
     scope.require(s.speed > 0, "Speed", "must be > 0 m/s");
     scope.require(s.clearance > 0, "Clearance", "must be > 0 m");

@@ -4,6 +4,8 @@
 #include <suturesim/rod/generalized_alpha.h>
 #include <suturesim/rod/rod_model.h>
 
+#include "rod_test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,18 +21,10 @@ namespace
   Vec3
   random_vector(const double scale)
   {
-    std::uniform_real_distribution<double> u(-1, 1);
-    return scale * Vec3(u(rng), u(rng), u(rng));
+    return test_support::random_vector(rng, scale);
   }
 
-  SectionStiffness
-  anisotropic_section()
-  {
-    SectionStiffness s;
-    s.force << 3.0, 1.2, 0.7;
-    s.moment << 0.4, 1.1, 0.9;
-    return s;
-  }
+  using test_support::anisotropic_section;
 
   /// A free rod with a curved, twisted stress-free shape, then moved away from it.
   RodModel
@@ -143,33 +137,15 @@ namespace
     const ElementList springs{2};
     if (variant == 2)
       model.set_element_terms(&spring, &springs);
-    const Eigen::MatrixXd J = model.dense_jacobian(extra);
+    const Eigen::MatrixXd J = model.dense_jacobian(extra); // assembles: the contact forces
     EXPECT_GT(model.contact_forces()[0] + model.contact_forces()[6], 0) << "contact must be active, seed " << seed;
-    Eigen::MatrixXd J_fd(J.rows(), J.cols());
-    const auto      x = model.positions();
-    const auto      q = model.rotations();
-    // central difference of step s of column k: r(x + s e_k) − r(x − s e_k) over 2s
-    const auto difference = [&](const Eigen::Index k, const double s) {
-      Eigen::VectorXd d = Eigen::VectorXd::Zero(J.cols());
-      d[k]              = s;
-      model.update(d);
-      const Eigen::VectorXd rp = model.residual(extra);
-      for (std::size_t i = 0; i < x.size(); ++i)
-        model.set_node(i, x[i], q[i]);
-      model.update(-d);
-      const Eigen::VectorXd rm = model.residual(extra);
-      for (std::size_t i = 0; i < x.size(); ++i)
-        model.set_node(i, x[i], q[i]);
-      return Eigen::VectorXd((rp - rm) / (2 * s));
-    };
-    for (Eigen::Index k = 0; k < J.cols(); ++k)
-      J_fd.col(k) = (4 * difference(k, h) - difference(k, 2 * h)) / 3;
+    const double error = test_support::jacobian_fd_error(model, h, extra);
     if (without_spring != nullptr)
       {
         model.set_element_terms(nullptr, nullptr);
         *without_spring = (J - model.dense_jacobian(extra)).norm();
       }
-    return (J - J_fd).norm() / J.norm();
+    return error;
   }
 } // namespace
 

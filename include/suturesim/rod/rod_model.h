@@ -22,6 +22,7 @@
  */
 
 #include <suturesim/rod/block_tridiagonal.h>
+#include <suturesim/rod/contact_friction.h>
 #include <suturesim/rod/rod_element.h>
 #include <suturesim/rod/self_contact.h>
 
@@ -216,8 +217,25 @@ namespace suturesim::rod
     {
       return self_contact;
     }
+    /// The self-contact's friction and its history (contact_friction.h).
+    const ContactFriction &
+    friction() const
+    {
+      return contact_friction;
+    }
+    /// The current state is accepted: the self-contact's friction anchors return-map to
+    /// it (the integrators call this after every accepted step; a cut-back does not).
+    void
+    commit_contact();
+    /// Replaces the friction history (a checkpoint's, or a test's).
+    void
+    set_friction_anchors(std::vector<FrictionAnchor> anchors)
+    {
+      contact_friction.set_anchors(std::move(anchors));
+    }
 
-    /// Elastic + contact energy minus the work potential of the nodal forces (J); the
+    /// Elastic + contact energy (with the friction's stick or Huber energy at its
+    /// anchors) minus the work potential of the nodal forces (J); the
     /// moments have no potential in 3-D and are left out.
     double
     potential_energy();
@@ -339,6 +357,7 @@ namespace suturesim::rod
     std::vector<std::array<bool, 6>>   fixed;
     std::vector<Vec3>                  force, moment;
     SelfContact                        self_contact;
+    ContactFriction                    contact_friction;
     std::vector<double>                contact_force;
     const ElementTerms                *element_terms = nullptr;
     const ElementList                 *element_list  = nullptr;

@@ -29,6 +29,8 @@ namespace suturesim::rod
     double stiffness = 0;    ///< k, N/m
     double smoothing = 0;    ///< δ, m
     double radius    = 0;    ///< r of the rod, m (contact at centreline distance 2r)
+    double friction  = 0;    ///< μ of the rod on itself (contact_friction.h), 1; 0 = none
+    double stick_stiffness = 1e3; ///< k_t of the elastic stick, N/m
   };
 
   /// One active contact between segments a and b.
