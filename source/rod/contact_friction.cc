@@ -11,9 +11,6 @@ namespace suturesim::rod
 {
   namespace
   {
-    using Mat12 = Eigen::Matrix<double, 12, 12>;
-    using Row12 = Eigen::Matrix<double, 1, 12>;
-
     /// The closest points of a contact as functions of its four nodes x (slots 0–3:
     /// a, a + 1, b, b + 1). At fixed u = (s, t), Δ = Σ_k w_k x_k; B's columns
     /// b_j = ∂Δ/∂u_j = Σ_k c_jk x_k over the interior parameters (a clamped one stays at
