@@ -18,11 +18,6 @@ namespace
 {
   std::mt19937 rng(12345);
 
-  Vec3
-  random_vector(const double scale)
-  {
-    return test_support::random_vector(rng, scale);
-  }
 
   using test_support::anisotropic_section;
 
@@ -40,7 +35,8 @@ namespace
       }
     RodModel model(x, q, anisotropic_section(), 0.7, Vec3(0.01, 0.02, 0.03));
     for (unsigned i = 0; i <= n; ++i)
-      model.set_node(i, x[i] + random_vector(amplitude * 0.1), quaternion_exp(random_vector(amplitude)) * q[i]);
+      model.set_node(i, x[i] + test_support::random_vector(rng, amplitude * 0.1),
+                     quaternion_exp(test_support::random_vector(rng, amplitude)) * q[i]);
     return model;
   }
 
@@ -62,8 +58,10 @@ TEST(RodElement, TangentMatchesFiniteDifferences)
 {
   for (int trial = 0; trial < 20; ++trial)
     {
-      const Vec3 x1 = random_vector(1), x2 = x1 + Vec3(1, 0, 0) + random_vector(0.5);
-      const Quat q1 = quaternion_exp(random_vector(2)), q2 = quaternion_exp(random_vector(0.8)) * q1;
+      const Vec3 x1 = test_support::random_vector(rng, 1);
+      const Vec3 x2 = x1 + Vec3(1, 0, 0) + test_support::random_vector(rng, 0.5);
+      const Quat q1 = quaternion_exp(test_support::random_vector(rng, 2));
+      const Quat q2 = quaternion_exp(test_support::random_vector(rng, 0.8)) * q1;
       ElementReference ref;
       ref.length = 0.9;
       ref.gamma0 = Vec3(1, 0.1, -0.05);
@@ -118,8 +116,8 @@ namespace
     ga.initialize(std::vector<Vec3>(7, Vec3(0.1, 0, 0)), std::vector<Vec3>(7, Vec3(0, 0.5, 0)));
     // move away from tₙ so that Ψ ≠ 0
     for (std::size_t i = 0; i < 7; ++i)
-      model.set_node(i, model.positions()[i] + random_vector(0.01),
-                     quaternion_exp(random_vector(0.2)) * model.rotations()[i]);
+      model.set_node(i, model.positions()[i] + test_support::random_vector(rng, 0.01),
+                     quaternion_exp(test_support::random_vector(rng, 0.2)) * model.rotations()[i]);
     const NodalTerms  terms = ga.inertia_terms(0.01);
     const NodalTerms *extra = variant == 1 ? &terms : nullptr;
     // a spring k (c − p) at c = 0.3 x₂ + 0.7 x₃ (element 2) towards a fixed point p

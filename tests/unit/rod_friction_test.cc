@@ -17,11 +17,6 @@ namespace
 {
   std::mt19937 rng(2026);
 
-  Vec3
-  random_vector(const double scale)
-  {
-    return test_support::random_vector(rng, scale);
-  }
 
   /// A rod whose last segment crosses its first one 0.09 above it (contact distance
   /// 2 r = 0.1): the closest points are interior to both segments, so both parameters
@@ -34,7 +29,8 @@ namespace
                         Vec3(0.05, -0.5, 0.09)};
     if (!crossing)
       x.back() = Vec3(0.1, 0.02, 0.07);
-    RodModel model(x, std::vector<Quat>(x.size(), Quat::Identity()), test_support::anisotropic_section(), 0.7, Vec3(0.01, 0.02, 0.03));
+    RodModel model(x, std::vector<Quat>(x.size(), Quat::Identity()), test_support::anisotropic_section(), 0.7,
+                   Vec3(0.01, 0.02, 0.03));
     model.set_contact(ContactParameters{true, 50.0, 0.01, 0.05, mu, stick});
     return model;
   }
@@ -59,8 +55,8 @@ namespace
     model.commit_contact();
     ASSERT_EQ(model.friction().anchors().size(), 1u);
     for (std::size_t i = 0; i < model.n_nodes(); ++i)
-      model.set_node(i, model.positions()[i] + random_vector(move),
-                     quaternion_exp(random_vector(0.2)) * model.rotations()[i]);
+      model.set_node(i, model.positions()[i] + test_support::random_vector(rng, move),
+                     quaternion_exp(test_support::random_vector(rng, 0.2)) * model.rotations()[i]);
   }
 
 } // namespace
@@ -135,8 +131,10 @@ TEST(RodFriction, ForcesAndMomentsAreThoseOfFrictionAtTheSurfaces)
       // the anchored surface points, by their definition
       const FrictionAnchor &h = model.friction().anchors()[0];
       const double          r = model.contact().parameters().radius;
-      const Vec3 Pa = (1 - h.s) * (x[h.a] + r * (q[h.a] * h.nu_a[0])) + h.s * (x[h.a + 1] + r * (q[h.a + 1] * h.nu_a[1]));
-      const Vec3 Pb = (1 - h.t) * (x[h.b] + r * (q[h.b] * h.nu_b[0])) + h.t * (x[h.b + 1] + r * (q[h.b + 1] * h.nu_b[1]));
+      const Vec3 Pa =
+        (1 - h.s) * (x[h.a] + r * (q[h.a] * h.nu_a[0])) + h.s * (x[h.a + 1] + r * (q[h.a + 1] * h.nu_a[1]));
+      const Vec3 Pb =
+        (1 - h.t) * (x[h.b] + r * (q[h.b] * h.nu_b[0])) + h.t * (x[h.b + 1] + r * (q[h.b + 1] * h.nu_b[1]));
       const Vec3 force = 20.0 * f.slip;
       Vec3       total = Vec3::Zero(), moment = Vec3::Zero();
       for (int k = 0; k < 8; ++k)
