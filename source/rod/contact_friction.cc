@@ -11,67 +11,53 @@ namespace suturesim::rod
 {
   namespace
   {
-    /// The closest points of a contact as functions of its four nodes x (slots 0–3:
-    /// a, a + 1, b, b + 1). At fixed u = (s, t), Δ = Σ_k w_k x_k; B's columns
-    /// b_j = ∂Δ/∂u_j = Σ_k c_jk x_k over the interior parameters (a clamped one stays at
-    /// 0 or 1); U = du/dx = −(BᵀB)⁻¹ F_x from F = BᵀΔ = 0; G = dΔ/dx = A + B U.
-    struct ClosestPoints
+    /// dΔ/dx (3 × 12) of the closest points' vector Δ = p − q over the contact's four
+    /// nodes (a, a + 1, b, b + 1): A + B du/dx. At fixed u = (s, t), Δ = Σ_k w_k x_k;
+    /// B's columns b_j = ∂Δ/∂u_j = Σ_k c_jk x_k over the interior parameters (a clamped
+    /// one stays at 0 or 1); du/dx = −(BᵀB)⁻¹ F_x from F = BᵀΔ = 0.
+    Eigen::Matrix<double, 3, 12>
+    closest_point_sensitivity(const ContactPair &c, const std::vector<Vec3> &x)
     {
-      std::array<double, 4>                w{};
-      int                                  m = 0;
+      const std::array<double, 4> w{{1 - c.s, c.s, -(1 - c.t), -c.t}};
+      const Vec3 delta = (1 - c.s) * x[c.a] + c.s * x[c.a + 1] - (1 - c.t) * x[c.b] - c.t * x[c.b + 1];
       std::array<Vec3, 2>                  b;
-      std::array<std::array<double, 4>, 2> c{};
-      Eigen::Matrix2d                      inverse = Eigen::Matrix2d::Zero(); // (BᵀB)⁻¹
-      Eigen::Matrix<double, 2, 12>         U       = Eigen::Matrix<double, 2, 12>::Zero();
-      Eigen::Matrix<double, 3, 12>         G       = Eigen::Matrix<double, 3, 12>::Zero();
-      Vec3                                 delta;
-    };
-
-    ClosestPoints
-    closest_points(const ContactPair &c, const std::vector<Vec3> &x)
-    {
-      ClosestPoints k;
-      k.w     = {{1 - c.s, c.s, -(1 - c.t), -c.t}};
-      k.delta = (1 - c.s) * x[c.a] + c.s * x[c.a + 1] - (1 - c.t) * x[c.b] - c.t * x[c.b + 1];
+      std::array<std::array<double, 4>, 2> coefficient{};
+      int                                  m = 0;
       if (c.s > 0 && c.s < 1)
         {
-          k.b[k.m] = x[c.a + 1] - x[c.a];
-          k.c[k.m] = {{-1, 1, 0, 0}};
-          ++k.m;
+          b[m]           = x[c.a + 1] - x[c.a];
+          coefficient[m] = {{-1, 1, 0, 0}};
+          ++m;
         }
       if (c.t > 0 && c.t < 1)
         {
-          k.b[k.m] = x[c.b] - x[c.b + 1];
-          k.c[k.m] = {{0, 0, 1, -1}};
-          ++k.m;
+          b[m]           = x[c.b] - x[c.b + 1];
+          coefficient[m] = {{0, 0, 1, -1}};
+          ++m;
         }
+      Eigen::Matrix<double, 3, 12> G;
       for (int n = 0; n < 4; ++n)
-        k.G.block<3, 3>(0, 3 * n) = k.w[n] * Mat3::Identity();
-      if (k.m == 0)
-        return k;
-      Eigen::MatrixXd BtB(k.m, k.m);
-      for (int i = 0; i < k.m; ++i)
-        for (int j = 0; j < k.m; ++j)
-          BtB(i, j) = k.b[i].dot(k.b[j]);
+        G.block<3, 3>(0, 3 * n) = w[n] * Mat3::Identity();
+      if (m == 0)
+        return G;
+      Eigen::MatrixXd BtB(m, m), Fx(m, 12);
+      for (int i = 0; i < m; ++i)
+        {
+          for (int j = 0; j < m; ++j)
+            BtB(i, j) = b[i].dot(b[j]);
+          for (int n = 0; n < 4; ++n)
+            Fx.block<1, 3>(i, 3 * n) = coefficient[i][n] * delta.transpose() + w[n] * b[i].transpose();
+        }
       // the same test as the normal contact's sensitivity (rod_model.cc): parallel
       // segments have no unique closest points, and their parameters no derivative
       const Eigen::FullPivLU<Eigen::MatrixXd> lu(BtB);
       if (!lu.isInvertible())
-        {
-          k.m = 0;
-          return k;
-        }
-      k.inverse.topLeftCorner(k.m, k.m) = lu.inverse();
-      Eigen::Matrix<double, 2, 12> Fx = Eigen::Matrix<double, 2, 12>::Zero();
-      for (int j = 0; j < k.m; ++j)
-        for (int n = 0; n < 4; ++n)
-          Fx.block<1, 3>(j, 3 * n) = k.c[j][n] * k.delta.transpose() + k.w[n] * k.b[j].transpose();
-      k.U.topRows(k.m) = -k.inverse.topLeftCorner(k.m, k.m) * Fx.topRows(k.m);
-      for (int j = 0; j < k.m; ++j)
-        k.G += k.b[j] * k.U.row(j);
-      return k;
+        return G;
+      const Eigen::MatrixXd U = -lu.solve(Fx);
+      for (int j = 0; j < m; ++j)
+        G += b[j] * U.row(j);
+      return G;
     }
-
   } // namespace
 
   void
@@ -185,9 +171,9 @@ namespace suturesim::rod
       df = stiffness * J;
     else
       {
-        const ClosestPoints          k  = closest_points(c, x);
-        const Vec3                   e  = t.slip / slip;
-        const Eigen::Matrix<double, 1, 12> dN = -c.stiffness * c.normal.transpose() * k.G;
+        const Vec3                         e  = t.slip / slip;
+        const Eigen::Matrix<double, 1, 12> dN =
+          -c.stiffness * c.normal.transpose() * closest_point_sensitivity(c, x);
         df = (t.capacity / slip) * (Mat3::Identity() - e * e.transpose()) * J;
         for (int n = 0; n < 4; ++n)
           df.block<3, 3>(0, 6 * (4 + n)) += mu * e * dN.segment<3>(3 * n);

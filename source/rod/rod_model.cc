@@ -31,36 +31,28 @@ namespace suturesim::rod
       J.reset(n);
     }
 
+    /// Adds an n×n block (n = 3: translations; 6: the whole node) at nodes (a, b).
+    template <int n>
+    void
+    add_block(const std::size_t a, const std::size_t b, const Eigen::Matrix<double, n, n> &k)
+    {
+      if (a == b)
+        J.diagonal(a).template topLeftCorner<n, n>() += k;
+      else if (b == a + 1)
+        J.upper(a).template topLeftCorner<n, n>() += k;
+      else if (a == b + 1)
+        J.lower(b).template topLeftCorner<n, n>() += k;
+      else
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j)
+            extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
+    }
+
     /// Adds a 3×3 translational block at nodes (a, b).
     void
     add_translational(const std::size_t a, const std::size_t b, const Mat3 &k)
     {
-      if (a == b)
-        J.diagonal(a).topLeftCorner<3, 3>() += k;
-      else if (b == a + 1)
-        J.upper(a).topLeftCorner<3, 3>() += k;
-      else if (a == b + 1)
-        J.lower(b).topLeftCorner<3, 3>() += k;
-      else
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j)
-            extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
-    }
-
-    /// Adds a 6×6 block at nodes (a, b).
-    void
-    add_block(const std::size_t a, const std::size_t b, const Mat6 &k)
-    {
-      if (a == b)
-        J.diagonal(a) += k;
-      else if (b == a + 1)
-        J.upper(a) += k;
-      else if (a == b + 1)
-        J.lower(b) += k;
-      else
-        for (int i = 0; i < 6; ++i)
-          for (int j = 0; j < 6; ++j)
-            extra.emplace_back(6 * a + i, 6 * b + j, k(i, j));
+      add_block<3>(a, b, k);
     }
   };
 
@@ -268,11 +260,14 @@ namespace suturesim::rod
         const FrictionTerm f = contact_friction.evaluate(c, pos, rot, with_jacobian);
         if (!f.anchored)
           continue;
-        for (int i = 0; i < 8; ++i)
-          s.r.segment<6>(6 * f.node[i]) += f.residual.segment<6>(6 * i);
-        for (int i = 0; i < 4 && with_jacobian; ++i) // rows: the anchors' nodes only
-          for (int j = 0; j < 8; ++j)
-            s.add_block(f.node[i], f.node[j], f.jacobian.block<6, 6>(6 * i, 6 * j));
+        // rows: the anchors' nodes only (the contact's own nodes, slots 4–7, enter
+        // through the normal force's columns)
+        for (int i = 0; i < 4; ++i)
+          {
+            s.r.segment<6>(6 * f.node[i]) += f.residual.segment<6>(6 * i);
+            for (int j = 0; j < 8 && with_jacobian; ++j)
+              s.add_block<6>(f.node[i], f.node[j], f.jacobian.block<6, 6>(6 * i, 6 * j));
+          }
       }
   }
 
