@@ -227,24 +227,16 @@ namespace suturesim::knot
   }
 
   nlohmann::json
-  knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope)
+  diagram_metrics(const Eigen::Matrix3Xd &rope, const Projection &projection)
   {
-    const KnotDiagram diagram(rope, planner.projection());
-    const GaussCode  raw = diagram.gauss_code(), code = raw.reduced();
-    const GaussCode  planned = tied_code(planner.plan());
-    const auto      &n       = planner.projection().n;
-    nlohmann::json   m       = {{"knot", planner.settings().knot},
-                                {"phase", KnotPlanner::name(planner.phase())},
-                                {"instructions", planner.plan().size()},
-                                {"instructions_done", planner.instructions_done()},
-                                {"crossings", code.crossings()},
-                                {"gauss_code", code.text()},
-                                {"raw_crossings", raw.crossings()},
-                                {"raw_gauss_code", raw.text()},
-                                {"planned_gauss_code", planned.text()},
-                                {"tied", code == planned},
-                                {"projection_normal", {n[0], n[1], n[2]}},
-                                {"shortening", planner.shortening()}};
+    const KnotDiagram diagram(rope, projection);
+    const GaussCode   raw = diagram.gauss_code(), code = raw.reduced();
+    const auto       &n   = projection.n;
+    nlohmann::json    m   = {{"crossings", code.crossings()},
+                             {"gauss_code", code.text()},
+                             {"raw_crossings", raw.crossings()},
+                             {"raw_gauss_code", raw.text()},
+                             {"projection_normal", {n[0], n[1], n[2]}}};
     // where the raw code's crossings lie (on their first strand, m), in the order of their
     // labels: their first occurrences along the rope
     std::vector<Crossing> crossings(diagram.crossings());
@@ -255,6 +247,21 @@ namespace suturesim::knot
         const Eigen::Vector3d p = diagram.point(c.a);
         m["crossing_points"].push_back({p[0], p[1], p[2]});
       }
+    return m;
+  }
+
+  nlohmann::json
+  knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope)
+  {
+    nlohmann::json  m       = diagram_metrics(rope, planner.projection());
+    const GaussCode planned = tied_code(planner.plan());
+    m["knot"]               = planner.settings().knot;
+    m["phase"]              = KnotPlanner::name(planner.phase());
+    m["instructions"]       = planner.plan().size();
+    m["instructions_done"]  = planner.instructions_done();
+    m["planned_gauss_code"] = planned.text();
+    m["tied"]               = m["gauss_code"] == planned.text();
+    m["shortening"]         = planner.shortening();
     if (!planner.failure().empty())
       {
         m["failure"]      = planner.failure();

@@ -73,7 +73,7 @@ namespace suturesim::rod
 
   KnotTightening::KnotTightening(const KnotTighteningParameters &parameters)
     : prm(parameters)
-    , knot(open_trefoil(prm.knot_scale * prm.radius, prm.tail * prm.radius, prm.element * prm.radius))
+    , knot(open_trefoil(prm.knot_size, prm.tail, prm.element))
     , frames(transported_frames(knot))
     , rest(lengths(knot))
     , rod(make(1, 0, knot, frames))
@@ -82,7 +82,13 @@ namespace suturesim::rod
   double
   KnotTightening::bending_stiffness() const
   {
-    return prm.youngs_modulus * M_PI * std::pow(prm.radius, 4) / 4;
+    return prm.section.moment[1];
+  }
+
+  Vec3
+  KnotTightening::projection_normal()
+  {
+    return Vec3::UnitZ();
   }
 
   double
@@ -107,23 +113,20 @@ namespace suturesim::rod
         xr.push_back(xr.back() + mid * (s * chord + (1 - s) * rest[i] * Vec3::UnitX()));
         qr.push_back(qr.back() * quaternion_exp(s * psi));
       }
-    const double     B     = bending_stiffness();
-    const double     axial = prm.axial_factor * prm.youngs_modulus * M_PI * prm.radius * prm.radius;
-    SectionStiffness section;
-    section.force << axial, axial, axial;
-    section.moment << B / (1 + prm.poisson), B, B;
-    RodModel m(xr, qr, section, 0, Vec3::Zero());
+    RodModel m(xr, qr, prm.section, 0, Vec3::Zero());
     for (std::size_t i = 0; i < x.size(); ++i)
       m.set_node(i, x[i], q[i]);
-    m.set_contact(ContactParameters{true, prm.contact_stiffness, prm.smoothing * prm.radius, prm.radius,
-                                    prm.friction, prm.stick_stiffness});
+    ContactParameters contact = prm.contact;
+    contact.enabled           = true;
+    contact.radius            = prm.radius;
+    m.set_contact(contact);
     m.constrain(0, {{true, true, true, true, false, false}});
     m.constrain(x.size() - 1, {{false, true, true, false, false, false}});
     m.forces().back() = tension * Vec3::UnitX();
     return m;
   }
 
-  bool
+  std::string
   KnotTightening::settle(RodModel &m, unsigned &iterations) const
   {
     const double     h = prm.radius, B = bending_stiffness();
@@ -139,14 +142,27 @@ namespace suturesim::rod
       drag.add(i, x, r, J);
     };
     iterations = 0;
+    // pseudo-time steps of dt ≤ 1 s: one that fails is retried from where it started
+    // at a tenth of dt (a stiffer drag, a shorter move: a snap of the knot is followed
+    // rather than jumped), and dt grows back by 2 after each success
+    double dt = 1;
     for (int step = 0; step < 400; ++step)
       {
-        start = m.positions();
-        drag.begin_step(&start, 1.0);
+        start                        = m.positions();
+        const std::vector<Quat> turn = m.rotations();
+        drag.begin_step(&start, dt);
         const auto result = m.solve(newton, &terms);
         iterations += result.iterations;
         if (!result.converged)
-          return false;
+          {
+            if (dt < 1e-4)
+              return "pseudo-time step " + std::to_string(step + 1) + ": " + result.reason;
+            for (std::size_t i = 0; i < start.size(); ++i)
+              m.set_node(i, start[i], turn[i]);
+            dt *= 0.1;
+            continue;
+          }
+        dt = std::min(1.0, 2 * dt);
         // the drag is what holds the nodes out of balance: the state is an equilibrium
         // once no node's drag exceeds 10⁻⁵ B/h² (≤ 0.04 % of the tensions pulled here)
         Vec6   r;
@@ -159,9 +175,9 @@ namespace suturesim::rod
             largest = std::max(largest, r.head<3>().norm());
           }
         if (largest < 1e-5 * B / (h * h))
-          return true;
+          return "";
       }
-    return false;
+    return "still moving after 400 pseudo-time steps";
   }
 
   bool
@@ -169,22 +185,24 @@ namespace suturesim::rod
   {
     // p from 0 to 1: the tension ramped on the stress-free knot; from 1 to 2: the rest
     // shape straightened under it
-    const double F0 = prm.pretension * bending_stiffness() / (prm.radius * prm.radius);
+    const double F0 = prm.pretension;
     double       p = 0, dp = 0.1;
     while (p < 2)
       {
         if (dp < 1e-4)
           {
             why = "the knot could not be tied: no equilibrium at p = " + std::to_string(p + dp) +
-                  " (tension ramped to 1, rest shape straightened to 2)";
+                  " (tension ramped to 1, rest shape straightened to 2): " + why;
             return false;
           }
         const double next_p = std::min(2.0, p + dp);
         RodModel     next   = make(std::min(1.0, 2 - next_p), F0 * std::min(1.0, next_p), rod.positions(),
                                    rod.rotations());
-        if (!settle(next, last_iterations))
+        const std::string failed = settle(next, last_iterations);
+        if (!failed.empty())
           {
             dp *= 0.5;
+            why = failed;
             continue;
           }
         rod = std::move(next);
@@ -208,14 +226,14 @@ namespace suturesim::rod
   bool
   KnotTightening::pull()
   {
-    const double step = prm.pull_step * prm.radius;
+    const double step = prm.pull_step;
     double       left = step, sub = step;
     last_iterations   = 0;
     while (left > 0)
       {
         if (sub < 1e-3 * step)
           {
-            why = "no equilibrium after pulling " + std::to_string(pulled / prm.radius) + " h";
+            why = "no equilibrium after pulling " + std::to_string(pulled / prm.radius) + " h: " + why;
             return false;
           }
         // predictor: the tail beyond the knot's last contact moves with its end
@@ -226,12 +244,13 @@ namespace suturesim::rod
           --tail;
         for (std::size_t i = tail; i < rod.n_nodes(); ++i)
           trial.set_node(i, rod.positions()[i] + sub * Vec3::UnitX(), rod.rotations()[i]);
-        unsigned iterations = 0;
-        const bool ok       = settle(trial, iterations);
+        unsigned          iterations = 0;
+        const std::string failed     = settle(trial, iterations);
         last_iterations += iterations;
-        if (!ok)
+        if (!failed.empty())
           {
             sub *= 0.5;
+            why = failed;
             continue;
           }
         rod = std::move(trial);

@@ -17,13 +17,15 @@ namespace suturesim::scene
                       "deal.II + PETSc, implicit; geometrically exact Cosserat-rod suture) or "
                       "'realtime' (the seed papers' reduced models at haptic rate; subsection "
                       "Realtime).");
-    prm.declare_entry("Bodies", "tissue", Patterns::Selection("tissue|suture|tissue and suture|fracture specimen"),
+    prm.declare_entry("Bodies", "tissue", Patterns::Selection("tissue|suture|tissue and suture|fracture specimen|knot specimen"),
                       "What the scene simulates: 'tissue' (subsections Mesh, Tissue), "
                       "'suture' (subsection Suture), both in contact ('tissue and "
                       "suture'; the accurate path couples them through a needle's pierce "
                       "points, the suture attached at its swage), or a 'fracture specimen' "
                       "(subsection Fracture specimen; accurate path: phase-field fracture "
-                      "against linear elastic fracture mechanics). "
+                      "against linear elastic fracture mechanics), or a 'knot specimen' (subsection Knot "
+                      "specimen with the Suture's Cross section and Self-contact; accurate path: an overhand "
+                      "knot pulled tight against Audoly et al. 2007). "
                       "Unit: none.");
     prm.enter_subsection("Suture");
     rod::RodParameters::declare(prm);

@@ -25,8 +25,7 @@ namespace
   tighten(const double mu, const int steps)
   {
     KnotTighteningParameters prm;
-    prm.friction  = mu;
-    prm.pull_step = 2;
+    prm.contact.friction = mu;
     KnotTightening knot(prm);
     Curve          curve;
     EXPECT_TRUE(knot.tie()) << knot.failure();

@@ -35,24 +35,34 @@
 
 namespace suturesim::rod
 {
+  /// A circular section of radius @p r and Young's modulus @p E, B = E π r⁴/4 and
+  /// GJ = B/(1 + ν), with EA and GA @p axial_factor times E π r²: a nearly inextensible,
+  /// unshearable rod, as the theory's Kirchhoff rod (a tight knot's strain would
+  /// otherwise be about ε⁴/8).
+  inline SectionStiffness
+  kirchhoff_section(const double r, const double E, const double nu, const double axial_factor)
+  {
+    const double     B = E * M_PI * r * r * r * r / 4, axial = axial_factor * E * M_PI * r * r;
+    SectionStiffness s;
+    s.force << axial, axial, axial;
+    s.moment << B / (1 + nu), B, B;
+    return s;
+  }
+
+  /// Lengths in m, forces in N (SI); the defaults are a rubber-like rod of radius 1 mm.
   struct KnotTighteningParameters
   {
-    double radius         = 1e-3; ///< h, m
-    double youngs_modulus = 1e7;  ///< E, Pa (B = E π h⁴/4)
-    double poisson        = 0.3;  ///< ν (GJ = B/(1 + ν))
-    /// EA and GA as this multiple of E π h²: a nearly inextensible, unshearable rod, as
-    /// the theory's Kirchhoff rod (the tight knot's strain would otherwise be ε⁴/8).
-    double axial_factor = 100;
-    double knot_scale   = 6;    ///< a/h of the trefoil
-    double tail         = 20;   ///< each tail's length, in h
-    double element      = 0.75; ///< element length, in h
-    double contact_stiffness = 1e4;  ///< penalty k, N/m
-    double smoothing         = 0.05; ///< penalty smoothing δ, in h
-    double friction          = 0;    ///< μ
-    double stick_stiffness   = 1e4;  ///< k_t, N/m
-    double pretension        = 2.5e-3; ///< F₀, in B/h²
-    double pull_step         = 1;      ///< end displacement per step, in h
-    double drag              = 10;     ///< pseudo-time drag, N s/m² (over steps of 1 s)
+    double           radius  = 1e-3;                                   ///< h, m
+    SectionStiffness section = kirchhoff_section(1e-3, 1e7, 0.3, 100); ///< B = EI₂ = EI₃
+    /// Penalty k (N/m) and smoothing δ (m), friction μ and stick stiffness k_t (N/m);
+    /// enabled and radius are set from the above.
+    ContactParameters contact{true, 1e4, 5e-5, 1e-3, 0, 1e4};
+    double knot_size  = 6e-3;    ///< a, the trefoil's scale, m
+    double tail       = 20e-3;   ///< each tail's length, m
+    double element    = 0.75e-3; ///< element length, m
+    double pretension = 0.0196;  ///< F₀, N (2.5·10⁻³ B/h² here)
+    double pull_step  = 2e-3;    ///< end displacement per pull(), m
+    double drag       = 10;      ///< pseudo-time drag, N s/m² (over steps of 1 s)
   };
 
   /// One equilibrium of the pulled knot.
@@ -98,6 +108,13 @@ namespace suturesim::rod
       return why;
     }
 
+    /// The direction the knot's diagram is read along: z, across the tails (along x).
+    /// The laid trefoil's own plane is tilted 45° from it about y (the tails leave the
+    /// lobe's tip at 45° out of that plane): seen along z its three crossings stay, and
+    /// the tails, in the view's plane, cross nothing.
+    static Vec3
+    projection_normal();
+
     /// Audoly et al.'s F h²/B at ε = √(h/R) for a trefoil with friction μ.
     static double
     audoly_tension(double eps, double mu);
@@ -115,7 +132,8 @@ namespace suturesim::rod
 
     RodModel
     make(double s, double tension, const std::vector<Vec3> &x, const std::vector<Quat> &q) const;
-    bool
+    /// Solves @p m to equilibrium (above); what failed, or empty.
+    std::string
     settle(RodModel &m, unsigned &iterations) const;
     /// Commits the friction's anchors and reads the end force.
     void

@@ -203,7 +203,7 @@ namespace suturesim::scene
        "when Bodies = tissue and suture (Model = accurate)",
        nullptr,
        [](const SceneParameters &s) {
-         return s.model == "accurate" && s.has_tissue() && s.bodies != "fracture specimen" &&
+         return s.model == "accurate" && s.has_tissue() && s.bodies != "fracture specimen" && s.bodies != "knot specimen" &&
                 (s.needle.present() || s.bodies == "tissue and suture");
        },
        [](ParameterHandler &prm, SceneParameters &s) { return std::unique_ptr<Scenario>(new AccurateNeedle(prm, s)); }});

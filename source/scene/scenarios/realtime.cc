@@ -181,7 +181,9 @@ namespace suturesim::scene
          RealtimeSettings::declare(prm);
          prm.leave_subsection();
        },
-       [](const SceneParameters &s) { return s.model == "realtime" && s.bodies != "fracture specimen"; },
+       [](const SceneParameters &s) {
+         return s.model == "realtime" && s.bodies != "fracture specimen" && s.bodies != "knot specimen";
+       },
        [](ParameterHandler &prm, SceneParameters &s) { return std::unique_ptr<Scenario>(new Realtime(prm, s)); }});
   } // namespace
 } // namespace suturesim::scene
