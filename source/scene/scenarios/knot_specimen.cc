@@ -8,9 +8,10 @@
  * Records: forces.csv (one row per pull step: the pull, the shortening, the end
  * force, R where the rope leaves the braid, ε = √(h/R), F h²/B and the law's value, the
  * least centreline distance of the strands in contact over 2h), suture.pvd (the rod at
- * every step), and summary.json's metrics.knot_tightening and metrics.knot (the knot's
- * diagram seen across the tails after the pull, for postprocess/plot_knot.py; "tied":
- * its Gauss code is the overhand's, O1 U2 O3 U1 O2 U3, or that code's mirror image).
+ * every step, its time the pull in m), and summary.json's metrics.knot_tightening and
+ * metrics.knot (the knot's diagram seen across the tails after the pull, for
+ * postprocess/plot_knot.py; "tied": its Gauss code is the overhand's, O1 U2 O3 U1 O2
+ * U3, or that code's mirror image).
  */
 #include <suturesim/core/error.h>
 #include <suturesim/knot/planner.h>
@@ -152,7 +153,7 @@ namespace suturesim::scene
               const double law = rod::KnotTightening::audoly_tension(eps, mu);
               recorder.add_row({s.pulled, s.shortening, s.force, s.radius, eps, fbar, law, s.closest,
                                 double(s.contacts), double(s.iterations)});
-              write_suture_vtu(knot.model(), h, k, k, recorder);
+              write_suture_vtu(knot.model(), h, k, s.pulled, recorder); // ParaView's time: the pull, m
               curve.add(fbar / law, s.closest, s.force * s.radius * s.radius / B);
               pcout << "  pulled " << s.pulled << " m: F = " << s.force << " N, R = " << s.radius
                     << " m, eps = " << eps << ", F/law = " << fbar / law << "\n";
