@@ -18,6 +18,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import vtu  # noqa: E402
+from figure import save_png_and_pdf  # noqa: E402
 
 import matplotlib  # noqa: E402
 
@@ -102,11 +103,7 @@ def main(argv):
         for row in (0, 1):
             dots = draw(axes[row][column], p, h, at, knot, zoom=row == 1, heading=about(summary))
             fig.colorbar(dots, ax=axes[row][column], label="height along the normal [mm]", shrink=0.8)
-    out = out or runs[0] / "knot.png"
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    fig.savefig(out.with_suffix(".pdf"))
-    print(f"wrote {out} and {out.with_suffix('.pdf')}")
+    save_png_and_pdf(fig, out or runs[0] / "knot.png")
 
 
 if __name__ == "__main__":

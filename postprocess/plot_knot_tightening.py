@@ -15,6 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from figure import save_png_and_pdf  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -76,11 +79,7 @@ def main(argv):
     right.invert_xaxis()
     right.legend(fontsize=8)
     right.set_title("tightening curve (pulled: e falls)")
-    out = out or runs[0] / "knot_tightening.png"
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    fig.savefig(out.with_suffix(".pdf"))
-    print(f"wrote {out} and {out.with_suffix('.pdf')}")
+    save_png_and_pdf(fig, out or runs[0] / "knot_tightening.png")
 
 
 if __name__ == "__main__":
