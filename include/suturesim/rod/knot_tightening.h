@@ -14,10 +14,10 @@
  *   3. the last end is then held where F₀ left it and pulled along x, step by step.
  * Every stage, and every pull step, is solved to equilibrium through pseudo-time steps
  * with a small viscous drag (viscous_drag.h), which keeps each Newton solve well posed
- * however slack the knot, until no node's drag exceeds 10⁻⁵ B/h²; a stage or step whose
- * solve fails is halved. The first end's twist is held (it removes
- * the rigid rotation about the tails' axis), the last end's is free, so that no twist
- * is stored in the rod.
+ * however slack the knot, until no node's drag exceeds 10⁻⁵ B/h². A stage or step whose
+ * solve fails is halved; a pseudo-time step that fails is retried at a tenth of its
+ * length. The first end's twist is held (it removes the rigid rotation about the tails'
+ * axis), the last end's is free, so that no twist is stored in the rod.
  *
  * At each state it reports what Audoly, Clauvelin & Neukirch (PRL 99, 164301, 2007)
  * relate: the end tension F (the first end's reaction along x) and the radius of
@@ -25,7 +25,9 @@
  * node in contact). Their law for a trefoil, in ε = √(h/R), h the rod's radius and B
  * its bending stiffness:
  *   F h²/B = ε⁴/2 + μ σ ε³,  σ = 0.492,
- * leading order in ε and in the friction coefficient μ (references.md).
+ * leading order in ε and in the friction coefficient μ (as references.md and the
+ * discrete-elastic-rod code dismech-newton's examples/overhand_knot.py state it; the
+ * paper was not reachable here). Measured against it: docs/knots.md.
  */
 
 #include <suturesim/rod/rod_model.h>
