@@ -17,6 +17,7 @@ namespace
   {
     std::vector<KnotState> states;
     double                 least_closest = 1; ///< in 2h, over every state
+    double                 h = 0, B = 0;      ///< the rod's radius (m), bending stiffness (N m²)
   };
 
   /// Ties the knot and pulls its last end @p steps times by 2 h, asserting that every
@@ -30,6 +31,8 @@ namespace
     Curve          curve;
     EXPECT_TRUE(knot.tie()) << knot.failure();
     const double h = prm.radius, B = knot.bending_stiffness();
+    curve.h = h;
+    curve.B = B;
     std::printf("mu = %.2f: %zu nodes; pulled  e/h  F [N]  R/h  eps  F h^2/B  Audoly  ratio  closest/2h\n", mu,
                 knot.model().n_nodes());
     for (int k = 0; k < steps; ++k)
@@ -76,8 +79,7 @@ TEST(RodKnot, AnOverhandKnotPulledTightFollowsTheLoopLawAndKeepsItsStrandsApart)
     }
   const double m     = curve.states.size();
   const double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
-  KnotTighteningParameters prm;
-  const double B = KnotTightening(prm).bending_stiffness();
+  const double B     = curve.B;
   std::printf("log F against log R: slope %.3f (law: -2); F R^2/B = %.3f on average (law: 0.5); "
               "least distance %.4f of 2h (interpenetration %.2f %% of h)\n",
               slope, prefactor / m / B, curve.least_closest, 200 * (1 - curve.least_closest));
@@ -92,8 +94,7 @@ TEST(RodKnot, WithFrictionTheTensionIsAudolyEtAlsWithinAQuarter)
   const double mu    = 0.1;
   const Curve  curve = tighten(mu, 25);
   ASSERT_GE(curve.states.size(), 20u);
-  KnotTighteningParameters prm;
-  const double h = prm.radius, B = KnotTightening(prm).bending_stiffness();
+  const double h = curve.h, B = curve.B;
   double       worst = 0;
   for (const auto &s : curve.states)
     {
