@@ -52,6 +52,17 @@ def about(summary):
     return f"{summary.get('scene', '')}{model}"
 
 
+def status(knot):
+    """Whether the code is the planned one; a knot specimen's (reads_planned_code) may
+    also be tied as its determinant tells with a diagram the reductions do not bring
+    down to the planned one."""
+    if knot.get("reads_planned_code", knot["tied"]):
+        return "as planned"
+    if knot["tied"]:
+        return f"determinant {knot['determinant']}: the planned knot"
+    return "not the planned " + knot["planned_gauss_code"]
+
+
 def draw(ax, p, h, at, knot, zoom, heading):
     """The projected rope p coloured by height h; zoomed on its crossings at (projected,
     in the order of their labels), numbered."""
@@ -73,8 +84,7 @@ def draw(ax, p, h, at, knot, zoom, heading):
         ax.set_title("the knot, crossings numbered as in the raw Gauss code", fontsize=9)
     else:
         ax.set_title(f"{heading}\n{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
-                     f" ({'as planned' if knot['tied'] else 'not the planned ' + knot['planned_gauss_code']})",
-                     fontsize=9)
+                     f" ({status(knot)})", fontsize=9)
         ax.legend(fontsize=8, loc="best")
     return dots
 
@@ -101,7 +111,8 @@ def main(argv):
         c = np.asarray(knot.get("crossing_points", []), float).reshape(-1, 3)
         at = np.column_stack([c @ u, c @ v]) * 1e3
         for row in (0, 1):
-            dots = draw(axes[row][column], p, h, at, knot, zoom=row == 1, heading=about(summary))
+            heading = about(summary) + ("" if run.name == summary.get("scene") else f" ({run.name})")
+            dots = draw(axes[row][column], p, h, at, knot, zoom=row == 1, heading=heading)
             fig.colorbar(dots, ax=axes[row][column], label="height along the normal [mm]", shrink=0.8)
     save_png_and_pdf(fig, out or runs[0] / "knot.png")
 

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Tightening curves of knot specimens (Bodies = knot specimen; forces.csv):
 left, the scaled end force F h^2/B against eps = sqrt(h/R) with the law of Audoly,
-Clauvelin & Neukirch (PRL 99, 164301, 2007), eps^4/2 + mu sigma eps^3; right, the end
-force against the end shortening e.
+Clauvelin & Neukirch (PRL 99, 164301, 2007), eps^4/2 + mu sigma eps^3, for the overhand
+knots (the runs whose forces.csv has the law's column; a figure-eight's has none);
+right, the end force against the end shortening e.
 
 Usage: /usr/bin/python3 postprocess/plot_knot_tightening.py OUTPUT_DIR [OUTPUT_DIR ...] [--out FIGURE]
 
@@ -60,13 +61,15 @@ def main(argv):
     eps_max = 0
     for k, run in enumerate(runs):
         c = load(run)
-        mu = friction(c)
         colour = f"C{k}"
-        label = f"{run.name}, $\\mu$ = {mu:.2g}"
+        label = run.name
+        if "audoly_force_scaled" in c:
+            mu = friction(c)
+            label = f"{run.name}, $\\mu$ = {mu:.2g}"
+            eps = np.linspace(0, 1.05 * c["eps"].max(), 200)
+            left.plot(eps, 0.5 * eps ** 4 + mu * SIGMA * eps ** 3, "-", color=colour, lw=1,
+                      label=f"Audoly et al. 2007, $\\mu$ = {mu:.2g}")
         left.plot(c["eps"], c["force_scaled"], "o", ms=4, color=colour, label=label)
-        eps = np.linspace(0, 1.05 * c["eps"].max(), 200)
-        left.plot(eps, 0.5 * eps ** 4 + mu * SIGMA * eps ** 3, "-", color=colour, lw=1,
-                  label=f"Audoly et al. 2007, $\\mu$ = {mu:.2g}")
         right.plot(c["shortening"] * 1e3, c["force"], "o-", ms=3, color=colour, label=label)
         eps_max = max(eps_max, c["eps"].max())
     left.set_xlim(0, 1.05 * eps_max)

@@ -1,6 +1,7 @@
 #include <suturesim/knot/diagram.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -48,6 +49,12 @@ namespace suturesim::knot
             e.erase(e.begin() + static_cast<long>(p), e.begin() + static_cast<long>(p) + 2);
             return true;
           }
+      if (e.size() >= 2 && e.front().label == e.back().label) // I through the closing arc
+        {
+          e.pop_back();
+          e.erase(e.begin());
+          return true;
+        }
       for (std::size_t p = 0; p + 1 < e.size(); ++p)
         {
           if (e[p].over != e[p + 1].over)
@@ -101,6 +108,64 @@ namespace suturesim::knot
       {
       }
     return GaussCode(std::move(e));
+  }
+
+  GaussCode
+  GaussCode::mirrored() const
+  {
+    std::vector<GaussEntry> e = entries_;
+    for (auto &entry : e)
+      entry.over = !entry.over;
+    return GaussCode(std::move(e));
+  }
+
+  bool
+  GaussCode::is_cut_of(const GaussCode &closed) const
+  {
+    for (const GaussCode &c : {closed, closed.mirrored()})
+      {
+        const auto &e = c.entries();
+        for (std::size_t k = 0; k < e.size(); ++k)
+          {
+            std::vector<GaussEntry> rotated(e.begin() + static_cast<long>(k), e.end());
+            rotated.insert(rotated.end(), e.begin(), e.begin() + static_cast<long>(k));
+            if (GaussCode(std::move(rotated)) == *this)
+              return true;
+          }
+      }
+    return entries_.empty() && closed.entries().empty();
+  }
+
+  long
+  GaussCode::determinant() const
+  {
+    const std::size_t n = crossings();
+    if (n == 0)
+      return 1;
+    // arc k begins after the k-th under-pass along the rope and ends at the next one,
+    // the last wrapping through the closing arc to the first
+    std::vector<std::size_t> arc(entries_.size());
+    std::size_t              unders = 0;
+    for (std::size_t p = 0; p < entries_.size(); ++p)
+      {
+        if (!entries_[p].over)
+          ++unders;
+        arc[p] = unders % n; // an over-pass lies on the arc after the last under-pass
+      }
+    Eigen::MatrixXd colouring = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+    for (std::size_t p = 0; p < entries_.size(); ++p)
+      {
+        const auto row = static_cast<Eigen::Index>(entries_[p].label - 1);
+        if (entries_[p].over)
+          colouring(row, static_cast<Eigen::Index>(arc[p])) += 2;
+        else // the arc that ends here and the one that begins
+          {
+            colouring(row, static_cast<Eigen::Index>((arc[p] + n - 1) % n)) -= 1;
+            colouring(row, static_cast<Eigen::Index>(arc[p])) -= 1;
+          }
+      }
+    const Eigen::Index m = static_cast<Eigen::Index>(n) - 1;
+    return std::lround(std::abs(colouring.topLeftCorner(m, m).fullPivLu().determinant()));
   }
 
   std::string

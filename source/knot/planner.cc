@@ -236,6 +236,7 @@ namespace suturesim::knot
                              {"gauss_code", code.text()},
                              {"raw_crossings", raw.crossings()},
                              {"raw_gauss_code", raw.text()},
+                             {"determinant", raw.determinant()},
                              {"projection_normal", {n[0], n[1], n[2]}}};
     // where the raw code's crossings lie (on their first strand, m), in the order of their
     // labels: their first occurrences along the rope

@@ -1,37 +1,82 @@
 #include <suturesim/rod/knot_tightening.h>
 #include <suturesim/rod/viscous_drag.h>
 
+#include <suturesim/knot/curves.h>
+
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <tuple>
 
 namespace suturesim::rod
 {
   namespace
   {
-    /// The trefoil scaled by @p a, cut open at t = π with straight tails of length
-    /// @p tail along the tangent there, resampled into elements of length about @p l and
-    /// turned so that the tails lie along x.
-    std::vector<Vec3>
-    open_trefoil(const double a, const double tail, const double l)
+    /// A closed knot of knot/curves.h: where it is cut open, how close its strands pass
+    /// (over its scale), and how the two passes through the cut are drawn apart (below).
+    struct ClosedKnot
     {
-      const auto point = [&](const double t) {
-        return Vec3(a * (std::sin(t) + 2 * std::sin(2 * t)), a * (std::cos(t) - 2 * std::cos(2 * t)),
-                    -a * std::sin(3 * t));
-      };
-      const Vec3        axis = Vec3(3, 0, 3).normalized(); // the tangent at t = π
+      Vec3 (*curve)(double);
+      double cut, clearance;
+      int    lift;  // +1: the first tail above the last along the diagram's normal; −1 below
+      double blend; // the parameter t over which the lift fades into the knot
+    };
+
+    ClosedKnot
+    closed_knot(const std::string &name)
+    {
+      // each cut where the curve is furthest from its axis (3 there), so that straight
+      // tails along the tangent pass outside the knot; the lift's side and blend are the
+      // ones that keep the laid strands furthest apart (0.966 and 0.985 of the closed
+      // knot's clearance; RodKnot.TheLaidKnots… checks 0.95)
+      if (name == "overhand")
+        return {knot::trefoil, M_PI, knot::trefoil_clearance, -1, 1.0};
+      if (name == "figure-eight")
+        return {knot::figure_eight, 0, knot::figure_eight_clearance, 1, 0.8};
+      throw std::invalid_argument("no laid knot '" + name + "' (overhand, figure-eight)");
+    }
+
+    double
+    smoothstep(const double x)
+    {
+      const double c = std::clamp(x, 0.0, 1.0);
+      return c * c * (3 - 2 * c);
+    }
+
+    /// The closed knot @p c scaled by @p a, cut open with straight tails of length
+    /// @p tail along the tangent τ at the cut, resampled into elements of length about
+    /// @p l. Cut open, the knot passes through the cut twice along τ (tail, knot, then
+    /// the knot back through the cut and the other tail), so the two passes are lifted
+    /// apart along the diagram's normal n (z made normal to τ) by the closed knot's
+    /// clearance: the first by +c/2 and the second by −c/2 (their tails entirely, the
+    /// knot's ends faded out over the blend in t). Seen along n the laid knot is the
+    /// closed one's diagram, its tails overlapping in one line. Turned so that its ends
+    /// lie along x; @p normal is n turned with it, made normal to x.
+    std::vector<Vec3>
+    open_knot(const ClosedKnot &c, const double a, const double tail, const double l, Vec3 &normal)
+    {
+      const auto   point = [&](const double t) { return Vec3(a * c.curve(t)); };
+      const double d     = 1e-6;
+      const Vec3   tau   = (c.curve(c.cut + d) - c.curve(c.cut - d)).normalized();
+      const Vec3   n     = (Vec3::UnitZ() - Vec3::UnitZ().dot(tau) * tau).normalized();
+      const Vec3   lift  = 0.5 * c.lift * c.clearance * a * n;
       std::vector<Vec3> dense;
       const int         core = 20000, ends = 200;
       for (int i = 0; i <= ends; ++i)
-        dense.push_back(point(M_PI) - axis * tail * (1 - double(i) / ends));
+        dense.push_back(point(c.cut) + lift - tau * tail * (1 - double(i) / ends));
       for (int i = 1; i <= core; ++i)
-        dense.push_back(point(M_PI + 2 * M_PI * i / core));
+        {
+          const double t = 2 * M_PI * i / core;
+          dense.push_back(point(c.cut + t) + (1 - smoothstep(t / c.blend)) * lift -
+                          smoothstep((t - 2 * M_PI + c.blend) / c.blend) * lift);
+        }
       for (int i = 1; i <= ends; ++i)
-        dense.push_back(point(M_PI) + axis * tail * i / ends);
+        dense.push_back(point(c.cut) - lift + tau * tail * i / ends);
       std::vector<double> arc{0};
       for (std::size_t i = 1; i < dense.size(); ++i)
         arc.push_back(arc.back() + (dense[i] - dense[i - 1]).norm());
+      const Quat        turn     = Quat::FromTwoVectors(dense.back() - dense.front(), Vec3::UnitX());
       const int         elements = std::max(1, static_cast<int>(std::round(arc.back() / l)));
-      const Quat        turn     = Quat::FromTwoVectors(axis, Vec3::UnitX());
       std::vector<Vec3> x;
       std::size_t       k = 0;
       for (int e = 0; e <= elements; ++e)
@@ -42,6 +87,8 @@ namespace suturesim::rod
           const double w = (s - arc[k]) / (arc[k + 1] - arc[k]);
           x.push_back(turn * ((1 - w) * dense[k] + w * dense[k + 1]));
         }
+      normal = turn * n;
+      normal = (normal - normal.x() * Vec3::UnitX()).normalized();
       return x;
     }
 
@@ -73,11 +120,17 @@ namespace suturesim::rod
 
   KnotTightening::KnotTightening(const KnotTighteningParameters &parameters)
     : prm(parameters)
-    , knot(open_trefoil(prm.knot_size, prm.tail, prm.element))
+    , knot(open_knot(closed_knot(prm.knot), prm.knot_size, prm.tail, prm.element, normal))
     , frames(transported_frames(knot))
     , rest(lengths(knot))
     , rod(make(1, 0, knot, frames))
   {}
+
+  double
+  KnotTightening::strand_clearance(const std::string &knot)
+  {
+    return 0.95 * closed_knot(knot).clearance;
+  }
 
   double
   KnotTightening::bending_stiffness() const
@@ -86,9 +139,9 @@ namespace suturesim::rod
   }
 
   Vec3
-  KnotTightening::projection_normal()
+  KnotTightening::projection_normal() const
   {
-    return Vec3::UnitZ();
+    return normal;
   }
 
   double
@@ -186,29 +239,26 @@ namespace suturesim::rod
     // p from 0 to 1: the tension ramped on the stress-free knot; from 1 to 2: the rest
     // shape straightened under it
     const double F0 = prm.pretension;
-    double       p = 0, dp = 0.1;
-    while (p < 2)
+    unsigned     iterations = 0;
+    double       failed_at  = 0;
+    const bool   tied       = advance(2, 0.1, 0.1, 1e-4, [&](double, const double p) {
+      RodModel          next   = make(std::min(1.0, 2 - p), F0 * std::min(1.0, p), rod.positions(), rod.rotations());
+      const std::string failed = settle(next, iterations);
+      if (!failed.empty())
+        {
+          failed_at = p;
+          why       = failed;
+          return false;
+        }
+      rod = std::move(next);
+      accept();
+      return true;
+    });
+    if (!tied)
       {
-        if (dp < 1e-4)
-          {
-            why = "the knot could not be tied: no equilibrium at p = " + std::to_string(p + dp) +
-                  " (tension ramped to 1, rest shape straightened to 2): " + why;
-            return false;
-          }
-        const double next_p = std::min(2.0, p + dp);
-        RodModel     next   = make(std::min(1.0, 2 - next_p), F0 * std::min(1.0, next_p), rod.positions(),
-                                   rod.rotations());
-        const std::string failed = settle(next, last_iterations);
-        if (!failed.empty())
-          {
-            dp *= 0.5;
-            why = failed;
-            continue;
-          }
-        rod = std::move(next);
-        accept();
-        p  = next_p;
-        dp = std::min(2 * dp, 0.1);
+        why = "the knot could not be tied: no equilibrium at p = " + std::to_string(failed_at) +
+              " (tension ramped to 1, rest shape straightened to 2): " + why;
+        return false;
       }
     // held where the tension left it, from now on pulled by displacement
     rod.forces().back() = Vec3::Zero();
@@ -220,46 +270,117 @@ namespace suturesim::rod
   KnotTightening::accept()
   {
     rod.commit_contact();
-    end_force = -rod.residual().segment<3>(0).dot(Vec3::UnitX());
+    // the two ends' reactions along x: equal and opposite at an exact equilibrium
+    const Eigen::VectorXd r = rod.residual();
+    end_force               = -r[0];
+    last_end_force          = r[r.size() - 6];
+  }
+
+  bool
+  KnotTightening::advance(const double total, const double first, const double largest, const double smallest,
+                          const std::function<bool(double, double)> &attempt)
+  {
+    double done = 0, increment = first;
+    while (done < total)
+      {
+        increment = std::min(increment, total - done);
+        if (increment < smallest)
+          return false;
+        if (attempt(done, done + increment))
+          {
+            done += increment;
+            increment = std::min(2 * increment, largest);
+          }
+        else
+          increment *= 0.5;
+      }
+    return true;
   }
 
   bool
   KnotTightening::pull()
   {
     const double step = prm.pull_step;
-    double       left = step, sub = step;
     last_iterations   = 0;
-    while (left > 0)
+    const bool pulled_step = advance(step, step, step, 1e-3 * step, [&](const double from, const double to) {
+      // predictor: the tail beyond the knot's last contact moves with its end
+      const double sub   = to - from;
+      RodModel     trial = rod;
+      const auto  &cf    = rod.contact_forces();
+      std::size_t  tail  = rod.n_nodes() - 1;
+      while (tail > 0 && cf[tail - 1] == 0)
+        --tail;
+      for (std::size_t i = tail; i < rod.n_nodes(); ++i)
+        trial.set_node(i, rod.positions()[i] + sub * Vec3::UnitX(), rod.rotations()[i]);
+      unsigned          iterations = 0;
+      const std::string failed     = settle(trial, iterations);
+      last_iterations += iterations;
+      if (!failed.empty())
+        {
+          why = failed;
+          return false;
+        }
+      rod = std::move(trial);
+      accept();
+      pulled += sub;
+      return true;
+    });
+    if (!pulled_step)
+      why = "no equilibrium after pulling " + std::to_string(pulled / prm.radius) + " h: " + why;
+    return pulled_step;
+  }
+
+  void
+  KnotTightening::loop_reading(KnotState &s, const std::size_t first, const std::size_t last) const
+  {
+    const auto       &cf     = rod.contact_forces();
+    const auto        states = rod.element_states();
+    const auto        H      = first_integral();
+    for (const double h : H)
+      s.first_integral_spread = std::max(s.first_integral_spread, std::abs(h / s.force - 1));
+    s.end_force_imbalance = last_end_force / end_force - 1;
+    if (first >= last)
+      return;
+    // the loop: the longest run of elements between first and last neither of whose
+    // nodes is in contact
+    std::size_t begin = 0, end = 0;
+    for (std::size_t e = first; e < last;)
       {
-        if (sub < 1e-3 * step)
-          {
-            why = "no equilibrium after pulling " + std::to_string(pulled / prm.radius) + " h: " + why;
-            return false;
-          }
-        // predictor: the tail beyond the knot's last contact moves with its end
-        RodModel    trial = rod;
-        const auto &cf    = rod.contact_forces();
-        std::size_t tail  = rod.n_nodes() - 1;
-        while (tail > 0 && cf[tail - 1] == 0)
-          --tail;
-        for (std::size_t i = tail; i < rod.n_nodes(); ++i)
-          trial.set_node(i, rod.positions()[i] + sub * Vec3::UnitX(), rod.rotations()[i]);
-        unsigned          iterations = 0;
-        const std::string failed     = settle(trial, iterations);
-        last_iterations += iterations;
-        if (!failed.empty())
-          {
-            sub *= 0.5;
-            why = failed;
-            continue;
-          }
-        rod = std::move(trial);
-        accept();
-        pulled += sub;
-        left -= sub;
-        sub = std::min(left, 2 * sub);
+        std::size_t f = e;
+        while (f < last && cf[f] == 0 && cf[f + 1] == 0)
+          ++f;
+        if (f - e > end - begin)
+          std::tie(begin, end) = std::pair{e, f};
+        e = f + 1;
       }
-    return true;
+    // the tension N·t (N turned to space, t along the element's axis) and the bending
+    // curvature |K₂, K₃| at each element's centre, interpolated where N·t changes sign
+    const auto tension = [&](const std::size_t e) {
+      const Vec3 t = (states[e].Rm * (Vec3::UnitX() + states[e].Gamma)).normalized();
+      return (states[e].Rm * states[e].N).dot(t);
+    };
+    const auto bending = [&](const std::size_t e) { return states[e].K.tail<2>().norm(); };
+    double     sum     = 0;
+    int        zeros   = 0;
+    for (std::size_t e = begin; e + 1 < end; ++e)
+      {
+        const double a = tension(e), b = tension(e + 1);
+        if ((a > 0) == (b > 0))
+          continue;
+        const double w = a / (a - b);
+        sum += 1 / ((1 - w) * bending(e) + w * bending(e + 1));
+        ++zeros;
+      }
+    s.loop_radius = zeros > 0 ? sum / zeros : 0;
+  }
+
+  std::vector<double>
+  KnotTightening::first_integral() const
+  {
+    std::vector<double> H;
+    for (const ElementState &e : rod.element_states())
+      H.push_back(e.N.x() + 0.5 * e.N.dot(e.Gamma) + 0.5 * e.M.dot(e.K));
+    return H;
   }
 
   KnotState
@@ -292,6 +413,7 @@ namespace suturesim::rod
         kappa = std::max(kappa, 2 * a.cross(b).norm() / (1 + a.dot(b)) / (0.5 * (rest[i - 1] + rest[i])));
       }
     s.radius = kappa > 0 ? 1 / kappa : 0;
+    loop_reading(s, first, last);
     SelfContact contact;
     contact.setup(rod.contact().parameters(), x, rest);
     for (const auto &c : contact.update(x))

@@ -1,5 +1,6 @@
 // Knot diagrams (knot/diagram.h): the crossings, Gauss codes and spans of ropes drawn
 // from parametric knots, whose diagrams are known, and the Reidemeister reductions.
+#include <suturesim/knot/curves.h>
 #include <suturesim/knot/diagram.h>
 
 #include <gtest/gtest.h>
@@ -22,48 +23,11 @@ namespace
     return x;
   }
 
-  /// The trefoil sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t: three crossings seen
-  /// along z, alternating.
-  Vector3d
-  trefoil(const double t)
+  /// @p text's closed knot, for GaussCode::is_cut_of().
+  GaussCode
+  closed(const std::string &text)
   {
-    return {std::sin(t) + 2 * std::sin(2 * t), std::cos(t) - 2 * std::cos(2 * t), -std::sin(3 * t)};
-  }
-
-  /// The figure-eight knot (2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t.
-  Vector3d
-  figure_eight(const double t)
-  {
-    return {(2 + std::cos(2 * t)) * std::cos(3 * t), (2 + std::cos(2 * t)) * std::sin(3 * t), std::sin(4 * t)};
-  }
-
-  /// The Gauss code of @p code with O and U swapped (the mirror image).
-  std::string
-  mirrored(const std::string &code)
-  {
-    std::string m = code;
-    for (char &c : m)
-      c = c == 'O' ? 'U' : c == 'U' ? 'O' : c;
-    return m;
-  }
-
-  /// Whether @p code reads the closed knot @p reference (or its mirror image) cut open
-  /// somewhere: a rotation of its entries, relabelled.
-  bool
-  is_cut_of(const GaussCode &code, const std::string &reference)
-  {
-    for (const std::string &r : {reference, mirrored(reference)})
-      {
-        const auto entries = GaussCode::parse(r).entries();
-        for (std::size_t k = 0; k < entries.size(); ++k)
-          {
-            std::vector<GaussEntry> rotated(entries.begin() + static_cast<long>(k), entries.end());
-            rotated.insert(rotated.end(), entries.begin(), entries.begin() + static_cast<long>(k));
-            if (GaussCode(rotated) == code)
-              return true;
-          }
-      }
-    return false;
+    return GaussCode::parse(text);
   }
 
   const Projection along_z(Vector3d::UnitZ());
@@ -114,9 +78,9 @@ TEST(KnotDiagram, CutTrefoilReadsTheAlternatingCodeOfThreeCrossings)
     {
       const KnotDiagram d(sample(trefoil, 0.1, 0.1 + 2 * M_PI - 1e-3, n), along_z);
       const std::string code = d.gauss_code().text();
-      EXPECT_TRUE(code == "O1 U2 O3 U1 O2 U3" || code == mirrored("O1 U2 O3 U1 O2 U3")) << code;
-      EXPECT_TRUE(is_cut_of(d.gauss_code(), "O1 U2 O3 U1 O2 U3"));
-      EXPECT_FALSE(is_cut_of(d.gauss_code(), "O1 U2 O3 U4 O2 U1 O4 U3"));
+      EXPECT_TRUE(code == "O1 U2 O3 U1 O2 U3" || code == "U1 O2 U3 O1 U2 O3") << code;
+      EXPECT_TRUE(d.gauss_code().is_cut_of(closed("O1 U2 O3 U1 O2 U3")));
+      EXPECT_FALSE(d.gauss_code().is_cut_of(closed("O1 U2 O3 U4 O2 U1 O4 U3")));
       EXPECT_EQ(d.spans(), 7u);
       // alternating and minimal: the moves leave it as it is
       EXPECT_EQ(d.gauss_code().reduced().text(), code);
@@ -126,7 +90,7 @@ TEST(KnotDiagram, CutTrefoilReadsTheAlternatingCodeOfThreeCrossings)
   const KnotDiagram m(sample([](double t) { return Vector3d(trefoil(t).cwiseProduct(Vector3d(1, 1, -1))); }, 0.1,
                              0.1 + 2 * M_PI - 1e-3, 150),
                       along_z);
-  EXPECT_EQ(m.gauss_code().text(), mirrored(d.gauss_code().text()));
+  EXPECT_EQ(m.gauss_code().text(), d.gauss_code().mirrored().text());
 }
 
 TEST(KnotDiagram, CutFigureEightReducesToItsFourCrossings)
@@ -136,11 +100,14 @@ TEST(KnotDiagram, CutFigureEightReducesToItsFourCrossings)
   ASSERT_EQ(reduced.crossings(), 4u) << d.gauss_code().text();
   // where the closed knot is cut moves the start of its code round: some rotation of the
   // figure-eight's code, or of its mirror image's (the figure-eight is amphichiral)
-  EXPECT_TRUE(is_cut_of(reduced, "O1 U2 O3 U4 O2 U1 O4 U3")) << reduced.text();
-  EXPECT_FALSE(is_cut_of(reduced, "O1 U2 O3 U1 O2 U3"));
+  EXPECT_TRUE(reduced.is_cut_of(closed("O1 U2 O3 U4 O2 U1 O4 U3"))) << reduced.text();
+  EXPECT_FALSE(reduced.is_cut_of(closed("O1 U2 O3 U1 O2 U3")));
+  // no crossing is a cut of the unknot's diagram only
+  EXPECT_TRUE(GaussCode().is_cut_of(GaussCode()));
+  EXPECT_FALSE(GaussCode().is_cut_of(closed("O1 U2 O3 U1 O2 U3")));
 }
 
-TEST(KnotDiagram, ReidemeisterTwoRemovesAStrandLaidAcrossAnotherAndBack)
+TEST(KnotDiagram, ReidemeisterTwoRemovesAStrandLaidAcrossAnotherAndBackAndOneATailAcrossTheOther)
 {
   // strand 1 passes over strand 2 twice, nothing else: unknotted
   EXPECT_EQ(GaussCode::parse("O1 O2 U2 U1").reduced().text(), "");
@@ -149,6 +116,9 @@ TEST(KnotDiagram, ReidemeisterTwoRemovesAStrandLaidAcrossAnotherAndBack)
   EXPECT_EQ(GaussCode::parse("O1 U2 U1 O2").reduced().text(), "O1 U2 U1 O2");
   // a trefoil with a twist and a pair laid over it reduces to the trefoil
   EXPECT_EQ(GaussCode::parse("O1 U2 O7 U7 O3 O8 O9 U1 O2 U3 U9 U8").reduced().text(), "O1 U2 O3 U1 O2 U3");
+  // the first span crossing the last: a twist loop through the arc that closes the rope
+  EXPECT_EQ(GaussCode::parse("U1 O2 U3 O4 U2 O3 U4 O1").reduced().text(), "O1 U2 O3 U1 O2 U3");
+  EXPECT_EQ(GaussCode::parse("O1 U1").reduced().text(), "");
 }
 
 TEST(KnotDiagram, RefusesAMalformedCodeAndAZeroNormal)
@@ -158,4 +128,59 @@ TEST(KnotDiagram, RefusesAMalformedCodeAndAZeroNormal)
   EXPECT_THROW(GaussCode::parse("X1 U1"), std::invalid_argument);
   EXPECT_THROW(Projection(Vector3d::Zero()), std::invalid_argument);
   EXPECT_THROW(KnotDiagram(Eigen::Matrix3Xd(3, 1), along_z), std::invalid_argument);
+}
+
+TEST(KnotDiagram, TheClosedKnotsStrandsPassAtTheirClearance)
+{
+  // the least distance between points of the curve more than 0.9 apart in t, at 2000
+  // points per turn (any bound from 0.5 to 1.3 gives the same: the pair is on two
+  // strands), against the constants the knot specimen's input check uses (a sampled
+  // least distance is at most a few 1e-5 above the curve's)
+  for (const auto &[f, clearance] : {std::pair{trefoil, trefoil_clearance},
+                                     std::pair{figure_eight, figure_eight_clearance}})
+    {
+      const int n     = 2000;
+      double    least = 1e9;
+      for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+          {
+            const double dt = 2 * M_PI * (j - i) / n;
+            if (std::min(dt, 2 * M_PI - dt) > 0.9)
+              least = std::min(least, (f(2 * M_PI * i / n) - f(2 * M_PI * j / n)).norm());
+          }
+      EXPECT_GE(least, clearance);
+      EXPECT_LT(least, clearance + 2e-4);
+    }
+}
+
+TEST(KnotDiagram, TheDeterminantNamesTheKnotOnEveryDiagram)
+{
+  // |Δ(−1)|: 1 for the unknot, 3 for the trefoil, 5 for the figure-eight (Rolfsen's
+  // table; Lickorish 1997), the same for the mirror image, for a cut anywhere, and for
+  // diagrams with twists and strands laid across (which the reductions remove)
+  EXPECT_EQ(GaussCode().determinant(), 1);
+  EXPECT_EQ(closed("O1 U1").determinant(), 1);
+  EXPECT_EQ(closed("O1 O2 U2 U1").determinant(), 1);
+  EXPECT_EQ(closed("O1 U2 O3 U1 O2 U3").determinant(), 3);
+  EXPECT_EQ(closed("U1 O2 U3 O1 U2 O3").determinant(), 3);
+  EXPECT_EQ(closed("O1 U2 O7 U7 O3 O8 O9 U1 O2 U3 U9 U8").determinant(), 3);
+  EXPECT_EQ(closed("O1 U2 O3 U4 O2 U1 O4 U3").determinant(), 5);
+  EXPECT_EQ(closed("O1 U2 O3 U1 O4 U3 O2 U4").determinant(), 5); // cut elsewhere
+  // the figure-eight seen along z, its curve cut at every sampled point: the raw codes
+  // (before the reductions) differ, the determinant does not
+  for (const double cut : {0.05, 0.7, 1.9, 3.3, 5.1})
+    {
+      const KnotDiagram d(sample(figure_eight, cut, cut + 2 * M_PI - 1e-3, 600), along_z);
+      EXPECT_EQ(d.gauss_code().determinant(), 5) << d.gauss_code().text();
+      const KnotDiagram t(sample(trefoil, cut, cut + 2 * M_PI - 1e-3, 600), along_z);
+      EXPECT_EQ(t.gauss_code().determinant(), 3) << t.gauss_code().text();
+    }
+  // the (2, 5) torus knot, the cinquefoil: 5 too (the determinant does not tell it from
+  // the figure-eight; its crossing number does)
+  const auto cinquefoil = [](const double t) {
+    return Vector3d((2 + std::cos(5 * t)) * std::cos(2 * t), (2 + std::cos(5 * t)) * std::sin(2 * t), -std::sin(5 * t));
+  };
+  const KnotDiagram c(sample(cinquefoil, 0.05, 0.05 + 2 * M_PI - 1e-3, 800), along_z);
+  EXPECT_EQ(c.gauss_code().reduced().crossings(), 5u) << c.gauss_code().text();
+  EXPECT_EQ(c.gauss_code().determinant(), 5);
 }

@@ -1,5 +1,6 @@
 // Seed 002's knot planner (knot/planner.h) on ropes laid out by hand: the codes its plans
 // tie, an instruction done, and every way a plan fails, each with its reason.
+#include <suturesim/knot/curves.h>
 #include <suturesim/knot/planner.h>
 
 #include <gtest/gtest.h>
@@ -113,18 +114,13 @@ TEST(KnotPlanner, WaitsForItsStartTime)
 
 namespace
 {
-  /// The mirror image of the trefoil sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t of
-  /// tests/realtime/knot_diagram_test.cc (z → −z: its code from +z, cut at t = 0.1, is
+  /// The mirror image of knot::trefoil() (z → −z: its code from +z, cut at t = 0.1, is
   /// the overhand plan's), scaled by 5 mm and laid as a rope of @p nodes nodes 1 mm apart
   /// along its arc from t = 0.1.
   Eigen::Matrix3Xd
   trefoil_rope(const Eigen::Index nodes)
   {
-    const auto at = [](const double t) -> Vector3d {
-      constexpr double mm5 = 5e-3;
-      return {mm5 * (std::sin(t) + 2 * std::sin(2 * t)), mm5 * (std::cos(t) - 2 * std::cos(2 * t)),
-              mm5 * std::sin(3 * t)};
-    };
+    const auto at = [](const double t) -> Vector3d { return 5e-3 * trefoil(t).cwiseProduct(Vector3d(1, 1, -1)); };
     Eigen::Matrix3Xd m(3, nodes);
     double           t    = 0.1;
     Vector3d         last = at(t);

@@ -37,6 +37,7 @@ namespace
     EXPECT_EQ(knot["raw_gauss_code"], knot["gauss_code"]) << "no wiggle to reduce";
     EXPECT_EQ(knot["crossing_points"].size(), knot["raw_crossings"].get<std::size_t>());
     EXPECT_TRUE(knot["tied"].get<bool>());
+    EXPECT_EQ(knot["determinant"], steps.size() == 3 ? 3 : 5) << "the trefoil's or the figure-eight's";
     // one event per instruction, in order, each adding the crossing it made
     std::vector<std::string> codes;
     double                   last = 0;
@@ -128,6 +129,8 @@ TEST(KnotScene, TheAccurateOverhandSpecimenIsTiedPulledAndRecorded)
   ASSERT_TRUE(r.has_summary);
   const auto &knot = r.summary["metrics"]["knot"];
   EXPECT_EQ(knot["crossings"], 3) << knot.dump();
+  EXPECT_TRUE(knot["reads_planned_code"].get<bool>()) << knot.dump();
+  EXPECT_EQ(knot["determinant"], 3) << knot.dump();
   EXPECT_TRUE(knot["tied"].get<bool>()) << knot.dump();
   const auto &t = r.summary["metrics"]["knot_tightening"];
   EXPECT_EQ(t["steps"], 2);
@@ -150,4 +153,32 @@ TEST(KnotScene, TheAccurateOverhandSpecimenIsTiedPulledAndRecorded)
   EXPECT_GT(rows[1][column(header, "force [N]")], rows[0][column(header, "force [N]")]);
   EXPECT_LT(rows[1][column(header, "braid_exit_radius")], rows[0][column(header, "braid_exit_radius")]);
   EXPECT_TRUE(std::filesystem::exists(r.directory + "/suture_00002.vtu"));
+}
+
+TEST(KnotScene, TheAccurateFigureEightSpecimenIsTiedAsTheFigureEightAndRecordedWithoutTheTrefoilsLaw)
+{
+  // parameters/knots/figure_eight_tightening.prm pulled one step: tied into the straight
+  // rod it reads as the figure-eight (its four crossings, a cut of the planner's code or
+  // of its mirror image's; its determinant 5); its forces.csv has no column of Audoly et al.'s law (the
+  // trefoil's) and its summary no ratio to it; the strands stay within 5 % of the radius
+  const auto r = run_suturesim("knot_specimen_figure_eight",
+                               scene_with("parameters/knots/figure_eight_tightening.prm",
+                                          {"Knot specimen/Pull distance=2e-3"}));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  const auto &knot = r.summary["metrics"]["knot"];
+  EXPECT_EQ(knot["crossings"], 4) << knot.dump();
+  EXPECT_TRUE(knot["reads_planned_code"].get<bool>()) << knot.dump();
+  EXPECT_EQ(knot["determinant"], 5) << knot.dump();
+  EXPECT_TRUE(knot["tied"].get<bool>()) << knot.dump();
+  EXPECT_EQ(knot["planned_gauss_code"], "O1 U2 O3 U4 O2 U1 O4 U3");
+  const auto &t = r.summary["metrics"]["knot_tightening"];
+  EXPECT_EQ(t["steps"], 1);
+  EXPECT_FALSE(t.contains("audoly_ratio_range")) << t.dump();
+  EXPECT_GT(t["least_distance_over_2h"].get<double>(), 1 - 0.05 / 2);
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  ASSERT_EQ(rows.size(), 1u) << header;
+  EXPECT_EQ(header.find("audoly"), std::string::npos) << header;
+  EXPECT_GT(rows[0][column(header, "force [N]")], 0);
 }

@@ -20,7 +20,12 @@
  *    are next to each other: a twist loop) and II (two crossings next to each other at
  *    both places, one strand over both: a strand lying across another and back), applied
  *    until none is left. Wiggles of a simulated rope add such pairs without changing the
- *    knot; the reduced code is the knot's diagram as a reader would draw it.
+ *    knot; the reduced code is the knot's diagram as a reader would draw it. The open
+ *    rope is read as closed by an arc from its last node to its first that crosses
+ *    nothing (both ends outside the knot, as when it is pulled by them), so a crossing
+ *    of the first span with the last is a twist loop too (move I through that arc): the
+ *    trefoil cut open with both tails along one line may read "U1 O2 U3 O4 U2 O3 U4 O1",
+ *    which reduces to "O1 U2 O3 U1 O2 U3".
  *
  * Plain C++ and Eigen (the realtime library); every pair of non-adjacent segments is
  * tested, O(n²): 4 753 pairs for a 100-node rope.
@@ -60,6 +65,24 @@ namespace suturesim::knot
     /// The code after Reidemeister I and II moves until none applies, relabelled.
     GaussCode
     reduced() const;
+    /// The mirror image's code: every O and U swapped.
+    GaussCode
+    mirrored() const;
+    /// Whether this code reads the closed diagram @p closed, or its mirror image, cut
+    /// open somewhere: a rotation of its entries, relabelled. The trefoil cut anywhere
+    /// reads O1 U2 O3 U1 O2 U3 or its mirror; the figure-eight's cuts read eight codes.
+    bool
+    is_cut_of(const GaussCode &closed) const;
+    /// The knot determinant |Δ(−1)| of the rope closed as reduced() closes it: the
+    /// colouring matrix has a row per crossing, 2 on its over-arc and −1 on each of its
+    /// two under-arcs (an arc runs from one under-pass to the next), and its determinant
+    /// with any one row and column struck out is the knot's (Lickorish, An Introduction
+    /// to Knot Theory, 1997, ch. 3 and 6). 1 for the unknot, 3 for the trefoil, 5 for the
+    /// figure-eight. Every diagram of a knot gives the same, so it names the knot where
+    /// the moves of reduced() leave more crossings than its least number (a tight knot
+    /// seen along a plane that is not its own).
+    long
+    determinant() const;
 
     std::size_t
     crossings() const

@@ -187,7 +187,8 @@ namespace suturesim::knot
   knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope);
 
   /// What knot_metrics() reads from the diagram alone: crossings and Gauss code after
-  /// the reductions and raw, the projection's normal, the raw crossings' points.
+  /// the reductions and raw, the knot determinant (GaussCode::determinant()), the
+  /// projection's normal, the raw crossings' points.
   nlohmann::json
   diagram_metrics(const Eigen::Matrix3Xd &rope, const Projection &projection);
   /// The planner's events for summary.json (kind "knot_crossing": time, instruction,

@@ -1,11 +1,14 @@
 #pragma once
 /**
  * @file
- * An open overhand knot (trefoil) in a naturally straight Cosserat rod, pulled tight by
- * its ends: the accurate path's tightening curve (issue 30).
+ * An open knot, the overhand (trefoil) or the figure-eight, in a naturally straight
+ * Cosserat rod, pulled tight by its ends: the accurate path's tightening curves (issue 30).
  *
- * The knot is laid along the trefoil (sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t)·a, cut
- * open at the tip of a lobe (t = π) and given straight tails along the tangent there.
+ * The knot is laid along a closed knot of knot/curves.h scaled by a, cut open where it
+ * is furthest from its axis (the trefoil at the tip of a lobe, t = π; the figure-eight
+ * at t = 0) and given straight tails along the tangent there; the two passes through
+ * the cut are lifted apart by the closed knot's clearance (one above the other, seen
+ * along the diagram's normal), and the whole turned so that its ends lie along x.
  * The rod is stress free in that shape at first; the tying is a continuation:
  *   1. an end tension F₀ is ramped up on the stress-free knot (the first end pinned, the
  *      last one free along the tails' axis x), so that nothing in the knot is slack;
@@ -27,11 +30,14 @@
  *   F h²/B = ε⁴/2 + μ σ ε³,  σ = 0.492,
  * leading order in ε and in the friction coefficient μ (as references.md and the
  * discrete-elastic-rod code dismech-newton's examples/overhand_knot.py state it; the
- * paper was not reachable here). Measured against it: docs/knots.md.
+ * paper was not reachable here). Each state also reports R₀, where the loop's tension
+ * vanishes: there Kirchhoff's first integral (first_integral()) makes ½Bκ² = F exactly
+ * in a frictionless knot, whatever R the paper reads. Measured: docs/knots.md.
  */
 
 #include <suturesim/rod/rod_model.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -59,7 +65,8 @@ namespace suturesim::rod
     /// Penalty k (N/m) and smoothing δ (m), friction μ and stick stiffness k_t (N/m);
     /// enabled and radius are set from the above.
     ContactParameters contact{true, 1e4, 5e-5, 1e-3, 0, 1e4};
-    double knot_size  = 6e-3;    ///< a, the trefoil's scale, m
+    std::string knot  = "overhand"; ///< overhand or figure-eight (knot/curves.h)
+    double knot_size  = 6e-3;    ///< a, the closed knot's scale, m
     double tail       = 20e-3;   ///< each tail's length, m
     double element    = 0.75e-3; ///< element length, m
     double pretension = 0.0196;  ///< F₀, N (2.5·10⁻³ B/h² here)
@@ -79,6 +86,17 @@ namespace suturesim::rod
     double closest    = 1;
     std::size_t contacts = 0; ///< nodes in contact
     unsigned iterations = 0;  ///< Newton iterations of the state's solves
+    /// R₀, m: the radius of curvature where the loop's tension N·t vanishes, the mean
+    /// over such points of the longest contact-free stretch between the first and the
+    /// last contact (0: none, the loop in tension throughout). There ½Bκ² = H, so with
+    /// H = F (frictionless) F R₀²/B = ½ H/F (first_integral()).
+    double loop_radius = 0;
+    /// max |H/F − 1| over the elements (first_integral()): 0 for an exact frictionless
+    /// equilibrium of the continuum rod.
+    double first_integral_spread = 0;
+    /// The last end's reaction along x over the first end's, − 1: what the pseudo-time
+    /// drag still carries when the state is accepted (0 at an exact equilibrium).
+    double end_force_imbalance = 0;
   };
 
   class KnotTightening
@@ -96,6 +114,16 @@ namespace suturesim::rod
 
     KnotState
     state() const;
+    /// Kirchhoff's first integral at each element's centre, in material components,
+    ///   H = N·(E₁ + Γ) + M·K − W = N·E₁ + ½ N·Γ + ½ M·K  (W quadratic),
+    /// which a uniform elastic rod conserves along any stretch free of distributed loads
+    /// (Antman, Nonlinear Problems of Elasticity, 2005, ch. 8; planar and inextensible,
+    /// ½Bκ² + N·t = const). A frictionless contact between circular sections pushes
+    /// normal to both centrelines, dH/ds = −p·t = 0, so through the whole tied knot H
+    /// equals its tails' F + F²/(2EA): wherever the tangent is normal to the internal
+    /// force, ½Bκ² = F, Audoly et al.'s F = B/(2R²) read at that point. N (m).
+    std::vector<double>
+    first_integral() const;
     const RodModel &
     model() const
     {
@@ -110,12 +138,18 @@ namespace suturesim::rod
       return why;
     }
 
-    /// The direction the knot's diagram is read along: z, across the tails (along x).
-    /// The laid trefoil's own plane is tilted 45° from it about y (the tails leave the
-    /// lobe's tip at 45° out of that plane): seen along z its three crossings stay, and
-    /// the tails, in the view's plane, cross nothing.
-    static Vec3
-    projection_normal();
+    /// The direction the knot's diagram is read along: the closed knot's own diagram
+    /// normal (z of knot/curves.h) made normal to the tangent at the cut and turned with
+    /// the knot, made normal to x (the ends' line): the tails run across the view and
+    /// cross nothing but each other (a twist through the rope's closure, which
+    /// knot::GaussCode::reduced() removes). Seen along it, the laid knot reads its closed
+    /// code cut open.
+    Vec3
+    projection_normal() const;
+    /// A bound on the least distance of the laid knot's strands over its scale a: 0.95
+    /// of the closed knot's (knot/curves.h); std::invalid_argument for another name.
+    static double
+    strand_clearance(const std::string &knot);
 
     /// Audoly et al.'s F h²/B at ε = √(h/R) for a trefoil with friction μ.
     static double
@@ -123,12 +157,13 @@ namespace suturesim::rod
 
   private:
     KnotTighteningParameters prm;
+    Vec3                     normal; // projection_normal()
     std::vector<Vec3>        knot;   // the laid-out knot's nodes
     std::vector<Quat>        frames; // and their parallel-transported frames
     std::vector<double>      rest;   // element lengths
     RodModel                 rod;
     double                   pulled    = 0;
-    double                   end_force = 0;
+    double                   end_force = 0, last_end_force = 0;
     unsigned                 last_iterations = 0;
     std::string              why;
 
@@ -140,5 +175,16 @@ namespace suturesim::rod
     /// Commits the friction's anchors and reads the end force.
     void
     accept();
+    /// Fills @p s's loop_radius, first_integral_spread and end_force_imbalance, with
+    /// @p first and @p last the first and last nodes in contact.
+    void
+    loop_reading(KnotState &s, std::size_t first, std::size_t last) const;
+    /// Takes a continuation parameter from 0 to @p total through @p attempt(from, to),
+    /// which solves and keeps the state at `to` or reports failure: the increment starts
+    /// at @p first, is halved after a failure and doubled (up to @p largest) after a
+    /// success; false once it falls below @p smallest.
+    static bool
+    advance(double total, double first, double largest, double smallest,
+            const std::function<bool(double, double)> &attempt);
   };
 } // namespace suturesim::rod

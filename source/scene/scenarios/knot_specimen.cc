@@ -1,17 +1,21 @@
 /**
  * A knot specimen (Model = accurate, Bodies = knot specimen): the suture of the Suture
- * subsection (its Cross section and Self-contact) laid as an open overhand knot, tied
- * into a naturally straight rod and pulled tight by its last end (rod/knot_tightening.h),
- * its end force against end shortening compared with the tight-knot law of Audoly,
- * Clauvelin & Neukirch (PRL 99, 164301, 2007).
+ * subsection (its Cross section and Self-contact) laid as an open overhand or
+ * figure-eight knot, tied into a naturally straight rod and pulled tight by its last end
+ * (rod/knot_tightening.h), its end force against end shortening; the overhand's compared
+ * with the tight-knot law of Audoly, Clauvelin & Neukirch (PRL 99, 164301, 2007).
  *
  * Records: forces.csv (one row per pull step: the pull, the shortening, the end
- * force, R where the rope leaves the braid, ε = √(h/R), F h²/B and the law's value, the
- * least centreline distance of the strands in contact over 2h), suture.pvd (the rod at
- * every step, its time the pull in m), and summary.json's metrics.knot_tightening and
- * metrics.knot (the knot's diagram seen across the tails after the pull, for
- * postprocess/plot_knot.py; "tied": its Gauss code is the overhand's, O1 U2 O3 U1 O2
- * U3, or that code's mirror image).
+ * force, R where the rope leaves the braid, ε = √(h/R), F h²/B and, for the overhand,
+ * the law's value, the least centreline distance of the strands in contact over 2h,
+ * R₀ where the loop's tension vanishes, the first integral's spread and the ends'
+ * imbalance: rod::KnotState),
+ * suture.pvd (the rod at every step, its time the pull in m), and summary.json's
+ * metrics.knot_tightening and metrics.knot (the knot's diagram seen across the tails
+ * after the pull, for postprocess/plot_knot.py; "reads_planned_code": its reduced Gauss
+ * code is the code seed 002's planner ties for that knot, or its mirror image's, cut open
+ * somewhere, knot::GaussCode::is_cut_of(); "tied": its knot determinant is the planned
+ * knot's, knot::GaussCode::determinant()).
  */
 #include <suturesim/core/error.h>
 #include <suturesim/knot/planner.h>
@@ -32,6 +36,7 @@ namespace suturesim::scene
   {
     struct Specimen
     {
+      std::string knot;
       double size = 0, tail = 0, element = 0, pretension = 0, pull_step = 0, pull_distance = 0, drag = 0;
 
       static void
@@ -41,12 +46,15 @@ namespace suturesim::scene
         const rod::KnotTighteningParameters d;
         const auto text = [](const double v) { return Utilities::to_string(v); };
         prm.enter_subsection("Knot specimen");
-        prm.declare_entry("Knot", "overhand", Patterns::Selection("overhand"),
-                          "The knot laid: overhand, the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) a cut "
-                          "open at the tip of a lobe, with straight tails along the tangent there. Unit: none.");
+        prm.declare_entry("Knot", d.knot, Patterns::Selection("overhand|figure-eight"),
+                          "The knot laid, cut open where it is furthest from its axis, with straight tails along the "
+                          "tangent there: overhand, the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) a cut at "
+                          "the tip of a lobe; figure-eight, ((2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t) a cut at "
+                          "t = 0. Unit: none. Range: overhand, figure-eight.");
         prm.declare_entry("Knot size", text(d.knot_size), Patterns::Double(0),
-                          "a, the trefoil's scale (its lobes reach 3a from its centre; its strands pass 1.21 a apart). "
-                          "Unit: m. Range: > 0, with 1.21 a > 2.2 Suture/Cross section/Radius.");
+                          "a, the knot's scale (both reach 3a from their axis; the trefoil's strands pass 1.2143 a "
+                          "apart, the figure-eight's 1.1408 a, and laid cut open at least 0.95 of that). Unit: m. "
+                          "Range: > 0, with the laid distance > 2.2 Suture/Cross section/Radius.");
         prm.declare_entry("Tail length", text(d.tail), Patterns::Double(0), "Each straight tail. Unit: m. Range: > 0.");
         prm.declare_entry("Element length", text(d.element), Patterns::Double(0),
                           "Of the rod's elements (the laid curve resampled). Unit: m. Range: > 0, at most the "
@@ -70,6 +78,7 @@ namespace suturesim::scene
       parse(ParameterHandler &prm, const ParameterScope &scope)
       {
         prm.enter_subsection("Knot specimen");
+        knot          = prm.get("Knot");
         size          = prm.get_double("Knot size");
         tail          = prm.get_double("Tail length");
         element       = prm.get_double("Element length");
@@ -98,8 +107,10 @@ namespace suturesim::scene
         const double r = scene.suture.section.radius;
         scene.scope("Suture/Self-contact")
           .require(scene.suture.contact.enabled, "Enabled", "must be true: the knot's strands hold by contact");
-        scope.require(1.2143 * specimen.size > 2.2 * r, "Knot size",
-                      "lays strands closer than 1.1 diameters (1.21 a < 2.2 r = " + std::to_string(2.2 * r) + " m)");
+        const double clearance = rod::KnotTightening::strand_clearance(specimen.knot);
+        scope.require(clearance * specimen.size > 2.2 * r, "Knot size",
+                      "lays the " + specimen.knot + "'s strands closer than 1.1 diameters (" +
+                        std::to_string(clearance) + " a < 2.2 r = " + std::to_string(2.2 * r) + " m)");
         scope.require(specimen.element <= 2 * r, "Element length",
                       "must be at most the suture's diameter " + std::to_string(2 * r) + " m");
       }
@@ -112,6 +123,7 @@ namespace suturesim::scene
           p.radius     = scene.suture.section.radius;
           p.section    = scene.suture.section.stiffness();
           p.contact    = scene.suture.contact;
+          p.knot       = specimen.knot;
           p.knot_size  = specimen.size;
           p.tail       = specimen.tail;
           p.element    = specimen.element;
@@ -122,16 +134,24 @@ namespace suturesim::scene
           RunSummary          summary(recorder.summary());
           summary.begin(scene);
           const double h = p.radius, B = knot.bending_stiffness(), mu = p.contact.friction;
-          pcout << "suturesim: scene '" << scene.name << "', an overhand knot in a rod of " << knot.model().n_elements()
+          pcout << "suturesim: scene '" << scene.name << "', " << specimen.knot << " knot in a rod of "
+                << knot.model().n_elements()
                 << " elements, h = " << h << " m, B = " << B << " N m^2, mu = " << mu << "\n";
           {
             TimerOutput::Scope section(timer, "tie");
             if (!knot.tie())
               throw SolverError(knot.failure());
           }
-          recorder.set_columns({"pulled [m]", "shortening [m]", "force [N]", "braid_exit_radius [m]", "eps [1]",
-                                "force_scaled [1]", "audoly_force_scaled [1]", "least_distance_over_2h [1]",
-                                "contact_nodes [1]", "newton_iterations [1]"});
+          // Audoly et al.'s law is the trefoil's: the figure-eight's curve is recorded without it
+          const bool trefoil = specimen.knot == "overhand";
+          std::vector<std::string> columns{"pulled [m]", "shortening [m]", "force [N]", "braid_exit_radius [m]",
+                                           "eps [1]", "force_scaled [1]", "audoly_force_scaled [1]",
+                                           "least_distance_over_2h [1]", "contact_nodes [1]", "newton_iterations [1]",
+                                           "loop_zero_tension_radius [m]", "first_integral_spread [1]",
+                                           "end_force_imbalance [1]"};
+          if (!trefoil)
+            columns.erase(columns.begin() + 6);
+          recorder.set_columns(columns);
           write_suture_vtu(knot.model(), h, 0, 0, recorder);
           Curve curve;
           TimerOutput::Scope section(timer, "pull");
@@ -151,12 +171,19 @@ namespace suturesim::scene
                 }
               const double eps = std::sqrt(h / s.radius), fbar = s.force * h * h / B;
               const double law = rod::KnotTightening::audoly_tension(eps, mu);
-              recorder.add_row({s.pulled, s.shortening, s.force, s.radius, eps, fbar, law, s.closest,
-                                double(s.contacts), double(s.iterations)});
+              std::vector<double> row{s.pulled,         s.shortening,       s.force, s.radius, eps, fbar, law,
+                                      s.closest,        double(s.contacts), double(s.iterations),
+                                      s.loop_radius,    s.first_integral_spread, s.end_force_imbalance};
+              if (!trefoil)
+                row.erase(row.begin() + 6);
+              recorder.add_row(row);
               write_suture_vtu(knot.model(), h, k, s.pulled, recorder); // ParaView's time: the pull, m
-              curve.add(fbar / law, s.closest, s.force * s.radius * s.radius / B);
+              curve.add(trefoil ? fbar / law : 0, s.closest, s.force * s.radius * s.radius / B,
+                        s.force * s.loop_radius * s.loop_radius / B, s.first_integral_spread);
               pcout << "  pulled " << s.pulled << " m: F = " << s.force << " N, R = " << s.radius
-                    << " m, eps = " << eps << ", F/law = " << fbar / law << "\n";
+                    << " m, eps = " << eps << ", F R^2/B = " << s.force * s.radius * s.radius / B
+                    << ", F R0^2/B = " << s.force * s.loop_radius * s.loop_radius / B
+                    << (trefoil ? ", F/law = " + std::to_string(fbar / law) : std::string()) << "\n";
             }
           finish(recorder, curve, knot);
         });
@@ -166,17 +193,30 @@ namespace suturesim::scene
       SceneParameters &scene;
       Specimen         specimen;
 
-      /// The law's ratios, the least distance, F R²/B over the pull.
+      /// The law's ratios, the least distance, F R²/B and F R₀²/B (where R₀ is read),
+      /// the first integral's largest spread, over the pull.
       struct Curve
       {
-        std::vector<double> ratios, prefactors;
-        double              least = 1;
+        std::vector<double> ratios, prefactors, loop_prefactors;
+        double              least = 1, spread = 0;
         void
-        add(const double ratio, const double closest, const double prefactor)
+        add(const double ratio, const double closest, const double prefactor, const double loop_prefactor,
+            const double first_integral_spread)
         {
           ratios.push_back(ratio);
           prefactors.push_back(prefactor);
-          least = std::min(least, closest);
+          if (loop_prefactor > 0)
+            loop_prefactors.push_back(loop_prefactor);
+          least  = std::min(least, closest);
+          spread = std::max(spread, first_integral_spread);
+        }
+        static double
+        mean(const std::vector<double> &v)
+        {
+          double m = 0;
+          for (const double x : v)
+            m += x / v.size();
+          return m;
         }
       };
 
@@ -189,40 +229,49 @@ namespace suturesim::scene
         return x;
       }
 
-      static void
-      finish(io::Recorder &recorder, const Curve &curve, const rod::KnotTightening &knot)
+      void
+      finish(io::Recorder &recorder, const Curve &curve, const rod::KnotTightening &knot) const
       {
-        // the overhand's code as seed 002's planner ties it, or its mirror image (O and U
-        // swapped: the same knot seen from the plane's other side, or tied the other way)
-        const knot::Projection projection(rod::KnotTightening::projection_normal());
-        const std::string      planned = knot::tied_code(knot::instructions("overhand")).text();
-        std::string            mirror  = planned;
-        for (char &c : mirror)
-          c = c == 'O' ? 'U' : c == 'U' ? 'O' : c;
-        nlohmann::json m        = knot::diagram_metrics(rope(knot.model()), projection);
-        m["knot"]               = "overhand (laid)";
-        m["planned_gauss_code"] = planned + " or " + mirror;
-        m["tied"]               = m["gauss_code"] == planned || m["gauss_code"] == mirror;
+        // "reads_planned_code": the code seed 002's planner ties for the knot, or its
+        // mirror image's (O and U swapped: seen from the plane's other side, or tied the
+        // other way), cut open anywhere (the trefoil's cuts all read one code, the
+        // figure-eight's eight). Pulled tight, a knot seen along a fixed plane may keep
+        // crossings the reductions cannot remove; "tied" asks only that the knot be the
+        // planned one as its determinant tells, which every diagram of it gives, and
+        // that it show at least the planned knot's crossings
+        const knot::Projection projection(knot.projection_normal());
+        const knot::GaussCode  planned = knot::tied_code(knot::instructions(specimen.knot));
+        nlohmann::json         m       = knot::diagram_metrics(rope(knot.model()), projection);
+        const knot::GaussCode  code    = knot::GaussCode::parse(m["gauss_code"].get<std::string>());
+        m["knot"]                      = specimen.knot + " (laid)";
+        m["planned_gauss_code"]        = planned.text();
+        m["planned_determinant"]       = planned.determinant();
+        m["reads_planned_code"]        = code.is_cut_of(planned);
+        m["tied"] = code.determinant() == planned.determinant() && code.crossings() >= planned.crossings();
         auto &metrics                 = recorder.summary()["metrics"];
         metrics["knot"]               = m;
         auto &t                       = metrics["knot_tightening"];
         t["steps"]                    = curve.ratios.size();
         t["least_distance_over_2h"]   = curve.least;
         t["interpenetration_over_radius"] = std::max(0.0, 2 * (1 - curve.least));
-        if (curve.ratios.empty())
+        if (curve.prefactors.empty())
           return;
-        const auto [lo, hi]     = std::minmax_element(curve.ratios.begin(), curve.ratios.end());
-        t["audoly_ratio_range"] = {*lo, *hi};
-        double mean             = 0;
-        for (const double f : curve.prefactors)
-          mean += f / curve.prefactors.size();
-        t["force_radius_squared_over_B"] = mean;
+        if (specimen.knot == "overhand")
+          {
+            const auto [lo, hi]     = std::minmax_element(curve.ratios.begin(), curve.ratios.end());
+            t["audoly_ratio_range"] = {*lo, *hi};
+          }
+        t["force_radius_squared_over_B"] = Curve::mean(curve.prefactors);
+        t["first_integral_spread"]       = curve.spread;
+        if (!curve.loop_prefactors.empty())
+          t["force_loop_radius_squared_over_B"] = Curve::mean(curve.loop_prefactors);
       }
     };
 
     const bool registered = Scenario::Registry::instance().add(
       {"knot specimen",
-       "an overhand knot laid in the suture, tied into a straight rod and pulled tight, against Audoly et al. 2007 "
+       "an overhand or figure-eight knot laid in the suture, tied into a straight rod and pulled tight (the overhand "
+       "against Audoly et al. 2007) "
        "(Model = accurate, Bodies = knot specimen)",
        Specimen::declare,
        [](const SceneParameters &s) { return s.model == "accurate" && s.bodies == "knot specimen"; },

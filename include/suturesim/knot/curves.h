@@ -1,0 +1,36 @@
+#pragma once
+/**
+ * @file
+ * Closed knots as parametric curves, t ∈ [0, 2π), each read along z into its standard
+ * diagram (knot/diagram.h): the trefoil, three alternating crossings, and the
+ * figure-eight, four. The tests draw ropes from them; rod/knot_tightening.h cuts one
+ * open and lays it in a Cosserat rod.
+ */
+
+#include <Eigen/Core>
+
+#include <cmath>
+
+namespace suturesim::knot
+{
+  /// The least distance between the strands of trefoil() and of figure_eight(), to four
+  /// digits rounded down (KnotDiagram.TheClosedKnotsStrandsPassAtTheirClearance).
+  constexpr double trefoil_clearance = 1.2143, figure_eight_clearance = 1.1408;
+
+  /// The trefoil (sin t + 2 sin 2t, cos t − 2 cos 2t, −sin 3t): its lobes reach 3 from
+  /// the centre, its strands pass trefoil_clearance apart at their closest.
+  inline Eigen::Vector3d
+  trefoil(const double t)
+  {
+    return {std::sin(t) + 2 * std::sin(2 * t), std::cos(t) - 2 * std::cos(2 * t), -std::sin(3 * t)};
+  }
+
+  /// The figure-eight ((2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t): it reaches 3
+  /// from the axis at t = 0 and π, its strands pass figure_eight_clearance apart at
+  /// their closest.
+  inline Eigen::Vector3d
+  figure_eight(const double t)
+  {
+    return {(2 + std::cos(2 * t)) * std::cos(3 * t), (2 + std::cos(2 * t)) * std::sin(3 * t), std::sin(4 * t)};
+  }
+} // namespace suturesim::knot
