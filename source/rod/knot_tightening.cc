@@ -1,4 +1,5 @@
 #include <suturesim/rod/knot_tightening.h>
+#include <suturesim/rod/rod_parameters.h>
 #include <suturesim/rod/viscous_drag.h>
 
 #include <suturesim/knot/curves.h>
@@ -44,16 +45,15 @@ namespace suturesim::rod
     }
 
     /// The closed knot @p c scaled by @p a, cut open with straight tails of length
-    /// @p tail along the tangent τ at the cut, resampled into elements of length about
-    /// @p l. Cut open, the knot passes through the cut twice along τ (tail, knot, then
-    /// the knot back through the cut and the other tail), so the two passes are lifted
-    /// apart along the diagram's normal n (z made normal to τ) by the closed knot's
-    /// clearance: the first by +c/2 and the second by −c/2 (their tails entirely, the
-    /// knot's ends faded out over the blend in t). Seen along n the laid knot is the
-    /// closed one's diagram, its tails overlapping in one line. Turned so that its ends
-    /// lie along x; @p normal is n turned with it, made normal to x.
-    std::vector<Vec3>
-    open_knot(const ClosedKnot &c, const double a, const double tail, const double l, Vec3 &normal)
+    /// @p tail along the tangent τ at the cut, as a dense polyline. Cut open, the knot
+    /// passes through the cut twice along τ (tail, knot, then the knot back through the
+    /// cut and the other tail), so the two passes are lifted apart along the diagram's
+    /// normal n (z made normal to τ) by the closed knot's clearance: the first by +c/2
+    /// and the second by −c/2 (their tails entirely, the knot's ends faded out over the
+    /// blend in t). Seen along n the laid knot is the closed one's diagram, its tails
+    /// overlapping in one line. Returns n too.
+    std::pair<std::vector<Vec3>, Vec3>
+    open_knot(const ClosedKnot &c, const double a, const double tail)
     {
       const auto   point = [&](const double t) { return Vec3(a * c.curve(t)); };
       const double d     = 1e-6;
@@ -72,40 +72,7 @@ namespace suturesim::rod
         }
       for (int i = 1; i <= ends; ++i)
         dense.push_back(point(c.cut) - lift + tau * tail * i / ends);
-      std::vector<double> arc{0};
-      for (std::size_t i = 1; i < dense.size(); ++i)
-        arc.push_back(arc.back() + (dense[i] - dense[i - 1]).norm());
-      const Quat        turn     = Quat::FromTwoVectors(dense.back() - dense.front(), Vec3::UnitX());
-      const int         elements = std::max(1, static_cast<int>(std::round(arc.back() / l)));
-      std::vector<Vec3> x;
-      std::size_t       k = 0;
-      for (int e = 0; e <= elements; ++e)
-        {
-          const double s = arc.back() * e / elements;
-          while (k + 2 < arc.size() && arc[k + 1] < s)
-            ++k;
-          const double w = (s - arc[k]) / (arc[k + 1] - arc[k]);
-          x.push_back(turn * ((1 - w) * dense[k] + w * dense[k + 1]));
-        }
-      normal = turn * n;
-      normal = (normal - normal.x() * Vec3::UnitX()).normalized();
-      return x;
-    }
-
-    /// Frames with d₁ along the centreline's nodal tangents, parallel transported.
-    std::vector<Quat>
-    transported_frames(const std::vector<Vec3> &x)
-    {
-      const std::size_t n = x.size();
-      std::vector<Quat> q;
-      Quat              frame = Quat::FromTwoVectors(Vec3::UnitX(), (x[1] - x[0]).normalized());
-      for (std::size_t i = 0; i < n; ++i)
-        {
-          const Vec3 t = (x[std::min(i + 1, n - 1)] - x[i > 0 ? i - 1 : 0]).normalized();
-          frame        = Quat::FromTwoVectors(frame * Vec3::UnitX(), t) * frame;
-          q.push_back(frame);
-        }
-      return q;
+      return {dense, n};
     }
 
     std::vector<double>
@@ -119,12 +86,40 @@ namespace suturesim::rod
   } // namespace
 
   KnotTightening::KnotTightening(const KnotTighteningParameters &parameters)
+    : KnotTightening(parameters, lay(parameters))
+  {}
+
+  KnotTightening::KnotTightening(const KnotTighteningParameters &parameters, LaidKnot laid)
     : prm(parameters)
-    , knot(open_knot(closed_knot(prm.knot), prm.knot_size, prm.tail, prm.element, normal))
-    , frames(transported_frames(knot))
+    , normal(laid.normal)
+    , knot(std::move(laid.x))
+    , frames(std::move(laid.q))
     , rest(lengths(knot))
     , rod(make(1, 0, knot, frames))
   {}
+
+  KnotTightening::LaidKnot
+  KnotTightening::lay(const KnotTighteningParameters &p)
+  {
+    // the open knot turned so that its ends lie along x, resampled into elements of
+    // about the element length with parallel-transported frames (a polyline centreline)
+    auto [dense, n]    = open_knot(closed_knot(p.knot), p.knot_size, p.tail);
+    const Quat    turn = Quat::FromTwoVectors(dense.back() - dense.front(), Vec3::UnitX());
+    double        arc  = 0;
+    for (std::size_t i = 1; i < dense.size(); ++i)
+      arc += (dense[i] - dense[i - 1]).norm();
+    for (Vec3 &x : dense)
+      x = turn * x;
+    RodParameters centreline;
+    centreline.centreline = "polyline";
+    centreline.polyline   = std::move(dense);
+    centreline.elements   = std::max(1u, static_cast<unsigned>(std::lround(arc / p.element)));
+    LaidKnot laid;
+    centreline.initial_configuration(laid.x, laid.q);
+    laid.normal = turn * n;
+    laid.normal = (laid.normal - laid.normal.x() * Vec3::UnitX()).normalized();
+    return laid;
+  }
 
   double
   KnotTightening::strand_clearance(const std::string &knot)
@@ -218,16 +213,20 @@ namespace suturesim::rod
         dt = std::min(1.0, 2 * dt);
         // the drag is what holds the nodes out of balance: the state is an equilibrium
         // once no node's drag exceeds 10⁻⁵ B/h² (≤ 0.04 % of the tensions pulled here)
+        // and neither does their sum, which is what the two ends' reactions differ by
+        // (a slow slide of the whole knot drags many nodes a little, the same way)
         Vec6   r;
         Mat6   J;
         double largest = 0;
+        Vec3   sum     = Vec3::Zero();
         for (std::size_t i = 1; i + 1 < start.size(); ++i)
           {
             r.setZero();
             drag.add(i, m.positions()[i], r, J);
             largest = std::max(largest, r.head<3>().norm());
+            sum += r.head<3>();
           }
-        if (largest < 1e-5 * B / (h * h))
+        if (std::max(largest, sum.norm()) < 1e-5 * B / (h * h))
           return "";
       }
     return "still moving after 400 pseudo-time steps";
@@ -414,9 +413,8 @@ namespace suturesim::rod
       }
     s.radius = kappa > 0 ? 1 / kappa : 0;
     loop_reading(s, first, last);
-    SelfContact contact;
-    contact.setup(rod.contact().parameters(), x, rest);
-    for (const auto &c : contact.update(x))
+    // the pairs of accept()'s assembly, at these positions
+    for (const auto &c : rod.contact().pairs())
       s.closest = std::min(s.closest, c.distance / (2 * prm.radius));
     return s;
   }

@@ -119,8 +119,9 @@ TEST(KnotScene, TheAccurateOverhandSpecimenIsTiedPulledAndRecorded)
   // Bodies = knot specimen (parameters/knots/overhand_tightening.prm), pulled 4 mm in two
   // steps: the knot tied into the straight rod reads as the overhand seen across its
   // tails; forces.csv has a row per step whose columns agree with each other (ε from R,
-  // F h²/B from F, the law from ε) and the pull grows by the step; pulled tighter, F
-  // rises and R falls; suture.pvd holds the tied state and each step;
+  // F h²/B from F, the law from ε, F R₀²/B = ½ where the loop's tension vanishes) and
+  // the pull grows by the step; pulled tighter, F rises and R falls; suture.pvd holds
+  // the tied state and each step;
   // the strands in contact stay within 5 % of the radius of each other's surface. The
   // law's comparison itself is RodKnot.* (tests/unit/rod_knot_test.cc).
   const auto r = run_suturesim("knot_specimen", scene_with("parameters/knots/overhand_tightening.prm",
@@ -148,6 +149,11 @@ TEST(KnotScene, TheAccurateOverhandSpecimenIsTiedPulledAndRecorded)
       EXPECT_NEAR(row[column(header, "force_scaled")], force * h * h / B, 1e-12);
       EXPECT_NEAR(row[column(header, "audoly_force_scaled")], 0.5 * std::pow(eps, 4), 1e-12);
       EXPECT_GT(force, 0);
+      // where the loop's tension vanishes ½Bκ² = F (Kirchhoff's first integral, within
+      // its recorded spread): RodKnot.* checks it over the whole pull
+      const double R0 = row[column(header, "loop_zero_tension_radius")];
+      EXPECT_LT(row[column(header, "first_integral_spread")], 0.05);
+      EXPECT_NEAR(force * R0 * R0 / B, 0.5, 0.5 * 0.05);
     }
   // pulled tighter, the knot pulls harder and leaves the braid more sharply
   EXPECT_GT(rows[1][column(header, "force [N]")], rows[0][column(header, "force [N]")]);

@@ -17,7 +17,8 @@
  *   3. the last end is then held where F₀ left it and pulled along x, step by step.
  * Every stage, and every pull step, is solved to equilibrium through pseudo-time steps
  * with a small viscous drag (viscous_drag.h), which keeps each Newton solve well posed
- * however slack the knot, until no node's drag exceeds 10⁻⁵ B/h². A stage or step whose
+ * however slack the knot, until neither any node's drag nor their sum (what the two
+ * ends' reactions differ by) exceeds 10⁻⁵ B/h². A stage or step whose
  * solve fails is halved; a pseudo-time step that fails is retried at a tenth of its
  * length. The first end's twist is held (it removes the rigid rotation about the tails'
  * axis), the last end's is free, so that no twist is stored in the rod.
@@ -156,6 +157,17 @@ namespace suturesim::rod
     audoly_tension(double eps, double mu);
 
   private:
+    /// The laid knot's nodes and frames, and projection_normal().
+    struct LaidKnot
+    {
+      std::vector<Vec3> x;
+      std::vector<Quat> q;
+      Vec3              normal;
+    };
+    KnotTightening(const KnotTighteningParameters &parameters, LaidKnot laid);
+    static LaidKnot
+    lay(const KnotTighteningParameters &p);
+
     KnotTighteningParameters prm;
     Vec3                     normal; // projection_normal()
     std::vector<Vec3>        knot;   // the laid-out knot's nodes

@@ -57,6 +57,13 @@ namespace suturesim::rod
     const std::vector<ContactPair> &
     update(const std::vector<Vec3> &points);
 
+    /// The pairs found by the last update().
+    const std::vector<ContactPair> &
+    pairs() const
+    {
+      return active;
+    }
+
     /// Penalty energy of the pairs found by the last update().
     double
     energy() const;

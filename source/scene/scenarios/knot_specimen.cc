@@ -69,7 +69,8 @@ namespace suturesim::scene
                           "How far the last end is pulled after the knot is tied. Unit: m. Range: > 0.");
         prm.declare_entry("Drag", text(d.drag), Patterns::Double(0),
                           "The viscous drag per unit length of the pseudo-time steps (of 1 s) that solve each "
-                          "stage to equilibrium; an equilibrium is reached when no node's drag exceeds 1e-5 B/h^2. "
+                          "stage to equilibrium; an equilibrium is reached when neither any node's drag nor their sum "
+                          "exceeds 1e-5 B/h^2. "
                           "Unit: N s/m^2. Range: > 0.");
         prm.leave_subsection();
       }
