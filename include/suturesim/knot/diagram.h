@@ -77,7 +77,7 @@ namespace suturesim::knot
     /// colouring matrix has a row per crossing, 2 on its over-arc and −1 on each of its
     /// two under-arcs (an arc runs from one under-pass to the next), and its determinant
     /// with any one row and column struck out is the knot's (Lickorish, An Introduction
-    /// to Knot Theory, 1997, ch. 3 and 6). 1 for the unknot, 3 for the trefoil, 5 for the
+    /// to Knot Theory, 1997). 1 for the unknot, 3 for the trefoil, 5 for the
     /// figure-eight. Every diagram of a knot gives the same, so it names the knot where
     /// the moves of reduced() leave more crossings than its least number (a tight knot
     /// seen along a plane that is not its own).

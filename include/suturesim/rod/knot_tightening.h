@@ -118,8 +118,8 @@ namespace suturesim::rod
     /// Kirchhoff's first integral at each element's centre, in material components,
     ///   H = N·(E₁ + Γ) + M·K − W = N·E₁ + ½ N·Γ + ½ M·K  (W quadratic),
     /// which a uniform elastic rod conserves along any stretch free of distributed loads
-    /// (Antman, Nonlinear Problems of Elasticity, 2005, ch. 8; planar and inextensible,
-    /// ½Bκ² + N·t = const). A frictionless contact between circular sections pushes
+    /// (the rod's Hamiltonian in s: Kehrbaum & Maddocks, Phil. Trans. R. Soc. A 355,
+    /// 1997; planar and inextensible, ½Bκ² + N·t = const). A frictionless contact between circular sections pushes
     /// normal to both centrelines, dH/ds = −p·t = 0, so through the whole tied knot H
     /// equals its tails' F + F²/(2EA): wherever the tangent is normal to the internal
     /// force, ½Bκ² = F, Audoly et al.'s F = B/(2R²) read at that point. N (m).
