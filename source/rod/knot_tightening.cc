@@ -72,7 +72,14 @@ namespace suturesim::rod
         }
       for (int i = 1; i <= ends; ++i)
         dense.push_back(point(c.cut) - lift + tau * tail * i / ends);
-      return {dense, n};
+      return {std::move(dense), n};
+    }
+
+    /// H = N·E₁ + ½ N·Γ + ½ M·K at an element's centre (KnotTightening::first_integral()).
+    double
+    hamiltonian(const ElementState &e)
+    {
+      return e.N.x() + 0.5 * e.N.dot(e.Gamma) + 0.5 * e.M.dot(e.K);
     }
 
     std::vector<double>
@@ -333,10 +340,9 @@ namespace suturesim::rod
   KnotTightening::loop_reading(KnotState &s, const std::size_t first, const std::size_t last) const
   {
     const auto       &cf     = rod.contact_forces();
-    const auto        states = rod.element_states();
-    const auto        H      = first_integral();
-    for (const double h : H)
-      s.first_integral_spread = std::max(s.first_integral_spread, std::abs(h / s.force - 1));
+    const auto        states = rod.element_states(); // once: H and the tension below
+    for (const ElementState &e : states)
+      s.first_integral_spread = std::max(s.first_integral_spread, std::abs(hamiltonian(e) / s.force - 1));
     s.end_force_imbalance = last_end_force / end_force - 1;
     if (first >= last)
       return;
@@ -378,7 +384,7 @@ namespace suturesim::rod
   {
     std::vector<double> H;
     for (const ElementState &e : rod.element_states())
-      H.push_back(e.N.x() + 0.5 * e.N.dot(e.Gamma) + 0.5 * e.M.dot(e.K));
+      H.push_back(hamiltonian(e));
     return H;
   }
 
