@@ -46,9 +46,14 @@ def frame(normal):
 
 
 def about(summary):
-    """The scene and, for the realtime path, its suture model and self-collision."""
+    """The scene and its path: for the realtime one its suture model and self-collision."""
     rt = summary.get("realtime") or {}
-    model = f" ({rt['suture_model']}, {rt['self_collision']})" if rt else ""
+    if rt:
+        model = f" ({rt['suture_model']}, {rt['self_collision']})"
+    elif summary.get("model") == "accurate":
+        model = " (accurate: Cosserat rod)"
+    else:
+        model = ""
     return f"{summary.get('scene', '')}{model}"
 
 

@@ -293,7 +293,10 @@ namespace suturesim::rod
                       "that the quasi-static rod leaves nearly undetermined (as ABAQUS "
                       "*STATIC, STABILIZE); the drag's total is recorded "
                       "(suture_stabilization_force in forces.csv) so that its share of the "
-                      "forces can be checked. Unit: N s/m^2. Range: >= 0.");
+                      "forces can be checked. Accurate knot (Knot with Model = accurate): the "
+                      "drag the planner's end pulls the rod along against, what the rope lies "
+                      "on (required, > 0; parameters/knots/overhand.prm). Unit: N s/m^2. "
+                      "Range: >= 0.");
   }
 
   void

@@ -1,4 +1,5 @@
 #include <suturesim/scene/knot_parameters.h>
+#include <suturesim/scene/scene_parameters.h>
 
 namespace suturesim::scene
 {
@@ -47,7 +48,7 @@ namespace suturesim::scene
   }
 
   knot::PlannerSettings
-  KnotParameters::parse(const ParameterHandler &prm, const ParameterScope &scope, const std::string &model)
+  KnotParameters::parse(const ParameterHandler &prm, const ParameterScope &scope)
   {
     knot::PlannerSettings s;
     s.knot             = prm.get("Knot");
@@ -61,13 +62,28 @@ namespace suturesim::scene
     s.tighten_force    = prm.get_double("Tighten force");
     if (s.knot == "none")
       return s;
-    scope.require(model == "realtime", "Knot",
-                  "the accurate path does not tie knots yet (no graspers drive its rod's ends along "
-                  "the planner's instructions): use Model = realtime");
     scope.require(s.normal.norm() > 0, "Projection normal", "must not be zero");
     scope.require(s.speed > 0, "Speed", "must be > 0 m/s");
     scope.require(s.clearance > 0, "Clearance", "must be > 0 m");
     scope.require(s.instruction_time > 0, "Instruction time", "must be > 0 s");
     return s;
+  }
+
+  void
+  KnotParameters::check(const SceneParameters &scene)
+  {
+    if (scene.knot.knot == "none")
+      return;
+    const ParameterScope knot = scene.scope("Knot");
+    knot.require(scene.has_suture(), "Knot", "a knot needs a suture (Bodies = suture or tissue and suture)");
+    knot.require(!scene.needle.present(), "Knot",
+                 "the planner ties a free suture (no Needle): a stitch tied off with a knot is not modelled yet");
+    const auto &ends = scene.suture;
+    knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
+                 "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
+    knot.require(ends.start_end.type != "free", "Knot",
+                 "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
+                 "clamped or prescribed)");
+    knot.require(ends.elements >= 2, "Knot", "the suture needs at least two elements");
   }
 } // namespace suturesim::scene

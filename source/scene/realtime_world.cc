@@ -1,5 +1,6 @@
 #include <suturesim/core/error.h>
 #include <suturesim/mesh/gmsh_reader.h>
+#include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/realtime_world.h>
 
 #include <algorithm>
@@ -437,27 +438,9 @@ namespace suturesim::scene
   }
 
   void
-  RealtimeWorld::check_knot(const SceneParameters &scene)
-  {
-    if (scene.knot.knot == "none")
-      return;
-    const ParameterScope knot = scene.scope("Knot");
-    knot.require(scene.has_suture(), "Knot", "a knot needs a suture (Bodies = suture or tissue and suture)");
-    knot.require(!scene.needle.present(), "Knot",
-                 "the planner ties a free suture (no Needle): a stitch tied off with a knot is not modelled yet");
-    const auto &ends = scene.suture;
-    knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
-                 "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
-    knot.require(ends.start_end.type != "free", "Knot",
-                 "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
-                 "clamped or prescribed)");
-    knot.require(ends.elements >= 2, "Knot", "the suture needs at least two elements");
-  }
-
-  void
   RealtimeWorld::add_knot_planner()
   {
-    check_knot(scene);
+    KnotParameters::check(scene);
     if (scene.knot.knot != "none")
       planner.emplace(scene.knot);
   }

@@ -68,7 +68,7 @@ namespace suturesim::scene
     needle.parse(prm, scope());
     closure.parse(prm, scope());
     prm.enter_subsection("Knot");
-    knot = KnotParameters::parse(prm, scope("Knot"), model);
+    knot = KnotParameters::parse(prm, scope("Knot"));
     prm.leave_subsection();
     prm.enter_subsection("Stitch evaluation");
     stitch_evaluation =

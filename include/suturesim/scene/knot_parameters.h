@@ -4,7 +4,8 @@
  * The "Knot" subsection of a scene: which knot seed 002's planner ties in the suture
  * (knot/planner.h), by moving the suture's last end (Suture/Last end/Type = pinned: the
  * grasper the planner moves) while the first is held, and how. Both paths read the same
- * file; today only the realtime path ties (Model = accurate with a knot is refused).
+ * file: the realtime world's grasper moves its rope's end (scene/realtime_world.h), the
+ * accurate path's Cosserat rod has its last node moved (scene/scenarios/accurate_knot.cc).
  */
 
 #include <suturesim/core/model_parameters.h>
@@ -15,12 +16,19 @@
 
 namespace suturesim::scene
 {
+  struct SceneParameters;
+
   struct KnotParameters
   {
     static void
     declare(dealii::ParameterHandler &prm);
-    /// Reads the current subsection "Knot"; @p model is the scene's Model.
+    /// Reads the current subsection "Knot".
     static knot::PlannerSettings
-    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope, const std::string &model);
+    parse(const dealii::ParameterHandler &prm, const ParameterScope &scope);
+    /// Refuses a Knot in a scene whose suture the planner cannot tie (one line naming
+    /// Knot/Knot): no suture, a needle, the last end not pinned from the start, the first
+    /// end free, fewer than two elements. Either path, once the bodies are read.
+    static void
+    check(const SceneParameters &scene);
   };
 } // namespace suturesim::scene

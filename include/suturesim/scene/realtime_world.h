@@ -54,11 +54,6 @@ namespace suturesim::scene
     void
     measure_closure();
 
-    /// Refuses a Knot the realtime world cannot tie (one line naming Knot/Knot): called
-    /// when the scene is read (so --validate finds it) and again when the world is built.
-    static void
-    check_knot(const SceneParameters &scene);
-
     /// The suture's tension, as the closure and the tears are charged to it (the accurate
     /// path's measure): the last end's grasper's pull once it holds the end, else the
     /// needle's pull, N.

@@ -75,7 +75,7 @@ namespace suturesim::scene
       {"accurate suture",
        "the Cosserat-rod suture alone, quasi-static or dynamic (Model = accurate, Bodies = suture)",
        nullptr,
-       [](const SceneParameters &s) { return s.model == "accurate" && s.bodies == "suture"; },
+       [](const SceneParameters &s) { return s.model == "accurate" && s.bodies == "suture" && s.knot.knot == "none"; },
        [](ParameterHandler &prm, SceneParameters &s) { return std::unique_ptr<Scenario>(new AccurateSuture(prm, s)); }});
   } // namespace
 } // namespace suturesim::scene

@@ -8,6 +8,7 @@
 #include <suturesim/core/error.h>
 #include <suturesim/core/interruption.h>
 #include <suturesim/realtime/divergence_guard.h>
+#include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/realtime_record.h>
 #include <suturesim/scene/scenario.h>
 
@@ -55,7 +56,7 @@ namespace suturesim::scene
         if (scene.has_tissue() && scene.has_suture() && settings.contact)
           realtime.require(settings.contact_stiffness > 0, "Contact stiffness", "must be > 0 N/m when Contact = true");
         refuse_what_is_not_modelled();
-        RealtimeWorld::check_knot(scene);
+        KnotParameters::check(scene);
       }
 
       void
