@@ -184,6 +184,7 @@ namespace suturesim::scene
           start  = model.positions();
           turn   = model.rotations();
           before = planner;
+          p.set_time(t_new); // the loads, and a prescribed first end's motion
           const rod::Vec3 to = planner.move(rope(model), t_new, dt, end_force);
           model.set_node(last, to, led_frame(turn[last], to - start[last], scene.knot.normal.normalized()));
           drag.begin_step(&start, dt);
@@ -194,6 +195,7 @@ namespace suturesim::scene
         hooks.undo = [&](const StepAttempt &, double, double) {
           for (std::size_t i = 0; i < start.size(); ++i)
             model.set_node(i, start[i], turn[i]);
+          p.set_time(t);
           planner = before;
         };
         hooks.accept = [&](const double t_new, const double dt, unsigned) {
