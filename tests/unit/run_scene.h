@@ -127,11 +127,12 @@ namespace suturesim::test_support
     return {"OMPI_*", "PMIX_*", "OPAL_*", "OMPI_ALLOW_RUN_AS_ROOT=1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1"};
   }
 
-  /// The numeric rows of a run's forces.csv (the header is checked by the caller).
+  /// The numeric rows of the CSV file @p path under a one-line header (checked by the
+  /// caller).
   inline std::vector<std::vector<double>>
-  read_forces(const RunResult &r, std::string *header = nullptr)
+  read_numeric_csv(const std::string &path, std::string *header = nullptr)
   {
-    std::ifstream csv(r.directory + "/forces.csv");
+    std::ifstream csv(path);
     std::string   first;
     std::getline(csv, first);
     if (header != nullptr)
@@ -146,6 +147,13 @@ namespace suturesim::test_support
         rows.push_back(v);
       }
     return rows;
+  }
+
+  /// The numeric rows of a run's forces.csv (the header is checked by the caller).
+  inline std::vector<std::vector<double>>
+  read_forces(const RunResult &r, std::string *header = nullptr)
+  {
+    return read_numeric_csv(r.directory + "/forces.csv", header);
   }
 
   /// The index of the first column of a forces.csv @p header whose name starts with
