@@ -6,7 +6,9 @@
  *
  * Each step Δt (Time/Step size) asks the planner where the end goes from the rod's
  * nodes of the last accepted state and the rope's pull on the end, moves the last node
- * there and solves the rod to equilibrium with the viscous drag of Suture/Stabilization
+ * there (its frame led along the motion, led_frame()), applies the scene's loads and a
+ * prescribed first end's motion, and solves the rod to equilibrium (Newton's
+ * corrections capped at the radius and 0.25 rad) with the viscous drag of Suture/Stabilization
  * (rod/viscous_drag.h): the drag stands for what the seed's rope lies on and keeps a
  * slack rope's position determined, so that the rod is dragged along by its end as the
  * seed's follow-the-leader rope is, instead of springing to the elastica its two ends
