@@ -131,6 +131,24 @@ TEST(KnotScene, TheAccurateRodIsTiedIntoTheFigureEightByThePlannerFromTheSameSce
   expect_tied_accurate("figure_eight", figure_eight_code, figure_eight_steps, 5);
 }
 
+TEST(KnotScene, AnAccurateKnotWhoseStepStillFailsStopsWithExitThreeAndItsLastState)
+{
+  // Newton allowed two iterations and one halving: the first step after the planner
+  // starts (t = 0.1 s) fails. One line says which step and why, the exit code is 3, and
+  // the summary is the failed run's: its last converged state, metrics.knot of it and an
+  // (empty) list of events
+  const auto r = run_suturesim("knot_accurate_failed",
+                               scene_with("parameters/knots/overhand.prm",
+                                          {"Model=accurate", "Suture/Newton/Max iterations=2", "Time/Max cutbacks=1"}));
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_EQ(lines_starting(r.output, "error: knot step from t = 0.100000 s"), 1u) << r.output;
+  ASSERT_TRUE(r.has_summary);
+  EXPECT_EQ(r.summary["status"], "failed");
+  EXPECT_NEAR(r.summary["steps"].back()["time"].get<double>(), 0.1, 1e-12);
+  EXPECT_EQ(r.summary["metrics"]["knot"]["instructions_done"], 0);
+  EXPECT_TRUE(r.summary["events"].is_array()) << r.summary["events"].dump();
+}
+
 TEST(KnotScene, BothKnotsAreTiedWithSeed000sRepellingForce)
 {
   // a mass-spring suture stepped quasi-statically, its strands kept apart by seed 000's

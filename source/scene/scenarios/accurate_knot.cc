@@ -90,6 +90,8 @@ namespace suturesim::scene
       events() const
       {
         auto &list = summary["events"];
+        if (!list.is_array())
+          list = nlohmann::json::array();
         for (const auto &e : knot::knot_events(planner))
           list.push_back(e);
       }
