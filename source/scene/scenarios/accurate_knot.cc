@@ -58,10 +58,12 @@ namespace suturesim::scene
       return (rod::Quat::FromTwoVectors(q * rod::Vec3::UnitX(), along) * q).normalized();
     }
 
-    /// metrics.knot of the rod's state (knot::knot_metrics()) and how its strands met
-    /// so far: the steps with a pair in contact (contact_steps) and the least centreline
-    /// distance of a pair over the diameter (least_distance_over_diameter; 1: touching,
-    /// below: the strands overlap by that share of the diameter).
+    /// How the rod's strands met over the run, tracked per accepted state: the steps with
+    /// a pair in contact (contact_steps) and the least centreline distance of a pair over
+    /// the diameter (least_distance_over_diameter; 1: touching, below: the strands overlap
+    /// by that share of the diameter); written with metrics.knot of the last state
+    /// (knot::knot_metrics()) and the planner's knot_crossing events once, when the run
+    /// ends or fails (the diagram is read once, not every step).
     class KnotRecord
     {
     public:
@@ -80,16 +82,16 @@ namespace suturesim::scene
         for (const auto &c : pairs)
           least = std::min(least, c.distance / diameter);
         steps += !pairs.empty();
+      }
+
+      /// metrics.knot of the model's state (the last accepted one) and the events.
+      void
+      finish() const
+      {
         auto &k                           = summary["metrics"]["knot"] = knot::knot_metrics(planner, rope(model));
         k["contact_steps"]                = steps;
         k["least_distance_over_diameter"] = least;
-      }
-
-      /// The planner's knot_crossing events, once, when the run ends (or fails).
-      void
-      events() const
-      {
-        auto &list = summary["events"];
+        auto &list                        = summary["events"];
         if (!list.is_array())
           list = nlohmann::json::array();
         for (const auto &e : knot::knot_events(planner))
@@ -149,10 +151,10 @@ namespace suturesim::scene
             }
           catch (...)
             {
-              record.events();
+              record.finish();
               throw;
             }
-          record.events();
+          record.finish();
         });
       }
 
@@ -204,11 +206,13 @@ namespace suturesim::scene
         };
         hooks.accept = [&](const double t_new, const double dt, unsigned) {
           t = t_new;
-          // the rope's pull on the grasper: the last node's reaction (the drag left out)
-          end_force = model.residual().segment<3>(6 * last).norm();
+          // the static residual (the drag left out), assembled once: the supports'
+          // reactions the recorder writes, the rope's pull on the grasper the planner reads
+          const Eigen::VectorXd r = model.residual();
+          end_force               = r.segment<3>(6 * last).norm();
           observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
                                 {"step_size", dt}, {"stabilization_force", drag.total_force(model.positions())}},
-                            nullptr);
+                            &r);
           record.accepted();
           model.commit_contact();
         };
