@@ -1,4 +1,5 @@
 #include <suturesim/scene/run_summary.h>
+#include <suturesim/scene/scene_parameters.h>
 #include <suturesim/scene/suture_recorder.h>
 
 #include <cstdio>
@@ -128,4 +129,17 @@ namespace suturesim::scene
       }
     return recorder.directory() + "/suture.pvd";
   }
+
+  SutureRun::SutureRun(const SceneParameters &scene, io::Recorder &recorder, dealii::ConditionalOStream &banner,
+                       const std::string &what)
+    : problem(scene.suture, scene.time)
+    , observer(problem, recorder)
+  {
+    RunSummary summary(recorder.summary());
+    summary.begin(scene);
+    summary.rod(scene.suture, problem.model.n_elements());
+    banner << "suturesim: scene '" << scene.name << "', suture of " << problem.model.n_elements()
+           << " Cosserat rod elements" << what << "\n";
+  }
 } // namespace suturesim::scene
+

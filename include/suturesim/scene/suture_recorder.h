@@ -13,10 +13,15 @@
 #include <suturesim/io/recorder.h>
 #include <suturesim/rod/rod_integrator.h>
 
+#include <deal.II/base/conditional_ostream.h>
+
 #include <chrono>
+#include <string>
 
 namespace suturesim::scene
 {
+  struct SceneParameters;
+
   /// The rod as a polyline for suture_*.vtu: nodes with radius and contact force, per
   /// segment the axial and shear force, bending and twisting moment, twist, curvature.
   io::PolylineData
@@ -45,5 +50,17 @@ namespace suturesim::scene
     double                 last_output  = -1;
     unsigned               output_index = 0;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+  };
+
+  /// The opening every scenario of the rod alone shares: the rod built from the scene,
+  /// summary.json's scene and rod entries (RunSummary::begin, rod), the banner line
+  /// "suturesim: scene '<name>', suture of <n> Cosserat rod elements<what>" and the record.
+  struct SutureRun
+  {
+    SutureRun(const SceneParameters &scene, io::Recorder &recorder, dealii::ConditionalOStream &banner,
+              const std::string &what);
+
+    rod::RodProblem problem;
+    SutureRecorder  observer;
   };
 } // namespace suturesim::scene

@@ -22,7 +22,6 @@
 #include <suturesim/rod/rod_integrator.h>
 #include <suturesim/rod/viscous_drag.h>
 #include <suturesim/scene/knot_parameters.h>
-#include <suturesim/scene/run_summary.h>
 #include <suturesim/scene/scenario.h>
 #include <suturesim/scene/suture_recorder.h>
 #include <suturesim/scene/timed_run.h>
@@ -106,6 +105,113 @@ namespace suturesim::scene
       double                   least = 1;
     };
 
+    /// One run of the planner on the rod: each step (attempt()) moves the last node
+    /// where the planner sends it and solves; a failed attempt is undone, the planner
+    /// with it (undo()); an accepted state is recorded and gives the planner the rope's
+    /// pull on its end (accept()). The steps are core/cutback_stepper.h's.
+    class PlannedTie
+    {
+    public:
+      PlannedTie(const SceneParameters &scene, rod::RodProblem &p, knot::KnotPlanner &planner,
+                 rod::StateObserver &observer, KnotRecord &record)
+        : p(p)
+        , model(p.model)
+        , planner(planner)
+        , observer(observer)
+        , record(record)
+        , normal(scene.knot.normal.normalized())
+        , last(model.n_nodes() - 1)
+        , drag(model, scene.suture.stabilization)
+        , before(planner)
+        , newton(scene.suture.newton)
+      {
+        // a Newton correction is capped at the suture's radius (half the contact
+        // distance: no strand jumps through another within one iteration) and 0.25 rad
+        newton.max_displacement = scene.suture.section.radius;
+        newton.max_rotation     = 0.25;
+      }
+
+      void
+      run()
+      {
+        p.set_time(0);
+        model.constrain(last, {{true, true, true, true, true, true}});
+        observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr); // assembles the contact pairs
+        record.accepted();
+        model.commit_contact();
+        StepHooks hooks;
+        hooks.attempt = [&](const double t_new, const double dt) { return attempt(t_new, dt); };
+        hooks.undo    = [&](const StepAttempt &, double, double) { undo(); };
+        hooks.accept  = [&](const double t_new, const double dt, unsigned) { accept(t_new, dt); };
+        hooks.fail    = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
+          throw SolverError("knot step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +
+                            " s failed after " + std::to_string(cutbacks) + " step halvings: " + reason +
+                            "; the last converged state is kept");
+        };
+        hooks.keep = [&](const double t_now) { return observer.keep(t_now); };
+        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0, 0, 4, p.time.maximum_steps},
+                          hooks);
+      }
+
+    private:
+      rod::RodProblem         &p;
+      rod::RodModel           &model;
+      knot::KnotPlanner       &planner;
+      rod::StateObserver      &observer;
+      KnotRecord              &record;
+      const rod::Vec3          normal;
+      const std::size_t        last;
+      rod::ViscousDrag         drag;
+      knot::KnotPlanner        before;
+      rod::NewtonParameters    newton;
+      rod::NewtonResult        result;
+      std::vector<rod::Vec3>   start;
+      std::vector<rod::Quat>   turn;
+      double                   t         = 0;
+      double                   end_force = 0;
+
+      StepAttempt
+      attempt(const double t_new, const double dt)
+      {
+        start  = model.positions();
+        turn   = model.rotations();
+        before = planner;
+        p.set_time(t_new); // the loads, and a prescribed first end's motion
+        const rod::Vec3 to = planner.move(rope(model), t_new, dt, end_force);
+        model.set_node(last, to, led_frame(turn[last], to - start[last], normal));
+        drag.begin_step(&start, dt);
+        const rod::NodalTerms terms = [&](std::size_t i, const rod::Vec3 &x, const rod::Quat &, rod::Vec6 &r,
+                                          rod::Mat6 &J) { drag.add(i, x, r, J); };
+        result = model.solve(newton, &terms);
+        p.newton_iterations += result.iterations;
+        return result.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, result.reason};
+      }
+
+      void
+      undo()
+      {
+        for (std::size_t i = 0; i < start.size(); ++i)
+          model.set_node(i, start[i], turn[i]);
+        p.set_time(t);
+        planner = before;
+      }
+
+      void
+      accept(const double t_new, const double dt)
+      {
+        t = t_new;
+        // the static residual (the drag left out), assembled once: the supports'
+        // reactions the recorder writes, the rope's pull on the grasper the planner reads
+        const Eigen::VectorXd r = model.residual();
+        end_force               = r.segment<3>(6 * last).norm();
+        observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
+                              {"step_size", dt}, {"stabilization_force", drag.total_force(model.positions())}},
+                          &r);
+        record.accepted();
+        model.commit_contact();
+      }
+    };
+
     class AccurateKnot : public Scenario
     {
     public:
@@ -135,19 +241,13 @@ namespace suturesim::scene
       run(io::Recorder &recorder) override
       {
         run_timed(recorder, [&](TimerOutput &timer, ConditionalOStream &pcout) {
-          rod::RodProblem problem(scene.suture, scene.time);
-          RunSummary      summary(recorder.summary());
-          summary.begin(scene);
-          summary.rod(scene.suture, problem.model.n_elements());
-          pcout << "suturesim: scene '" << scene.name << "', suture of " << problem.model.n_elements()
-                << " Cosserat rod elements tied by the knot planner (" << scene.knot.knot << ")\n";
+          SutureRun          suture(scene, recorder, pcout, " tied by the knot planner (" + scene.knot.knot + ")");
           TimerOutput::Scope section(timer, "suture");
-          SutureRecorder     observer(problem, recorder);
           knot::KnotPlanner  planner(scene.knot);
-          KnotRecord         record(planner, problem.model, recorder.summary());
+          KnotRecord         record(planner, suture.problem.model, recorder.summary());
           try
             {
-              tie(problem, planner, observer, record);
+              PlannedTie(scene, suture.problem, planner, suture.observer, record).run();
             }
           catch (...)
             {
@@ -160,71 +260,6 @@ namespace suturesim::scene
 
     private:
       SceneParameters &scene;
-
-      void
-      tie(rod::RodProblem &p, knot::KnotPlanner &planner, rod::StateObserver &observer, KnotRecord &record) const
-      {
-        rod::RodModel    &model = p.model;
-        const std::size_t last  = model.n_nodes() - 1;
-        rod::ViscousDrag  drag(model, scene.suture.stabilization);
-        std::vector<rod::Vec3>  start;
-        std::vector<rod::Quat>  turn;
-        const rod::NodalTerms   terms = [&](std::size_t i, const rod::Vec3 &x, const rod::Quat &, rod::Vec6 &r,
-                                          rod::Mat6 &J) { drag.add(i, x, r, J); };
-        // a Newton correction is capped at the suture's radius (half the contact
-        // distance: no strand jumps through another within one iteration) and 0.25 rad
-        rod::NewtonParameters newton = scene.suture.newton;
-        newton.max_displacement      = scene.suture.section.radius;
-        newton.max_rotation          = 0.25;
-        knot::KnotPlanner       before = planner;
-        rod::NewtonResult       result;
-        double                  end_force = 0;
-        p.set_time(0);
-        model.constrain(last, {{true, true, true, true, true, true}});
-        observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr); // assembles the contact pairs
-        record.accepted();
-        model.commit_contact();
-        double    t = 0;
-        StepHooks hooks;
-        hooks.attempt = [&](const double t_new, const double dt) {
-          start  = model.positions();
-          turn   = model.rotations();
-          before = planner;
-          p.set_time(t_new); // the loads, and a prescribed first end's motion
-          const rod::Vec3 to = planner.move(rope(model), t_new, dt, end_force);
-          model.set_node(last, to, led_frame(turn[last], to - start[last], scene.knot.normal.normalized()));
-          drag.begin_step(&start, dt);
-          result = model.solve(newton, &terms);
-          p.newton_iterations += result.iterations;
-          return result.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, result.reason};
-        };
-        hooks.undo = [&](const StepAttempt &, double, double) {
-          for (std::size_t i = 0; i < start.size(); ++i)
-            model.set_node(i, start[i], turn[i]);
-          p.set_time(t);
-          planner = before;
-        };
-        hooks.accept = [&](const double t_new, const double dt, unsigned) {
-          t = t_new;
-          // the static residual (the drag left out), assembled once: the supports'
-          // reactions the recorder writes, the rope's pull on the grasper the planner reads
-          const Eigen::VectorXd r = model.residual();
-          end_force               = r.segment<3>(6 * last).norm();
-          observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
-                                {"step_size", dt}, {"stabilization_force", drag.total_force(model.positions())}},
-                            &r);
-          record.accepted();
-          model.commit_contact();
-        };
-        hooks.fail = [&](const double t_new, const unsigned cutbacks, const std::string &reason) {
-          throw SolverError("knot step from t = " + std::to_string(t) + " s to " + std::to_string(t_new) +
-                            " s failed after " + std::to_string(cutbacks) + " step halvings: " + reason +
-                            "; the last converged state is kept");
-        };
-        hooks.keep = [&](const double t_now) { return observer.keep(t_now); };
-        run_with_cutbacks({p.time.end_time, p.time.step_size, p.time.max_cutbacks, 0, 0, 4, p.time.maximum_steps},
-                          hooks);
-      }
     };
 
     const bool registered = Scenario::Registry::instance().add(

@@ -5,10 +5,11 @@
  * scene/suture_recorder.h.
  */
 #include <suturesim/rod/rod_integrator.h>
-#include <suturesim/scene/run_summary.h>
 #include <suturesim/scene/scenario.h>
 #include <suturesim/scene/suture_recorder.h>
 #include <suturesim/scene/timed_run.h>
+
+#include <sstream>
 
 namespace suturesim::scene
 {
@@ -52,17 +53,12 @@ namespace suturesim::scene
       run(io::Recorder &recorder) override
       {
         run_timed(recorder, [&](TimerOutput &timer, ConditionalOStream &pcout) {
-          rod::RodProblem problem(scene.suture, scene.time);
-          RunSummary      summary(recorder.summary());
-          summary.begin(scene);
-          summary.rod(scene.suture, problem.model.n_elements());
-          pcout << "suturesim: scene '" << scene.name << "', suture of " << problem.model.n_elements()
-                << " Cosserat rod elements (" << scene.suture.centreline
-                << "), EI = " << scene.suture.section.stiffness().moment[1] << " N m^2, " << scene.time.integrator
-                << "\n";
+          std::ostringstream what;
+          what << " (" << scene.suture.centreline << "), EI = " << scene.suture.section.stiffness().moment[1]
+               << " N m^2, " << scene.time.integrator;
+          SutureRun          suture(scene, recorder, pcout, what.str());
           TimerOutput::Scope section(timer, "suture");
-          SutureRecorder     observer(problem, recorder);
-          integrator->run(problem, observer);
+          integrator->run(suture.problem, suture.observer);
         });
       }
 
