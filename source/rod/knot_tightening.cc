@@ -28,13 +28,15 @@ namespace suturesim::rod
     {
       // each cut where the curve is furthest from its axis (3 there), so that straight
       // tails along the tangent pass outside the knot; the lift's side and blend are the
-      // ones that keep the laid strands furthest apart (0.966 and 0.985 of the closed
-      // knot's clearance; RodKnot.TheLaidKnots… checks 0.95)
+      // ones that keep the laid strands furthest apart (0.967, 0.987 and 0.999 of the
+      // closed knot's clearance; RodKnot.TheLaidKnots… checks 0.95)
       if (name == "overhand")
         return {knot::trefoil, M_PI, knot::trefoil_clearance, -1, 1.0};
       if (name == "figure-eight")
         return {knot::figure_eight, 0, knot::figure_eight_clearance, 1, 0.8};
-      throw std::invalid_argument("no laid knot '" + name + "' (overhand, figure-eight)");
+      if (name == "cinquefoil")
+        return {knot::cinquefoil, 0, knot::cinquefoil_clearance, 1, 1.2};
+      throw std::invalid_argument("no laid knot '" + name + "' (overhand, figure-eight, cinquefoil)");
     }
 
     double

@@ -19,10 +19,11 @@ namespace suturesim::scene
   {
     const knot::PlannerSettings d;
     prm.enter_subsection("Knot");
-    prm.declare_entry("Knot", d.knot, Patterns::Selection("none|overhand|figure-eight"),
+    prm.declare_entry("Knot", d.knot, Patterns::Selection("none|overhand|figure-eight|cinquefoil"),
                       "The knot seed 002's planner ties by moving the suture's last end (Suture/Last end/Type = "
-                      "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', or 'none'. Unit: "
-                      "none.");
+                      "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', 'cinquefoil' (the "
+                      "overhand's end taken round once more: the (2, 5) torus knot), or 'none'. Unit: none. Range: "
+                      "none, overhand, figure-eight, cinquefoil.");
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
                       "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");

@@ -137,7 +137,8 @@ TEST(KnotDiagram, TheClosedKnotsStrandsPassAtTheirClearance)
   // strands), against the constants the knot specimen's input check uses (a sampled
   // least distance is at most a few 1e-5 above the curve's)
   for (const auto &[f, clearance] : {std::pair{trefoil, trefoil_clearance},
-                                     std::pair{figure_eight, figure_eight_clearance}})
+                                     std::pair{figure_eight, figure_eight_clearance},
+                                     std::pair{cinquefoil, cinquefoil_clearance}})
     {
       const int n     = 2000;
       double    least = 1e9;
@@ -177,9 +178,6 @@ TEST(KnotDiagram, TheDeterminantNamesTheKnotOnEveryDiagram)
     }
   // the (2, 5) torus knot, the cinquefoil: 5 too (the determinant does not tell it from
   // the figure-eight; its crossing number does)
-  const auto cinquefoil = [](const double t) {
-    return Vector3d((2 + std::cos(5 * t)) * std::cos(2 * t), (2 + std::cos(5 * t)) * std::sin(2 * t), -std::sin(5 * t));
-  };
   const KnotDiagram c(sample(cinquefoil, 0.05, 0.05 + 2 * M_PI - 1e-3, 800), along_z);
   EXPECT_EQ(c.gauss_code().reduced().crossings(), 5u) << c.gauss_code().text();
   EXPECT_EQ(c.gauss_code().determinant(), 5);

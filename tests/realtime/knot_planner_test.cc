@@ -53,6 +53,18 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
   EXPECT_EQ(tied_code(instructions("overhand")).crossings(), instructions("overhand").size());
   EXPECT_EQ(tied_code(instructions("figure-eight")).crossings(), instructions("figure-eight").size());
   EXPECT_EQ(tied_code(instructions("figure-eight")).text(), "O1 U2 O3 U4 O2 U1 O4 U3");
+  // the overhand's end taken round once more ties the (2, 5) torus knot: the code the
+  // cinquefoil of knot/curves.h reads cut open and seen along z, alternating, five
+  // crossings, determinant 5
+  const GaussCode cinquefoil = tied_code(instructions("cinquefoil"));
+  EXPECT_EQ(cinquefoil.text(), "O1 U2 O3 U4 O5 U1 O2 U3 O4 U5");
+  EXPECT_EQ(cinquefoil.crossings(), instructions("cinquefoil").size());
+  EXPECT_EQ(cinquefoil.determinant(), 5);
+  Eigen::Matrix3Xd laid(3, 801);
+  for (int k = 0; k <= 800; ++k)
+    laid.col(k) = suturesim::knot::cinquefoil(0.05 + (2 * M_PI - 1e-3) * k / 800);
+  const GaussCode seen = KnotDiagram(laid, Projection(Vector3d::UnitZ())).gauss_code();
+  EXPECT_TRUE(seen.is_cut_of(cinquefoil) || seen.mirrored().is_cut_of(cinquefoil)) << seen.text();
   EXPECT_THROW(instructions("bowline"), std::invalid_argument);
   EXPECT_THROW(tied_code({{true, 3}}), std::invalid_argument);
 }

@@ -133,7 +133,7 @@ TEST(RodKnot, TheLaidKnotsReadTheirClosedKnotsCutOpenAcrossTheirTails)
   // (after the reductions: the tails cross each other there); no two of its nodes more
   // than 2.5 a apart along it are closer than strand_clearance() a (the scenario's input
   // check keeps that above 2.2 radii)
-  for (const auto &[name, crossings] : {std::pair<std::string, std::size_t>{"overhand", 3}, {"figure-eight", 4}})
+  for (const auto &[name, crossings] : {std::pair<std::string, std::size_t>{"overhand", 3}, {"figure-eight", 4}, {"cinquefoil", 5}})
     {
       KnotTighteningParameters prm;
       prm.knot = name;

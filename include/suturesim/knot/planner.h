@@ -40,7 +40,9 @@
  *  - overhand (trefoil): under span 0 (a loop), over span 1 (into the loop), under span 2
  *    (out of it);
  *  - figure-eight: over span 0 (a loop), under span 0 (behind the standing part), over
- *    span 2, under span 2 (down through the loop).
+ *    span 2, under span 2 (down through the loop);
+ *  - cinquefoil (the (2, 5) torus knot): the overhand's three, then over span 3 and under
+ *    span 4 (the end round the loop's strand once more).
  * tied_code() gives the Gauss code the instructions tie, derived from them alone: each
  * crossing's first occurrence goes into its target span, its second (the moving end's)
  * to the end of the rope.
@@ -66,7 +68,7 @@ namespace suturesim::knot
     double      at   = 0.5;   ///< where in the span the target lies, 0: its start, 1: its end
   };
 
-  /// The instructions of knot @p name ("overhand", "figure-eight"); std::invalid_argument
+  /// The instructions of knot @p name ("overhand", "figure-eight", "cinquefoil"); std::invalid_argument
   /// for another name.
   std::vector<Instruction>
   instructions(const std::string &name);

@@ -1,12 +1,12 @@
 #pragma once
 /**
  * @file
- * An open knot, the overhand (trefoil) or the figure-eight, in a naturally straight
+ * An open knot, the overhand (trefoil), the figure-eight or the cinquefoil, in a naturally straight
  * Cosserat rod, pulled tight by its ends: the accurate path's tightening curves (issue 30).
  *
  * The knot is laid along a closed knot of knot/curves.h scaled by a, cut open where it
  * is furthest from its axis (the trefoil at the tip of a lobe, t = π; the figure-eight
- * at t = 0) and given straight tails along the tangent there; the two passes through
+ * and the cinquefoil at t = 0) and given straight tails along the tangent there; the two passes through
  * the cut are lifted apart by the closed knot's clearance (one above the other, seen
  * along the diagram's normal), and the whole turned so that its ends lie along x.
  * The rod is stress free in that shape at first; the tying is a continuation:
@@ -66,7 +66,7 @@ namespace suturesim::rod
     /// Penalty k (N/m) and smoothing δ (m), friction μ and stick stiffness k_t (N/m);
     /// enabled and radius are set from the above.
     ContactParameters contact{true, 1e4, 5e-5, 1e-3, 0, 1e4};
-    std::string knot  = "overhand"; ///< overhand or figure-eight (knot/curves.h)
+    std::string knot  = "overhand"; ///< overhand, figure-eight or cinquefoil (knot/curves.h)
     double knot_size  = 6e-3;    ///< a, the closed knot's scale, m
     double tail       = 20e-3;   ///< each tail's length, m
     double element    = 0.75e-3; ///< element length, m

@@ -1,7 +1,7 @@
 /**
  * A knot specimen (Model = accurate, Bodies = knot specimen): the suture of the Suture
- * subsection (its Cross section and Self-contact) laid as an open overhand or
- * figure-eight knot, tied into a naturally straight rod and pulled tight by its last end
+ * subsection (its Cross section and Self-contact) laid as an open overhand, figure-eight
+ * or cinquefoil knot, tied into a naturally straight rod and pulled tight by its last end
  * (rod/knot_tightening.h), its end force against end shortening; the overhand's compared
  * with the tight-knot law of Audoly, Clauvelin & Neukirch (PRL 99, 164301, 2007).
  *
@@ -46,14 +46,16 @@ namespace suturesim::scene
         const rod::KnotTighteningParameters d;
         const auto text = [](const double v) { return Utilities::to_string(v); };
         prm.enter_subsection("Knot specimen");
-        prm.declare_entry("Knot", d.knot, Patterns::Selection("overhand|figure-eight"),
+        prm.declare_entry("Knot", d.knot, Patterns::Selection("overhand|figure-eight|cinquefoil"),
                           "The knot laid, cut open where it is furthest from its axis, with straight tails along the "
                           "tangent there: overhand, the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) a cut at "
                           "the tip of a lobe; figure-eight, ((2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t) a cut at "
-                          "t = 0. Unit: none. Range: overhand, figure-eight.");
+                          "t = 0; cinquefoil, the (2, 5) torus knot ((2 + cos 5t) cos 2t, (2 + cos 5t) sin 2t, -sin 5t) "
+                          "a cut at t = 0. Unit: none. Range: overhand, figure-eight, cinquefoil.");
         prm.declare_entry("Knot size", text(d.knot_size), Patterns::Double(0),
-                          "a, the knot's scale (both reach 3a from their axis; the trefoil's strands pass 1.2143 a "
-                          "apart, the figure-eight's 1.1408 a, and laid cut open at least 0.95 of that). Unit: m. "
+                          "a, the knot's scale (all reach 3a from their axis; the trefoil's strands pass 1.2143 a "
+                          "apart, the figure-eight's 1.1408 a, the cinquefoil's 1.1287 a, and laid cut open at least "
+                          "0.95 of that). Unit: m. "
                           "Range: > 0, with the laid distance > 2.2 Suture/Cross section/Radius.");
         prm.declare_entry("Tail length", text(d.tail), Patterns::Double(0), "Each straight tail. Unit: m. Range: > 0.");
         prm.declare_entry("Element length", text(d.element), Patterns::Double(0),
@@ -143,7 +145,7 @@ namespace suturesim::scene
             if (!knot.tie())
               throw SolverError(knot.failure());
           }
-          // Audoly et al.'s law is the trefoil's: the figure-eight's curve is recorded without it
+          // Audoly et al.'s law is the trefoil's: the other knots' curves are recorded without it
           const bool trefoil = specimen.knot == "overhand";
           std::vector<std::string> columns{"pulled [m]", "shortening [m]", "force [N]", "braid_exit_radius [m]",
                                            "eps [1]", "force_scaled [1]", "audoly_force_scaled [1]",
@@ -271,7 +273,7 @@ namespace suturesim::scene
 
     const bool registered = Scenario::Registry::instance().add(
       {"knot specimen",
-       "an overhand or figure-eight knot laid in the suture, tied into a straight rod and pulled tight (the overhand "
+       "an overhand, figure-eight or cinquefoil knot laid in the suture, tied into a straight rod and pulled tight (the overhand "
        "against Audoly et al. 2007) "
        "(Model = accurate, Bodies = knot specimen)",
        Specimen::declare,
