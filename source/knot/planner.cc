@@ -16,7 +16,9 @@ namespace suturesim::knot
       return {{false, 0}, {true, 1}, {false, 2}};
     if (name == "figure-eight")
       return {{true, 0, 0.3}, {false, 0, 0.7}, {true, 2, 0.5}, {false, 2, 0.5}};
-    if (name == "cinquefoil") // the overhand's end taken round once more: over 3, under 4
+    // the overhand's end taken round once more (over 3, under 4); its first target at
+    // 0.3 of the span for a larger loop, as the figure-eight's (docs/knots.md)
+    if (name == "cinquefoil")
       return {{false, 0, 0.3}, {true, 1}, {false, 2}, {true, 3}, {false, 4}};
     throw std::invalid_argument("no knot planner instructions for '" + name + "' (overhand, figure-eight, cinquefoil)");
   }

@@ -142,4 +142,3 @@ namespace suturesim::scene
            << " Cosserat rod elements" << what << "\n";
   }
 } // namespace suturesim::scene
-

@@ -124,6 +124,9 @@ namespace suturesim::scene
         , drag(model, scene.suture.stabilization)
         , before(planner)
         , newton(scene.suture.newton)
+        , terms([this](std::size_t i, const rod::Vec3 &x, const rod::Quat &, rod::Vec6 &r, rod::Mat6 &J) {
+          drag.add(i, x, r, J);
+        })
       {
         // a Newton correction is capped at the suture's radius (half the contact
         // distance: no strand jumps through another within one iteration) and 0.25 rad
@@ -164,6 +167,7 @@ namespace suturesim::scene
       rod::ViscousDrag         drag;
       knot::KnotPlanner        before;
       rod::NewtonParameters    newton;
+      const rod::NodalTerms    terms; // the drag, added to each node's residual and tangent
       rod::NewtonResult        result;
       std::vector<rod::Vec3>   start;
       std::vector<rod::Quat>   turn;
@@ -180,8 +184,6 @@ namespace suturesim::scene
         const rod::Vec3 to = planner.move(rope(model), t_new, dt, end_force);
         model.set_node(last, to, led_frame(turn[last], to - start[last], normal));
         drag.begin_step(&start, dt);
-        const rod::NodalTerms terms = [&](std::size_t i, const rod::Vec3 &x, const rod::Quat &, rod::Vec6 &r,
-                                          rod::Mat6 &J) { drag.add(i, x, r, J); };
         result = model.solve(newton, &terms);
         p.newton_iterations += result.iterations;
         return result.converged ? StepAttempt{} : StepAttempt{StepAttempt::Outcome::failed, result.reason};
