@@ -140,7 +140,7 @@ namespace suturesim::knot
   GaussCode::determinant() const
   {
     const std::size_t n = crossings();
-    if (n == 0)
+    if (n <= 1) // a diagram of one crossing is a twist of the unknot (and its minor empty)
       return 1;
     // arc k begins after the k-th under-pass along the rope and ends at the next one,
     // the last wrapping through the closing arc to the first
@@ -166,6 +166,15 @@ namespace suturesim::knot
       }
     const Eigen::Index m = static_cast<Eigen::Index>(n) - 1;
     return std::lround(std::abs(colouring.topLeftCorner(m, m).fullPivLu().determinant()));
+  }
+
+  int
+  GaussCode::writhe() const
+  {
+    int sum = 0;
+    for (const auto &e : entries_)
+      sum += e.over ? e.sign : 0; // once per crossing: at its over-pass
+    return sum;
   }
 
   std::string
@@ -217,7 +226,10 @@ namespace suturesim::knot
               continue;
             const double ha = projection.height(point(static_cast<double>(i) + s)),
                          hb = projection.height(point(static_cast<double>(j) + t));
-            crossings_.push_back({static_cast<double>(i) + s, static_cast<double>(j) + t, ha > hb});
+            // (t_over × t_under) · n: the plane's cross product of the projections
+            const double handed = ha > hb ? cross(di, dj) : cross(dj, di);
+            crossings_.push_back(
+              {static_cast<double>(i) + s, static_cast<double>(j) + t, ha > hb, handed > 0 ? 1 : -1});
           }
       }
     std::sort(crossings_.begin(), crossings_.end(), [](const Crossing &l, const Crossing &r) { return l.a < r.a; });
@@ -235,8 +247,8 @@ namespace suturesim::knot
     for (std::size_t k = 0; k < crossings_.size(); ++k)
       {
         const auto label = static_cast<unsigned>(k + 1);
-        occurrences.push_back({crossings_[k].a, {label, crossings_[k].a_over}});
-        occurrences.push_back({crossings_[k].b, {label, !crossings_[k].a_over}});
+        occurrences.push_back({crossings_[k].a, {label, crossings_[k].a_over, crossings_[k].sign}});
+        occurrences.push_back({crossings_[k].b, {label, !crossings_[k].a_over, crossings_[k].sign}});
       }
     std::sort(occurrences.begin(), occurrences.end(),
               [](const auto &l, const auto &r) { return l.first < r.first; });

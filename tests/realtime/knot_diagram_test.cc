@@ -182,3 +182,55 @@ TEST(KnotDiagram, TheDeterminantNamesTheKnotOnEveryDiagram)
   EXPECT_EQ(c.gauss_code().reduced().crossings(), 5u) << c.gauss_code().text();
   EXPECT_EQ(c.gauss_code().determinant(), 5);
 }
+
+TEST(KnotDiagram, TheWritheTellsTheSquareKnotFromTheGranny)
+{
+  // the trefoil's three crossings turn one way, its mirror image's (z → −z) the other;
+  // the figure-eight is its own mirror image: its minimal (alternating) diagram has
+  // writhe 0 (Tait's conjecture, proved by Murasugi and by Thistlethwaite: the writhe of
+  // a reduced alternating diagram is the knot's)
+  const auto mirror = [](const Vector3d &x) { return Vector3d(x.x(), x.y(), -x.z()); };
+  const auto turned = [](const Vector3d &x) { return Vector3d(-x.x(), -x.y(), x.z()); }; // π about z
+  const int  w      = KnotDiagram(sample(trefoil, 0.1, 0.1 + 2 * M_PI - 1e-3, 300), along_z).gauss_code().writhe();
+  EXPECT_EQ(std::abs(w), 3);
+  EXPECT_EQ(KnotDiagram(sample([&](double t) { return mirror(trefoil(t)); }, 0.1, 0.1 + 2 * M_PI - 1e-3, 300),
+                        along_z)
+              .gauss_code()
+              .writhe(),
+            -w);
+  EXPECT_EQ(KnotDiagram(sample([&](double t) { return turned(trefoil(t)); }, 0.1, 0.1 + 2 * M_PI - 1e-3, 300),
+                        along_z)
+              .gauss_code()
+              .writhe(),
+            w)
+    << "turned in its plane, the same knot";
+  const GaussCode eight = KnotDiagram(sample(figure_eight, 0.05, 0.05 + 2 * M_PI - 1e-3, 600), along_z).gauss_code();
+  EXPECT_EQ(eight.reduced().writhe(), 0);
+
+  // two trefoils joined (the connected sum): the first cut open at its lobe on −y
+  // (t = π, at (0, −3)), the second the first turned by π about z and moved 8 down, cut
+  // at the same lobe, now facing the first; the rope runs through the first, across to
+  // the second, through it and back up beside, where its two ends meet (the closing arc
+  // reduced() assumes crosses nothing). With the second the first's mirror image, it is
+  // the square knot's diagram; the same knot twice, the granny's.
+  const auto joined = [&](const bool mirrored) {
+    const Eigen::Matrix3Xd first = sample(trefoil, M_PI + 0.05, 3 * M_PI - 0.05, 300);
+    const Eigen::Matrix3Xd second =
+      sample([&](double t) { return Vector3d(turned(mirrored ? mirror(trefoil(t)) : trefoil(t)) - Vector3d(0, 8, 0)); },
+             M_PI + 0.05, 3 * M_PI - 0.05, 300);
+    Eigen::Matrix3Xd rope(3, first.cols() + second.cols());
+    rope << first, second;
+    return KnotDiagram(rope, along_z).gauss_code().reduced();
+  };
+  const GaussCode square = joined(true), granny = joined(false);
+  EXPECT_EQ(square.crossings(), 6u) << square.text();
+  EXPECT_EQ(granny.crossings(), 6u) << granny.text();
+  // the determinant multiplies over the sum, 3 × 3, for both: it does not tell them apart
+  EXPECT_EQ(square.determinant(), 9);
+  EXPECT_EQ(granny.determinant(), 9);
+  // the writhe does
+  EXPECT_EQ(square.writhe(), 0);
+  EXPECT_EQ(granny.writhe(), 2 * w);
+  // a code read from text has no sign
+  EXPECT_EQ(closed("O1 U2 O3 U1 O2 U3").writhe(), 0);
+}

@@ -43,6 +43,10 @@ namespace suturesim::knot
   {
     unsigned label = 0; ///< 1, 2, … by first occurrence
     bool     over  = false;
+    /// The crossing's sign, +1 or −1 (Crossing::sign), the same at both occurrences; 0
+    /// when unknown (a code read from text). Not compared by operator==: the code is
+    /// the sequence of over- and under-passes.
+    int sign = 0;
 
     bool
     operator==(const GaussEntry &o) const
@@ -83,6 +87,14 @@ namespace suturesim::knot
     /// seen along a plane that is not its own).
     long
     determinant() const;
+    /// The writhe: the sum of the crossings' signs (GaussEntry::sign), each counted once.
+    /// Reidemeister II and III moves keep it (Lickorish 1997, ch. 1). Of a diagram that
+    /// reduced() leaves with the knot's least number of crossings it tells a composite
+    /// knot's summands' handedness apart where the determinant cannot: the square knot
+    /// (the trefoil and its mirror image, 3₁ # 3₁*) has 0 in a six-crossing diagram, the
+    /// granny knot (3₁ # 3₁) ±6.
+    int
+    writhe() const;
 
     std::size_t
     crossings() const
@@ -130,6 +142,10 @@ namespace suturesim::knot
   {
     double a = 0, b = 0;   ///< arc indices of the two occurrences, a < b
     bool   a_over = false; ///< the strand at a is higher along n
+    /// sign((t_over × t_under) · n), t the strands' directions along the rope (from its
+    /// first node): the crossing's handedness; the mirror image turns every sign (which
+    /// way round +1 is named does not matter to what the writhe tells)
+    int sign = 0;
   };
 
   class KnotDiagram
