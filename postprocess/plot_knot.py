@@ -74,8 +74,9 @@ def draw(ax, p, h, at, knot, zoom, heading):
     ax.plot(p[:, 0], p[:, 1], color="0.6", lw=0.8, zorder=1)
     dots = ax.scatter(p[:, 0], p[:, 1], c=h, s=9 if not zoom else 16, cmap="coolwarm", zorder=2,
                       vmin=-np.abs(h).max(), vmax=np.abs(h).max())
-    ax.plot(*p[0], "ks", ms=7, label="held end")
-    ax.plot(*p[-1], "g*", ms=12, label="moving end")
+    both = knot.get("moves_first_end", False)  # the planner moved each end in turn
+    ax.plot(*p[0], "ks", ms=7, label="first end (moved too)" if both else "held end")
+    ax.plot(*p[-1], "g*", ms=12, label="last end" if both else "moving end")
     ax.set_aspect("equal")
     ax.set_xlabel("u [mm]")
     ax.set_ylabel("v [mm]")
@@ -88,8 +89,9 @@ def draw(ax, p, h, at, knot, zoom, heading):
                         fontweight="bold", zorder=3)
         ax.set_title("the knot, crossings numbered as in the raw Gauss code", fontsize=9)
     else:
-        ax.set_title(f"{heading}\n{knot['knot']}: {knot['crossings']} crossings\n{knot['gauss_code'] or '(none)'}"
-                     f" ({status(knot)})", fontsize=9)
+        writhe = f", writhe {knot['writhe']}" if "writhe" in knot else ""
+        ax.set_title(f"{heading}\n{knot['knot']}: {knot['crossings']} crossings{writhe}\n"
+                     f"{knot['gauss_code'] or '(none)'} ({status(knot)})", fontsize=9)
         ax.legend(fontsize=8, loc="best")
     return dots
 

@@ -9,6 +9,16 @@
 
 namespace suturesim::knot
 {
+  namespace
+  {
+    /// @p rope read from its last node when the first end moves: the moving end last.
+    Eigen::Matrix3Xd
+    read_from_held_end(const Eigen::Matrix3Xd &rope, const bool first_moves)
+    {
+      return first_moves ? Eigen::Matrix3Xd(rope.rowwise().reverse()) : rope;
+    }
+  } // namespace
+
   std::vector<Instruction>
   instructions(const std::string &name)
   {
@@ -20,23 +30,53 @@ namespace suturesim::knot
     // 0.3 of the span for a larger loop, as the figure-eight's (docs/knots.md)
     if (name == "cinquefoil")
       return {{false, 0, 0.3}, {true, 1}, {false, 2}, {true, 3}, {false, 4}};
-    throw std::invalid_argument("no knot planner instructions for '" + name + "' (overhand, figure-eight, cinquefoil)");
+    // in a rope laid as a U: the last end's half knot round the first end's strand, its
+    // first target on that strand (0.2 of the rope), the second just past the first
+    // crossing, the third on the end's own standing part below it. The half knot is then
+    // drawn down, its end 15 mm out: a tail for the first end's half knot to go round,
+    // over the middle of that tail, under it between there and the knot, and over its
+    // own standing part (the span before its first crossing, 8: the 2 × 5 occurrences
+    // read from the held end). Without the draw the tail is shorter than a link and the
+    // fifth crossing misses it (docs/knots.md)
+    const bool   first = true;
+    const double draw  = 15e-3;
+    if (name == "square")
+      return {{true, 0, 0.2}, {false, 1, 0.2}, {true, 2, 0.8, false, draw},
+              {true, 0, 0.5, first}, {false, 1, 0.5, first}, {true, 8, 0.8, first}};
+    if (name == "granny")
+      return {{true, 0, 0.2}, {false, 1, 0.2}, {true, 2, 0.8, false, draw},
+              {false, 0, 0.5, first}, {true, 1, 0.5, first}, {false, 8, 0.8, first}};
+    std::string known;
+    for (const auto &k : planned_knots())
+      known += (known.empty() ? "" : ", ") + k;
+    throw std::invalid_argument("no knot planner instructions for '" + name + "' (" + known + ")");
+  }
+
+  const std::vector<std::string> &
+  planned_knots()
+  {
+    static const std::vector<std::string> names{"overhand", "figure-eight", "cinquefoil", "square", "granny"};
+    return names;
   }
 
   GaussCode
   tied_code(const std::vector<Instruction> &plan)
   {
-    std::vector<GaussEntry> entries;
+    std::vector<GaussEntry> entries; // read from the first end
     unsigned                label = 0;
     for (const auto &step : plan)
       {
-        // span m lies between occurrences m − 1 and m; the moving end's own occurrence
-        // is the rope's last so far
+        // span m lies between occurrences m − 1 and m read from the held end; the moving
+        // end's own occurrence is the last so far read from there
         if (step.span > entries.size())
           throw std::invalid_argument("a knot instruction's span is past the rope's spans");
         ++label;
+        if (step.first_end)
+          std::reverse(entries.begin(), entries.end());
         entries.insert(entries.begin() + static_cast<long>(step.span), GaussEntry{label, !step.over});
         entries.push_back({label, step.over});
+        if (step.first_end)
+          std::reverse(entries.begin(), entries.end());
       }
     return GaussCode(std::move(entries));
   }
@@ -115,6 +155,8 @@ namespace suturesim::knot
     events_.push_back({t, stage, d.gauss_code().text()});
     if (stage == plan_.size())
       phase_ = Phase::tightening;
+    else
+      drawing = plan_[stage - 1].draw;
   }
 
   Eigen::Vector3d
@@ -129,6 +171,7 @@ namespace suturesim::knot
     const auto unit = [](const Eigen::Vector3d &w) -> Eigen::Vector3d {
       return w.norm() > 0 ? Eigen::Vector3d(w.normalized()) : Eigen::Vector3d::Zero();
     };
+    const Eigen::Vector3d end     = moving_first_end() ? ends.first : ends.last;
     const Eigen::Vector3d T       = d.point(mid);
     const Eigen::Vector3d tangent = unit(in_plane(d.point(mid + 0.5) - d.point(mid - 0.5)));
     const Eigen::Vector3d across  = projection_.n.cross(tangent); // in the plane, normal to the span
@@ -151,40 +194,60 @@ namespace suturesim::knot
     return unit(to_target + to_normal + rise + settings_.inertia * along);
   }
 
-  Eigen::Vector3d
+  bool
+  KnotPlanner::moves_first_end() const
+  {
+    return std::any_of(plan_.begin(), plan_.end(), [](const Instruction &i) { return i.first_end; });
+  }
+
+  bool
+  KnotPlanner::moving_first_end() const
+  {
+    // drawn after its crossing, or pulled once tied: the last instruction's end
+    const bool last_done = drawing > 0 || stage == plan_.size();
+    return plan_[last_done ? stage - 1 : std::min(stage, plan_.size() - 1)].first_end;
+  }
+
+  Ends
   KnotPlanner::move(const Eigen::Matrix3Xd &rope, const double t, const double dt, const double end_force)
   {
     if (rope.cols() < 3)
       throw std::invalid_argument("the knot planner needs a rope of at least three nodes");
+    const Eigen::Index last = rope.cols() - 1;
     if (phase_ == Phase::waiting)
       {
-        end = rope.col(rope.cols() - 1);
+        ends = {rope.col(0), rope.col(last)};
         if (t < settings_.start_time)
-          return end;
+          return ends;
         phase_      = Phase::tying;
         stage_start = t;
+        links[0]    = (rope.col(1) - rope.col(0)).norm();
+        links[1]    = (rope.col(last) - rope.col(last - 1)).norm();
       }
-    // a finished or failed plan holds the end: no diagram to read any more
+    // a finished or failed plan holds the ends: no diagram to read any more
     if (phase_ == Phase::done || phase_ == Phase::failed)
-      return end;
-    const KnotDiagram  d(rope, projection_);
-    const Eigen::Index last = rope.cols() - 1;
-    if (link == 0)
-      link = (rope.col(last) - rope.col(last - 1)).norm();
+      return ends;
+    const bool             first = moving_first_end();
+    const Eigen::Matrix3Xd held  = read_from_held_end(rope, first); // its last column the moving end
+    const KnotDiagram      d(held, projection_);
     // a rope held behind its end (a node in a collision constraint every step) lets its
-    // last link stretch rather than follow: what the end then crosses is not the rope
-    const double stretch = (rope.col(last) - rope.col(last - 1)).norm() / link - 1;
+    // end link stretch rather than follow: what the end then crosses is not the rope
+    const double stretch = (held.col(last) - held.col(last - 1)).norm() / links[first ? 0 : 1] - 1;
     if (stretch > 0.1)
       fail("the end's link is stretched by " + std::to_string(100 * stretch) +
              " % (over 10 %): the rope behind the end does not follow it (held by collision constraints, or "
              "dragged)",
            t);
-    if (phase_ == Phase::tying)
+    if (phase_ == Phase::tying && drawing > 0)
+      draw(d, held, t, dt);
+    else if (phase_ == Phase::tying)
       {
         if (!bounds.empty())
           check(d, t);
-        if (phase_ == Phase::tying)
-          end += settings_.speed * dt * tying_direction(d, rope);
+        // an instruction for the other end reads the rope from its other end, and a draw
+        // starts: from the next step
+        if (phase_ == Phase::tying && drawing == 0 && moving_first_end() == first)
+          moving() += settings_.speed * dt * tying_direction(d, held);
       }
     // a knot pulled tight in a rope that cannot hold it (a geometric suture has no
     // contact force, only corrections after each step) has its strands pass through each
@@ -194,7 +257,7 @@ namespace suturesim::knot
     // undone: fewer crossings, after the reductions, than the knot's crossing number
     // (Reidemeister moves keep the knot, and no diagram of it has fewer). The plans of
     // instructions() are minimal, one crossing each: 3 for the trefoil, 4 for the
-    // figure-eight (KnotPlanner.PlansTieTheTrefoilAndTheFigureEight)
+    // figure-eight, 6 for the square and granny knots (KnotPlanner.PlansTie…)
     if (phase_ == Phase::tightening)
       if (const GaussCode now = d.gauss_code().reduced(); now.crossings() < plan_.size())
         {
@@ -204,30 +267,62 @@ namespace suturesim::knot
           fail(why.str(), t);
         }
     if (phase_ == Phase::tightening)
+      tighten(d, held, dt, end_force);
+    bounds = moving_first_end() == first ? d.span_bounds()
+                                         : KnotDiagram(read_from_held_end(rope, !first), projection_).span_bounds();
+    return ends;
+  }
+
+  Eigen::Vector3d
+  KnotPlanner::away_from_knot(const KnotDiagram &d, const Eigen::Matrix3Xd &rope) const
+  {
+    const Eigen::Index last   = rope.cols() - 1;
+    Eigen::Vector3d    centre = Eigen::Vector3d::Zero();
+    for (const auto &c : d.crossings())
+      centre += 0.5 * (d.point(c.a) + d.point(c.b)) / static_cast<double>(d.crossings().size());
+    // away from the knot in the plane; along the end's link if the end is over it
+    Eigen::Vector3d w = (moving_first_end() ? ends.first : ends.last) - centre;
+    if ((w - projection_.n * projection_.n.dot(w)).norm() == 0)
+      w = rope.col(last) - rope.col(last - 1);
+    return (w - projection_.n * projection_.n.dot(w)).normalized();
+  }
+
+  void
+  KnotPlanner::draw(const KnotDiagram &d, const Eigen::Matrix3Xd &rope, const double t, const double dt)
+  {
+    if (d.crossings().size() != stage)
+      return fail("while the end was drawn from the knot after instruction " + std::to_string(stage) +
+                    ", the diagram went from " + std::to_string(stage) + " to " +
+                    std::to_string(d.crossings().size()) + " crossings (" + d.gauss_code().text() + ")",
+                  t);
+    if (pull.isZero())
+      pull = away_from_knot(d, rope);
+    const double step = std::min(drawing, settings_.speed * dt);
+    moving() += step * pull;
+    drawing -= step;
+    if (drawing <= 0)
       {
-        if (pull.isZero())
-          {
-            Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-            for (const auto &c : d.crossings())
-              centre += 0.5 * (d.point(c.a) + d.point(c.b)) / static_cast<double>(d.crossings().size());
-            // away from the knot in the plane; along the end's link if the end is over it
-            Eigen::Vector3d w = end - centre;
-            if ((w - projection_.n * projection_.n.dot(w)).norm() == 0)
-              w = rope.col(last) - rope.col(last - 1);
-            pull = (w - projection_.n * projection_.n.dot(w)).normalized();
-          }
-        const bool far    = pulled >= settings_.tighten_distance;
-        const bool strong = settings_.tighten_force > 0 && end_force >= settings_.tighten_force;
-        if (far || strong)
-          phase_ = Phase::done;
-        else
-          {
-            end += settings_.speed * dt * pull;
-            pulled += settings_.speed * dt;
-          }
+        drawing = 0;
+        pull.setZero();
+        stage_start = t; // the next instruction's time starts now
       }
-    bounds = d.span_bounds();
-    return end;
+  }
+
+  void
+  KnotPlanner::tighten(const KnotDiagram &d, const Eigen::Matrix3Xd &rope, const double dt, const double end_force)
+  {
+    Eigen::Vector3d &end = moving();
+    if (pull.isZero())
+      pull = away_from_knot(d, rope);
+    const bool far    = pulled >= settings_.tighten_distance;
+    const bool strong = settings_.tighten_force > 0 && end_force >= settings_.tighten_force;
+    if (far || strong)
+      phase_ = Phase::done;
+    else
+      {
+        end += settings_.speed * dt * pull;
+        pulled += settings_.speed * dt;
+      }
   }
 
   nlohmann::json
@@ -241,6 +336,7 @@ namespace suturesim::knot
                              {"raw_crossings", raw.crossings()},
                              {"raw_gauss_code", raw.text()},
                              {"determinant", raw.determinant()},
+                             {"writhe", code.writhe()},
                              {"projection_normal", {n[0], n[1], n[2]}}};
     // where the raw code's crossings lie (on their first strand, m), in the order of their
     // labels: their first occurrences along the rope
@@ -264,6 +360,7 @@ namespace suturesim::knot
     m["phase"]              = KnotPlanner::name(planner.phase());
     m["instructions"]       = planner.plan().size();
     m["instructions_done"]  = planner.instructions_done();
+    m["moves_first_end"]    = planner.moves_first_end();
     m["planned_gauss_code"] = planned.text();
     m["tied"]               = m["gauss_code"] == planned.text();
     m["shortening"]         = planner.shortening();

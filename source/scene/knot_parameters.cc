@@ -1,6 +1,10 @@
 #include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/scene_parameters.h>
 
+#include <suturesim/knot/planner.h>
+
+#include <algorithm>
+
 namespace suturesim::scene
 {
   using namespace dealii;
@@ -12,6 +16,13 @@ namespace suturesim::scene
     {
       return shortest_text(v[0]) + ", " + shortest_text(v[1]) + ", " + shortest_text(v[2]);
     }
+
+    bool
+    planned_knot_moves_first_end(const std::string &knot)
+    {
+      const auto plan = knot::instructions(knot);
+      return std::any_of(plan.begin(), plan.end(), [](const knot::Instruction &i) { return i.first_end; });
+    }
   } // namespace
 
   void
@@ -19,11 +30,16 @@ namespace suturesim::scene
   {
     const knot::PlannerSettings d;
     prm.enter_subsection("Knot");
-    prm.declare_entry("Knot", d.knot, Patterns::Selection("none|overhand|figure-eight|cinquefoil"),
+    std::string names = "none";
+    for (const auto &k : knot::planned_knots())
+      names += "|" + k;
+    prm.declare_entry("Knot", d.knot, Patterns::Selection(names),
                       "The knot seed 002's planner ties by moving the suture's last end (Suture/Last end/Type = "
                       "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', 'cinquefoil' (the "
-                      "overhand's end taken round once more: the (2, 5) torus knot), or 'none'. Unit: none. Range: "
-                      "none, overhand, figure-eight, cinquefoil.");
+                      "overhand's end taken round once more: the (2, 5) torus knot); or by moving each end in turn "
+                      "(both pinned), in a suture laid as a U with both ends up: 'square' (reef knot) and 'granny' "
+                      "(two half knots, the second the first's mirror image or not); or 'none'. Unit: none. Range: " +
+                        Utilities::replace_in_string(names, "|", ", ") + ".");
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
                       "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");
@@ -82,6 +98,12 @@ namespace suturesim::scene
     const auto &ends = scene.suture;
     knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
                  "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
+    knot.require(ends.start_end.type == "pinned" || !planned_knot_moves_first_end(scene.knot.knot), "Knot",
+                 "the planner moves both ends to tie a " + scene.knot.knot +
+                   " knot: Suture/Start end/Type = pinned, grasped from the start");
+    knot.require(ends.start_end.grasp_time == 0 || !planned_knot_moves_first_end(scene.knot.knot), "Knot",
+                 "the planner moves both ends to tie a " + scene.knot.knot +
+                   " knot: the first end grasped from the start (Suture/Start end/Grasp time = 0)");
     knot.require(ends.start_end.type != "free", "Knot",
                  "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
                  "clamped or prescribed)");

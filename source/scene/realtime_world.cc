@@ -431,9 +431,14 @@ namespace suturesim::scene
       {
         const auto             &sys  = world->system();
         const rt::Matrix3Xd     rope = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
-        const std::size_t       tool = first_end_tool + tool_ends.size() - 1;
-        poses[tool].position = planner->move(rope, t, t - planner_time, world->tool_forces()[tool].force.norm());
-        planner_time         = t;
+        // the ends are the first and last tools (KnotParameters::check: both held)
+        const std::size_t first = first_end_tool, last = first_end_tool + tool_ends.size() - 1;
+        const std::size_t moving = planner->moving_first_end() ? first : last;
+        const knot::Ends  to = planner->move(rope, t, t - planner_time, world->tool_forces()[moving].force.norm());
+        poses[last].position = to.last;
+        if (planner->moves_first_end())
+          poses[first].position = to.first;
+        planner_time = t;
       }
   }
 

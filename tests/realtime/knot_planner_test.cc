@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace suturesim::knot;
@@ -65,8 +66,50 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
     laid.col(k) = suturesim::knot::cinquefoil(0.05 + (2 * M_PI - 1e-3) * k / 800);
   const GaussCode seen = KnotDiagram(laid, Projection(Vector3d::UnitZ())).gauss_code();
   EXPECT_TRUE(seen.is_cut_of(cinquefoil) || seen.mirrored().is_cut_of(cinquefoil)) << seen.text();
+  // the square and granny knots: two half knots, each a trefoil read closed through the
+  // tails, the first by the last end (instructions 1-3), the second by the first end;
+  // six crossings, the least of the sum of two trefoils, determinant 3 × 3
+  for (const std::string knot : {"square", "granny"})
+    {
+      const auto      plan = instructions(knot);
+      const GaussCode code = tied_code(plan);
+      EXPECT_EQ(code.crossings(), plan.size()) << knot;
+      EXPECT_EQ(code.reduced(), code) << knot;
+      EXPECT_EQ(code.determinant(), 9) << knot;
+      const GaussCode half = tied_code({plan.begin(), plan.begin() + 3});
+      EXPECT_EQ(half.determinant(), 3) << knot;
+      EXPECT_EQ(half.reduced().crossings(), 3u) << knot;
+      // the second half knot's crossings (4-6 as tied) lie together along the rope:
+      // the code of a sum, one knot's code set into the other's
+      std::size_t from = code.entries().size(), to = 0;
+      for (std::size_t p = 0; p < code.entries().size(); ++p)
+        if (code.entries()[p].label > 3)
+          from = std::min(from, p), to = std::max(to, p);
+      EXPECT_EQ(to - from, 5u) << knot << ": " << code.text();
+      for (std::size_t i = 3; i < plan.size(); ++i)
+        EXPECT_TRUE(plan[i].first_end) << knot;
+    }
+  EXPECT_EQ(tied_code(instructions("square")).text(), "O1 U2 O3 U1 U4 O5 U6 O4 U5 O6 O2 U3");
+  // the codes do not tell the square knot from the granny: which way a half knot turns
+  // is in the crossings' signs, which the rope's diagram has (GaussCode::writhe())
+  EXPECT_EQ(tied_code(instructions("granny")).text(), "U1 O2 U3 O1 U4 O5 U6 O4 U5 O6 U2 O3");
   EXPECT_THROW(instructions("bowline"), std::invalid_argument);
   EXPECT_THROW(tied_code({{true, 3}}), std::invalid_argument);
+}
+
+TEST(KnotPlanner, AnyPlanGivenToTheOtherEndTiesItsCodeReadFromThatEnd)
+{
+  // the spans of a first-end instruction are counted from the last end: the plan with
+  // every instruction given to the other end ties the same rope read backwards
+  for (const auto &knot : planned_knots())
+    {
+      auto other = instructions(knot);
+      for (auto &step : other)
+        step.first_end = !step.first_end;
+      auto backwards = tied_code(instructions(knot)).entries();
+      std::reverse(backwards.begin(), backwards.end());
+      EXPECT_EQ(tied_code(other), GaussCode(backwards)) << knot;
+    }
 }
 
 TEST(KnotPlanner, MovesTheEndDownAndOnForAnUnderCrossingAndCountsItDone)
@@ -74,7 +117,7 @@ TEST(KnotPlanner, MovesTheEndDownAndOnForAnUnderCrossingAndCountsItDone)
   KnotPlanner     planner(overhand());
   const auto      start = rope(5, 0);
   const Vector3d  from  = start.col(start.cols() - 1);
-  const Vector3d  to    = planner.move(start, 1e-3, 1e-3, 0);
+  const Vector3d  to    = planner.move(start, 1e-3, 1e-3, 0).last;
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::tying);
   EXPECT_NEAR((to - from).norm(), 0.02 * 1e-3, 1e-12) << "one step at the planner's speed";
   EXPECT_LT(to.z(), from.z()) << "instruction 1 passes under: the end goes down";
@@ -86,6 +129,22 @@ TEST(KnotPlanner, MovesTheEndDownAndOnForAnUnderCrossingAndCountsItDone)
   EXPECT_TRUE(planner.failure().empty());
 }
 
+TEST(KnotPlanner, MovesOneEndAndHoldsTheOther)
+{
+  // the square knot's plan moves the last end first, the first end later: the first
+  // end is held where it lies until then
+  PlannerSettings s = overhand();
+  s.knot            = "square";
+  KnotPlanner     planner(s);
+  EXPECT_TRUE(planner.moves_first_end());
+  EXPECT_FALSE(KnotPlanner(overhand()).moves_first_end());
+  const auto  start = rope(5, 0);
+  const Ends  to    = planner.move(start, 1e-3, 1e-3, 0);
+  EXPECT_FALSE(planner.moving_first_end());
+  EXPECT_EQ(to.first, Vector3d(start.col(0)));
+  EXPECT_NEAR((to.last - start.col(start.cols() - 1)).norm(), 0.02 * 1e-3, 1e-12);
+}
+
 TEST(KnotPlanner, FailsOnACrossingTheWrongWay)
 {
   KnotPlanner planner(overhand());
@@ -95,8 +154,8 @@ TEST(KnotPlanner, FailsOnACrossingTheWrongWay)
   EXPECT_NE(planner.failure().find("the end crossed over"), std::string::npos) << planner.failure();
   EXPECT_DOUBLE_EQ(planner.failure_time(), 2e-3);
   // a failed plan holds the end where it was
-  const Vector3d held = planner.move(rope(13, 1), 3e-3, 1e-3, 0);
-  EXPECT_EQ(held, planner.move(rope(13, 1), 4e-3, 1e-3, 0));
+  const Vector3d held = planner.move(rope(13, 1), 3e-3, 1e-3, 0).last;
+  EXPECT_EQ(held, planner.move(rope(13, 1), 4e-3, 1e-3, 0).last);
 }
 
 TEST(KnotPlanner, FailsWhenAnInstructionTakesTooLongOrTheRopeDoesNotFollow)
@@ -120,7 +179,7 @@ TEST(KnotPlanner, WaitsForItsStartTime)
   s.start_time      = 0.5;
   KnotPlanner     planner(s);
   const auto      r = rope(5, 0);
-  EXPECT_EQ(planner.move(r, 0.1, 1e-3, 0), Vector3d(r.col(r.cols() - 1)));
+  EXPECT_EQ(planner.move(r, 0.1, 1e-3, 0).last, Vector3d(r.col(r.cols() - 1)));
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::waiting);
 }
 

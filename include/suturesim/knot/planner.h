@@ -2,9 +2,10 @@
 /**
  * @file
  * Seed 002's knot planner (§5 B–C): it ties a knot by moving one end of the rope (the
- * last node; the first is held) through a list of instructions, each "the type of
- * crossing: which end of the suture to move, cross over or under" and the target span,
- * counted from the held end in the rope's current diagram (knot/diagram.h).
+ * last node, or the first; the other is held) through a list of instructions, each "the
+ * type of crossing: which end of the suture to move, cross over or under" and the target
+ * span, counted from the held end in the rope's current diagram (knot/diagram.h). The
+ * planner reads the rope from the held end, so that what follows holds for either end.
  *
  * Per step, as the seed lists its "four actions per timestep":
  *  1. check whether a new target is needed: the diagram has one crossing more than when
@@ -42,10 +43,18 @@
  *  - figure-eight: over span 0 (a loop), under span 0 (behind the standing part), over
  *    span 2, under span 2 (down through the loop);
  *  - cinquefoil (the (2, 5) torus knot): the overhand's three, then over span 3 and under
- *    span 4 (the end round the loop's strand once more).
+ *    span 4 (the end round the loop's strand once more);
+ *  - square knot (reef knot; the trefoil and its mirror image, 3₁ # 3₁*) and granny knot
+ *    (3₁ # 3₁), tied in a rope laid as a U (the two ends up, as a stitch's two ends leave
+ *    the tissue): the last end makes a half knot round the first end's strand (over
+ *    span 0, under span 1, over its own standing part, span 2), then the first end one
+ *    round the last's, over span 0, under span 1 and over span 8 (its own standing part)
+ *    for the square knot, under, over and under for the granny knot. Reading the rope
+ *    closed through its tails, each half knot is a trefoil; the second is the first's
+ *    mirror image in the plane (the square knot), or that turned over (the granny).
  * tied_code() gives the Gauss code the instructions tie, derived from them alone: each
- * crossing's first occurrence goes into its target span, its second (the moving end's)
- * to the end of the rope.
+ * crossing's first occurrence (read from the held end) goes into its target span, its
+ * second (the moving end's) to the end of the rope.
  */
 
 #include <suturesim/knot/diagram.h>
@@ -66,10 +75,28 @@ namespace suturesim::knot
     bool        over = false; ///< the moving end passes over the target span
     std::size_t span = 0;     ///< counted from the held end, in the diagram of the moment
     double      at   = 0.5;   ///< where in the span the target lies, 0: its start, 1: its end
+    /// The first end moves (and the last is held) instead of the last: the spans are then
+    /// counted from the last end, and the rope is read from it
+    bool first_end = false;
+    /// Once this crossing is made, the end is drawn this far (m) away from the knot
+    /// before the next instruction begins (a throw snugged down, and a tail for the next
+    /// to go round), as the knot is pulled once tied; 0: at once.
+    double draw = 0;
   };
 
-  /// The instructions of knot @p name ("overhand", "figure-eight", "cinquefoil"); std::invalid_argument
-  /// for another name.
+  /// Where the planner sends the rope's two ends, m.
+  struct Ends
+  {
+    Eigen::Vector3d first = Eigen::Vector3d::Zero(), last = Eigen::Vector3d::Zero();
+  };
+
+  /// The knots instructions() has a plan for: overhand, figure-eight, cinquefoil, square,
+  /// granny.
+  const std::vector<std::string> &
+  planned_knots();
+
+  /// The instructions of knot @p name (one of planned_knots()); std::invalid_argument for
+  /// another name.
   std::vector<Instruction>
   instructions(const std::string &name);
 
@@ -97,11 +124,19 @@ namespace suturesim::knot
 
     explicit KnotPlanner(const PlannerSettings &settings);
 
-    /// Where the moving end goes in the step from @p t − @p dt to @p t (m): @p rope holds
-    /// the rope's nodes (m), its last column the moving end; @p end_force the force
-    /// magnitude the rope pulls the end with (N).
-    Eigen::Vector3d
+    /// Where the ends go in the step from @p t − @p dt to @p t (m): @p rope holds the
+    /// rope's nodes (m), first to last; @p end_force the force magnitude the rope pulls
+    /// the moving end with (N). The end that does not move stays where it was when the
+    /// planner started, or where its last instruction left it.
+    Ends
     move(const Eigen::Matrix3Xd &rope, double t, double dt, double end_force);
+
+    /// Whether any instruction moves the first end (else it is only held).
+    bool
+    moves_first_end() const;
+    /// Whether the end moving now (or last, once tied) is the first.
+    bool
+    moving_first_end() const;
 
     Phase
     phase() const
@@ -158,11 +193,28 @@ namespace suturesim::knot
     /// Step 1: advances the plan or fails it on the diagram @p d at @p t.
     void
     check(const KnotDiagram &d, double t);
-    /// Steps 2–3: the unit direction the end moves in.
+    /// Steps 2–3: the unit direction the end moves in, @p rope read from the held end.
     Eigen::Vector3d
     tying_direction(const KnotDiagram &d, const Eigen::Matrix3Xd &rope) const;
+    /// After the last instruction: pulls the moving end away from the knot of diagram
+    /// @p d (@p rope read from the held end) until far or strong enough.
+    void
+    tighten(const KnotDiagram &d, const Eigen::Matrix3Xd &rope, double dt, double end_force);
+    /// Between instructions: draws the end Instruction::draw away from the knot; a
+    /// change of the diagram meanwhile fails the plan.
+    void
+    draw(const KnotDiagram &d, const Eigen::Matrix3Xd &rope, double t, double dt);
+    /// The direction in the plane from the knot's crossings to the moving end.
+    Eigen::Vector3d
+    away_from_knot(const KnotDiagram &d, const Eigen::Matrix3Xd &rope) const;
     void
     fail(const std::string &why, double t);
+    /// Where the planner sends the end that moves now.
+    Eigen::Vector3d &
+    moving()
+    {
+      return moving_first_end() ? ends.first : ends.last;
+    }
 
     PlannerSettings          settings_;
     Projection               projection_;
@@ -170,10 +222,12 @@ namespace suturesim::knot
     Phase                    phase_ = Phase::waiting;
     std::size_t              stage  = 0;
     double                   stage_start = 0;
-    std::vector<double>      bounds; ///< the spans of the last step's diagram
-    Eigen::Vector3d          end = Eigen::Vector3d::Zero(), pull = Eigen::Vector3d::Zero();
+    std::vector<double>      bounds; ///< the spans of the last step's diagram, read from the held end
+    Ends                     ends;
+    Eigen::Vector3d          pull   = Eigen::Vector3d::Zero();
     double                   pulled = 0;
-    double                   link   = 0; ///< the end's link length when the planner started, m
+    double                   drawing = 0; ///< how far the end is still to be drawn, m
+    double                   links[2] = {0, 0}; ///< the first and last links' lengths when it started, m
     std::string              failure_;
     double                   failed_at = 0;
     std::vector<Event>       events_;
@@ -182,15 +236,17 @@ namespace suturesim::knot
   /// What @p planner did and what the rope @p rope (m; the run's last state) shows, for
   /// summary.json's metrics.knot: the knot's crossings and Gauss code in the planner's
   /// projection after the Reidemeister reductions (raw_*: before them), the code the
-  /// plan ties and whether they agree ("tied"), where the raw code's crossings lie
-  /// (crossing_points, m, in the order of their labels), the phase, the instructions
-  /// done, the failure, the shortening.
+  /// plan ties and whether they agree ("tied"), whether it moves the first end too
+  /// (moves_first_end), where the raw code's crossings lie (crossing_points, m, in the
+  /// order of their labels), the phase, the instructions done, the failure, the
+  /// shortening.
   nlohmann::json
   knot_metrics(const KnotPlanner &planner, const Eigen::Matrix3Xd &rope);
 
   /// What knot_metrics() reads from the diagram alone: crossings and Gauss code after
   /// the reductions and raw, the knot determinant (GaussCode::determinant()), the
-  /// projection's normal, the raw crossings' points.
+  /// reduced diagram's writhe (GaussCode::writhe()), the projection's normal, the raw
+  /// crossings' points.
   nlohmann::json
   diagram_metrics(const Eigen::Matrix3Xd &rope, const Projection &projection);
   /// The planner's events for summary.json (kind "knot_crossing": time, instruction,

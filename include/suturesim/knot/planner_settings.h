@@ -15,7 +15,7 @@ namespace suturesim::knot
   /// The knot the planner ties and how it moves the end (scene subsection Knot).
   struct PlannerSettings
   {
-    std::string     knot = "none";           ///< none, overhand, figure-eight, cinquefoil
+    std::string     knot = "none";           ///< none or one of knot::planned_knots()
     Eigen::Vector3d normal{0, 0, 1};         ///< projection plane's normal
     double          speed            = 0.02; ///< of the moving end, m/s
     double          clearance        = 3e-3; ///< height over or under the target, m

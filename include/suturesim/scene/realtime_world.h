@@ -18,7 +18,7 @@
  *  - Realtime/Tearing: seed 003's tears at the needle's pierce points
  *    (realtime/ligament_tearing.h), through the Stitch evaluation's wound;
  *  - Knot: seed 002's planner (knot/planner.h) moves the grasper on the suture's last
- *    end, the first held.
+ *    end, the first held; for a plan that moves both (the square knot), each in turn.
  * It also gives each tool its pose at a time and measures the closure's gaps.
  */
 

@@ -2,7 +2,10 @@
  * The accurate suture tied by seed 002's knot planner (Model = accurate, Bodies = suture,
  * a Knot): the Cosserat rod of rod/ with self-contact, its first end held, its last node
  * the grasper the planner moves (knot/planner.h), the same instructions, clearance and
- * speed as the realtime path reads from the same scene file.
+ * speed as the realtime path reads from the same scene file. A plan that moves the first
+ * end too (the square and granny knots) holds the first node in a grasper as well, its
+ * tangent led opposite to its motion (the rope trails it), and reads the pull on the end
+ * that moves.
  *
  * Each step Δt (Time/Step size) asks the planner where the end goes from the rod's
  * nodes of the last accepted state and the rope's pull on the end, moves the last node
@@ -139,6 +142,8 @@ namespace suturesim::scene
       {
         p.set_time(0);
         model.constrain(last, {{true, true, true, true, true, true}});
+        if (planner.moves_first_end())
+          model.constrain(0, {{true, true, true, true, true, true}});
         observer.accepted(0, {{"time", 0.0}, {"newton_iterations", 0}}, nullptr); // assembles the contact pairs
         record.accepted();
         model.commit_contact();
@@ -181,8 +186,11 @@ namespace suturesim::scene
         turn   = model.rotations();
         before = planner;
         p.set_time(t_new); // the loads, and a prescribed first end's motion
-        const rod::Vec3 to = planner.move(rope(model), t_new, dt, end_force);
-        model.set_node(last, to, led_frame(turn[last], to - start[last], normal));
+        const knot::Ends to = planner.move(rope(model), t_new, dt, end_force);
+        model.set_node(last, to.last, led_frame(turn[last], to.last - start[last], normal));
+        // the first end's tangent points into the rope, which trails behind it
+        if (planner.moves_first_end())
+          model.set_node(0, to.first, led_frame(turn[0], start[0] - to.first, normal));
         drag.begin_step(&start, dt);
         result = model.solve(newton, &terms);
         p.newton_iterations += result.iterations;
@@ -205,7 +213,7 @@ namespace suturesim::scene
         // the static residual (the drag left out), assembled once: the supports'
         // reactions the recorder writes, the rope's pull on the grasper the planner reads
         const Eigen::VectorXd r = model.residual();
-        end_force               = r.segment<3>(6 * last).norm();
+        end_force               = r.segment<3>(6 * (planner.moving_first_end() ? 0 : last)).norm();
         observer.accepted(t, {{"time", t}, {"newton_iterations", result.iterations}, {"residual", result.residual},
                               {"step_size", dt}, {"stabilization_force", drag.total_force(model.positions())}},
                           &r);
