@@ -36,7 +36,10 @@ namespace suturesim::rod
         return {knot::figure_eight, 0, knot::figure_eight_clearance, 1, 0.8};
       if (name == "cinquefoil")
         return {knot::cinquefoil, 0, knot::cinquefoil_clearance, 1, 1.2};
-      throw std::invalid_argument("no laid knot '" + name + "' (overhand, figure-eight, cinquefoil)");
+      std::string known;
+      for (const auto &k : KnotTightening::laid_knots())
+        known += (known.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("no laid knot '" + name + "' (" + known + ")");
     }
 
     double
@@ -128,6 +131,13 @@ namespace suturesim::rod
     laid.normal = turn * n;
     laid.normal = (laid.normal - laid.normal.x() * Vec3::UnitX()).normalized();
     return laid;
+  }
+
+  const std::vector<std::string> &
+  KnotTightening::laid_knots()
+  {
+    static const std::vector<std::string> names{"overhand", "figure-eight", "cinquefoil"};
+    return names;
   }
 
   double

@@ -151,6 +151,9 @@ namespace suturesim::rod
     /// of the closed knot's (knot/curves.h); std::invalid_argument for another name.
     static double
     strand_clearance(const std::string &knot);
+    /// The knots a specimen can be laid as: overhand, figure-eight, cinquefoil.
+    static const std::vector<std::string> &
+    laid_knots();
 
     /// Audoly et al.'s F h²/B at ε = √(h/R) for a trefoil with friction μ.
     static double

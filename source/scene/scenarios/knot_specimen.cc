@@ -46,12 +46,16 @@ namespace suturesim::scene
         const rod::KnotTighteningParameters d;
         const auto text = [](const double v) { return Utilities::to_string(v); };
         prm.enter_subsection("Knot specimen");
-        prm.declare_entry("Knot", d.knot, Patterns::Selection("overhand|figure-eight|cinquefoil"),
+        std::string names;
+        for (const auto &k : rod::KnotTightening::laid_knots())
+          names += (names.empty() ? "" : "|") + k;
+        prm.declare_entry("Knot", d.knot, Patterns::Selection(names),
                           "The knot laid, cut open where it is furthest from its axis, with straight tails along the "
                           "tangent there: overhand, the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t, -sin 3t) a cut at "
                           "the tip of a lobe; figure-eight, ((2 + cos 2t) cos 3t, (2 + cos 2t) sin 3t, sin 4t) a cut at "
                           "t = 0; cinquefoil, the (2, 5) torus knot ((2 + cos 5t) cos 2t, (2 + cos 5t) sin 2t, -sin 5t) "
-                          "a cut at t = 0. Unit: none. Range: overhand, figure-eight, cinquefoil.");
+                          "a cut at t = 0. Unit: none. Range: " +
+                            Utilities::replace_in_string(names, "|", ", ") + ".");
         prm.declare_entry("Knot size", text(d.knot_size), Patterns::Double(0),
                           "a, the knot's scale (all reach 3a from their axis; the trefoil's strands pass 1.2143 a "
                           "apart, the figure-eight's 1.1408 a, the cinquefoil's 1.1287 a, and laid cut open at least "
