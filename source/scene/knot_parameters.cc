@@ -98,12 +98,11 @@ namespace suturesim::scene
     const auto &ends = scene.suture;
     knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
                  "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
-    knot.require(ends.start_end.type == "pinned" || !planned_knot_moves_first_end(scene.knot.knot), "Knot",
+    knot.require((ends.start_end.type == "pinned" && ends.start_end.grasp_time == 0) ||
+                   !planned_knot_moves_first_end(scene.knot.knot),
+                 "Knot",
                  "the planner moves both ends to tie a " + scene.knot.knot +
                    " knot: Suture/Start end/Type = pinned, grasped from the start");
-    knot.require(ends.start_end.grasp_time == 0 || !planned_knot_moves_first_end(scene.knot.knot), "Knot",
-                 "the planner moves both ends to tie a " + scene.knot.knot +
-                   " knot: the first end grasped from the start (Suture/Start end/Grasp time = 0)");
     knot.require(ends.start_end.type != "free", "Knot",
                  "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
                  "clamped or prescribed)");
