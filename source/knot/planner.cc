@@ -59,6 +59,12 @@ namespace suturesim::knot
     return names;
   }
 
+  bool
+  moves_first_end(const std::vector<Instruction> &plan)
+  {
+    return std::any_of(plan.begin(), plan.end(), [](const Instruction &i) { return i.first_end; });
+  }
+
   GaussCode
   tied_code(const std::vector<Instruction> &plan)
   {
@@ -195,12 +201,6 @@ namespace suturesim::knot
   }
 
   bool
-  KnotPlanner::moves_first_end() const
-  {
-    return std::any_of(plan_.begin(), plan_.end(), [](const Instruction &i) { return i.first_end; });
-  }
-
-  bool
   KnotPlanner::moving_first_end() const
   {
     // drawn after its crossing, or pulled once tied: the last instruction's end
@@ -227,9 +227,12 @@ namespace suturesim::knot
     // a finished or failed plan holds the ends: no diagram to read any more
     if (phase_ == Phase::done || phase_ == Phase::failed)
       return ends;
-    const bool             first = moving_first_end();
-    const Eigen::Matrix3Xd held  = read_from_held_end(rope, first); // its last column the moving end
-    const KnotDiagram      d(held, projection_);
+    const bool first = moving_first_end();
+    // the rope read from the held end, its last column the moving end: copied backwards
+    // only when the first end moves
+    const Eigen::Matrix3Xd  reversed = first ? read_from_held_end(rope, true) : Eigen::Matrix3Xd();
+    const Eigen::Matrix3Xd &held     = first ? reversed : rope;
+    const KnotDiagram       d(held, projection_);
     // a rope held behind its end (a node in a collision constraint every step) lets its
     // end link stretch rather than follow: what the end then crosses is not the rope
     const double stretch = (held.col(last) - held.col(last - 1)).norm() / links[first ? 0 : 1] - 1;

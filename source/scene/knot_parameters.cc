@@ -3,8 +3,6 @@
 
 #include <suturesim/knot/planner.h>
 
-#include <algorithm>
-
 namespace suturesim::scene
 {
   using namespace dealii;
@@ -15,13 +13,6 @@ namespace suturesim::scene
     vector_text(const Eigen::Vector3d &v)
     {
       return shortest_text(v[0]) + ", " + shortest_text(v[1]) + ", " + shortest_text(v[2]);
-    }
-
-    bool
-    planned_knot_moves_first_end(const std::string &knot)
-    {
-      const auto plan = knot::instructions(knot);
-      return std::any_of(plan.begin(), plan.end(), [](const knot::Instruction &i) { return i.first_end; });
     }
   } // namespace
 
@@ -99,7 +90,7 @@ namespace suturesim::scene
     knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
                  "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
     knot.require((ends.start_end.type == "pinned" && ends.start_end.grasp_time == 0) ||
-                   !planned_knot_moves_first_end(scene.knot.knot),
+                   !knot::moves_first_end(knot::instructions(scene.knot.knot)),
                  "Knot",
                  "the planner moves both ends to tie a " + scene.knot.knot +
                    " knot: Suture/Start end/Type = pinned, grasped from the start");

@@ -100,6 +100,10 @@ namespace suturesim::knot
   std::vector<Instruction>
   instructions(const std::string &name);
 
+  /// Whether any of @p plan's instructions moves the first end (else it is only held).
+  bool
+  moves_first_end(const std::vector<Instruction> &plan);
+
   /// The Gauss code @p instructions tie in a rope whose diagram had no crossing.
   GaussCode
   tied_code(const std::vector<Instruction> &instructions);
@@ -131,9 +135,12 @@ namespace suturesim::knot
     Ends
     move(const Eigen::Matrix3Xd &rope, double t, double dt, double end_force);
 
-    /// Whether any instruction moves the first end (else it is only held).
+    /// Whether any instruction moves the first end (knot::moves_first_end()).
     bool
-    moves_first_end() const;
+    moves_first_end() const
+    {
+      return knot::moves_first_end(plan_);
+    }
     /// Whether the end moving now (or last, once tied) is the first.
     bool
     moving_first_end() const;
