@@ -59,6 +59,85 @@ namespace suturesim::knot
     return names;
   }
 
+  std::vector<Instruction>
+  plan_of(const PlannerSettings &settings)
+  {
+    return settings.knot == "custom" ? settings.instructions : instructions(settings.knot);
+  }
+
+  std::vector<Instruction>
+  parse_plan(const std::string &text)
+  {
+    constexpr std::size_t    most = 32;
+    std::vector<Instruction> plan;
+    std::istringstream       all(text);
+    std::string              item;
+    while (std::getline(all, item, ';'))
+      {
+        std::istringstream words(item);
+        std::string        word;
+        if (!(words >> word))
+          continue; // an empty item: "a; b;" ends with one
+        const std::string where = "instruction " + std::to_string(plan.size() + 1) + " ('" + item + "'): ";
+        if (plan.size() == most)
+          throw std::invalid_argument("more than " + std::to_string(most) + " instructions");
+        Instruction i;
+        if (word == "first" || word == "last")
+          {
+            i.first_end = word == "first";
+            if (!(words >> word))
+              word.clear();
+          }
+        if (word != "over" && word != "under")
+          throw std::invalid_argument(where + "expected 'over' or 'under', not '" + word + "'");
+        i.over = word == "over";
+        // the span as a whole number (a stream would read "-1" into a huge size_t)
+        if (!(words >> word) || word.find_first_not_of("0123456789") != std::string::npos || word.size() > 3)
+          throw std::invalid_argument(where + "the span must be a whole number 0-999, not '" + word + "'");
+        i.span = std::stoul(word);
+        while (words >> word)
+          {
+            double value = 0;
+            if ((word != "at" && word != "draw") || !(words >> value) || !std::isfinite(value))
+              throw std::invalid_argument(where + "expected 'at <fraction>' or 'draw <metres>' after the span");
+            if (word == "at" && (value < 0 || value > 1))
+              throw std::invalid_argument(where + "'at' must be within [0, 1] (a fraction of the span)");
+            if (word == "draw" && (value < 0 || value > 1))
+              throw std::invalid_argument(where + "'draw' must be within [0, 1] m");
+            (word == "at" ? i.at : i.draw) = value;
+          }
+        plan.push_back(i);
+        try
+          {
+            tied_code(plan);
+          }
+        catch (const std::invalid_argument &)
+          {
+            throw std::invalid_argument(where + "span " + std::to_string(i.span) +
+                                        " is past the rope's spans then (0 to " +
+                                        std::to_string(2 * (plan.size() - 1)) + ")");
+          }
+      }
+    if (plan.empty())
+      throw std::invalid_argument("no instruction (e.g. 'under 0; over 1; under 2', the overhand)");
+    const GaussCode code = tied_code(plan);
+    if (const std::size_t kept = code.reduced().crossings(); kept < plan.size())
+      throw std::invalid_argument("the plan ties '" + code.text() + "', which Reidemeister moves reduce to " +
+                                  std::to_string(kept) + " of its " + std::to_string(plan.size()) +
+                                  " crossings: every instruction must add a crossing the knot keeps");
+    return plan;
+  }
+
+  std::string
+  plan_text(const std::vector<Instruction> &plan)
+  {
+    std::ostringstream out;
+    for (std::size_t k = 0; k < plan.size(); ++k)
+      out << (k ? "; " : "") << (plan[k].first_end ? "first " : "last ") << (plan[k].over ? "over " : "under ")
+          << plan[k].span << " at " << plan[k].at << " draw " << plan[k].draw;
+    return out.str();
+  }
+
   bool
   moves_first_end(const std::vector<Instruction> &plan)
   {
@@ -109,8 +188,10 @@ namespace suturesim::knot
   KnotPlanner::KnotPlanner(const PlannerSettings &settings)
     : settings_(settings)
     , projection_(settings.normal)
-    , plan_(instructions(settings.knot))
+    , plan_(plan_of(settings))
   {
+    if (plan_.empty())
+      throw std::invalid_argument("the knot planner needs at least one instruction");
     if (!(settings.speed > 0) || !(settings.clearance > 0) || !(settings.inertia >= 0) ||
         !(settings.instruction_time > 0))
       throw std::invalid_argument("the knot planner needs a speed, clearance and instruction time > 0");
@@ -364,6 +445,7 @@ namespace suturesim::knot
     m["instructions"]       = planner.plan().size();
     m["instructions_done"]  = planner.instructions_done();
     m["moves_first_end"]    = planner.moves_first_end();
+    m["plan"]               = plan_text(planner.plan());
     m["planned_gauss_code"] = planned.text();
     m["tied"]               = m["gauss_code"] == planned.text();
     m["shortening"]         = planner.shortening();

@@ -24,13 +24,24 @@ namespace suturesim::scene
     std::string names = "none";
     for (const auto &k : knot::planned_knots())
       names += "|" + k;
+    names += "|custom";
     prm.declare_entry("Knot", d.knot, Patterns::Selection(names),
                       "The knot seed 002's planner ties by moving the suture's last end (Suture/Last end/Type = "
                       "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', 'cinquefoil' (the "
                       "overhand's end taken round once more: the (2, 5) torus knot); or by moving each end in turn "
                       "(both pinned), in a suture laid as a U with both ends up: 'square' (reef knot) and 'granny' "
-                      "(two half knots, the second the first's mirror image or not); or 'none'. Unit: none. Range: " +
+                      "(two half knots, the second the first's mirror image or not); 'custom': the plan given in "
+                      "Instructions; or 'none'. Unit: none. Range: " +
                         Utilities::replace_in_string(names, "|", ", ") + ".");
+    prm.declare_entry("Instructions", "", Patterns::Anything(),
+                      "The plan when Knot = custom: instructions separated by ';', each '[first|last] over|under "
+                      "<span> [at <fraction>] [draw <metres>]': which end moves (default last), whether it passes "
+                      "over or under the target span, the span counted from the held end in the diagram of the "
+                      "moment (0 to twice the crossings made so far), where in the span it aims (default 0.5), "
+                      "and how far the end is drawn from the knot once it has crossed (default 0). E.g. 'under 0; "
+                      "over 1; under 2' ties the overhand. Each instruction must add a crossing that Reidemeister "
+                      "moves cannot remove. Ignored for a named knot. Unit: span none, fraction none, draw m. "
+                      "Range: 1-32 instructions; fraction [0, 1]; draw [0, 1] m.");
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
                       "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");
@@ -70,6 +81,15 @@ namespace suturesim::scene
     s.tighten_force    = prm.get_double("Tighten force");
     if (s.knot == "none")
       return s;
+    if (s.knot == "custom")
+      try
+        {
+          s.instructions = knot::parse_plan(prm.get("Instructions"));
+        }
+      catch (const std::invalid_argument &e)
+        {
+          scope.fail("Instructions", e.what());
+        }
     scope.require(s.normal.norm() > 0, "Projection normal", "must not be zero");
     scope.require(s.speed > 0, "Speed", "must be > 0 m/s");
     scope.require(s.clearance > 0, "Clearance", "must be > 0 m");
@@ -90,7 +110,7 @@ namespace suturesim::scene
     knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
                  "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
     knot.require((ends.start_end.type == "pinned" && ends.start_end.grasp_time == 0) ||
-                   !knot::moves_first_end(knot::instructions(scene.knot.knot)),
+                   !knot::moves_first_end(knot::plan_of(scene.knot)),
                  "Knot",
                  "the planner moves both ends to tie a " + scene.knot.knot +
                    " knot: Suture/Start end/Type = pinned, grasped from the start");

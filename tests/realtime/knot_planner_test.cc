@@ -112,6 +112,82 @@ TEST(KnotPlanner, AnyPlanGivenToTheOtherEndTiesItsCodeReadFromThatEnd)
     }
 }
 
+TEST(KnotPlan, TextReadsBackEveryNamedPlanAndACustomPlanDrivesThePlanner)
+{
+  for (const auto &knot : planned_knots())
+    {
+      const auto plan = instructions(knot);
+      const auto read = parse_plan(plan_text(plan));
+      ASSERT_EQ(read.size(), plan.size()) << knot;
+      for (std::size_t k = 0; k < plan.size(); ++k)
+        {
+          EXPECT_EQ(read[k].over, plan[k].over) << knot << ' ' << k;
+          EXPECT_EQ(read[k].span, plan[k].span) << knot << ' ' << k;
+          EXPECT_EQ(read[k].first_end, plan[k].first_end) << knot << ' ' << k;
+          EXPECT_DOUBLE_EQ(read[k].at, plan[k].at) << knot << ' ' << k;
+          EXPECT_DOUBLE_EQ(read[k].draw, plan[k].draw) << knot << ' ' << k;
+        }
+    }
+  // the defaults: the last end, the middle of the span, no draw; spaces and a final ';'
+  const auto overhand_text = parse_plan(" under 0 ;over 1;  last under 2 at 0.5 draw 0 ;");
+  EXPECT_EQ(tied_code(overhand_text), tied_code(instructions("overhand")));
+  EXPECT_FALSE(overhand_text[0].first_end);
+  EXPECT_DOUBLE_EQ(overhand_text[0].at, 0.5);
+  EXPECT_DOUBLE_EQ(overhand_text[0].draw, 0);
+  // the overhand tied by the first end instead
+  const auto first = parse_plan("first under 0 at 0.25 draw 0.01; first over 1; first under 2");
+  EXPECT_TRUE(first[0].first_end);
+  EXPECT_TRUE(first[2].first_end);
+  EXPECT_DOUBLE_EQ(first[0].at, 0.25);
+  EXPECT_DOUBLE_EQ(first[0].draw, 0.01);
+  EXPECT_EQ(tied_code(first).reduced().crossings(), 3U);
+  // a custom plan is the planner's plan: the first step goes down for "under 0"
+  PlannerSettings s = overhand();
+  s.knot            = "custom";
+  s.instructions    = parse_plan("under 0; over 1; under 2");
+  KnotPlanner     planner(s);
+  const auto      start = rope(5, 0);
+  EXPECT_LT(planner.move(start, 1e-3, 1e-3, 0).last.z(), start(2, start.cols() - 1));
+  s.instructions.clear();
+  EXPECT_THROW(KnotPlanner{s}, std::invalid_argument) << "a custom knot without instructions";
+}
+
+TEST(KnotPlan, RefusesATextItCannotTieAndSaysWhy)
+{
+  const auto refusal = [](const std::string &text) {
+    try
+      {
+        parse_plan(text);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        return std::string(e.what());
+      }
+    return std::string("accepted");
+  };
+  const std::vector<std::pair<std::string, std::string>> cases{
+    {"", "no instruction"},
+    {" ; ;", "no instruction"},
+    {"sideways 0", "instruction 1 ('sideways 0'): expected 'over' or 'under', not 'sideways'"},
+    {"first", "expected 'over' or 'under', not ''"},
+    {"under", "the span must be a whole number"},
+    {"under -1", "the span must be a whole number 0-999, not '-1'"},
+    {"under 1e3", "the span must be a whole number"},
+    {"under 0; over 3", "instruction 2 (' over 3'): span 3 is past the rope's spans then (0 to 2)"},
+    {"under 0 at 1.5; over 1; under 2", "'at' must be within [0, 1]"},
+    {"under 0 at nan; over 1; under 2", "expected 'at <fraction>' or 'draw <metres>'"},
+    {"under 0 draw -0.01; over 1; under 2", "'draw' must be within [0, 1] m"},
+    {"under 0 pull 2; over 1; under 2", "expected 'at <fraction>' or 'draw <metres>'"},
+    {"under 0", "reduce to 0 of its 1 crossings"},
+    {"under 0; under 1", "reduce to 0 of its 2 crossings"}};
+  for (const auto &[text, why] : cases)
+    EXPECT_NE(refusal(text).find(why), std::string::npos) << "'" << text << "': " << refusal(text);
+  std::string many;
+  for (int k = 0; k < 33; ++k)
+    many += "under 0;";
+  EXPECT_NE(refusal(many).find("more than 32 instructions"), std::string::npos) << refusal(many);
+}
+
 TEST(KnotPlanner, MovesTheEndDownAndOnForAnUnderCrossingAndCountsItDone)
 {
   KnotPlanner     planner(overhand());

@@ -52,6 +52,8 @@
  *    for the square knot, under, over and under for the granny knot. Reading the rope
  *    closed through its tails, each half knot is a trefoil; the second is the first's
  *    mirror image in the plane (the square knot), or that turned over (the granny).
+ *  - custom: a scene's own plan (Knot/Instructions, parse_plan()), for a knot not listed
+ *    or another way to tie one.
  * tied_code() gives the Gauss code the instructions tie, derived from them alone: each
  * crossing's first occurrence (read from the held end) goes into its target span, its
  * second (the moving end's) to the end of the rope.
@@ -70,20 +72,6 @@
 
 namespace suturesim::knot
 {
-  struct Instruction
-  {
-    bool        over = false; ///< the moving end passes over the target span
-    std::size_t span = 0;     ///< counted from the held end, in the diagram of the moment
-    double      at   = 0.5;   ///< where in the span the target lies, 0: its start, 1: its end
-    /// The first end moves (and the last is held) instead of the last: the spans are then
-    /// counted from the last end, and the rope is read from it
-    bool first_end = false;
-    /// Once this crossing is made, the end is drawn this far (m) away from the knot
-    /// before the next instruction begins (a throw snugged down, and a tail for the next
-    /// to go round), as the knot is pulled once tied; 0: at once.
-    double draw = 0;
-  };
-
   /// Where the planner sends the rope's two ends, m.
   struct Ends
   {
@@ -99,6 +87,27 @@ namespace suturesim::knot
   /// another name.
   std::vector<Instruction>
   instructions(const std::string &name);
+
+  /// The plan @p settings ask for: their own instructions (Knot = custom), or those of the
+  /// named knot (instructions()).
+  std::vector<Instruction>
+  plan_of(const PlannerSettings &settings);
+
+  /// A plan written as text, instructions separated by ';', each
+  /// `[first|last] over|under <span> [at <fraction>] [draw <metres>]` (the last end, at
+  /// 0.5 and no draw unless said), e.g. "under 0; over 1; under 2" (the overhand).
+  /// std::invalid_argument naming the instruction and what is wrong with it: an unknown
+  /// word, a span past the rope's spans (tied_code()), a fraction outside [0, 1], a draw
+  /// outside [0, 1] m, more than 32 instructions, none, or a plan whose code is not
+  /// reduced (Reidemeister I or II moves remove crossings: each instruction must add a
+  /// crossing the knot keeps, so that the planner can tell a knot come undone by its
+  /// crossings).
+  std::vector<Instruction>
+  parse_plan(const std::string &text);
+
+  /// @p plan written as parse_plan() reads it (every field given).
+  std::string
+  plan_text(const std::vector<Instruction> &plan);
 
   /// Whether any of @p plan's instructions moves the first end (else it is only held).
   bool

@@ -9,13 +9,34 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <vector>
 
 namespace suturesim::knot
 {
+  /// One instruction of a plan (seed 002 §5 C: "the type of crossing: which end of the
+  /// suture to move, cross over or under", and the target span).
+  struct Instruction
+  {
+    bool        over = false; ///< the moving end passes over the target span
+    std::size_t span = 0;     ///< counted from the held end, in the diagram of the moment
+    double      at   = 0.5;   ///< where in the span the target lies, 0: its start, 1: its end
+    /// The first end moves (and the last is held) instead of the last: the spans are then
+    /// counted from the last end, and the rope is read from it
+    bool first_end = false;
+    /// Once this crossing is made, the end is drawn this far (m) away from the knot
+    /// before the next instruction begins (a throw snugged down, and a tail for the next
+    /// to go round), as the knot is pulled once tied; 0: at once.
+    double draw = 0;
+  };
+
   /// The knot the planner ties and how it moves the end (scene subsection Knot).
   struct PlannerSettings
   {
-    std::string     knot = "none";           ///< none or one of knot::planned_knots()
+    /// none, custom (the plan is `instructions`) or one of knot::planned_knots()
+    std::string knot = "none";
+    /// The scene's own plan (Knot = custom; knot::parse_plan()); empty for a named knot,
+    /// whose plan is knot::instructions(knot): knot::plan_of() gives either
+    std::vector<Instruction> instructions;
     Eigen::Vector3d normal{0, 0, 1};         ///< projection plane's normal
     double          speed            = 0.02; ///< of the moving end, m/s
     double          clearance        = 3e-3; ///< height over or under the target, m
