@@ -46,6 +46,16 @@ namespace suturesim::knot
     if (name == "granny")
       return {{true, 0, 0.2}, {false, 1, 0.2}, {true, 2, 0.8, false, draw},
               {false, 0, 0.5, first}, {true, 1, 0.5, first}, {false, 8, 0.8, first}};
+    // the surgeon's knot: the square knot with its first half knot doubled, the last end
+    // taken round the first end's strand twice (five crossings, read closed the (2, 5)
+    // torus knot, as the cinquefoil) before it is drawn; then the first end's half knot
+    // as in the square knot, over its own standing part (span 12: 2 × 7 occurrences,
+    // less its own two). The targets of the third and fourth crossings (0.4, 0.3) are
+    // from a sweep of custom plans (docs/knots.md)
+    if (name == "surgeon")
+      return {{true, 0, 0.2},         {false, 1, 0.2},         {true, 2, 0.4},
+              {false, 3, 0.3},        {true, 4, 0.5, false, draw}, {true, 0, 0.5, first},
+              {false, 1, 0.5, first}, {true, 12, 0.8, first}};
     std::string known;
     for (const auto &k : planned_knots())
       known += (known.empty() ? "" : ", ") + k;
@@ -55,7 +65,8 @@ namespace suturesim::knot
   const std::vector<std::string> &
   planned_knots()
   {
-    static const std::vector<std::string> names{"overhand", "figure-eight", "cinquefoil", "square", "granny"};
+    static const std::vector<std::string> names{"overhand", "figure-eight", "cinquefoil", "square", "granny",
+                                                 "surgeon"};
     return names;
   }
 
@@ -341,7 +352,7 @@ namespace suturesim::knot
     // undone: fewer crossings, after the reductions, than the knot's crossing number
     // (Reidemeister moves keep the knot, and no diagram of it has fewer). The plans of
     // instructions() are minimal, one crossing each: 3 for the trefoil, 4 for the
-    // figure-eight, 6 for the square and granny knots (KnotPlanner.PlansTie…)
+    // figure-eight, 6 for the square and granny knots, 8 for the surgeon's (KnotPlanner.PlansTie…)
     if (phase_ == Phase::tightening)
       if (const GaussCode now = d.gauss_code().reduced(); now.crossings() < plan_.size())
         {

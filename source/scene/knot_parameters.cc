@@ -30,7 +30,8 @@ namespace suturesim::scene
                       "pinned) while the first is held: 'overhand' (the trefoil), 'figure-eight', 'cinquefoil' (the "
                       "overhand's end taken round once more: the (2, 5) torus knot); or by moving each end in turn "
                       "(both pinned), in a suture laid as a U with both ends up: 'square' (reef knot) and 'granny' "
-                      "(two half knots, the second the first's mirror image or not); 'custom': the plan given in "
+                      "(two half knots, the second the first's mirror image or not), 'surgeon' (the square knot with "
+                      "its first half knot doubled); 'custom': the plan given in "
                       "Instructions; or 'none'. Unit: none. Range: " +
                         Utilities::replace_in_string(names, "|", ", ") + ".");
     prm.declare_entry("Instructions", "", Patterns::Anything(),

@@ -93,6 +93,26 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
   // the codes do not tell the square knot from the granny: which way a half knot turns
   // is in the crossings' signs, which the rope's diagram has (GaussCode::writhe())
   EXPECT_EQ(tied_code(instructions("granny")).text(), "U1 O2 U3 O1 U4 O5 U6 O4 U5 O6 U2 O3");
+  // the surgeon's knot: the first half knot doubled (five crossings by the last end,
+  // read closed the (2, 5) torus knot, determinant 5, as the cinquefoil), the second as
+  // the square knot's; eight crossings, the least of 5_1 # 3_1, determinant 5 × 3, the
+  // five crossings labelled 4-8 together along the rope (the code of a sum)
+  {
+    const auto      plan = instructions("surgeon");
+    const GaussCode code = tied_code(plan);
+    EXPECT_EQ(code.crossings(), 8u);
+    EXPECT_EQ(code.reduced(), code);
+    EXPECT_EQ(code.determinant(), 15);
+    const GaussCode doubled = tied_code({plan.begin(), plan.begin() + 5});
+    EXPECT_EQ(doubled.reduced().crossings(), 5u);
+    EXPECT_EQ(doubled.determinant(), 5);
+    std::size_t from = code.entries().size(), to = 0;
+    for (std::size_t p = 0; p < code.entries().size(); ++p)
+      if (code.entries()[p].label > 3)
+        from = std::min(from, p), to = std::max(to, p);
+    EXPECT_EQ(to - from, 9u) << code.text();
+    EXPECT_EQ(code.text(), "O1 U2 O3 U1 U4 O5 U6 O7 U8 O4 U5 O6 U7 O8 O2 U3");
+  }
   EXPECT_THROW(instructions("bowline"), std::invalid_argument);
   EXPECT_THROW(tied_code({{true, 3}}), std::invalid_argument);
 }

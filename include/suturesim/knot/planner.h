@@ -52,6 +52,10 @@
  *    for the square knot, under, over and under for the granny knot. Reading the rope
  *    closed through its tails, each half knot is a trefoil; the second is the first's
  *    mirror image in the plane (the square knot), or that turned over (the granny).
+ *  - surgeon's knot (5₁ # 3₁*): the square knot with its first half knot doubled, the
+ *    last end round the first end's strand twice (over 0, under 1, over 2, under 3,
+ *    over 4), then the first end's half knot (over 0, under 1, over 12, its own standing
+ *    part); determinant 5 × 3, writhe ±2 (5 − 3).
  *  - custom: a scene's own plan (Knot/Instructions, parse_plan()), for a knot not listed
  *    or another way to tie one.
  * tied_code() gives the Gauss code the instructions tie, derived from them alone: each
@@ -79,7 +83,7 @@ namespace suturesim::knot
   };
 
   /// The knots instructions() has a plan for: overhand, figure-eight, cinquefoil, square,
-  /// granny.
+  /// granny, surgeon.
   const std::vector<std::string> &
   planned_knots();
 
