@@ -41,7 +41,7 @@ namespace suturesim::scene
                       "moment (0 to twice the crossings made so far), where in the span it aims (default 0.5), "
                       "and how far the end is drawn from the knot once it has crossed (default 0). E.g. 'under 0; "
                       "over 1; under 2' ties the overhand. Each instruction must add a crossing that Reidemeister "
-                      "moves cannot remove. Ignored for a named knot. Unit: span none, fraction none, draw m. "
+                      "moves cannot remove. Given with a named knot or none, it is an error. Unit: span none, fraction none, draw m. "
                       "Range: 1-32 instructions; fraction [0, 1]; draw [0, 1] m.");
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
@@ -80,6 +80,9 @@ namespace suturesim::scene
     s.instruction_time = prm.get_double("Instruction time");
     s.tighten_distance = prm.get_double("Tighten distance");
     s.tighten_force    = prm.get_double("Tighten force");
+    // a plan given beside a named knot (or none) would be dropped without a word
+    scope.require(s.knot == "custom" || prm.get("Instructions").find_first_not_of(" \t") == std::string::npos,
+                  "Instructions", "is read only with Knot = custom, and Knot is '" + s.knot + "'");
     if (s.knot == "none")
       return s;
     if (s.knot == "custom")
