@@ -3,6 +3,8 @@
 // suture's last state as their Gauss codes in the planner's projection.
 #include "run_scene.h"
 
+#include <suturesim/knot/planner.h>
+
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -173,6 +175,8 @@ TEST(KnotScene, TheSurgeonsKnotIsTiedWithItsDoubledFirstThrow)
                              15, 0.1, 0.99, 0.5, {"Knot/Knot=surgeon"});
   ASSERT_TRUE(r.has_summary);
   EXPECT_EQ(std::abs(r.summary["metrics"]["knot"]["writhe"].get<int>()), 2);
+  // the run records the plan it followed, as a custom plan would give it
+  EXPECT_EQ(r.summary["metrics"]["knot"]["plan"], suturesim::knot::plan_text(suturesim::knot::instructions("surgeon")));
 }
 
 TEST(KnotScene, TheAccurateRodIsTiedIntoTheOverhandByThePlannerFromTheSameScene)
