@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -143,6 +144,8 @@ namespace suturesim::knot
   plan_text(const std::vector<Instruction> &plan)
   {
     std::ostringstream out;
+    // 15 digits: what a scene gives reads back as given, and 0.2 is still written "0.2"
+    out << std::setprecision(15);
     for (std::size_t k = 0; k < plan.size(); ++k)
       out << (k ? "; " : "") << (plan[k].first_end ? "first " : "last ") << (plan[k].over ? "over " : "under ")
           << plan[k].span << " at " << plan[k].at << " draw " << plan[k].draw;

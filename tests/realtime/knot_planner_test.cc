@@ -68,7 +68,16 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
   EXPECT_TRUE(seen.is_cut_of(cinquefoil) || seen.mirrored().is_cut_of(cinquefoil)) << seen.text();
   // the square and granny knots: two half knots, each a trefoil read closed through the
   // tails, the first by the last end (instructions 1-3), the second by the first end;
-  // six crossings, the least of the sum of two trefoils, determinant 3 × 3
+  // six crossings, the least of the sum of two trefoils, determinant 3 × 3. The
+  // crossings labelled past @p first lie together along the rope in a code of a sum (one
+  // knot's code set into the other's): the entries they span, first to last
+  const auto block_of_sum = [](const GaussCode &code, const unsigned first) {
+    std::size_t from = code.entries().size(), to = 0;
+    for (std::size_t p = 0; p < code.entries().size(); ++p)
+      if (code.entries()[p].label > first)
+        from = std::min(from, p), to = std::max(to, p);
+    return to - from;
+  };
   for (const std::string knot : {"square", "granny"})
     {
       const auto      plan = instructions(knot);
@@ -79,13 +88,8 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
       const GaussCode half = tied_code({plan.begin(), plan.begin() + 3});
       EXPECT_EQ(half.determinant(), 3) << knot;
       EXPECT_EQ(half.reduced().crossings(), 3u) << knot;
-      // the second half knot's crossings (4-6 as tied) lie together along the rope:
-      // the code of a sum, one knot's code set into the other's
-      std::size_t from = code.entries().size(), to = 0;
-      for (std::size_t p = 0; p < code.entries().size(); ++p)
-        if (code.entries()[p].label > 3)
-          from = std::min(from, p), to = std::max(to, p);
-      EXPECT_EQ(to - from, 5u) << knot << ": " << code.text();
+      // the second half knot's crossings (4-6 as tied) lie together along the rope
+      EXPECT_EQ(block_of_sum(code, 3), 5u) << knot << ": " << code.text();
       for (std::size_t i = 3; i < plan.size(); ++i)
         EXPECT_TRUE(plan[i].first_end) << knot;
     }
@@ -106,11 +110,7 @@ TEST(KnotPlanner, PlansTieTheTrefoilAndTheFigureEight)
     const GaussCode doubled = tied_code({plan.begin(), plan.begin() + 5});
     EXPECT_EQ(doubled.reduced().crossings(), 5u);
     EXPECT_EQ(doubled.determinant(), 5);
-    std::size_t from = code.entries().size(), to = 0;
-    for (std::size_t p = 0; p < code.entries().size(); ++p)
-      if (code.entries()[p].label > 3)
-        from = std::min(from, p), to = std::max(to, p);
-    EXPECT_EQ(to - from, 9u) << code.text();
+    EXPECT_EQ(block_of_sum(code, 3), 9u) << code.text();
     EXPECT_EQ(code.text(), "O1 U2 O3 U1 U4 O5 U6 O7 U8 O4 U5 O6 U7 O8 O2 U3");
   }
   EXPECT_THROW(instructions("bowline"), std::invalid_argument);
@@ -148,6 +148,10 @@ TEST(KnotPlan, TextReadsBackEveryNamedPlanAndACustomPlanDrivesThePlanner)
           EXPECT_DOUBLE_EQ(read[k].draw, plan[k].draw) << knot << ' ' << k;
         }
     }
+  // metrics.knot.plan records a plan as given: fractions and draws to 15 digits
+  const auto fine = parse_plan(plan_text(parse_plan("under 0 at 0.123456789012; over 1 draw 0.0123456789; under 2")));
+  EXPECT_DOUBLE_EQ(fine[0].at, 0.123456789012);
+  EXPECT_DOUBLE_EQ(fine[1].draw, 0.0123456789);
   // the defaults: the last end, the middle of the span, no draw; spaces and a final ';'
   const auto overhand_text = parse_plan(" under 0 ;over 1;  last under 2 at 0.5 draw 0 ;");
   EXPECT_EQ(tied_code(overhand_text), tied_code(instructions("overhand")));
