@@ -108,19 +108,47 @@ namespace suturesim::scene
       return;
     const ParameterScope knot = scene.scope("Knot");
     knot.require(scene.has_suture(), "Knot", "a knot needs a suture (Bodies = suture or tissue and suture)");
-    knot.require(!scene.needle.present(), "Knot",
-                 "the planner ties a free suture (no Needle): a stitch tied off with a knot is not modelled yet");
-    const auto &ends = scene.suture;
-    knot.require(ends.last_end.type == "pinned" && ends.last_end.grasp_time == 0, "Knot",
-                 "the planner moves the suture's last end: Suture/Last end/Type = pinned, grasped from the start");
+    const auto  &ends  = scene.suture;
+    const double start = scene.knot.start_time;
+    knot.require(ends.elements >= 2, "Knot", "the suture needs at least two elements");
+    // the last end's grasper is the planner's from its start on, wherever it took the end
+    // (realtime); the accurate rod's last node is the planner's from the start
+    const bool realtime = scene.model == "realtime";
+    knot.require(ends.last_end.type == "pinned" ||
+                   (realtime && ends.last_end.type == "prescribed" && !ends.last_end.fixes_rotation()),
+                 "Knot",
+                 std::string("the planner moves the suture's last end: Suture/Last end/Type = pinned") +
+                   (realtime ? ", or prescribed by displacements only" : ""));
+    knot.require(realtime || ends.last_end.grasp_time == 0, "Knot",
+                 "the planner moves the accurate suture's last end from the start: Suture/Last end/Grasp time = 0");
+    knot.require(ends.last_end.grasp_time <= start &&
+                   (ends.last_end.keyframes.empty() || ends.last_end.keyframes.rbegin()->first <= start),
+                 "Start time",
+                 "the planner takes the suture's last end from its grasper: the end's Grasp time and last keyframe "
+                 "must not be after Knot/Start time (" + shortest_text(start) + " s)");
+    if (scene.needle.present())
+      {
+        // a stitch tied off (realtime only: scenarios/accurate_needle.cc refuses a Knot): the
+        // needle holds the first end at its swage, and the planner moves the needle
+        // (translated, as the driver holds it) once its motion is over
+        knot.require(scene.needle.attach_suture && !scene.needle.released(), "Knot",
+                     "the planner moves the suture's first end with the needle: Needle/Attach suture = true, and "
+                     "the driver holding the needle throughout (no Jaws, no Regrasp exposure)");
+        const double motion_end = scene.needle.trajectory().end_time();
+        knot.require(motion_end <= start, "Start time",
+                     "the planner takes the needle over when its motion ends, at " + shortest_text(motion_end) +
+                       " s: Knot/Start time must not be earlier");
+        knot.require(!scene.closure.present() || !scene.closure.tie_off, "Knot",
+                     "a stitch tied off with a knot does not hold its ends at the closure: Closure/Tie off = false");
+        return;
+      }
+    knot.require(ends.start_end.type != "free", "Knot",
+                 "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
+                 "clamped or prescribed)");
     knot.require((ends.start_end.type == "pinned" && ends.start_end.grasp_time == 0) ||
                    !knot::moves_first_end(knot::plan_of(scene.knot)),
                  "Knot",
                  "the planner moves both ends to tie a " + scene.knot.knot +
                    " knot: Suture/Start end/Type = pinned, grasped from the start");
-    knot.require(ends.start_end.type != "free", "Knot",
-                 "the suture's first end must be held while the planner ties (Suture/Start end/Type = pinned, "
-                 "clamped or prescribed)");
-    knot.require(ends.elements >= 2, "Knot", "the suture needs at least two elements");
   }
 } // namespace suturesim::scene

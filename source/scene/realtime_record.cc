@@ -294,13 +294,6 @@ namespace suturesim::scene
       }
     if (world.closure)
       world.closure->write(metrics);
-    if (world.planner)
-      {
-        metrics["knot"] = knot::knot_metrics(*world.planner, sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size()));
-        auto &list      = summary.whole()["events"];
-        for (const auto &e : knot::knot_events(*world.planner))
-          list.push_back(e);
-      }
     if (scene.has_suture())
       {
         const auto tip             = sys.nodes.x.col(sys.suture.end - 1);
@@ -356,6 +349,15 @@ namespace suturesim::scene
                 metrics["realtime_tearing"]["onset_time"]    = tears.front().time;
               }
           }
+      }
+    // after the needle's events (RunSummary::needle() starts the list), in time order
+    if (world.planner)
+      {
+        metrics["knot"] = knot::knot_metrics(*world.planner, sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size()));
+        auto &list      = summary.whole()["events"];
+        for (const auto &e : knot::knot_events(*world.planner))
+          list.push_back(e);
+        std::stable_sort(list.begin(), list.end(), [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
       }
     for (const auto &[name, index] : world.probes)
       {

@@ -429,16 +429,27 @@ namespace suturesim::scene
       poses[*probe_tool].position = probe.position(t);
     if (planner)
       {
-        const auto             &sys  = world->system();
-        const rt::Matrix3Xd     rope = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
-        // the ends are the first and last tools (KnotParameters::check: both held)
-        const std::size_t first = first_end_tool, last = first_end_tool + tool_ends.size() - 1;
+        const auto         &sys  = world->system();
+        const rt::Matrix3Xd rope = sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size());
+        // the ends' tools (KnotParameters::check: both held): the last end's grasper, and
+        // the first end's, or the needle holding it at its swage
+        const std::size_t first  = needle ? needle->tool() : first_end_tool;
+        const std::size_t last   = first_end_tool + tool_ends.size() - 1;
         const std::size_t moving = planner->moving_first_end() ? first : last;
         const knot::Ends  to = planner->move(rope, t, t - planner_time, world->tool_forces()[moving].force.norm());
+        planner_time         = t;
+        // until it starts, the tools follow their own motions
+        if (planner->phase() == knot::KnotPlanner::Phase::waiting)
+          return;
         poses[last].position = to.last;
-        if (planner->moves_first_end())
+        if (needle && !needle_taken)
+          needle_taken.emplace(poses[first], rope.col(0));
+        if (needle && planner->moves_first_end())
+          poses[first].position = needle_taken->first.position + (to.first - needle_taken->second);
+        else if (needle)
+          poses[first] = needle_taken->first;
+        else if (planner->moves_first_end())
           poses[first].position = to.first;
-        planner_time = t;
       }
   }
 

@@ -19,6 +19,9 @@
  *    (realtime/ligament_tearing.h), through the Stitch evaluation's wound;
  *  - Knot: seed 002's planner (knot/planner.h) moves the grasper on the suture's last
  *    end, the first held; for a plan that moves both (the square knot), each in turn.
+ *    In a stitch (a Needle holding the suture's first end at its swage) the planner
+ *    takes over the needle and the last end's grasper once their motions are over, and
+ *    moves the first end by translating the needle as the driver holds it.
  * It also gives each tool its pose at a time and measures the closure's gaps.
  */
 
@@ -119,5 +122,8 @@ namespace suturesim::scene
     add_knot_planner();
 
     double planner_time = 0; ///< of the planner's last move, s
+    /// A stitch tied off: the needle's pose and the suture's first node when the planner
+    /// took the needle over; the planner's moves of that end translate the needle.
+    std::optional<std::pair<tools::Pose, Eigen::Vector3d>> needle_taken;
   };
 } // namespace suturesim::scene

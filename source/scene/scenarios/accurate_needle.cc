@@ -50,6 +50,10 @@ namespace suturesim::scene
                      "Bodies",
                      "the accurate path couples tissue and suture through a needle's pierce points: "
                      "set Needle/Shape and Needle/Attach suture = true, or use Model = realtime");
+        // the planner ties a free rod in this path (scenarios/accurate_knot.cc), not a stitch
+        scene.scope("Knot").require(scene.knot.knot == "none", "Knot",
+                                    "the accurate path ties knots in a free suture (Bodies = suture); a stitch is "
+                                    "tied off with a knot in the realtime path only (Model = realtime)");
         scene.parse_bodies(prm);
         if (scene.has_suture())
           scene.scope("Suture/Start end")

@@ -29,6 +29,8 @@ namespace suturesim::scene
       {
         scene.scope("Closure").require(!scene.closure.present(), "Gap probes",
                                        "wound closure needs the suture in the tissue: Bodies = tissue and suture");
+        scene.scope("Knot").require(scene.knot.knot == "none", "Knot",
+                                    "a knot needs a suture (Bodies = suture or tissue and suture)");
         scene.parse_bodies(prm);
         const ParameterScope tissue = scene.scope("Tissue");
         tissue.require(scene.tissue.region_moduli.empty(), "Region moduli",
