@@ -212,6 +212,16 @@ namespace suturesim::knot
   }
 
   void
+  KnotPlanner::set_normal(const Eigen::Vector3d &normal)
+  {
+    // the diagram's spans and crossings are read in one plane from the start on
+    if (phase_ != Phase::waiting)
+      throw std::logic_error("the knot planner's projection plane is set before it starts");
+    projection_      = Projection(normal);
+    settings_.normal = projection_.n;
+  }
+
+  void
   KnotPlanner::fail(const std::string &why, const double t)
   {
     phase_   = Phase::failed;

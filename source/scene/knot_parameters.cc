@@ -46,6 +46,11 @@ namespace suturesim::scene
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
                       "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");
+    prm.declare_entry("Projection plane", "given", Patterns::Selection("given|pierce points"),
+                      "The plane the suture is projected onto: 'given' (Projection normal), or in a stitch "
+                      "'pierce points', the plane through the needle's last three pierce points when the planner "
+                      "starts (seed 002 sec. 5 A), its normal (p2 - p1) x (p3 - p1) in the order the needle made "
+                      "them. Unit: none. Range: given, pierce points.");
     prm.declare_entry("Speed", default_text(d.speed), Patterns::Double(0),
                       "Speed of the moving end. Unit: m/s. Range: > 0.");
     prm.declare_entry("Clearance", default_text(d.clearance), Patterns::Double(0),
@@ -73,6 +78,7 @@ namespace suturesim::scene
     knot::PlannerSettings s;
     s.knot             = prm.get("Knot");
     s.normal           = get_vector(prm, "Projection normal");
+    s.plane_from_pierce_points = prm.get("Projection plane") == "pierce points";
     s.speed            = prm.get_double("Speed");
     s.clearance        = prm.get_double("Clearance");
     s.inertia          = prm.get_double("Inertia weight");
@@ -126,6 +132,8 @@ namespace suturesim::scene
                  "Start time",
                  "the planner takes the suture's last end from its grasper: the end's Grasp time and last keyframe "
                  "must not be after Knot/Start time (" + shortest_text(start) + " s)");
+    knot.require(!scene.knot.plane_from_pierce_points || scene.needle.present(), "Projection plane",
+                 "'pierce points' needs the stitch's needle (Needle/Shape); give the plane by Projection normal");
     if (scene.needle.present())
       {
         // a stitch tied off (realtime only: scenarios/accurate_needle.cc refuses a Knot): the

@@ -436,6 +436,9 @@ namespace suturesim::scene
         const std::size_t first  = needle ? needle->tool() : first_end_tool;
         const std::size_t last   = first_end_tool + tool_ends.size() - 1;
         const std::size_t moving = planner->moving_first_end() ? first : last;
+        if (scene.knot.plane_from_pierce_points && planner->phase() == knot::KnotPlanner::Phase::waiting &&
+            t >= scene.knot.start_time)
+          planner->set_normal(pierce_plane_normal(t));
         const knot::Ends  to = planner->move(rope, t, t - planner_time, world->tool_forces()[moving].force.norm());
         planner_time         = t;
         // until it starts, the tools follow their own motions
@@ -451,6 +454,25 @@ namespace suturesim::scene
         else if (planner->moves_first_end())
           poses[first].position = to.first;
       }
+  }
+
+  Eigen::Vector3d
+  RealtimeWorld::pierce_plane_normal(const double t) const
+  {
+    // the pierce points in the order the needle made them, where the tissue is now
+    const auto &points = world->needle()->pierce_points();
+    const auto  n      = points.size();
+    if (n >= 3)
+      {
+        const Eigen::Vector3d &p1 = points[n - 3].position, &p2 = points[n - 2].position, &p3 = points[n - 1].position;
+        const Eigen::Vector3d  normal = (p2 - p1).cross(p3 - p1);
+        // three points on one line (to a part in 10^6 of the spread) span no plane
+        if (normal.norm() > 1e-6 * (p2 - p1).norm() * (p3 - p1).norm())
+          return normal;
+      }
+    scene.scope("Knot").fail("Projection plane", "'pierce points' needs three pierce points not on one line when "
+                                                 "the planner starts (t = " + shortest_text(t) + " s); the needle has made " +
+                                                   std::to_string(n));
   }
 
   void

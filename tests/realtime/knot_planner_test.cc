@@ -283,6 +283,28 @@ TEST(KnotPlanner, WaitsForItsStartTime)
   EXPECT_EQ(planner.phase(), KnotPlanner::Phase::waiting);
 }
 
+TEST(KnotPlanner, TakesItsPlaneBeforeItStartsAndKeepsItAfter)
+{
+  // a plane read from the scene at the start (a stitch's pierce points): set while the
+  // planner waits, unit, recorded in its settings; refused once the plan has started,
+  // when the diagram's spans already lie in the old plane, and refused zero
+  PlannerSettings s = overhand();
+  s.start_time      = 0.5;
+  KnotPlanner planner(s);
+  const auto  r = rope(5, 0);
+  planner.move(r, 0.1, 1e-3, 0);
+  planner.set_normal(Vector3d(0, 2, 0));
+  EXPECT_EQ(planner.projection().n, Vector3d(0, 1, 0));
+  EXPECT_EQ(planner.settings().normal, Vector3d(0, 1, 0));
+  EXPECT_THROW(planner.set_normal(Vector3d::Zero()), std::invalid_argument);
+  EXPECT_EQ(planner.projection().n, Vector3d(0, 1, 0)) << "a refused normal leaves the plane as it was";
+  planner.set_normal(Vector3d(0, 0, 1));
+  planner.move(r, 0.5, 1e-3, 0);
+  ASSERT_EQ(planner.phase(), KnotPlanner::Phase::tying);
+  EXPECT_THROW(planner.set_normal(Vector3d(0, 1, 0)), std::logic_error);
+  EXPECT_EQ(planner.projection().n, Vector3d(0, 0, 1));
+}
+
 namespace
 {
   /// The mirror image of knot::trefoil() (z → −z: its code from +z, cut at t = 0.1, is

@@ -148,6 +148,12 @@ namespace suturesim::knot
     Ends
     move(const Eigen::Matrix3Xd &rope, double t, double dt, double end_force);
 
+    /// Puts the projection plane's normal to @p normal (not zero) before the plan starts:
+    /// a plane read from the scene at the start (PlannerSettings::plane_from_pierce_points);
+    /// std::logic_error once it has started, std::invalid_argument for a zero normal.
+    void
+    set_normal(const Eigen::Vector3d &normal);
+
     /// Whether any instruction moves the first end (knot::moves_first_end()).
     bool
     moves_first_end() const

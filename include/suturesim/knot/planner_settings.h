@@ -38,6 +38,10 @@ namespace suturesim::knot
     /// whose plan is knot::instructions(knot): knot::plan_of() gives either
     std::vector<Instruction> instructions;
     Eigen::Vector3d normal{0, 0, 1};         ///< projection plane's normal
+    /// The plane through the stitch's last three pierce points when the planner starts
+    /// (seed 002 §5 A), its normal (p₂ − p₁) × (p₃ − p₁) in the order they were made,
+    /// instead of `normal` (KnotPlanner::set_normal(); a realtime stitch)
+    bool plane_from_pierce_points = false;
     double          speed            = 0.02; ///< of the moving end, m/s
     double          clearance        = 3e-3; ///< height over or under the target, m
     double          inertia          = 2;    ///< W, weight of factor (4)

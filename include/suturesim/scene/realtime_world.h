@@ -21,7 +21,8 @@
  *    end, the first held; for a plan that moves both (the square knot), each in turn.
  *    In a stitch (a Needle holding the suture's first end at its swage) the planner
  *    takes over the needle and the last end's grasper once their motions are over, and
- *    moves the first end by translating the needle as the driver holds it.
+ *    moves the first end by translating the needle as the driver holds it; the
+ *    projection plane is given, or the plane of the needle's last three pierce points.
  * It also gives each tool its pose at a time and measures the closure's gaps.
  */
 
@@ -120,6 +121,11 @@ namespace suturesim::scene
     /// Knot: the planner and the checks of what it needs.
     void
     add_knot_planner();
+    /// The normal of the plane through the needle's last three pierce points at @p t
+    /// (Knot/Projection plane = pierce points); a ParameterError naming the entry when
+    /// there are fewer, or they lie on one line.
+    Eigen::Vector3d
+    pierce_plane_normal(double t) const;
 
     double planner_time = 0; ///< of the planner's last move, s
     /// A stitch tied off: the needle's pose and the suture's first node when the planner
