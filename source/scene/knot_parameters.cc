@@ -32,7 +32,8 @@ namespace suturesim::scene
                       "(both pinned), in a suture laid as a U with both ends up: 'square' (reef knot) and 'granny' "
                       "(two half knots, the second the first's mirror image or not), 'surgeon' (the square knot with "
                       "its first half knot doubled); 'custom': the plan given in "
-                      "Instructions; or 'none'. Unit: none. Range: " +
+                      "Instructions; or 'none'. In a stitch (realtime) the needle holds the first end and the "
+                      "planner moves the needle. Unit: none. Range: " +
                         Utilities::replace_in_string(names, "|", ", ") + ".");
     prm.declare_entry("Instructions", "", Patterns::Anything(),
                       "The plan when Knot = custom: instructions separated by ';', each '[first|last] over|under "
@@ -45,7 +46,8 @@ namespace suturesim::scene
                       "Range: 1-32 instructions; fraction [0, 1]; draw [0, 1] m.");
     prm.declare_entry("Projection normal", vector_text(d.normal), vector_pattern(),
                       "Normal of the plane the suture is projected onto to read its crossings and spans (seed 002 "
-                      "sec. 5 A); 'over' is along it. Unit: none (a direction, not zero).");
+                      "sec. 5 A) when Projection plane = given; 'over' is along it. Unit: none (a direction, not "
+                      "zero).");
     prm.declare_entry("Projection plane", "given", Patterns::Selection("given|pierce points"),
                       "The plane the suture is projected onto: 'given' (Projection normal), or in a stitch "
                       "'pierce points', the plane through the needle's last three pierce points when the planner "
@@ -60,7 +62,8 @@ namespace suturesim::scene
                       "Weight W of seed 002's fourth factor, the rope's orientation at the end, against the other "
                       "three (unit vectors). Unit: none. Range: >= 0.");
     prm.declare_entry("Start time", default_text(d.start_time), Patterns::Double(0),
-                      "When the planner starts moving the end. Unit: s. Range: >= 0.");
+                      "When the planner starts moving the end; not before the last end's grasp and keyframes, "
+                      "nor in a stitch before the needle's motion, end. Unit: s. Range: >= 0.");
     prm.declare_entry("Instruction time", default_text(d.instruction_time), Patterns::Double(0),
                       "The longest one instruction (one crossing) may take before the plan fails. Unit: s. Range: "
                       "> 0.");
