@@ -302,7 +302,9 @@ namespace suturesim::knot
       projection_.n * std::clamp((goal - projection_.height(end)) / settings_.clearance, -1.0, 1.0); // (3)
     const Eigen::Index    last  = rope.cols() - 1;
     const Eigen::Vector3d along = unit(rope.col(last) - rope.col(last - 1)); // (4)
-    return unit(to_target + to_normal + rise + settings_.inertia * along);
+    const double W = moving_first_end() && settings_.first_end_inertia >= 0 ? settings_.first_end_inertia
+                                                                              : settings_.inertia;
+    return unit(to_target + to_normal + rise + W * along);
   }
 
   bool

@@ -61,6 +61,10 @@ namespace suturesim::scene
     prm.declare_entry("Inertia weight", default_text(d.inertia), Patterns::Double(0),
                       "Weight W of seed 002's fourth factor, the rope's orientation at the end, against the other "
                       "three (unit vectors). Unit: none. Range: >= 0.");
+    prm.declare_entry("First end inertia weight", default_text(d.first_end_inertia), Patterns::Double(-1),
+                      "W for the first end while the planner moves it, when it should differ from Inertia weight "
+                      "(in a stitch the first end is the needle's, moved by its driver, not a thread's end that "
+                      "its rope steers); -1: Inertia weight. Unit: none. Range: >= 0, or -1.");
     prm.declare_entry("Start time", default_text(d.start_time), Patterns::Double(0),
                       "When the planner starts moving the end; not before the last end's grasp and keyframes, "
                       "nor in a stitch before the needle's motion, end. Unit: s. Range: >= 0.");
@@ -85,6 +89,7 @@ namespace suturesim::scene
     s.speed            = prm.get_double("Speed");
     s.clearance        = prm.get_double("Clearance");
     s.inertia          = prm.get_double("Inertia weight");
+    s.first_end_inertia = prm.get_double("First end inertia weight");
     s.start_time       = prm.get_double("Start time");
     s.instruction_time = prm.get_double("Instruction time");
     s.tighten_distance = prm.get_double("Tighten distance");
@@ -104,6 +109,8 @@ namespace suturesim::scene
           scope.fail("Instructions", e.what());
         }
     scope.require(s.normal.norm() > 0, "Projection normal", "must not be zero");
+    scope.require(s.first_end_inertia >= 0 || s.first_end_inertia == -1, "First end inertia weight",
+                  "must be >= 0, or -1 for the Inertia weight");
     scope.require(s.speed > 0, "Speed", "must be > 0 m/s");
     scope.require(s.clearance > 0, "Clearance", "must be > 0 m");
     scope.require(s.instruction_time > 0, "Instruction time", "must be > 0 s");

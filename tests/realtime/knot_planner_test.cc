@@ -245,6 +245,31 @@ TEST(KnotPlanner, MovesOneEndAndHoldsTheOther)
   EXPECT_NEAR((to.last - start.col(start.cols() - 1)).norm(), 0.02 * 1e-3, 1e-12);
 }
 
+TEST(KnotPlanner, TheFirstEndsOwnInertiaWeightSteersOnlyTheFirstEnd)
+{
+  // PlannerSettings::first_end_inertia replaces W while the first end moves (a needle
+  // held by its driver), and leaves the last end's W alone: the first end's step with
+  // its own W = 0 is the step with W = 0, not the step with W = 2
+  const auto start = rope(5, 0);
+  const auto step  = [&](const std::string &plan, const double W, const double first_W) {
+    PlannerSettings s   = overhand();
+    s.knot              = "custom";
+    s.instructions      = parse_plan(plan);
+    s.inertia           = W;
+    s.first_end_inertia = first_W;
+    KnotPlanner planner(s);
+    const Ends  to = planner.move(start, 1e-3, 1e-3, 0);
+    return std::pair<Vector3d, Vector3d>(to.first - start.col(0), to.last - start.col(start.cols() - 1));
+  };
+  const std::string first_end = "first under 0; first over 1; first under 2";
+  const auto        own       = step(first_end, 2, 0);
+  EXPECT_LT((own.first - step(first_end, 0, -1).first).norm(), 1e-15);
+  EXPECT_GT((own.first - step(first_end, 2, -1).first).norm(), 1e-6) << "W = 2 steers the first end otherwise";
+  EXPECT_NEAR(own.first.norm(), 0.02 * 1e-3, 1e-12);
+  const std::string last_end = "under 0; over 1; under 2";
+  EXPECT_LT((step(last_end, 2, 0).second - step(last_end, 2, -1).second).norm(), 1e-15);
+}
+
 TEST(KnotPlanner, FailsOnACrossingTheWrongWay)
 {
   KnotPlanner planner(overhand());

@@ -22,7 +22,8 @@
  *     link ("most crossings should be at right angles to the target link"), (3) the
  *     height to go, n clamp((h* − n·p)/c, −1, 1), and (4) the rope's orientation at the
  *     end (its last link), "used for inertia, … the most significant; the other three
- *     are equal in magnitude": (1)–(3) are unit vectors, (4) is weighted by W > 1;
+ *     are equal in magnitude": (1)–(3) are unit vectors, (4) is weighted by W > 1
+ *     (the first end may have its own W: PlannerSettings::first_end_inertia);
  *  4. the end moves along it at the planner's speed.
  * The seed's "obstructing link" target (a strand lying between the end and the target
  * span) is not modelled: such a crossing fails the plan with its reason.

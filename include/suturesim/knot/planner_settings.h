@@ -45,6 +45,9 @@ namespace suturesim::knot
     double          speed            = 0.02; ///< of the moving end, m/s
     double          clearance        = 3e-3; ///< height over or under the target, m
     double          inertia          = 2;    ///< W, weight of factor (4)
+    /// W for the first end while it moves, when it differs (a needle held by its driver
+    /// rather than a thread's end); negative: `inertia`
+    double first_end_inertia = -1;
     double          start_time       = 0;    ///< s
     double          instruction_time = 10;   ///< the longest an instruction may take, s
     double          tighten_distance = 0;    ///< m
