@@ -66,8 +66,8 @@ namespace suturesim::scene
                       "(in a stitch the first end is the needle's, moved by its driver, not a thread's end that "
                       "its rope steers); -1: Inertia weight. Unit: none. Range: >= 0, or -1.");
     prm.declare_entry("Start time", default_text(d.start_time), Patterns::Double(0),
-                      "When the planner starts moving the end; not before the last end's grasp and keyframes, "
-                      "nor in a stitch before the needle's motion, end. Unit: s. Range: >= 0.");
+                      "When the planner starts moving the end: not earlier than the last end's Grasp time and "
+                      "last keyframe, nor, in a stitch, than the end of the needle's motion. Unit: s. Range: >= 0.");
     prm.declare_entry("Instruction time", default_text(d.instruction_time), Patterns::Double(0),
                       "The longest one instruction (one crossing) may take before the plan fails. Unit: s. Range: "
                       "> 0.");

@@ -105,7 +105,7 @@ TEST(KnotStitch, ThePlannerMovesTheNeedleToMoveTheFirstEnd)
 {
   // a plan for the first end (the needle's): the planner translates the needle, and its
   // end makes the plan's first crossing, over the tail's strand. Measured (Inertia weight
-  // 1): the needle's centre moved 11 mm by 7 s, the crossing made at 6.73 s; the next
+  // 1): the needle's centre moved 15 mm from 5.5 to 7 s, the crossing made at 6.73 s; the next
   // instruction then fails (the crossing undone at 6.73 s): in this stitch no plan for
   // the needle's end has been found that ties a knot (docs/knots.md, the sweep)
   const auto r = run_suturesim("knot_stitch_needle",
