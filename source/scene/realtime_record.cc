@@ -17,6 +17,16 @@ namespace suturesim::scene
 
   namespace
   {
+    /// Appends @p more (a JSON array of events, each with a time) to summary.json's
+    /// events, which stay in time order (the needle's, RunSummary::needle(), start them).
+    void
+    add_events(nlohmann::json &events, const nlohmann::json &more)
+    {
+      for (const auto &e : more)
+        events.push_back(e);
+      std::stable_sort(events.begin(), events.end(), [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
+    }
+
     std::string
     processor_name()
     {
@@ -332,11 +342,7 @@ namespace suturesim::scene
         summary.pass_outcome(scene.needle, events, rw.time(), scene.needle.attach_suture && rw.suture() != nullptr);
         if (world.tearing)
           {
-            auto &list = summary.whole()["events"];
-            for (const auto &e : world.tearing->events())
-              list.push_back(e);
-            std::stable_sort(list.begin(), list.end(),
-                             [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
+            add_events(summary.whole()["events"], world.tearing->events());
             const auto &tears           = world.tearing->tears();
             metrics["realtime_tearing"] = {{"ligament_strength", world.tearing->parameters().strength},
                                            {"tears", tears.size()}};
@@ -350,14 +356,11 @@ namespace suturesim::scene
               }
           }
       }
-    // after the needle's events (RunSummary::needle() starts the list), in time order
+    // after the needle's events (RunSummary::needle() starts the list)
     if (world.planner)
       {
         metrics["knot"] = knot::knot_metrics(*world.planner, sys.nodes.x.middleCols(sys.suture.begin, sys.suture.size()));
-        auto &list      = summary.whole()["events"];
-        for (const auto &e : knot::knot_events(*world.planner))
-          list.push_back(e);
-        std::stable_sort(list.begin(), list.end(), [](const auto &a, const auto &b) { return a["time"] < b["time"]; });
+        add_events(summary.whole()["events"], knot::knot_events(*world.planner));
       }
     for (const auto &[name, index] : world.probes)
       {

@@ -445,12 +445,15 @@ namespace suturesim::scene
         if (planner->phase() == knot::KnotPlanner::Phase::waiting)
           return;
         poses[last].position = to.last;
-        if (needle && !needle_taken)
-          needle_taken.emplace(poses[first], rope.col(0));
-        if (needle && planner->moves_first_end())
-          poses[first].position = needle_taken->first.position + (to.first - needle_taken->second);
-        else if (needle)
-          poses[first] = needle_taken->first;
+        if (needle)
+          {
+            // the needle as taken, translated as far as the planner moved the first end
+            // (not at all when only the last end moves: the planner holds it where it was)
+            if (!needle_taken)
+              needle_taken.emplace(poses[first], rope.col(0));
+            poses[first] = needle_taken->first;
+            poses[first].position += to.first - needle_taken->second;
+          }
         else if (planner->moves_first_end())
           poses[first].position = to.first;
       }

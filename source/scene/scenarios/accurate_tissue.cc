@@ -4,6 +4,7 @@
  * registered tissue integrator of Time/Integrator (quasi-static load stepping or IDA
  * dynamics), recorded by scene/tissue_recorder.h.
  */
+#include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/run_summary.h>
 #include <suturesim/scene/scenario.h>
 #include <suturesim/scene/timed_run.h>
@@ -29,8 +30,7 @@ namespace suturesim::scene
       {
         scene.scope("Closure").require(!scene.closure.present(), "Gap probes",
                                        "wound closure needs the suture in the tissue: Bodies = tissue and suture");
-        scene.scope("Knot").require(scene.knot.knot == "none", "Knot",
-                                    "a knot needs a suture (Bodies = suture or tissue and suture)");
+        KnotParameters::check(scene); // a Knot here has no suture to tie
         scene.parse_bodies(prm);
         const ParameterScope tissue = scene.scope("Tissue");
         tissue.require(scene.tissue.region_moduli.empty(), "Region moduli",
