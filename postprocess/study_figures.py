@@ -15,8 +15,9 @@ Usage: /usr/bin/python3 postprocess/study_figures.py STUDY_FOLDER
   heat map of the cases' own values over the two axes, with the references' values and
   the relative difference beside it when each cell has its own reference; cells without
   a value are grey ("none": no onset within the run), flagged cells hatched (e.g. seed
-  003's "too close to the edge"). A vector value (a spacing "0, 0.004, 0") is placed at
-  its length.
+  003's "too close to the edge"), a run that did not complete (a case, or a reference
+  kept by Reference/On failure = report) with its status under the value it reached. A
+  vector value (a spacing "0, 0.004, 0") is placed at its length.
 - convergence.png, convergence.pdf (when the study names a convergence metric): the
   metric against h, the Richardson extrapolation with Roache's GCI as its error bar.
 Run by `suturesim study` after the tables; runs by itself on an existing folder.
@@ -211,8 +212,9 @@ def axis_grid(values):
 HATCHES = ["///", "\\\\\\", "xx", "..", "++"]
 
 
-def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None):
-    """A heat map of values[i] (None: grey) on the grid xs × ys; flagged cells hatched."""
+def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None, statuses=None):
+    """A heat map of values[i] (None: grey) on the grid xs × ys; flagged cells hatched; a
+    run that did not complete (statuses[i]) has its status under its value."""
     grid = np.full((len(ys), len(xs)), np.nan)
     for c, v in zip(cells, values):
         if v is not None:
@@ -223,9 +225,12 @@ def map_panel(ax, cells, xs, ys, values, flags, title, unit, cmap, limits=None):
     lo, hi = limits if limits else (np.nanmin(grid) if np.isfinite(grid).any() else 0,
                                     np.nanmax(grid) if np.isfinite(grid).any() else 1)
     image = ax.imshow(masked, origin="lower", cmap=colormap, vmin=lo, vmax=hi, aspect="auto")
-    for c, v in zip(cells, values):
+    for k, (c, v) in enumerate(zip(cells, values)):
         i, j = ys.index(axis_key(c["y"])), xs.index(axis_key(c["x"]))
-        ax.text(j, i, "none" if v is None else f"{v:.3g}", ha="center", va="center", fontsize=6)
+        text = "none" if v is None else f"{v:.3g}"
+        status = statuses[k] if statuses else "completed"
+        ax.text(j, i, text if status in ("completed", "") else f"{text}\n({status})", ha="center", va="center",
+                fontsize=6)
         for name, hatch in flags:
             if (c["flags"].get(name) or 0) > 0:
                 ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, fill=False, hatch=hatch, edgecolor="black",
@@ -259,13 +264,19 @@ def study_map(study, folder):
         ref = [c["reference_values"][reference] for c in cells]
         both = [v for v in own + ref if v is not None] or [0, 1]
         limits = (min(both), max(both))
-        map_panel(row[0], cells, xs, ys, own, flags, f"cases: {metric}{where}", metric, "viridis", limits)
+        own_status = [c["status"] for c in cells]
+        ref_status = [c.get("reference_status", "completed") for c in cells]
+        map_panel(row[0], cells, xs, ys, own, flags, f"cases: {metric}{where}", metric, "viridis", limits,
+                  own_status)
         map_panel(row[1], cells, xs, ys, ref, flags, f"references: {reference}{where}", reference, "viridis",
-                  limits)
-        difference = [None if a is None or b in (None, 0) else (a - b) / abs(b) for a, b in zip(own, ref)]
+                  limits, ref_status)
+        # none against a reference that stopped early: what it holds is its last converged
+        # state's, which an end-of-run metric does not mean (its panel shows it, marked)
+        difference = [None if a is None or b in (None, 0) or st not in ("completed", "") else (a - b) / abs(b)
+                      for a, b, st in zip(own, ref, ref_status)]
         spread = max([abs(d) for d in difference if d is not None] or [1])
         map_panel(row[2], cells, xs, ys, difference, flags, "(case − reference) / |reference|", "1", "RdBu_r",
-                  (-spread, spread))
+                  (-spread, spread), ref_status)
     for ax in axes.flat:
         ax.set_xlabel(f"{m['x']} [{m['x_unit'] or '-'}]", fontsize=7)
         ax.set_ylabel(f"{m['y']} [{m['y_unit'] or '-'}]", fontsize=7)

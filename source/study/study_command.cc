@@ -218,6 +218,21 @@ namespace suturesim::study
       return row;
     }
 
+    /// The row of a case whose reference @p reference failed: its own metrics for the
+    /// map, no errors; a case that completed says why it is not compared.
+    CaseRow
+    unreferenced_row(const StudyDefinition &study, const Case &c, const CaseOutcome &outcome, const RunData *data,
+                     const std::string &reference, const CaseOutcome &theirs)
+    {
+      CaseOutcome own = outcome;
+      if (own.status == "completed")
+        {
+          own.status = "no reference";
+          own.reason = "its reference run '" + reference + "' " + theirs.status + ": " + theirs.reason;
+        }
+      return row_of(study, c, false, own, data, RunData{});
+    }
+
     /// ", best.prm" or ", N best_<values>.prm" for the summary line ("" when none).
     std::string
     best_files(const StudyReport &report)
@@ -338,11 +353,14 @@ namespace suturesim::study
       std::vector<RunData> references;
       for (std::size_t k = 0; k < count; ++k)
         {
-          if (e.outcomes[k].status != "completed")
+          const auto &outcome = e.outcomes[k];
+          const bool  kept    = study.report_failed_references && outcome.status == "failed";
+          if (outcome.status != "completed" && !kept)
             study.fail(study.reference_series ? "Reference/Series" : "Reference/Settings",
-                       "the reference run '" + p.jobs[k].name + "' " + e.outcomes[k].status + ": " +
-                         e.outcomes[k].reason);
-          references.push_back(RunData::read(p.jobs[k].folder));
+                       "the reference run '" + p.jobs[k].name + "' " + outcome.status + ": " + outcome.reason);
+          // a failed run keeps its last converged state's summary (exit 3)
+          const bool summary = fs::exists(fs::path(p.jobs[k].folder) / "summary.json");
+          references.push_back(summary ? RunData::read(p.jobs[k].folder) : RunData{});
         }
       // a resolution series: every row against its extrapolation, the series' own too
       std::optional<SeriesReference> series;
@@ -357,7 +375,13 @@ namespace suturesim::study
           if (k >= count && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
             own = RunData::read(p.jobs[k].folder);
           const RunData *data = k < count ? &references[k] : own ? &*own : nullptr;
-          rows.push_back(row_of(study, *p.cases[k], k < count, e.outcomes[k], data, against));
+          // a case whose own reference failed (Reference/On failure = report) is not compared
+          const std::size_t theirs = k < count || series ? k : p.cases[k]->reference;
+          if (theirs != k && e.outcomes[theirs].status != "completed")
+            rows.push_back(unreferenced_row(study, *p.cases[k], e.outcomes[k], data, p.jobs[theirs].name,
+                                            e.outcomes[theirs]));
+          else
+            rows.push_back(row_of(study, *p.cases[k], k < count, e.outcomes[k], data, against));
         }
       const StudyReport report(study, std::move(rows), series ? series->account : nlohmann::json(nullptr));
       nlohmann::json    timing{{"jobs", o.jobs},

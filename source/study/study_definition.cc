@@ -132,6 +132,13 @@ namespace suturesim::study
                         "over 'Settings'), three or more; each scalar and probe is extrapolated to h -> 0 "
                         "where the series converges monotonically, else the finest run's value is used "
                         "(study/reference_series.h). Not with 'Per axis'. Unit: none.");
+      prm.declare_entry("On failure", "stop", dealii::Patterns::Selection("stop|report"),
+                        "What a reference run that fails (exit 3: its solver could not go on) does: "
+                        "stop the study at its report, naming the run; or, with 'Per axis' only, "
+                        "report it: the study goes on, the cases of that reference are not compared "
+                        "with it (status 'no reference', its reason in theirs) and its map cells show "
+                        "the reference's status beside the values it reached before it stopped. A "
+                        "reference refused or crashed stops the study either way. Unit: none.");
       prm.declare_entry("Processes", "1", dealii::Patterns::Integer(1, 1024),
                         "MPI processes of each reference run (mpirun -np; the accurate path "
                         "distributes its tissue solve). A run of k processes takes k of the "
@@ -418,6 +425,10 @@ namespace suturesim::study
       const auto per_axis           = names(prm.get("Per axis"), ';');
       const auto series             = prm.get("Series");
       d.references_per_axis         = !per_axis.empty();
+      d.report_failed_references    = prm.get("On failure") == "report";
+      top.subsection("Reference").require(!d.report_failed_references || d.references_per_axis, "On failure",
+                                          "'report' needs 'Per axis': without a reference per cell, a "
+                                          "failed one leaves no case anything to be compared with");
       const auto processes          = static_cast<unsigned>(prm.get_integer("Processes"));
       prm.leave_subsection();
       {
@@ -690,7 +701,7 @@ namespace suturesim::study
     const ParameterScope top(file, "");
     StudyDefinition      d;
     d.file = study_file;
-    for (const char *key : {"Name", "Base scene", "Settings", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Cases/Settings", "Cases/Axes", "Cases/List",
+    for (const char *key : {"Name", "Base scene", "Settings", "Reference/Settings", "Reference/Per axis", "Reference/Series", "Reference/On failure", "Cases/Settings", "Cases/Axes", "Cases/List",
                             "Metrics/Scalars", "Metrics/Probes", "Metrics/Curves", "Metrics/Surface", "Metrics/Alignment events",
                             "Objective/Error", "Objective/Tolerances", "Objective/Limits", "Figures/Stability axes",
                             "Figures/Map axes", "Figures/Map metrics", "Figures/Map flags",

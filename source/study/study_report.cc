@@ -278,6 +278,7 @@ namespace suturesim::study
                          {"y", axis_value(c, f.map_y)},
                          {"status", r.outcome.status},
                          {"reference", reference ? reference->definition->name : ""},
+                         {"reference_status", reference ? reference->outcome.status : ""},
                          {"values", named(own, r.map_values)},
                          {"reference_values", named(other, reference ? reference->map_values : std::vector<double>{})},
                          {"flags", named(f.map_flags, r.map_flags)}});
@@ -533,7 +534,7 @@ namespace suturesim::study
     std::ofstream csv(file);
     const auto    value = [](const nlohmann::json &v) { return v.is_null() ? std::string() : number(v.get<double>()); };
     csv << "case,panel," << field(f.map_x + " [" + parameter_unit(f.map_x) + "]") << ','
-        << field(f.map_y + " [" + parameter_unit(f.map_y) + "]") << ",status,reference";
+        << field(f.map_y + " [" + parameter_unit(f.map_y) + "]") << ",status,reference,reference status";
     for (const auto &[own, other] : f.map_metrics)
       csv << ',' << field(own) << ',' << field("reference " + other);
     for (const auto &flag : f.map_flags)
@@ -543,7 +544,8 @@ namespace suturesim::study
       {
         csv << field(c["case"].get<std::string>()) << ',' << field(c["panel"].get<std::string>()) << ','
             << field(c["x"].get<std::string>()) << ',' << field(c["y"].get<std::string>()) << ','
-            << c["status"].get<std::string>() << ',' << field(c["reference"].get<std::string>());
+            << field(c["status"].get<std::string>()) << ',' << field(c["reference"].get<std::string>()) << ','
+            << field(c["reference_status"].get<std::string>());
         for (const auto &[own, other] : f.map_metrics)
           csv << ',' << value(c["values"][own]) << ',' << value(c["reference_values"][other]);
         for (const auto &flag : f.map_flags)

@@ -128,6 +128,10 @@ TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
     {"unmatched", header + "subsection Reference\n  set Per axis = Time/Step size\nend\n" +
                     "subsection Cases\n  set List = a: Time/Step size=0.5; b: Time/End time=2\nend\n",
      ":4: Reference/Per axis: case 'b' does not set 'Time/Step size', so it has no reference"},
+    // a failed reference is reported only where each case has its own
+    {"report_one_reference", header + "subsection Reference\n  set On failure = report\nend\n" + axes +
+                               "Time/Step size = 0.5 | 0.25\nend\n",
+     ":4: Reference/On failure: 'report' needs 'Per axis'"},
     // a map over two axes with at least one metric; a metric entry names a metric on each side
     {"map_not_an_axis", header + axes + "Time/Step size = 0.5 | 0.25\nend\nsubsection Figures\n set Map axes = "
                           "Time/Step size; Time/End time\n set Map metrics = closure_tension\nend\n",

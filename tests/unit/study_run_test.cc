@@ -289,6 +289,71 @@ TEST(StudyRun, ACaseThatEndsWithoutWhatItsSceneAskedIsIncompleteWithTheReason)
       EXPECT_EQ(c["status"], "completed") << c.dump();
 }
 
+// A reference that fails (exit 3) stops the study at its report, naming it; with
+// Reference/On failure = report (per axis only) the study goes on: the failed
+// reference's cases are not compared with it and their map cells carry its status.
+TEST(StudyRun, AFailedReferenceStopsTheStudyOrIsReportedInItsCells)
+{
+  const std::string file = source_path("tests/data/studies/failed_reference.prm");
+  const auto        stopped = run_study("study_failed_reference_stop", file, {});
+  EXPECT_EQ(stopped.exit_code, 2) << stopped.output;
+  EXPECT_NE(stopped.output.find("failed_reference.prm:11: Reference/Settings: the reference run 'reference_300' "
+                                "failed: diverged at step 5: runaway kinetic energy"),
+            std::string::npos)
+    << stopped.output;
+  EXPECT_FALSE(fs::exists(fs::path(stopped.folder) / "study.json"));
+
+  // the same file with the reference's failure reported (a copy in the scratch folder)
+  std::ifstream     in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string study = text.str();
+  const auto  base  = study.find("../../../benchmarks");
+  ASSERT_NE(base, std::string::npos);
+  study.replace(base, std::string("../../..").size(), source_path(""));
+  study.replace(study.find("  set Per axis"), 0, "  set On failure = report\n");
+  const auto reported_file = scratch_path() / "failed_reference_report.prm";
+  std::ofstream(reported_file) << study;
+  const auto r = run_study("study_failed_reference_report", reported_file.string(), {});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto &c : r.study.at("cases"))
+    rows[c["name"].get<std::string>()] = c;
+  ASSERT_EQ(rows.size(), 6u) << r.study.dump(1);
+  EXPECT_EQ(rows.at("reference_300")["status"], "failed");
+  EXPECT_EQ(rows.at("reference_4000")["status"], "completed");
+  for (const auto &[name, c] : rows)
+    {
+      if (c["is_reference"].get<bool>())
+        continue;
+      const bool at_300 = name.rfind("300_", 0) == 0;
+      EXPECT_EQ(c["status"], at_300 ? "no reference" : "completed") << c.dump();
+      if (at_300)
+        {
+          EXPECT_EQ(c.value("reason", ""), "its reference run 'reference_300' failed: " +
+                                             rows.at("reference_300").value("reason", ""))
+            << c.dump();
+        }
+    }
+  // map.csv: every case's own value; the reference's status beside it
+  const auto map = read_csv(r.folder + "/map.csv");
+  ASSERT_EQ(map.size(), 5u);
+  const auto column = [&](const std::string &name) {
+    return std::find(map[0].begin(), map[0].end(), name) - map[0].begin();
+  };
+  const auto status = column("status"), reference_status = column("reference status"),
+             value = column("top_centre_displacement_z");
+  ASSERT_LT(reference_status, static_cast<long>(map[0].size()));
+  for (std::size_t k = 1; k < map.size(); ++k)
+    {
+      const bool at_300 = map[k][0].rfind("300_", 0) == 0;
+      EXPECT_EQ(map[k][status], at_300 ? "no reference" : "completed");
+      EXPECT_EQ(map[k][reference_status], at_300 ? "failed" : "completed");
+      EXPECT_FALSE(map[k][value].empty());
+    }
+  EXPECT_TRUE(fs::exists(fs::path(r.folder) / "map.png"));
+}
+
 TEST(StudyRun, ErrorsFoundAfterTheRunsNameTheStudyLine)
 {
   const auto dir = scratch_path() / "bad_studies";

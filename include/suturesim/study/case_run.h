@@ -28,7 +28,8 @@ namespace suturesim::study
   {
     /// completed | failed | refused | crashed | not run | interrupted; incomplete: the
     /// run said so (exit 6: it ended without what its scene asked for), or, set by the
-    /// metrics, it completed without a metric the reference has
+    /// metrics, it completed without a metric the reference has; no reference: set by
+    /// the report, it completed but its own reference failed (Reference/On failure)
     std::string status = "not run";
     std::string reason;             ///< the run's error line, when not completed
     int         exit_code         = -1;

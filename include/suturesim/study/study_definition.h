@@ -134,6 +134,11 @@ namespace suturesim::study
     /// Reference/Per axis names axes: each case has the reference of its own values
     /// there (even when --only leaves one)
     bool references_per_axis = false;
+    /// Reference/On failure = report (only with Per axis): a reference run that failed
+    /// (exit 3: its solver could not go on) does not stop the study; its cases are not
+    /// compared with it (status "no reference") and the map marks its cells. Default:
+    /// the study stops at its report, naming the run.
+    bool report_failed_references = false;
     std::vector<Case> cases;      ///< the product of the axes, then the listed ones
     MetricsSpec       metrics;
     ObjectiveSpec     objective;
