@@ -218,6 +218,15 @@ namespace suturesim::study
       return row;
     }
 
+    /// The run in @p folder, if it wrote its summary.json (a refused run writes none).
+    std::optional<RunData>
+    written_run(const std::string &folder)
+    {
+      if (!fs::exists(fs::path(folder) / "summary.json"))
+        return std::nullopt;
+      return RunData::read(folder);
+    }
+
     /// The row of a case whose reference @p reference failed: its own metrics for the
     /// map, no errors; a case that completed says why it is not compared.
     CaseRow
@@ -359,8 +368,7 @@ namespace suturesim::study
             study.fail(study.reference_series ? "Reference/Series" : "Reference/Settings",
                        "the reference run '" + p.jobs[k].name + "' " + outcome.status + ": " + outcome.reason);
           // a failed run keeps its last converged state's summary (exit 3)
-          const bool summary = fs::exists(fs::path(p.jobs[k].folder) / "summary.json");
-          references.push_back(summary ? RunData::read(p.jobs[k].folder) : RunData{});
+          references.push_back(written_run(p.jobs[k].folder).value_or(RunData{}));
         }
       // a resolution series: every row against its extrapolation, the series' own too
       std::optional<SeriesReference> series;
@@ -372,12 +380,12 @@ namespace suturesim::study
           // the references are read once; a case without summary.json (refused) has no data
           const RunData &against = series ? series->data : references[k < count ? k : p.cases[k]->reference];
           std::optional<RunData> own;
-          if (k >= count && fs::exists(fs::path(p.jobs[k].folder) / "summary.json"))
-            own = RunData::read(p.jobs[k].folder);
+          if (k >= count)
+            own = written_run(p.jobs[k].folder);
           const RunData *data = k < count ? &references[k] : own ? &*own : nullptr;
-          // a case whose own reference failed (Reference/On failure = report) is not compared
-          const std::size_t theirs = k < count || series ? k : p.cases[k]->reference;
-          if (theirs != k && e.outcomes[theirs].status != "completed")
+          // a case whose own reference failed (only kept with Reference/On failure = report)
+          const std::size_t theirs = p.cases[k]->reference;
+          if (k >= count && e.outcomes[theirs].status != "completed")
             rows.push_back(unreferenced_row(study, *p.cases[k], e.outcomes[k], data, p.jobs[theirs].name,
                                             e.outcomes[theirs]));
           else
