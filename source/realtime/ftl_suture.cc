@@ -24,11 +24,18 @@
  * update (two constraints in one segment share it). The sections between hard and soft
  * constraints carry the quasi-spring tension, measured from constraint to constraint
  * along the thread: T = k_q max(0, L_path − (s_b − s_a)).
+ *
+ * A cut link (cut(), a thread cut after a knot) parts the chain: no section's tension
+ * reaches across it, no node follows a constraint across it, and a section with a cut
+ * has no two-sided averaging: each side follows its own constraint, and a piece with no
+ * constraint stays where it lies (gravity aside).
  */
 #include <suturesim/realtime/suture_model.h>
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace suturesim::realtime
 {
@@ -79,13 +86,23 @@ namespace suturesim::realtime
           follow(0, count - 1, +1, p);
         else
           {
-            follow(constraints.front(), 0, -1, p);
-            follow(constraints.back(), count - 1, +1, p);
+            // outward from the outermost constraints, each as far as the first cut
+            const std::int64_t below = last_cut(0, std::int64_t(constraints.front()) - 1);
+            const std::int64_t above = first_cut(constraints.back(), std::int64_t(count) - 2);
+            follow(constraints.front(), below < 0 ? 0 : below + 1, -1, p);
+            follow(constraints.back(), above < 0 ? count - 1 : above, +1, p);
             for (std::size_t k = 0; k + 1 < constraints.size(); ++k)
               {
                 const std::uint32_t a = constraints[k], c = constraints[k + 1];
                 if (c - a < 2)
                   continue;
+                if (const std::int64_t cut = first_cut(a, std::int64_t(c) - 1); cut >= 0)
+                  {
+                    // parted: each side follows its own constraint up to the cut
+                    follow(a, cut, +1, p);
+                    follow(c, last_cut(a, std::int64_t(c) - 1) + 1, -1, p);
+                    continue;
+                  }
                 forward = p;
                 backward = p;
                 follow(a, c - 1, +1, forward);
@@ -201,11 +218,20 @@ namespace suturesim::realtime
           }
       }
 
+      void
+      cut(System &, const std::uint32_t segment) override
+      {
+        if (segment >= cuts.size())
+          throw std::invalid_argument("ftl suture: no link " + std::to_string(segment) + " to cut");
+        cuts[segment] = 1;
+      }
+
     protected:
       void
       add_interactions(System &s, const std::uint32_t first) override
       {
         const std::uint32_t count = s.suture.size();
+        cuts.assign(count > 0 ? count - 1 : 0, 0);
         for (std::uint32_t i = first; i < s.suture.end; ++i)
           s.nodes.set_held(i, Nodes::geometric, true);
         p.resize(3, count);
@@ -218,6 +244,24 @@ namespace suturesim::realtime
       }
 
     private:
+      /// The first (last) cut link in [@p from, @p to], or −1.
+      std::int64_t
+      first_cut(const std::int64_t from, const std::int64_t to) const
+      {
+        for (std::int64_t k = std::max<std::int64_t>(from, 0); k <= to && k < std::int64_t(cuts.size()); ++k)
+          if (cuts[k])
+            return k;
+        return -1;
+      }
+      std::int64_t
+      last_cut(const std::int64_t from, const std::int64_t to) const
+      {
+        for (std::int64_t k = std::min<std::int64_t>(to, std::int64_t(cuts.size()) - 1); k >= from && k >= 0; --k)
+          if (cuts[k])
+            return k;
+        return -1;
+      }
+
       bool
       constrained(const std::uint32_t i) const
       {
@@ -300,6 +344,13 @@ namespace suturesim::realtime
               L += (x.col(first + k + 1) - x.col(first + k)).norm();
           }
         const double m = b.s - a.s;
+        // parted by a cut: the two ends are free, and nothing pulls across
+        if (first_cut(a.k, b.hard ? std::int64_t(b.node) - 1 : b.k) >= 0)
+          {
+            if (stiffness != nullptr)
+              *stiffness = 0;
+            return 0;
+          }
         if (!per_link)
           {
             if (stiffness != nullptr)
@@ -360,6 +411,7 @@ namespace suturesim::realtime
       std::vector<int>           placed_count;
       std::vector<SoftConstraint> soft;
       mutable std::vector<Anchor> anchors;
+      std::vector<char>           cuts; ///< per link: 1 once cut
     };
 
     const bool registered = SutureModel::Registry::instance().add(

@@ -496,6 +496,14 @@ namespace suturesim::realtime
   }
 
   void
+  World::cut_suture(const std::uint32_t segment)
+  {
+    if (!suture_model || segment + 1 >= sys.suture.size())
+      throw std::invalid_argument("realtime world: no suture link " + std::to_string(segment) + " to cut");
+    suture_model->cut(sys, segment);
+  }
+
+  void
   World::release_needle(const double density, const double drag)
   {
     if (needle_coupling == nullptr)

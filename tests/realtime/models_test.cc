@@ -132,6 +132,40 @@ TEST(RealtimeModels, FollowTheLeaderTensionIsTheQuasiSpringFormula)
   EXPECT_EQ(taut, 4u); // measured: the averaged links are longer than l in every pose
 }
 
+TEST(RealtimeModels, FollowTheLeaderCutInTwoPullsNeitherEndAndEachHalfFollowsItsOwn)
+{
+  // a thread held at both ends and drawn 5 % taut pulls both tools; cut in the middle
+  // (a thread cut after a knot) it pulls neither, each half follows its own end with
+  // links of length l, and the cut link parts
+  const double k_q   = 250;
+  auto         owner = test_support::held_ftl_suture("xpbd", {{"Quasi-spring constant", std::to_string(k_q)}});
+  World       &world = *owner;
+  const auto  &s     = world.system();
+  const double l     = world.suture()->link_length();
+  ToolPose     right;
+  right.position = Vector3d(0.02 * 1.05, 0, 0);
+  const double taut = world.step({ToolPose(), right})[0].force.norm();
+  EXPECT_NEAR(taut, k_q * 0.05 * 0.02, 1e-9 * taut);
+  world.cut_suture(10);
+  ToolPose left;
+  left.position = Vector3d(-0.002, 0.003, 0);
+  const auto &forces = world.step({left, right});
+  EXPECT_EQ(forces[0].force.norm(), 0);
+  EXPECT_EQ(forces[1].force.norm(), 0);
+  const auto link = [&](const std::uint32_t i) {
+    return (s.nodes.x.col(s.suture.begin + i + 1) - s.nodes.x.col(s.suture.begin + i)).norm();
+  };
+  for (std::uint32_t i = 0; i < 20; ++i)
+    {
+      if (i == 10)
+        continue;
+      EXPECT_NEAR(link(i), l, 1e-12 * l) << "link " << i;
+    }
+  std::printf("[ FTL ] cut link 10 after the left end moved: %.4f l (the others l)\n", link(10) / l);
+  EXPECT_GT(link(10), 1.1 * l);
+  EXPECT_THROW(world.cut_suture(20), std::invalid_argument); // 20 links: 0-19
+}
+
 namespace
 {
   /// Static equilibrium of a discrete elastic chain hanging between two supports: the

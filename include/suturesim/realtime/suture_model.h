@@ -127,6 +127,16 @@ namespace suturesim::realtime
     double
     link_stiffness(const System &system, std::uint32_t segment) const;
 
+    /// Cuts the thread for good between local nodes @p segment and @p segment + 1 (a
+    /// surgeon cutting the thread after a knot): each piece then moves and pulls on its
+    /// own. Models whose links are springs leave the link's spring out (leave_out_link);
+    /// FTL overrides it.
+    virtual void
+    cut(System &system, std::uint32_t segment)
+    {
+      leave_out_link(system, segment, true);
+    }
+
     /// Link length l (m).
     double
     link_length() const

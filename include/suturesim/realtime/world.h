@@ -148,6 +148,11 @@ namespace suturesim::realtime
     /// for the needle's tool are the new holder's. std::invalid_argument when free.
     void
     hand_needle_over(const ToolPose &holder);
+    /// Cuts the suture for good between its local nodes @p segment and @p segment + 1
+    /// (SutureModel::cut), between steps: a thread cut after a knot.
+    /// std::invalid_argument without a suture or past its last link.
+    void
+    cut_suture(std::uint32_t segment);
     /// The Endo Stitch passes its double-pointed needle to the other jaw (seed 001 §5):
     /// from the next step the other point leads. The needle turns half a turn about the
     /// z axis of its frame, about its middle where the suture is pinned
