@@ -149,8 +149,22 @@ namespace suturesim::scene
                       "(0, 1).");
     const tools::SeriesParameters &s = d.series;
     prm.declare_entry("Stitches", default_text(s.stitches), Patterns::Integer(1, 100),
-                      "Passes of a running suture: the needle makes this many, each entering Spacing beyond the "
-                      "last; the pull follows each, the tightening the last. Unit: 1. Range: 1-100.");
+                      "Passes of a series: the needle makes this many, each entering Spacing beyond the last; "
+                      "the pull follows each, the tightening the last (Series = running) or each (interrupted). "
+                      "Unit: 1. Range: 1-100.");
+    prm.declare_entry("Tail length", default_text(d.tail_length), Patterns::Double(0),
+                      "Series = interrupted: the pull draws the thread through each stitch until this much is "
+                      "left beyond its entry (the tail), then stops; the other hand holds the tail there while "
+                      "the tightening draws the stitch closed (at the pull's end if the tail is still longer). "
+                      "Unit: m. Range: > 0.");
+    prm.declare_entry("Series", "running", Patterns::Selection("running|interrupted"),
+                      "With Stitches > 1: 'running', one continuous suture drawn through every pass; "
+                      "'interrupted', each stitch pulled through to a short tail (Tail length), held by the "
+                      "other hand, drawn tight by its own tightening and tied off when its own Closure gap pair "
+                      "(the k-th pair for the k-th stitch) falls below the Tie-off gap, or at the tightening's "
+                      "end: each strand is held a stitch width beyond its hole, where a knot over the wound "
+                      "would hold it, the thread is cut there, and the rest on the needle is the next stitch's "
+                      "suture (Suture/Last end free). Unit: none.");
     prm.declare_entry("Spacing", to_text(s.spacing), vector_pattern(),
                       "From one pass's entry point to the next's, in the surface (used with Stitches > 1). Unit: m.");
     prm.declare_entry("Transfer duration", default_text(s.transfer_duration), Patterns::Double(0),
@@ -311,6 +325,8 @@ namespace suturesim::scene
     series.stitches          = prm.get_integer("Stitches");
     series.spacing           = get_vector(prm, "Spacing");
     series.transfer_duration = prm.get_double("Transfer duration");
+    series.interrupted       = prm.get("Series") == "interrupted";
+    tail_length              = prm.get_double("Tail length"); // > 0: its Range
     prm.leave_subsection();
     prm.leave_subsection();
     scope.require(jaws.empty() || shape != "double-pointed", "Jaws",

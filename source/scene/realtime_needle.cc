@@ -15,6 +15,8 @@ namespace suturesim::scene
     , path(parameters.trajectory())
   {
     pull_start = prm.motion == "pass" ? prm.planned_pass().t_turn_end : 0;
+    if (prm.motion == "pass" && prm.series.interrupted)
+      series = prm.planned_series();
     rt::NeedleCouplingParameters c;
     c.puncture             = prm.puncture;
     c.friction             = prm.friction;

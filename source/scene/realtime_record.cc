@@ -160,13 +160,15 @@ namespace suturesim::scene
     // |x_i+1 - x_i|/l - 1 is formed once, in finish())
     if (world.scene.has_suture())
       {
-        const auto n = sys.suture.end - sys.suture.begin;
-        longest_link_squared =
-          std::max(longest_link_squared, (sys.nodes.x.middleCols(sys.suture.begin + 1, n - 1) -
-                                          sys.nodes.x.middleCols(sys.suture.begin, n - 1))
-                                           .colwise()
-                                           .squaredNorm()
-                                           .maxCoeff());
+        const auto n    = sys.suture.end - sys.suture.begin;
+        const auto link = (sys.nodes.x.middleCols(sys.suture.begin + 1, n - 1) -
+                           sys.nodes.x.middleCols(sys.suture.begin, n - 1))
+                            .colwise()
+                            .squaredNorm();
+        // an interrupted series' cut links are no links any more
+        longest_link_squared = std::max(longest_link_squared, world.uncut.size() > 0
+                                                                ? link.cwiseProduct(world.uncut).maxCoeff()
+                                                                : link.maxCoeff());
       }
   }
 
@@ -304,6 +306,7 @@ namespace suturesim::scene
       }
     if (world.closure)
       world.closure->write(metrics);
+    world.write_series(metrics);
     if (scene.has_suture())
       {
         const auto tip             = sys.nodes.x.col(sys.suture.end - 1);

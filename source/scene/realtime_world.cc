@@ -1,10 +1,13 @@
 #include <suturesim/core/error.h>
+#include <suturesim/core/model_parameters.h>
 #include <suturesim/mesh/gmsh_reader.h>
 #include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/realtime_world.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <limits>
 
 namespace suturesim::scene
 {
@@ -96,6 +99,7 @@ namespace suturesim::scene
     add_access(settings);
     add_probe(settings);
     add_knot_planner();
+    add_series();
     try
       {
         world->initialize();
@@ -383,6 +387,15 @@ namespace suturesim::scene
     if (!scene.has_tissue())
       scene.scope("Closure").fail("Gap probes", "closure needs tissue");
     closure.emplace(scene.closure);
+    if (scene.closure.tie_off_each_stitch)
+      {
+        // each stitch closes from its pull's start, is tied off from its pull's end (or
+        // its tail's taking) to its tightening's end
+        std::vector<ClosureMonitor::StitchWindow> windows;
+        for (const auto &pass : scene.needle.planned_series().passes)
+          windows.push_back({pass.t_turn_end, pass.t_end, pass.t_tightened});
+        closure->set_stitches(std::move(windows));
+      }
     for (const auto &pair : scene.closure.pairs)
       try
         {
@@ -398,7 +411,10 @@ namespace suturesim::scene
   void
   RealtimeWorld::tool_poses(const double t, std::vector<rt::ToolPose> &poses)
   {
-    poses.resize(first_end_tool + tool_ends.size() + (probe_tool ? 1 : 0));
+    poses.resize(first_end_tool + tool_ends.size() + (probe_tool ? 1 : 0) + 2 * series.size());
+    // an interrupted series' ties and tail hands hold the thread where they took it
+    for (std::size_t k = 0; k < 2 * series.size(); ++k)
+      poses[first_series_tool + k] = rt::ToolPose();
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       {
         auto &e = tool_ends[k];
@@ -423,7 +439,8 @@ namespace suturesim::scene
                                                                  : scene.needle.release_entry();
             scene.scope(section).fail(key, e.problem);
           }
-        poses[needle->tool()] = needle->pose(t);
+        static const std::vector<double> none;
+        poses[needle->tool()] = needle->pose(t, pull_stops, closure ? closure->stitch_ties() : none);
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);
@@ -489,6 +506,8 @@ namespace suturesim::scene
   double
   RealtimeWorld::closure_tension() const
   {
+    if (needle && scene.closure.tie_off_each_stitch)
+      return world->tool_forces()[needle->tool()].force.norm();
     if (!tool_ends.empty() && tool_ends.back().grasped)
       return world->tool_forces()[first_end_tool + tool_ends.size() - 1].force.norm();
     if (needle)
@@ -508,5 +527,116 @@ namespace suturesim::scene
                                         pair.b + world->probe_displacement(gap_probes[k].second));
       }
     closure->update(world->time(), gaps, closure_tension());
+  }
+
+  void
+  RealtimeWorld::add_series()
+  {
+    if (!closure || !scene.closure.tie_off_each_stitch)
+      return;
+    const ParameterScope pass = scene.scope("Needle/Pass");
+    scene.scope("Suture/Last end")
+      .require(scene.suture.last_end.type == "free", "Type",
+               "must be free in an interrupted series (Needle/Pass/Series): the other hand takes each stitch's "
+               "tail once it is Tail length long");
+    // a cut link would join the two pieces' ends in the self-collision's segments
+    pass.require(world->self_collision() == nullptr, "Series",
+                 "an interrupted series cuts its thread: Realtime/Self-collision must be off");
+    const auto &sys = world->system();
+    uncut           = Eigen::RowVectorXd::Ones(sys.suture.size() - 1);
+    series.resize(scene.closure.pairs.size());
+    pull_stops.assign(series.size(), std::numeric_limits<double>::infinity());
+    const auto passes = scene.needle.planned_series().passes;
+    for (std::size_t k = 0; k < series.size(); ++k)
+      series[k].pull_end = passes[k].t_end;
+    for (std::size_t k = 0; k < series.size(); ++k)
+      for (const char *role : {"tie", "tail"})
+        {
+          const std::size_t tool =
+            world->add_tool("stitch_" + std::to_string(k + 1) + "_" + role, {}, rt::ToolPose());
+          if (k == 0 && std::string(role) == "tie")
+            first_series_tool = tool;
+        }
+  }
+
+  void
+  RealtimeWorld::advance_series()
+  {
+    if (series.empty())
+      return;
+    const auto         &sys    = world->system();
+    const auto         &points = world->needle()->pierce_points(); // ζ ascending: the newest first
+    const std::uint32_t first = sys.suture.begin, count = sys.suture.size();
+    const double        L     = world->needle()->geometry().length();
+    const double        link  = world->suture()->link_length();
+    const double        t     = world->time();
+    const auto         &ties  = closure->stitch_ties();
+    // the stitch under way: the first not tied off
+    std::size_t k = 0;
+    while (k < series.size() && series[k].points > 0)
+      ++k;
+    if (k == series.size())
+      return;
+    auto             &stitch = series[k];
+    const std::size_t before = k == 0 ? 0 : series[k - 1].points; // earlier stitches' holes
+    const std::size_t mine   = points.size() > before ? points.size() - before : 0;
+    // the tail: the suture's last end, or the cut end the stitch before left
+    const std::uint32_t end = k == 0 ? count - 1 : series[k - 1].cut - 1;
+    if (!stitch.tail_held && mine > 0 && points[mine - 1].on_suture)
+      {
+        const double tail = end * link - (points[mine - 1].zeta - L);
+        if (tail <= scene.needle.tail_length || t >= stitch.pull_end)
+          {
+            world->grasp(first_series_tool + 2 * k + 1, {first + end}, rt::ToolPose());
+            stitch.tail_held = true;
+            stitch.pull_stop = pull_stops[k] = t;
+            closure->start_stitch(k, t); // drawn tight from now on: it may be tied off
+          }
+      }
+    if (!(ties[k] < std::numeric_limits<double>::infinity()))
+      return;
+    const auto fail = [&](const std::string &why) {
+      scene.scope("Needle/Pass").fail("Pull", "stitch " + std::to_string(k + 1) + " tied off at " +
+                                                default_text(ties[k]) + " s: " + why);
+    };
+    if (mine == 0 || !stitch.tail_held)
+      fail("its tail is not held: its pass made no hole on the suture");
+    // its holes: the pierce points its pass added, nearest the needle
+    const double s_exit  = points.front().zeta - L;
+    const double s_entry = points[mine - 1].zeta - L;
+    // the knot: each strand held one stitch width (entry to exit) beyond its hole, where
+    // strands tied over the wound meet, so that the strands crossing over it are kept
+    // (held at their holes, the stitches opened again to 0.23-0.28 mm of 0.35-0.40 mm)
+    const double reach = (points[mine - 1].position - points.front().position).norm();
+    const auto   tail    = static_cast<std::uint32_t>(std::min<double>(std::ceil((s_entry + reach) / link), end));
+    const auto   lead    = static_cast<std::uint32_t>(std::max(0.0, std::floor((s_exit - reach) / link)));
+    if (lead < 3 || s_exit < 0)
+      fail("its exit hole is at the needle's swage: too little thread is drawn through to tie it there");
+    // (a tail shorter than the reach: its hand, holding the end, is the tail strand's hold)
+    world->grasp(first_series_tool + 2 * k,
+                 tail < end ? std::vector<std::uint32_t>{first + lead, first + tail}
+                            : std::vector<std::uint32_t>{first + lead},
+                 rt::ToolPose());
+    // the thread cut next to the needle strand's hold: the rest is the next stitch's
+    world->cut_suture(lead - 1);
+    uncut[lead - 1] = 0;
+    stitch.points   = points.size();
+    stitch.cut      = lead;
+  }
+
+  void
+  RealtimeWorld::write_series(nlohmann::json &metrics) const
+  {
+    if (series.empty())
+      return;
+    auto &list = metrics["interrupted_series"] = nlohmann::json::array();
+    for (std::size_t k = 0; k < series.size(); ++k)
+      {
+        const auto &s = series[k];
+        list.push_back({{"stitch", k + 1},
+                        {"tail_taken_at", s.tail_held ? nlohmann::json(s.pull_stop) : nlohmann::json(nullptr)},
+                        {"pull_stopped", s.tail_held && s.pull_stop < s.pull_end},
+                        {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)}});
+      }
   }
 } // namespace suturesim::scene

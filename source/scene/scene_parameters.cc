@@ -67,6 +67,25 @@ namespace suturesim::scene
     bodies = prm.get("Bodies");
     needle.parse(prm, scope());
     closure.parse(prm, scope());
+    // an interrupted series ties each stitch off on its own gap pair
+    if (needle.present() && needle.motion == "pass" && needle.series.interrupted)
+      {
+        const ParameterScope pass = scope("Needle/Pass");
+        const std::size_t    n    = needle.series.stitches;
+        pass.require(has_suture() && needle.attach_suture, "Series",
+                     "an interrupted series ties off the suture the needle draws: Bodies = tissue and suture, "
+                     "Needle/Attach suture = true");
+        pass.require(closure.present() && closure.tie_off, "Series",
+                     "an interrupted series ties each stitch off at its own closure: it needs Closure/Gap probes "
+                     "(a pair per stitch) and Closure/Tie off = true");
+        pass.require(closure.pairs.size() == n, "Series",
+                     "an interrupted series needs one Closure/Gap probes pair per stitch, the k-th for the k-th: " +
+                       std::to_string(n) + " stitches, " + std::to_string(closure.pairs.size()) + " pairs");
+        scope("Closure").require(!closure.tie_off_every_pair, "Tie off when",
+                                 "an interrupted series (Needle/Pass/Series) ties each stitch off on its own pair: "
+                                 "leave 'first pair'");
+        closure.tie_off_each_stitch = true;
+      }
     prm.enter_subsection("Knot");
     knot = KnotParameters::parse(prm, scope("Knot"));
     prm.leave_subsection();

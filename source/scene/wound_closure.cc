@@ -127,7 +127,10 @@ namespace suturesim::scene
     if (t < prm.start_time || gaps.empty())
       return;
     for (std::size_t k = 0; k < gaps.size(); ++k)
-      if (closed_at[k] == std::numeric_limits<double>::infinity() && gaps[k] < prm.closure_gap)
+      // an interrupted series' stitch closes as its own thread is drawn, not as the needle
+      // crosses the wound or the stitches before pull its edges, nor after its tie-off
+      if (closed_at[k] == std::numeric_limits<double>::infinity() && gaps[k] < prm.closure_gap &&
+          (k >= windows.size() || (t >= windows[k].closes_from && !(stitch_tie[k] < t))))
         {
           // the fraction of the last step at which the gap crossed; read at the step's
           // end when there is no counted step before it
@@ -139,11 +142,38 @@ namespace suturesim::scene
           closed_tension[k] = at_fraction(p_T, tension, s);
         }
     previous = Sample{t, tension, gaps};
-    if (ties_off(t, gaps))
+    if (prm.tie_off_each_stitch)
+      {
+        for (std::size_t k = 0; k < stitch_tie.size(); ++k)
+          if (stitch_ties_off(k, t, gaps))
+            {
+              stitch_tie[k]     = t;
+              stitch_tension[k] = tension;
+              stitch_gap[k]     = gaps[k];
+            }
+        // the series' motions stop with its last stitch's tie-off
+        if (!tied() && !stitch_tie.empty() && stitch_tie.back() < std::numeric_limits<double>::infinity())
+          {
+            tie_time    = t;
+            tie_tension = tension;
+          }
+      }
+    else if (ties_off(t, gaps))
       {
         tie_time    = t;
         tie_tension = tension;
       }
+  }
+
+  void
+  ClosureMonitor::set_stitches(std::vector<StitchWindow> w)
+  {
+    if (!prm.tie_off_each_stitch || w.size() != prm.pairs.size())
+      throw std::logic_error("closure: one tightening window per gap pair, in an interrupted series only");
+    windows = std::move(w);
+    stitch_tie.assign(windows.size(), std::numeric_limits<double>::infinity());
+    stitch_tension.assign(windows.size(), 0);
+    stitch_gap.assign(windows.size(), 0);
   }
 
   void
@@ -168,6 +198,14 @@ namespace suturesim::scene
           {"least", least[k]},
           {"closure_time", pair_closed ? nlohmann::json(closed_at[k]) : nlohmann::json(nullptr)},
           {"closure_tension", pair_closed ? nlohmann::json(closed_tension[k]) : nlohmann::json(nullptr)}};
+        if (k < stitch_tie.size())
+          {
+            const bool pair_tied = stitch_tie[k] < std::numeric_limits<double>::infinity();
+            auto      &pair      = metrics["gaps"][prm.pairs[k].name];
+            pair["tie_off_time"]    = pair_tied ? nlohmann::json(stitch_tie[k]) : nlohmann::json(nullptr);
+            pair["tie_off_tension"] = pair_tied ? nlohmann::json(stitch_tension[k]) : nlohmann::json(nullptr);
+            pair["tie_off_gap"]     = pair_tied ? nlohmann::json(stitch_gap[k]) : nlohmann::json(nullptr);
+          }
       }
   }
 
@@ -180,7 +218,10 @@ namespace suturesim::scene
                      {"tie_time", tie_time},
                      {"tie_tension", tie_tension},
                      {"closed_at", closed_at},
-                     {"closed_tension", closed_tension}};
+                     {"closed_tension", closed_tension},
+                     {"stitch_tie", stitch_tie},
+                     {"stitch_tension", stitch_tension},
+                     {"stitch_gap", stitch_gap}};
     if (previous)
       j["previous"] = {{"t", previous->t}, {"tension", previous->tension}, {"gaps", previous->gaps}};
     return j;
@@ -196,6 +237,12 @@ namespace suturesim::scene
     tie_tension     = j.at("tie_tension").get<double>();
     closed_at       = j.at("closed_at").get<std::vector<double>>();
     closed_tension  = j.at("closed_tension").get<std::vector<double>>();
+    if (j.contains("stitch_tie")) // an interrupted series' (checkpoints of earlier versions have none)
+      {
+        stitch_tie     = j.at("stitch_tie").get<std::vector<double>>();
+        stitch_tension = j.at("stitch_tension").get<std::vector<double>>();
+        stitch_gap     = j.at("stitch_gap").get<std::vector<double>>();
+      }
     previous.reset();
     if (j.contains("previous"))
       previous = Sample{j["previous"].at("t").get<double>(), j["previous"].at("tension").get<double>(),

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace suturesim::tools
@@ -164,7 +165,7 @@ namespace suturesim::tools
         const bool last = k + 1 == series.stitches;
         p.entry         = first.entry + k * series.spacing;
         p.crossing      = first.crossing + k * series.spacing;
-        p.tighten       = last ? first.tighten : Vector3d::Zero();
+        p.tighten       = last || series.interrupted ? first.tighten : Vector3d::Zero();
         const auto pass = plan_pass(needle, p);
         if (k == 0) // as planned, bit for bit (add() normalises the orientation again)
           result.trajectory = pass.trajectory;
@@ -179,8 +180,8 @@ namespace suturesim::tools
           break;
         // the reload: the needle held still by the other hand while the driver's frame
         // turns back by β about the arc's axis (its body z), jaws open
-        double     t_from = pass.t_end;
-        const Pose held   = pass.trajectory.pose(pass.t_end);
+        double     t_from = series.interrupted ? pass.t_tightened : pass.t_end;
+        const Pose held   = pass.trajectory.pose(t_from);
         if (pass.regrasp_turn > 0)
           {
             const double   beta = pass.regrasp_turn, d = first.regrasp_duration;
@@ -193,6 +194,16 @@ namespace suturesim::tools
             result.jaws.insert(result.jaws.end(), {{t_from, true}, {t_from + d, false}});
             result.reloads.emplace_back(t_from, t_from + d);
             t_from += d;
+          }
+        // an interrupted series' tightening may draw the needle down beside the wound: it
+        // is lifted back to the pass's height along the normal first, over half the
+        // transfer time, so that the transfer's straight line stays above it
+        const double lift = series.interrupted ? -(first.pull + first.tighten).dot(n) : 0;
+        if (lift > 0)
+          {
+            const Pose down = result.trajectory.pose(t_from);
+            t_from += 0.5 * series.transfer_duration;
+            result.trajectory.add(t_from, {down.position + lift * n, down.orientation});
           }
         // on to the next pass's start, turning on about the pass's axis by the angle
         // that completes the turn (2π less the short way back, when that is backwards)
@@ -216,5 +227,42 @@ namespace suturesim::tools
         p.start_time = next.start_time;
       }
     return result;
+  }
+
+  Pose
+  SurgicalSeries::pose(const double t, const std::vector<double> &pulls, const std::vector<double> &ties) const
+  {
+    const double never = std::numeric_limits<double>::infinity();
+    // the pass whose span [start, next start) holds t
+    std::size_t k = 0;
+    while (k + 1 < passes.size() && t >= passes[k + 1].trajectory.keyframes().begin()->first)
+      ++k;
+    const SurgicalPass &pass = passes[k];
+    // a pull stopped within the pull (before its turn ended: at the turn's end)
+    const double pull = k < pulls.size() && pulls[k] < pass.t_end ? std::max(pulls[k], pass.t_turn_end) : never;
+    const double tie  = k < ties.size() && ties[k] < pass.t_tightened ? ties[k] : never;
+    const Vector3d behind =
+      pull < never ? Vector3d(trajectory.pose(pull).position - trajectory.pose(pass.t_end).position) : Vector3d::Zero();
+    // the needle as it went up to u (≤ the tightening's end), before any tie
+    const auto went = [&](const double u) {
+      if (u < pull)
+        return trajectory.pose(u);
+      if (u <= pass.t_end)
+        return trajectory.pose(pull);
+      Pose moved = trajectory.pose(u);
+      moved.position += behind;
+      return moved;
+    };
+    if (t < std::min(tie, pass.t_tightened))
+      return went(t);
+    const Pose held = went(std::min(tie, pass.t_tightened));
+    if (k + 1 == passes.size() || t <= pass.t_tightened)
+      return held;
+    // the transfer, from where the needle is
+    const double next = passes[k + 1].trajectory.keyframes().begin()->first;
+    const double f    = (t - pass.t_tightened) / (next - pass.t_tightened);
+    Pose         pose = trajectory.pose(t);
+    pose.position += (1 - f) * (held.position - trajectory.pose(pass.t_tightened).position);
+    return pose;
   }
 } // namespace suturesim::tools

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace suturesim::tools;
 
@@ -260,6 +261,92 @@ TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenT
       EXPECT_EQ(a->second.position, b->second.position);
       EXPECT_EQ(a->second.orientation.coeffs(), b->second.orientation.coeffs());
     }
+}
+
+TEST(SurgicalSeries, AnInterruptedSeriesTightensEachPassAndStopsWhereItsPullAndTighteningStop)
+{
+  // the default stitch's pass three times 5 mm apart, each tightened: pass k is the
+  // single pass with its tightening, the next starting a transfer after it; the
+  // tightening lowers the needle 10 mm below the pass, so a lift along the normal comes
+  // first, and from the tightening's end to the next tip entry no point of the needle is
+  // below the skin (z = 6 mm)
+  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  PassParameters     p;
+  p.entry         = Vector3d(-0.005, 0, 0.006);
+  p.bite_depth    = 0.001755;
+  p.angular_speed = 2;
+  p.pull          = Vector3d(0, 0.01, 0.02);
+  p.tighten       = Vector3d(-0.03, -0.015, -0.03);
+  SeriesParameters s;
+  s.stitches          = 3;
+  s.spacing           = Vector3d(0, 0.005, 0);
+  s.transfer_duration = 1.5;
+  s.interrupted       = true;
+  const auto series   = plan_series(needle, p, s);
+  ASSERT_EQ(series.passes.size(), 3u);
+  for (unsigned k = 0; k < 3; ++k)
+    {
+      const auto    &pass  = series.passes[k];
+      PassParameters alone = p;
+      alone.entry          = pass.entry;
+      // each transfer after a tightening that lowered the needle: 1.5 times the duration
+      alone.start_time  = k == 0 ? 0 : series.passes[k - 1].t_tightened + 1.5 * s.transfer_duration;
+      const auto single = plan_pass(needle, alone);
+      EXPECT_DOUBLE_EQ(pass.t_tip_entry, single.t_tip_entry) << k;
+      EXPECT_DOUBLE_EQ(pass.t_tightened, single.t_tightened) << k;
+      for (double t = alone.start_time; t <= single.t_tightened; t += 0.01)
+        EXPECT_LT((series.trajectory.pose(t).position - single.trajectory.pose(t).position).norm(), 1e-15) << k;
+      if (k == 2)
+        break;
+      // the lift: straight up by the 10 mm the pull and tightening lowered it
+      const Pose   down = series.trajectory.pose(pass.t_tightened);
+      const Pose   up   = series.trajectory.pose(pass.t_tightened + 0.5 * s.transfer_duration);
+      EXPECT_LT((up.position - down.position - Vector3d(0, 0, 0.01)).norm(), 1e-15);
+      // from the lift's end on, back at the pass's height, no point is below the skin
+      double lowest = 1;
+      for (double t = pass.t_tightened + 0.5 * s.transfer_duration; t <= series.passes[k + 1].t_tip_entry; t += 0.002)
+        for (int i = 0; i <= 40; ++i)
+          lowest = std::min(lowest, needle.point(series.trajectory.pose(t), needle.length() * i / 40)[2] - 0.006);
+      EXPECT_GT(lowest, -1e-9) << k;
+    }
+  const double never = std::numeric_limits<double>::infinity();
+  const std::vector<double> none(3, never);
+  // without stops: the plan
+  for (double t = 0; t < series.t_tightened + 1; t += 0.05)
+    EXPECT_LT((series.pose(t, none, none).position - series.trajectory.pose(t).position).norm(), 1e-15);
+  // pass 1's pull stopped halfway: the needle stays there to the pull's end, and the
+  // tightening moves it by the planned tightening from there
+  const auto  &first = series.passes[0];
+  const double half  = 0.5 * (first.t_turn_end + first.t_end);
+  const Pose   stop  = series.trajectory.pose(half);
+  std::vector<double> pulls = none, ties = none;
+  pulls[0]                  = half;
+  EXPECT_LT((series.pose(first.t_end - 0.01, pulls, ties).position - stop.position).norm(), 1e-15);
+  const double mid = 0.5 * (first.t_end + first.t_tightened);
+  EXPECT_LT((series.pose(mid, pulls, ties).position - stop.position - 0.5 * p.tighten).norm(), 1e-12);
+  // its tightening stopped at mid: held there until the tightening's planned end, then
+  // carried to the second pass's start, which it reaches on time, the plan from there on
+  ties[0]          = mid;
+  const Pose tied  = series.pose(mid, pulls, ties);
+  const double next = series.passes[1].trajectory.keyframes().begin()->first;
+  EXPECT_LT((series.pose(first.t_tightened, pulls, ties).position - tied.position).norm(), 1e-15);
+  EXPECT_LT((series.pose(next, pulls, ties).position - series.trajectory.pose(next).position).norm(), 1e-15);
+  EXPECT_LT((series.pose(series.passes[1].t_tip_entry, pulls, ties).position -
+             series.trajectory.pose(series.passes[1].t_tip_entry).position)
+              .norm(),
+            1e-15);
+  // halfway through the transfer, half of the offset is left
+  const double during = 0.5 * (first.t_tightened + next);
+  EXPECT_LT((series.pose(during, pulls, ties).position - series.trajectory.pose(during).position -
+             0.5 * (tied.position - series.trajectory.pose(first.t_tightened).position))
+              .norm(),
+            1e-12);
+  // the last pass, tied early, stays where it was tied
+  ties[2] = series.passes[2].t_end + 0.5;
+  EXPECT_LT((series.pose(series.t_tightened + 3, pulls, ties).position -
+             series.trajectory.pose(ties[2]).position)
+              .norm(),
+            1e-15);
 }
 
 TEST(SurgicalSeries, RefusesASeriesItCannotPlan)

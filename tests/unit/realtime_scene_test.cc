@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -441,6 +442,66 @@ TEST(RealtimeScene, ARunningSutureOnALongerWoundClosesStitchByStitch)
   EXPECT_TRUE(seen);
 }
 
+TEST(RealtimeScene, AnInterruptedSeriesClosesAndTiesOffEachStitchWithItsOwnSuture)
+{
+  // parameters/stitch_series_interrupted.prm: three stitches 5 mm apart, each pulled
+  // through to a 15 mm tail, its tail held, drawn closed by the needle's tightening, tied
+  // off on its own gap pair and cut beside it (Needle/Pass/Series = interrupted). Each
+  // stitch closes in its own turn (the second as its pull draws the thread through,
+  // before its tail is taken: measured 13.68 s, the tail at 15.21 s), is tied off once
+  // its tail is held, at its tie-off gap (not at its tightening's end) and before the
+  // next stitch's entry, and stays closed to under a third of its initial gap (held at
+  // their holes instead of a stitch width beyond, the strands crossing over the wound
+  // were lost and the stitches opened again to 0.23-0.28 of 0.35-0.40 mm); once cut,
+  // the needle's thread ends there and it pulls on nothing; each cut lies nearer the
+  // needle than the one before (the rest of the thread is the next stitch's suture).
+  const auto r =
+    run_suturesim("stitch_series_interrupted", {source_path("parameters/stitch_series_interrupted.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto &m = r.summary["metrics"];
+  const auto &e = m["stitch_evaluation"];
+  ASSERT_EQ(e["count"], 3) << e;
+  const auto &series = m["interrupted_series"];
+  ASSERT_EQ(series.size(), 3u) << m;
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  const auto  time = column(header, "time");
+  const auto  fx = column(header, "needle_force_x"), fy = column(header, "needle_force_y"),
+             fz = column(header, "needle_force_z");
+  double      cut  = 1e9;
+  for (int k = 0; k < 3; ++k)
+    {
+      SCOPED_TRACE(k + 1);
+      const auto &g = m["gaps"]["s" + std::to_string(k + 1)];
+      const auto &s = series[k];
+      ASSERT_TRUE(g["closure_time"].is_number() && g["tie_off_time"].is_number()) << g;
+      const double closed = g["closure_time"].get<double>(), tied = g["tie_off_time"].get<double>();
+      std::printf("[ interrupted series ] stitch %d: tail taken at %.3f s, closed at %.3f s with %.3f N, tied off "
+                  "at %.3f s with %.3f N, final gap %.3e m\n",
+                  k + 1, s["tail_taken_at"].get<double>(), closed, g["closure_tension"].get<double>(), tied,
+                  g["tie_off_tension"].get<double>(), g["final"].get<double>());
+      EXPECT_TRUE(s["pull_stopped"].get<bool>()) << s;
+      EXPECT_LE(s["tail_taken_at"].get<double>(), tied);
+      EXPECT_LE(closed, tied);
+      EXPECT_LE(g["tie_off_gap"].get<double>(), 5e-5); // tied as it closed
+      EXPECT_LT(g["final"].get<double>(), g["initial"].get<double>() / 3); // and held
+      const double before = k == 0 ? 0.0 : m["gaps"]["s" + std::to_string(k)]["tie_off_time"].get<double>();
+      EXPECT_GT(e["stitches"][k]["entry_time"].get<double>(), before); // after the stitch before is tied
+      EXPECT_LT(s["cut_node"].get<double>(), cut);
+      cut = s["cut_node"].get<double>();
+      // the first row after the tie-off: the needle's thread is cut, it pulls on nothing
+      std::size_t i = 0;
+      while (i < rows.size() && rows[i][time] <= tied + 1e-9)
+        ++i;
+      ASSERT_LT(i, rows.size());
+      const auto needle_force = [&](const std::size_t j) {
+        return std::sqrt(rows[j][fx] * rows[j][fx] + rows[j][fy] * rows[j][fy] + rows[j][fz] * rows[j][fz]);
+      };
+      EXPECT_GT(needle_force(i - 1), 1.0); // the tie-off's step: drawn tight
+      EXPECT_EQ(needle_force(i), 0.0) << rows[i][time];
+    }
+}
+
 TEST(RealtimeScene, StitchClosesTheWoundAndALargerBiteNeedsMoreTension)
 {
   // The whole stitch scene (7.5 s): drawn tight, the wound's top edges meet (final gap
@@ -661,6 +722,63 @@ TEST(WoundClosure, ATieOffGapBelowTheClosureGapDrawsTheStitchOnPastClosure)
   EXPECT_TRUE(free.closed());
   EXPECT_FALSE(free.tied());
   EXPECT_EQ(free.motion_time(9.0), 9.0);
+}
+
+TEST(WoundClosure, AnInterruptedSeriesTiesEachStitchOffOnItsOwnPairWithinItsTightening)
+{
+  // two stitches drawn from 1 s and 4 s, tightened over [1.2, 3] s and [5, 7] s: each
+  // pair counts its closure from its own pull on (not as the other stitch moves its
+  // edges, nor after its tie-off) and ties its stitch off within its tightening, or from
+  // when its tail is taken (start_stitch); a stitch still open at its tightening's end is
+  // tied there; the series' motions stop at the last tie-off
+  suturesim::scene::ClosureParameters prm;
+  prm.pairs               = {{"s1", {-2e-4, 0, 0.006}, {2e-4, 0, 0.006}},
+                             {"s2", {-2e-4, 0.005, 0.006}, {2e-4, 0.005, 0.006}}};
+  prm.closure_gap         = 1e-4;
+  prm.tie_off_gap         = 5e-5;
+  prm.tie_off_each_stitch = true;
+  suturesim::scene::ClosureMonitor monitor(prm);
+  monitor.set_stitches({{1, 1.2, 3}, {4, 5, 7}});
+  const double never = std::numeric_limits<double>::infinity();
+  monitor.update(0, {4e-4, 4e-4}, 0);
+  monitor.update(0.5, {4e-4, 3e-5}, 1); // s2's gap dips as stitch 1 is made: not its closure
+  monitor.update(1.5, {9e-5, 3e-4}, 2); // s1 closed, above the tie-off gap
+  EXPECT_EQ(monitor.stitch_ties()[0], never);
+  monitor.update(2, {4e-5, 3e-4}, 2.5);
+  EXPECT_EQ(monitor.stitch_ties()[0], 2.0);
+  EXPECT_FALSE(monitor.tied());
+  EXPECT_EQ(monitor.motion_time(4), 4.0); // the series goes on
+  EXPECT_TRUE(monitor.ties_off(5.5, {2e-4, 4e-5}));
+  EXPECT_FALSE(monitor.ties_off(4.5, {2e-4, 4e-5})); // drawn, its tail not taken yet
+  monitor.start_stitch(1, 4.5);                       // ... now taken: from then on
+  EXPECT_TRUE(monitor.ties_off(4.5, {2e-4, 4e-5}));
+  monitor.update(2.5, {2e-4, 3e-4}, 1); // s1 opens again after its tie-off
+  monitor.update(6, {1.2e-4, 2e-4}, 3);
+  monitor.update(7, {9e-5, 1.5e-4}, 4); // s2 still open at its tightening's end: tied there
+  EXPECT_EQ(monitor.stitch_ties()[1], 7.0);
+  EXPECT_TRUE(monitor.tied());
+  EXPECT_EQ(monitor.motion_time(8), 7.0);
+  nlohmann::json m;
+  monitor.write(m);
+  // s1 crossed 1e-4 m between 0.5 s (4e-4 m, 1 N) and 1.5 s (9e-5 m, 2 N)
+  const double f = 3e-4 / 3.1e-4;
+  EXPECT_NEAR(m["gaps"]["s1"]["closure_time"].get<double>(), 0.5 + f, 1e-15);
+  EXPECT_NEAR(m["gaps"]["s1"]["closure_tension"].get<double>(), 1 + f, 1e-15);
+  EXPECT_EQ(m["gaps"]["s1"]["tie_off_time"].get<double>(), 2.0);
+  EXPECT_EQ(m["gaps"]["s1"]["tie_off_tension"].get<double>(), 2.5);
+  EXPECT_EQ(m["gaps"]["s1"]["tie_off_gap"].get<double>(), 4e-5);
+  EXPECT_TRUE(m["gaps"]["s2"]["closure_time"].is_null());
+  EXPECT_EQ(m["gaps"]["s2"]["tie_off_time"].get<double>(), 7.0);
+  EXPECT_EQ(m["gaps"]["s2"]["tie_off_gap"].get<double>(), 1.5e-4);
+  EXPECT_EQ(m["tie_off_time"].get<double>(), 7.0); // the series' last
+  EXPECT_EQ(m["tie_off_tension"].get<double>(), 4.0);
+  // a checkpoint's snapshot keeps each stitch's tie-off
+  suturesim::scene::ClosureMonitor again(prm);
+  again.set_stitches({{1, 1.2, 3}, {4, 5, 7}});
+  again.restore(monitor.snapshot());
+  nlohmann::json a;
+  again.write(a);
+  EXPECT_EQ(a, m);
 }
 
 TEST(RealtimeScene, RegionModuliNameAPhysicalVolumeOfTheMesh)

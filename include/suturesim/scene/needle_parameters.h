@@ -56,6 +56,7 @@ namespace suturesim::scene
     double      coupling_tolerance   = 1e-7;      ///< m, tissue–suture rounds (accurate path)
     unsigned    coupling_iterations  = 40;        ///< accurate path
     double      load_radius          = 0;         ///< m, spread of a pierce load (both paths)
+    double      tail_length          = 0.015;     ///< m, an interrupted series' tail when held
 
     /// The pass of a scene that gives none: 3 mm deep, drawn 30 mm up after the turn.
     static tools::PassParameters

@@ -42,11 +42,13 @@ namespace suturesim::scene
       return tool_index;
     }
     /// The pose of the needle's holder at @p t: the driver's, or during a reload the
-    /// other hand's (the needle's pose when it took it).
+    /// other hand's (the needle's pose when it took it). In an interrupted series
+    /// (Needle/Pass/Series) @p pulls and @p ties give when each stitch's pull and
+    /// tightening stopped (tools::SurgicalSeries::pose).
     tools::Pose
-    pose(double t) const
+    pose(double t, const std::vector<double> &pulls = {}, const std::vector<double> &ties = {}) const
     {
-      return parked ? *parked : path.pose(t);
+      return parked ? *parked : series ? series->pose(t, pulls, ties) : path.pose(t);
     }
 
     /// Opens or closes the driver's jaws at the changes up to time @p t (Needle/Jaws or
@@ -88,6 +90,7 @@ namespace suturesim::scene
   private:
     const NeedleParameters &prm;
     tools::Trajectory       path;
+    std::optional<tools::SurgicalSeries> series; ///< an interrupted series' plan
     double                  pull_start = 0;
     std::size_t             tool_index = 0;
     double                  peak_pull  = 0;

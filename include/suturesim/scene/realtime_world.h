@@ -34,6 +34,7 @@
 #include <suturesim/scene/realtime_settings.h>
 #include <suturesim/scene/scene_parameters.h>
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -60,9 +61,32 @@ namespace suturesim::scene
 
     /// The suture's tension, as the closure and the tears are charged to it (the accurate
     /// path's measure): the last end's grasper's pull once it holds the end, else the
-    /// needle's pull, N.
+    /// needle's pull, N; in an interrupted series the needle's pull, which draws each
+    /// stitch tight.
     double
     closure_tension() const;
+
+    /// An interrupted series (Needle/Pass/Series), between steps, stitch by stitch:
+    ///  - the other hand takes the stitch's tail where it lies once the thread beyond
+    ///    the stitch's entry hole is no longer than Tail length (or at the pull's end),
+    ///    and the needle's pull stops there (tools::SurgicalSeries::pose): the tail is the
+    ///    suture's last end for the first stitch, the cut end for the others;
+    ///  - once the closure ties the stitch off (ClosureMonitor::stitch_ties), a tool of
+    ///    its own holds the thread where it is on each strand, one stitch width (from
+    ///    its entry to its exit) beyond the strand's hole (the entry's on the tail's
+    ///    side, the exit's on the needle's), where strands tied over the wound meet; the
+    ///    thread is cut next to the exit strand's hold (SutureModel::cut), and the rest,
+    ///    on the needle, is the next stitch's suture, its cut end the next tail.
+    /// A stitch's holes are the pierce points its pass added (thread coordinate ζ − L on
+    /// the suture, L the needle's length). A ParameterError naming Needle/Pass/Pull when
+    /// the exit's hold would fall on the needle's swage (too little thread drawn through).
+    void
+    advance_series();
+    /// metrics.interrupted_series: per stitch when its tail was taken (s) and whether its
+    /// pull stopped for it (the tail short before the pull's end), the suture node its
+    /// thread was cut at (null before its tie-off); nothing without a series.
+    void
+    write_series(nlohmann::json &metrics) const;
 
     struct Boundary
     {
@@ -96,6 +120,23 @@ namespace suturesim::scene
     std::optional<ClosureMonitor>                    closure;
     std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
     std::vector<double>                              gaps; ///< of the last measure_closure()
+    /// An interrupted series' state: per stitch two tools (its tie, its tail's hand)
+    /// from first_series_tool on, its pull's planned end and when it stopped (∞
+    /// before), the pierce points counted and the needle strand's hold (where the thread
+    /// was cut) once tied off.
+    struct SeriesStitch
+    {
+      double        pull_end  = 0;
+      double        pull_stop = std::numeric_limits<double>::infinity();
+      bool          tail_held = false;
+      std::size_t   points    = 0; ///< pierce points counted at its tie-off
+      std::uint32_t cut       = 0; ///< suture node of the needle strand's hold
+    };
+    std::size_t               first_series_tool = 0;
+    std::vector<SeriesStitch> series;
+    std::vector<double>       pull_stops; ///< SeriesStitch::pull_stop, for the needle's pose
+    /// per suture link: 0 where cut (the record's longest link leaves it out), else 1
+    Eigen::RowVectorXd        uncut;
 
   private:
     void
@@ -121,6 +162,9 @@ namespace suturesim::scene
     /// Knot: the planner and the checks of what it needs.
     void
     add_knot_planner();
+    /// An interrupted series: its tools (a tie and a tail's hand per stitch) and checks.
+    void
+    add_series();
     /// The normal of the plane through the needle's last three pierce points at @p t
     /// (Knot/Projection plane = pierce points); a ParameterError naming the entry when
     /// there are fewer, or they lie on one line.

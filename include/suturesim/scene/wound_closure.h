@@ -53,6 +53,9 @@ namespace suturesim::scene
     double            tie_off_gap = 1e-4; ///< m; parsed 0 means the closure gap
     /// the tie-off waits for every pair's gap (a series, a pair per stitch), not the first's
     bool              tie_off_every_pair = false;
+    /// An interrupted series (Needle/Pass/Series, set by SceneParameters): stitch k is tied
+    /// off on its own, on pair k's gap within its tightening (ClosureMonitor::set_stitches)
+    bool              tie_off_each_stitch = false;
     /// Accurate path: the incision's two faces (boundary names or ids; empty: no
     /// contact between them), the penalty per vertex pair (N/m) and the gap below which
     /// a pair is loaded (m); coupling/accurate/wound_contact.h.
@@ -93,12 +96,47 @@ namespace suturesim::scene
     void
     update(double t, const std::vector<double> &gaps, double tension);
 
+    /// An interrupted series' stitch k (tie_off_each_stitch), times in s: its pair's
+    /// closure counts from closes_from (the pull's start: the thread drawn through it,
+    /// not the needle crossing the wound, nor the stitches before), until its tie-off.
+    /// It is tied off at the first step from ties_from on (the pull's end, or
+    /// start_stitch()) at which the gap is below the tie-off gap (and closed), else at
+    /// the step that reaches ties_by (its tightening's end). The whole series' motions
+    /// stop (motion_time) when the last is tied off.
+    struct StitchWindow
+    {
+      double closes_from = 0, ties_from = 0, ties_by = 0;
+    };
+    void
+    set_stitches(std::vector<StitchWindow> windows);
+    /// Stitch @p k is drawn tight from @p t on, before its pull's planned end (its tail
+    /// taken where the pull stopped): it may be tied off from then.
+    void
+    start_stitch(std::size_t k, double t)
+    {
+      windows.at(k).ties_from = std::min(windows.at(k).ties_from, t);
+    }
+    /// When each stitch was tied off (s; ∞ before), an interrupted series' stops of its
+    /// tightenings (tools::SurgicalSeries::pose).
+    const std::vector<double> &
+    stitch_ties() const
+    {
+      return stitch_tie;
+    }
+
     /// Whether a step at @p t with gaps @p gaps (one per pair) would tie the stitch off:
     /// the first pair's gap, or with Tie off when = every pair the largest, below the
     /// tie-off gap (and the wound closed).
     bool
     ties_off(double t, const std::vector<double> &gaps) const
     {
+      if (prm.tie_off_each_stitch)
+        {
+          for (std::size_t k = 0; k < stitch_tie.size(); ++k)
+            if (stitch_ties_off(k, t, gaps))
+              return true;
+          return false;
+        }
       const double gap = prm.tie_off_every_pair ? *std::max_element(gaps.begin(), gaps.end()) : gaps.front();
       return prm.tie_off && !tied() && t >= prm.start_time && gap < prm.tie_off_gap &&
              (closed() || gap < prm.closure_gap);
@@ -126,7 +164,9 @@ namespace suturesim::scene
     /// interpolated crossing; null when never closed), tie_off_time, tie_off_tension (null when never tied off),
     /// gaps.<name>.{initial, final, least, closure_time, closure_tension}: every pair's own
     /// closure, when its gap first fell below the closure gap (one pair per stitch of a
-    /// series gives each stitch's closure; the first pair's is the run's).
+    /// series gives each stitch's closure; the first pair's is the run's); in an
+    /// interrupted series also each stitch's tie_off_time, tie_off_tension and tie_off_gap
+    /// (the gap then, m; null before), and the run's tie-off is the last stitch's.
     void
     write(nlohmann::json &metrics) const;
 
@@ -138,7 +178,20 @@ namespace suturesim::scene
     restore(const nlohmann::json &snapshot);
 
   private:
+    /// Whether the step at @p t with @p gaps ties stitch k off (an interrupted series).
+    bool
+    stitch_ties_off(std::size_t k, double t, const std::vector<double> &gaps) const
+    {
+      const bool closed_k = k < closed_at.size() && closed_at[k] < std::numeric_limits<double>::infinity();
+      return !(stitch_tie[k] < std::numeric_limits<double>::infinity()) && t >= prm.start_time &&
+             t >= windows[k].ties_from &&
+             ((gaps[k] < prm.tie_off_gap && (closed_k || gaps[k] < prm.closure_gap)) || t >= windows[k].ties_by);
+    }
+
     const ClosureParameters &prm;
+    std::vector<StitchWindow> windows;
+    /// per stitch: when it was tied off (∞ before), the tension and the gap then
+    std::vector<double>      stitch_tie, stitch_tension, stitch_gap;
     std::vector<double>      initial, last, least;
     /// per pair: the interpolated crossing of the closure gap (∞ before) and the tension then
     std::vector<double>      closed_at, closed_tension;

@@ -82,14 +82,16 @@ namespace suturesim::tools
   SurgicalPass
   plan_pass(const CurvedNeedle &needle, const PassParameters &parameters);
 
-  /// A running (continuous) suture: one needle makes @p stitches passes along a wound,
-  /// pass k entering at E_k = E_0 + k s (s, the spacing, in the surface; with a bite, its
-  /// wound crossing moves by k s likewise).
+  /// A series of @p stitches passes along a wound, pass k entering at E_k = E_0 + k s (s,
+  /// the spacing, in the surface; with a bite, its wound crossing moves by k s likewise):
+  /// a running (continuous) suture, or with @p interrupted an interrupted series, each
+  /// pass drawn tight by its own tightening and tied off before the next.
   struct SeriesParameters
   {
     unsigned stitches          = 1;
     Vector3d spacing           = Vector3d::Zero(); ///< s, m
-    double   transfer_duration = 1;                ///< s, from one pass's pull to the next's start
+    double   transfer_duration = 1;                ///< s, from one pass's pull (tightening) to the next's start
+    bool     interrupted       = false;
   };
 
   struct SurgicalSeries
@@ -101,6 +103,18 @@ namespace suturesim::tools
     /// grasper holds the needle where it is
     std::vector<std::pair<double, double>> reloads;
     double                    t_end = 0, t_tightened = 0; ///< the last pull's end; the tightening's (s)
+
+    /// The needle's pose at @p t in an interrupted series whose pass k's pull stopped at
+    /// @p pulls[k] (s; the tail short enough to be held) and whose tightening stopped at
+    /// @p ties[k] (the stitch tied off as its wound closed); ∞ or absent: it ran to its
+    /// end. A stopped pull holds the needle still until the pull's planned end, and the
+    /// tightening then moves it from there (its planned translation, offset by what the
+    /// pull did not do). A stopped tightening holds the needle until its planned end.
+    /// The transfer to the next pass then starts from where the needle is, the offset
+    /// from the planned pose fading linearly to nothing at the next pass's start (a
+    /// straight line when the transfer is one). After the last pass the needle stays.
+    Pose
+    pose(double t, const std::vector<double> &pulls, const std::vector<double> &ties) const;
   };
 
   /// Plans the series: each pass as plan_pass() with its entry and start time; after
@@ -111,10 +125,13 @@ namespace suturesim::tools
   /// top, the entry side), and with the centre no lower than the pass's that part stays
   /// out of the tissue. Slerp between the two poses alone would turn the short way, which
   /// for a shallow bite (Φ + 2α + 2 approach/R < π) is back through the tissue. The last
-  /// pass pulls and tightens as a single one. Throws std::invalid_argument as plan_pass()
-  /// does, and when the spacing is zero or out of the surface, the pull lowers the
-  /// needle (a series needs it at or above the pass's height), or the transfer time is
-  /// not positive.
+  /// pass pulls and tightens as a single one. In an interrupted series every pass
+  /// tightens, and the transfer starts at the tightening's end; where the pull and the
+  /// tightening together have lowered the needle, a lift along the normal back to the
+  /// pass's height comes first, over half the transfer time more. Throws
+  /// std::invalid_argument as plan_pass() does, and when the spacing is zero or out of
+  /// the surface, the pull lowers the needle (a series needs it at or above the pass's
+  /// height), or the transfer time is not positive.
   ///
   /// With a regrasp, each pass but the last ends with the driver holding the needle near
   /// its tip. Before the transfer the needle is reloaded, as a surgeon does with the

@@ -54,6 +54,10 @@ namespace suturesim::scene
         scene.scope("Knot").require(scene.knot.knot == "none", "Knot",
                                     "the accurate path ties knots in a free suture (Bodies = suture); a stitch is "
                                     "tied off with a knot in the realtime path only (Model = realtime)");
+        scene.scope("Needle/Pass")
+          .require(!scene.closure.tie_off_each_stitch, "Series",
+                   "an interrupted series is tied off stitch by stitch in the realtime path only so far (Model = "
+                   "realtime)");
         scene.parse_bodies(prm);
         if (scene.has_suture())
           scene.scope("Suture/Start end")

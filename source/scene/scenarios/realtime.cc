@@ -109,6 +109,7 @@ namespace suturesim::scene
             if (world.tearing)
               world.tearing->check(rw, world.closure_tension());
             world.measure_closure();
+            world.advance_series(); // an interrupted series' tails taken and stitches tied off
             const bool output = interval > 0 && t >= next_output - 1e-12 * end_time;
             record.row(output || step == n_steps); // the last state is always written
             if (output)
