@@ -184,25 +184,45 @@ TEST(SurgicalPass, ABiteStraddlesTheWoundCrossingSymmetricallyAndIsTheEquivalent
   EXPECT_THROW(plan_pass(needle, p), std::invalid_argument);
 }
 
+namespace
+{
+  /// The default stitch's pass (R = 8 mm, 3/8, delta = 1.755 mm, pulled 20 mm up and
+  /// tightened), as the scene gives it, and a series of three, 5 mm apart along the
+  /// wound (+y), carried over in 1.5 s.
+  PassParameters
+  default_stitch_pass()
+  {
+    PassParameters p;
+    p.entry         = Vector3d(-0.005, 0, 0.006);
+    p.bite_depth    = 0.001755;
+    p.angular_speed = 2;
+    p.pull          = Vector3d(0, 0.01, 0.02);
+    p.tighten       = Vector3d(-0.03, -0.015, -0.03);
+    return p;
+  }
+  SeriesParameters
+  three_stitches(const bool interrupted)
+  {
+    SeriesParameters s;
+    s.stitches          = 3;
+    s.spacing           = Vector3d(0, 0.005, 0);
+    s.transfer_duration = 1.5;
+    s.interrupted       = interrupted;
+    return s;
+  }
+} // namespace
+
 TEST(SurgicalSeries, EachPassIsTheSinglePassAndTheNeedleIsOutsideTheSkinBetweenThem)
 {
-  // the default stitch's pass (R = 8 mm, 3/8, delta = 1.755 mm, pulled 20 mm up) three
-  // times, 5 mm apart along the wound (+y): pass k is plan_pass() at E_k and its own
-  // start, and outside the passes' cutting (tip entry to swage exit) no point of the
-  // needle is below the skin, here the plane z = 6 mm, also while it is carried over
-  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
-  PassParameters     p;
-  p.entry          = Vector3d(-0.005, 0, 0.006);
-  p.bite_depth     = 0.001755;
-  p.angular_speed  = 2;
-  p.pull           = Vector3d(0, 0.01, 0.02);
-  p.tighten        = Vector3d(-0.03, -0.015, -0.03);
-  const PassParameters stitch_pass = p; // the default stitch's, as the scene gives it
-  SeriesParameters     s;
-  s.stitches          = 3;
-  s.spacing           = Vector3d(0, 0.005, 0);
-  s.transfer_duration = 1.5;
-  const auto series   = plan_series(needle, p, s);
+  // the default stitch's pass three times, 5 mm apart along the wound (+y): pass k is
+  // plan_pass() at E_k and its own start, and outside the passes' cutting (tip entry to
+  // swage exit) no point of the needle is below the skin, here the plane z = 6 mm, also
+  // while it is carried over
+  const CurvedNeedle   needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  PassParameters       p           = default_stitch_pass();
+  const PassParameters stitch_pass = p;
+  SeriesParameters     s           = three_stitches(false);
+  const auto           series      = plan_series(needle, p, s);
   ASSERT_EQ(series.passes.size(), 3u);
   for (unsigned k = 0; k < 3; ++k)
     {
@@ -270,19 +290,10 @@ TEST(SurgicalSeries, AnInterruptedSeriesTightensEachPassAndStopsWhereItsPullAndT
   // tightening lowers the needle 10 mm below the pass, so a lift along the normal comes
   // first, and from the tightening's end to the next tip entry no point of the needle is
   // below the skin (z = 6 mm)
-  const CurvedNeedle needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
-  PassParameters     p;
-  p.entry         = Vector3d(-0.005, 0, 0.006);
-  p.bite_depth    = 0.001755;
-  p.angular_speed = 2;
-  p.pull          = Vector3d(0, 0.01, 0.02);
-  p.tighten       = Vector3d(-0.03, -0.015, -0.03);
-  SeriesParameters s;
-  s.stitches          = 3;
-  s.spacing           = Vector3d(0, 0.005, 0);
-  s.transfer_duration = 1.5;
-  s.interrupted       = true;
-  const auto series   = plan_series(needle, p, s);
+  const CurvedNeedle     needle(0.008, CurvedNeedle::arc_angle_of("3/8"), 4e-4);
+  const PassParameters   p      = default_stitch_pass();
+  const SeriesParameters s      = three_stitches(true);
+  const auto             series = plan_series(needle, p, s);
   ASSERT_EQ(series.passes.size(), 3u);
   for (unsigned k = 0; k < 3; ++k)
     {
