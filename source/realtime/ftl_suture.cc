@@ -223,6 +223,7 @@ namespace suturesim::realtime
       {
         if (segment >= cuts.size())
           throw std::invalid_argument("ftl suture: no link " + std::to_string(segment) + " to cut");
+        n_cuts += !cuts[segment];
         cuts[segment] = 1;
       }
 
@@ -248,6 +249,8 @@ namespace suturesim::realtime
       std::int64_t
       first_cut(const std::int64_t from, const std::int64_t to) const
       {
+        if (n_cuts == 0) // the uncut thread, every step: no search
+          return -1;
         for (std::int64_t k = std::max<std::int64_t>(from, 0); k <= to && k < std::int64_t(cuts.size()); ++k)
           if (cuts[k])
             return k;
@@ -256,6 +259,8 @@ namespace suturesim::realtime
       std::int64_t
       last_cut(const std::int64_t from, const std::int64_t to) const
       {
+        if (n_cuts == 0)
+          return -1;
         for (std::int64_t k = std::min<std::int64_t>(to, std::int64_t(cuts.size()) - 1); k >= from && k >= 0; --k)
           if (cuts[k])
             return k;
@@ -411,7 +416,8 @@ namespace suturesim::realtime
       std::vector<int>           placed_count;
       std::vector<SoftConstraint> soft;
       mutable std::vector<Anchor> anchors;
-      std::vector<char>           cuts; ///< per link: 1 once cut
+      std::vector<char>           cuts;       ///< per link: 1 once cut
+      std::size_t                 n_cuts = 0; ///< how many
     };
 
     const bool registered = SutureModel::Registry::instance().add(

@@ -582,14 +582,14 @@ namespace suturesim::scene
     const std::size_t mine   = points.size() > before ? points.size() - before : 0;
     // the tail: the suture's last end, or the cut end the stitch before left
     const std::uint32_t end = k == 0 ? count - 1 : series[k - 1].cut - 1;
-    if (!stitch.tail_held && mine > 0 && points[mine - 1].on_suture)
+    const bool tail_held = pull_stops[k] < std::numeric_limits<double>::infinity();
+    if (!tail_held && mine > 0 && points[mine - 1].on_suture)
       {
         const double tail = end * link - (points[mine - 1].zeta - L);
         if (tail <= scene.needle.tail_length || t >= stitch.pull_end)
           {
             world->grasp(first_series_tool + 2 * k + 1, {first + end}, rt::ToolPose());
-            stitch.tail_held = true;
-            stitch.pull_stop = pull_stops[k] = t;
+            pull_stops[k] = t;
             closure->start_stitch(k, t); // drawn tight from now on: it may be tied off
           }
       }
@@ -599,7 +599,7 @@ namespace suturesim::scene
       scene.scope("Needle/Pass").fail("Pull", "stitch " + std::to_string(k + 1) + " tied off at " +
                                                 default_text(ties[k]) + " s: " + why);
     };
-    if (mine == 0 || !stitch.tail_held)
+    if (mine == 0 || !(pull_stops[k] < std::numeric_limits<double>::infinity()))
       fail("its tail is not held: its pass made no hole on the suture");
     // its holes: the pierce points its pass added, nearest the needle
     const double s_exit  = points.front().zeta - L;
@@ -632,10 +632,12 @@ namespace suturesim::scene
     auto &list = metrics["interrupted_series"] = nlohmann::json::array();
     for (std::size_t k = 0; k < series.size(); ++k)
       {
-        const auto &s = series[k];
+        const auto  &s    = series[k];
+        const double stop = pull_stops[k];
+        const bool   held = stop < std::numeric_limits<double>::infinity();
         list.push_back({{"stitch", k + 1},
-                        {"tail_taken_at", s.tail_held ? nlohmann::json(s.pull_stop) : nlohmann::json(nullptr)},
-                        {"pull_stopped", s.tail_held && s.pull_stop < s.pull_end},
+                        {"tail_taken_at", held ? nlohmann::json(stop) : nlohmann::json(nullptr)},
+                        {"pull_stopped", held && stop < s.pull_end},
                         {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)}});
       }
   }

@@ -121,20 +121,18 @@ namespace suturesim::scene
     std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
     std::vector<double>                              gaps; ///< of the last measure_closure()
     /// An interrupted series' state: per stitch two tools (its tie, its tail's hand)
-    /// from first_series_tool on, its pull's planned end and when it stopped (∞
-    /// before), the pierce points counted and the needle strand's hold (where the thread
-    /// was cut) once tied off.
+    /// from first_series_tool on, its pull's planned end, the pierce points counted and
+    /// the needle strand's hold (where the thread was cut) once tied off; when its pull
+    /// stopped and its tail was taken is pull_stops[k] (∞ before).
     struct SeriesStitch
     {
       double        pull_end  = 0;
-      double        pull_stop = std::numeric_limits<double>::infinity();
-      bool          tail_held = false;
       std::size_t   points    = 0; ///< pierce points counted at its tie-off
       std::uint32_t cut       = 0; ///< suture node of the needle strand's hold
     };
     std::size_t               first_series_tool = 0;
     std::vector<SeriesStitch> series;
-    std::vector<double>       pull_stops; ///< SeriesStitch::pull_stop, for the needle's pose
+    std::vector<double>       pull_stops; ///< per stitch: its tail taken, its pull stopped (s)
     /// per suture link: 0 where cut (the record's longest link leaves it out), else 1
     Eigen::RowVectorXd        uncut;
 
