@@ -19,6 +19,13 @@ namespace suturesim::coupling
                "Penalty k_c of the tip on the surface before puncture (the dimple). Unit: N/m. Range: > 0.");
     d.add_real("Reach", defaults.reach, 0, 1,
                "Distance from the surface within which the tip is looked for. Unit: m. Range: (0, 1].");
+    d.add_real("Touch radius", defaults.touch_radius, 0, 0.01,
+               "Radius of the tissue that carries the tip's push on the surface before it punctures, in "
+               "the accurate path: as Pierce points/Load radius for a pierce point, the touched point "
+               "moves with, and loads, the tissue within this distance, weighted by (1 - r^2/radius^2)^2. "
+               "0: a point load, whose dimple (and so where the tip punctures) deepens without bound as "
+               "the mesh is refined. The realtime path's touch is a node and refuses a radius. "
+               "Unit: m. Range: 0-0.01.");
   }
 
   PunctureParameters
@@ -28,6 +35,7 @@ namespace suturesim::coupling
     p.threshold = v.real("Threshold");
     p.stiffness = v.real("Tip stiffness");
     p.reach     = v.real("Reach");
+    p.touch_radius = v.real("Touch radius");
     v.require(p.threshold > 0, "Threshold", "must be > 0 N");
     v.require(p.stiffness > 0, "Tip stiffness", "must be > 0 N/m");
     v.require(p.reach > 0, "Reach", "must be > 0 m");

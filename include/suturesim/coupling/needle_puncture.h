@@ -62,8 +62,12 @@ namespace suturesim::coupling
     double threshold = 0.7;  ///< puncture force, N
     double stiffness = 2000; ///< penalty k_c of the tip on the surface, N/m
     double reach     = 1e-3; ///< how far from the surface the tip is looked for, m
+    /// ρ of the tissue that carries the tip's touch (the accurate path's point loads,
+    /// tissue/point_loads.h), m; 0: a point load, whose dimple, and with it where the tip
+    /// punctures, grows without bound as the mesh is refined (Kelvin's solution)
+    double touch_radius = 0;
 
-    /// "Threshold", "Tip stiffness", "Reach", with these defaults.
+    /// "Threshold", "Tip stiffness", "Reach", "Touch radius", with these defaults.
     static void
     declare(ParameterDeclarations &declarations);
     /// The values of declare()'s entries; ParameterError for a bad one.

@@ -85,7 +85,7 @@ namespace suturesim::coupling
     /// coupling tolerance, k⊥ × tolerance, which the coupled solve does not resolve anyway
     double             normal_smoothing     = 0;
     /// ρ of the tissue that carries a pierce point's force (tissue/point_loads.h), m;
-    /// 0: a point load. The tip's touch stays a point.
+    /// 0: a point load. The tip's touch has its own, puncture.touch_radius.
     double             load_radius          = 0;
   };
 
@@ -211,7 +211,7 @@ namespace suturesim::coupling
     double
     spread_radius(std::size_t k) const override
     {
-      return is_touch(k) ? 0.0 : prm.load_radius;
+      return is_touch(k) ? prm.puncture.touch_radius : prm.load_radius;
     }
 
     /// Index of the touch among points() (−1 when not pressing) and of pierce point j.
