@@ -198,6 +198,14 @@ namespace suturesim::scene
                       "which needs a radius above the surface's longest edge). 0: a point load, "
                       "whose displacement grows without bound as the mesh is refined. Unit: m. "
                       "Range: 0-0.01.");
+    prm.declare_entry("Load across the wound", default_text(d.load_across_wound), Patterns::Bool(),
+                      "Whether a spread pierce point or touch (Load radius, Puncture/Touch radius) also "
+                      "takes the tissue beyond the wound's faces within its radius (true; a point on a "
+                      "face then shares its load with the other lip, as every study measured before "
+                      "2026-12-05 did) or only the tissue a straight line from it reaches without "
+                      "crossing a face (false: the visibility criterion; accurate path, needs the "
+                      "wound's faces from Closure/Face contact or Stitch evaluation/Wound faces). "
+                      "Unit: 1. Range: true, false.");
     prm.enter_subsection("Accurate");
     prm.declare_entry("Enforcement", d.enforcement, Patterns::Selection("penalty|lagrange"),
                       "The tie across the thread: penalty (a gap of force / Transverse "
@@ -372,6 +380,7 @@ namespace suturesim::scene
     spacing  = prm.get_double("Spacing");
     recorded = prm.get_integer("Recorded");
     load_radius = prm.get_double("Load radius");
+    load_across_wound = prm.get_bool("Load across the wound");
     scope.require(transverse_stiffness > 0, "Transverse stiffness", "must be > 0 N/m");
     prm.enter_subsection("Accurate");
     enforcement         = prm.get("Enforcement");

@@ -49,8 +49,10 @@ namespace suturesim::tearing
         {
           const auto &tri = triangles[t];
           faces.push_back({vertices.col(tri[0]), vertices.col(tri[1]), vertices.col(tri[2])});
+          boxes.emplace_back(faces.back()[0]);
           for (const auto &v : faces.back())
             {
+              boxes.back().extend(v);
               lo = lo.cwiseMin(v);
               hi = hi.cwiseMax(v);
             }
@@ -96,12 +98,21 @@ namespace suturesim::tearing
   bool
   Wound::separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
   {
-    // strictly between the ends: a point on a face (a tract's exit) is on its lip's side
+    // strictly between the ends: a point on a face (a tract's exit) is on its lip's side;
+    // only the faces whose box meets the segment's are tested (a spread point asks this
+    // of every quadrature point within its radius)
+    Eigen::AlignedBox3d segment(a);
+    segment.extend(b);
     double          s = 0;
     Eigen::Vector3d bary;
-    return std::any_of(faces.begin(), faces.end(), [&](const auto &f) {
-      return collision::segment_crosses_triangle(a, b, f[0], f[1], f[2], s, bary) && s > 1e-9 && s < 1 - 1e-9;
-    });
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      if (boxes[i].intersects(segment))
+        {
+          const auto &f = faces[i];
+          if (collision::segment_crosses_triangle(a, b, f[0], f[1], f[2], s, bary) && s > 1e-9 && s < 1 - 1e-9)
+            return true;
+        }
+    return false;
   }
 
   namespace

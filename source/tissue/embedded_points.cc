@@ -45,7 +45,7 @@ namespace suturesim::tissue
   } // namespace
 
   std::map<types::global_dof_index, EmbeddedPoints::Weight>
-  EmbeddedPoints::local_weights(const Point<3> &X, const double rho) const
+  EmbeddedPoints::local_weights(const std::size_t k, const Point<3> &X, const double rho) const
   {
     std::map<types::global_dof_index, Weight> w;
     const unsigned                             n = fe.n_dofs_per_cell();
@@ -72,7 +72,7 @@ namespace suturesim::tissue
         for (unsigned q = 0; q < quadrature.size(); ++q)
           {
             const double s = values.quadrature_point(q).distance(X) / rho;
-            if (s >= 1)
+            if (s >= 1 || loads->cut_off(k, values.quadrature_point(q)))
               continue;
             const double phi = mesh::spread_kernel(s) * values.JxW(q);
             for (unsigned i = 0; i < n; ++i)
@@ -173,7 +173,7 @@ namespace suturesim::tissue
         mine[k]            = here;
         std::map<types::global_dof_index, Weight> raw;
         if (rho > 0)
-          raw = local_weights(X[k], rho);
+          raw = local_weights(k, X[k], rho);
         else if (here)
           {
             FEValues<3> values(mapping, fe, Quadrature<3>(found.second), update_values);

@@ -33,6 +33,13 @@ namespace suturesim::tissue
     return list[part]->spread_radius(k - first[part]);
   }
 
+  bool
+  PointLoadList::cut_off(const std::size_t k, const dealii::Point<3> &Y) const
+  {
+    const std::size_t part = part_of(k);
+    return list[part]->cut_off(k - first[part], Y);
+  }
+
   void
   PointLoadList::force(const std::size_t k, const dealii::Point<3> &x, dealii::Tensor<1, 3> &f,
                        dealii::Tensor<2, 3> &df_dx) const

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <vector>
 
@@ -48,10 +49,16 @@ namespace
     {
       return rho;
     }
+    bool
+    cut_off(std::size_t, const Point<3> &Y) const override
+    {
+      return Y[0] > cut;
+    }
     std::vector<Point<3>> X;
     Point<3>              target;
     double                k;
     double                rho = 0;
+    double                cut = std::numeric_limits<double>::infinity(); ///< x beyond which the tissue is cut off
   };
 
   /// Whether every iterate in the asymptotic range converges at order > 1.8.
@@ -160,6 +167,52 @@ TEST(EmbeddedPoints, SpreadWeightsSumToOneAndReproduceLinearFieldsAcrossHangingN
       else
         EXPECT_EQ(points.weights(0).size(), 3 * 8u);
     }
+}
+
+TEST(EmbeddedPoints, ASpreadPointTakesNothingBeyondACut)
+{
+  // The visibility criterion (PointLoads::cut_off()): a point spread over ρ = 2 mm inside
+  // a 10 mm cube of Q1 cells of 1.25 mm, with everything beyond the plane x = X_x through
+  // it cut off, as a pierce point on a wound's face has the other lip beyond it. The
+  // plane lies on cell faces, as a wound's faces do (no cell straddles the gap). The
+  // weights then lie on the point's side (no DoF further than a cell beyond the plane)
+  // and their centroid, Σ W_I X_I (Q1 reproduces linear fields), is the half ball's:
+  // X − (∫₀¹ s³φ ds / ∫₀¹ s²φ ds)(ρ/2) e_x = X − (105/192)(ρ/2) e_x = X − 0.2734 ρ e_x
+  // for φ = (1 − s²)²; uncut, X itself (the test above). A plane through the cells is
+  // resolved to the rule's spacing, about ρ/10 here: measured −0.3035 ρ with the plane at
+  // x = 5.3 mm.
+  parallel::distributed::Triangulation<3> tria(MPI_COMM_WORLD);
+  GridGenerator::subdivided_hyper_cube(tria, 8, 0, 0.01);
+  const FESystem<3> fe(FE_Q<3>(1), 3);
+  DoFHandler<3>     dofs(tria);
+  dofs.distribute_dofs(fe);
+  AffineConstraints<double> none;
+  none.close();
+  const MappingQ1<3>                          mapping;
+  std::map<types::global_dof_index, Point<3>> support;
+  DoFTools::map_dofs_to_support_points(mapping, dofs, support);
+
+  const double rho = 0.002;
+  Spring       spring(Point<3>(0.005, 0.0046, 0.0051), Point<3>(), 1);
+  spring.rho = rho;
+  spring.cut = spring.X[0][0];
+  tissue::EmbeddedPoints points(mapping, fe, dofs, MPI_COMM_WORLD);
+  points.locate(spring, none);
+  double   sum[3] = {0, 0, 0};
+  Point<3> centroid;
+  for (const auto &w : points.weights(0))
+    {
+      EXPECT_LE(support.at(w.dof)[0], spring.cut + 0.00125 + 1e-12) << "weight beyond the cut, DoF " << w.dof;
+      sum[w.component] += w.value;
+      centroid[w.component] += w.value * support.at(w.dof)[w.component];
+    }
+  for (unsigned d = 0; d < 3; ++d)
+    EXPECT_NEAR(sum[d], 1.0, 1e-12);
+  const Tensor<1, 3> offset = centroid - spring.X[0];
+  std::cout << "cut at the point: centroid offset (" << offset / rho << ") rho\n";
+  EXPECT_NEAR(offset[0], -105.0 / 384.0 * rho, 1e-3 * rho);
+  EXPECT_NEAR(offset[1], 0, 1e-3 * rho);
+  EXPECT_NEAR(offset[2], 0, 1e-3 * rho);
 }
 
 TEST(PointLoads, SpreadLoadHasAMeshLimitAndAPointLoadDoesNot)

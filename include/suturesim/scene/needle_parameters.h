@@ -56,6 +56,9 @@ namespace suturesim::scene
     double      coupling_tolerance   = 1e-7;      ///< m, tissue–suture rounds (accurate path)
     unsigned    coupling_iterations  = 40;        ///< accurate path
     double      load_radius          = 0;         ///< m, spread of a pierce load (both paths)
+    /// whether a spread pierce load or touch takes tissue beyond the wound's faces too
+    /// (true, as before 2026-12-05) or stops at them (false: accurate path)
+    bool        load_across_wound    = true;
     double      tail_length          = 0.015;     ///< m, an interrupted series' tail when held
 
     /// The pass of a scene that gives none: 3 mm deep, drawn 30 mm up after the turn.

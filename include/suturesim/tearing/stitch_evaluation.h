@@ -41,6 +41,7 @@
 #include <suturesim/coupling/needle_puncture.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <nlohmann/json.hpp>
 
@@ -99,6 +100,7 @@ namespace suturesim::tearing
 
   private:
     std::vector<std::array<Eigen::Vector3d, 3>> faces;
+    std::vector<Eigen::AlignedBox3d>            boxes; ///< each face's, for separates()
     double                                      tolerance = 0;
   };
 

@@ -37,6 +37,8 @@ namespace suturesim::tissue
           dealii::Tensor<2, 3> &df_dx) const override;
     double
     spread_radius(std::size_t k) const override;
+    bool
+    cut_off(std::size_t k, const dealii::Point<3> &Y) const override;
     /// Symmetric when every part's is.
     bool
     symmetric_tangent() const override;

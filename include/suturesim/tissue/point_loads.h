@@ -86,6 +86,17 @@ namespace suturesim::tissue
     {
       return 0;
     }
+
+    /// Whether the tissue at reference point @p Y lies beyond a cut (the wound's faces)
+    /// from spread point @p k: the point then takes none of it, neither its motion nor a
+    /// share of its force, as the visibility criterion of meshless methods leaves out
+    /// what a crack hides (Belytschko, Lu & Gu 1994, Int J Numer Meth Eng 37:229–256,
+    /// §6). Default: no cut, every tissue point within the radius.
+    virtual bool
+    cut_off(std::size_t /*k*/, const dealii::Point<3> & /*Y*/) const
+    {
+      return false;
+    }
   };
 
   class EmbeddedPoints
@@ -204,9 +215,10 @@ namespace suturesim::tissue
     gather(const std::map<dealii::types::global_dof_index, Weight> &raw,
            const dealii::AffineConstraints<double>                 &constraints) const;
 
-    /// The weights over the locally owned cells near @p X (the kernel), this rank's part.
+    /// The weights of point @p k at @p X over the locally owned cells near it (the kernel,
+    /// without what PointLoads::cut_off() leaves out), this rank's part.
     std::map<dealii::types::global_dof_index, Weight>
-    local_weights(const dealii::Point<3> &X, double rho) const;
+    local_weights(std::size_t k, const dealii::Point<3> &X, double rho) const;
 
     const dealii::Mapping<3>        &mapping;
     const dealii::FiniteElement<3>  &fe;

@@ -67,6 +67,7 @@
 #include <suturesim/tissue/point_loads.h>
 #include <suturesim/tools/curved_needle.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -212,6 +213,21 @@ namespace suturesim::coupling
     spread_radius(std::size_t k) const override
     {
       return is_touch(k) ? prm.puncture.touch_radius : prm.load_radius;
+    }
+    bool
+    cut_off(std::size_t k, const dealii::Point<3> &Y) const override
+    {
+      return cut && cut(X[k], Y);
+    }
+
+    /// Whether the straight line between two reference points crosses a cut (the wound's
+    /// faces; a point on a face is on its own lip's side): what a spread point takes of
+    /// the tissue stops there (PointLoads::cut_off()). Empty (the default): no cut.
+    using Cut = std::function<bool(const dealii::Point<3> &, const dealii::Point<3> &)>;
+    void
+    set_cut(Cut c)
+    {
+      cut = std::move(c);
     }
 
     /// Index of the touch among points() (−1 when not pressing) and of pierce point j.
@@ -369,5 +385,6 @@ namespace suturesim::coupling
     tools::Pose                        current, saved_pose;
     double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
     double                             touch_value = 0;
+    Cut                                cut;
   };
 } // namespace suturesim::coupling
