@@ -591,7 +591,7 @@ namespace suturesim::scene
     const std::size_t mine   = points.size() > before ? points.size() - before : 0;
     // the tail: the suture's last end, or the cut end the stitch before left
     const std::uint32_t end = k == 0 ? count - 1 : series[k - 1].cut - 1;
-    const bool tail_held = pull_stops[k] < std::numeric_limits<double>::infinity();
+    const bool tail_held = std::isfinite(pull_stops[k]);
     if (!tail_held && mine > 0 && points[mine - 1].on_suture)
       {
         const double tail = end * link - (points[mine - 1].zeta - L);
@@ -608,7 +608,7 @@ namespace suturesim::scene
       scene.scope("Needle/Pass").fail("Pull", "stitch " + std::to_string(k + 1) + " tied off at " +
                                                 default_text(ties[k]) + " s: " + why);
     };
-    if (mine == 0 || !(pull_stops[k] < std::numeric_limits<double>::infinity()))
+    if (mine == 0 || !std::isfinite(pull_stops[k]))
       fail("its tail is not held: its pass made no hole on the suture");
     // its holes: the pierce points its pass added, nearest the needle
     const double s_exit  = points.front().zeta - L;
@@ -643,7 +643,7 @@ namespace suturesim::scene
       {
         const auto  &s    = series[k];
         const double stop = pull_stops[k];
-        const bool   held = stop < std::numeric_limits<double>::infinity();
+        const bool   held = std::isfinite(stop);
         list.push_back({{"stitch", k + 1},
                         {"tail_taken_at", held ? nlohmann::json(stop) : nlohmann::json(nullptr)},
                         {"pull_stopped", held && stop < s.pull_end},
