@@ -64,6 +64,7 @@ namespace suturesim::rod
     , stiffness(section)
     , lumped(x.size())
     , fixed(x.size(), std::array<bool, 6>{{false, false, false, false, false, false}})
+    , cut_element(x.size() - 1, 0)
     , force(x.size(), Vec3::Zero())
     , moment(x.size(), Vec3::Zero())
     , contact_force(x.size(), 0.0)
@@ -112,6 +113,12 @@ namespace suturesim::rod
   }
 
   void
+  RodModel::cut(const std::size_t element)
+  {
+    cut_element.at(element) = 1;
+  }
+
+  void
   RodModel::set_contact(const ContactParameters &parameters)
   {
     std::vector<double> lengths, arc{0.0};
@@ -136,7 +143,8 @@ namespace suturesim::rod
   {
     double e = 0;
     for (std::size_t k = 0; k < n_elements(); ++k)
-      e += element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness).energy;
+      if (!cut_element[k])
+        e += element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness).energy;
     for (const auto &c : self_contact.update(pos))
       e += contact_friction.evaluate(c, pos, rot, false).energy;
     e += self_contact.energy();
@@ -164,6 +172,8 @@ namespace suturesim::rod
     Mat12 H;
     for (std::size_t k = 0; k < n_elements() && (parts & elastic_part); ++k)
       {
+        if (cut_element[k])
+          continue;
         if (with_jacobian)
           {
             element_tangent(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness, g, &H);
@@ -393,7 +403,9 @@ namespace suturesim::rod
   {
     std::vector<ElementState> states;
     for (std::size_t k = 0; k < n_elements(); ++k)
-      states.push_back(element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness));
+      states.push_back(cut_element[k] ? ElementState{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(),
+                                                     Mat3::Identity(), 0.0}
+                                      : element_state(pos[k], rot[k], pos[k + 1], rot[k + 1], reference[k], stiffness));
     return states;
   }
 

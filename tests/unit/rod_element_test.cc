@@ -21,18 +21,25 @@ namespace
 
   using test_support::anisotropic_section;
 
-  /// A free rod with a curved, twisted stress-free shape, then moved away from it.
-  RodModel
-  deformed_rod(const unsigned n, const double amplitude)
+  /// A curved, twisted stress-free shape of @p n elements: nodes @p x and rotations @p q.
+  void
+  curved_shape(const unsigned n, std::vector<Vec3> &x, std::vector<Quat> &q)
   {
-    std::vector<Vec3> x;
-    std::vector<Quat> q;
     for (unsigned i = 0; i <= n; ++i)
       {
         const double s = double(i) / n;
         x.emplace_back(s, 0.2 * std::sin(3 * s), 0.1 * s * s);
         q.push_back(quaternion_exp(Vec3(1.5 * s, 0.3 * s, 0.4 * std::sin(2 * s))));
       }
+  }
+
+  /// A free rod with a curved, twisted stress-free shape, then moved away from it.
+  RodModel
+  deformed_rod(const unsigned n, const double amplitude)
+  {
+    std::vector<Vec3> x;
+    std::vector<Quat> q;
+    curved_shape(n, x, q);
     RodModel model(x, q, anisotropic_section(), 0.7, Vec3(0.01, 0.02, 0.03));
     for (unsigned i = 0; i <= n; ++i)
       model.set_node(i, x[i] + test_support::random_vector(rng, amplitude * 0.1),
@@ -252,4 +259,76 @@ TEST(RodModel, RigidMotionIsStrainFree)
         EXPECT_LT((Vec3(r1.segment<3>(6 * i + 3 * part)) - Q * Vec3(r0.segment<3>(6 * i + 3 * part))).norm(),
                   1e-12 * r0.norm());
   }
+}
+
+// A cut (RodModel::cut, an interrupted series' thread cut beside a stitch's knot): the rod
+// cut at element 3 of 8 is the two rods of nodes 0-3 and 4-8 built alone from the same
+// stress-free shape, to round-off: the same residual on each piece in a deformed state,
+// the pieces' energies adding up, no Jacobian block across the cut, and under end loads,
+// each piece clamped at its outer end, Newton's equilibrium is theirs; uncut, the same
+// loads bend the one rod elsewhere.
+TEST(RodModel, ACutRodIsItsTwoPieces)
+{
+  constexpr unsigned n = 8, cut = 3;
+  std::vector<Vec3>  x;
+  std::vector<Quat>  q;
+  curved_shape(n, x, q);
+  const auto piece = [&](const unsigned from, const unsigned to) {
+    return RodModel({x.begin() + from, x.begin() + to + 1}, {q.begin() + from, q.begin() + to + 1},
+                    anisotropic_section(), 0.7, Vec3(0.01, 0.02, 0.03));
+  };
+  RodModel whole = piece(0, n), uncut = piece(0, n), a = piece(0, cut), b = piece(cut + 1, n);
+  whole.cut(cut);
+  EXPECT_TRUE(whole.is_cut(cut));
+  EXPECT_FALSE(whole.is_cut(cut + 1));
+  // a deformed state, the same on both
+  for (unsigned i = 0; i <= n; ++i)
+    {
+      const Vec3 xi = x[i] + test_support::random_vector(rng, 0.04);
+      const Quat qi = quaternion_exp(test_support::random_vector(rng, 0.4)) * q[i];
+      whole.set_node(i, xi, qi);
+      (i <= cut ? a : b).set_node(i <= cut ? i : i - cut - 1, xi, qi);
+    }
+  const Eigen::VectorXd r = whole.residual(), ra = a.residual(), rb = b.residual();
+  EXPECT_LT((r.head(ra.size()) - ra).norm(), 1e-12 * ra.norm());
+  EXPECT_LT((r.tail(rb.size()) - rb).norm(), 1e-12 * rb.norm());
+  EXPECT_NEAR(whole.potential_energy(), a.potential_energy() + b.potential_energy(),
+              1e-12 * whole.potential_energy());
+  const Eigen::MatrixXd J = whole.dense_jacobian();
+  EXPECT_EQ((J.block<6, 6>(6 * cut, 6 * (cut + 1)).norm()), 0);
+  EXPECT_EQ((J.block<6, 6>(6 * (cut + 1), 6 * cut).norm()), 0);
+  EXPECT_EQ(whole.element_states()[cut].energy, 0);
+
+  // equilibrium under loads at the cut ends, each piece clamped at its outer end
+  const std::array<bool, 6> clamp{{true, true, true, true, true, true}};
+  const Vec3                load_a(0, 0, -2e-3), load_b(1e-3, 2e-3, 0);
+  for (RodModel *m : {&whole, &uncut, &a, &b})
+    for (unsigned i = 0; i < m->n_nodes(); ++i)
+      m->set_node(i, m == &b ? x[i + cut + 1] : x[i], m == &b ? q[i + cut + 1] : q[i]);
+  for (RodModel *m : {&whole, &uncut})
+    {
+      m->constrain(0, clamp);
+      m->constrain(n, clamp);
+      m->forces()[cut]     = load_a;
+      m->forces()[cut + 1] = load_b;
+    }
+  a.constrain(0, clamp);
+  a.forces()[cut] = load_a;
+  b.constrain(n - cut - 1, clamp);
+  b.forces()[0] = load_b;
+  NewtonParameters newton;
+  newton.max_iterations = 100;
+  for (RodModel *m : {&whole, &uncut, &a, &b})
+    ASSERT_TRUE(m->solve(newton).converged);
+  const double moved = (a.positions()[cut] - x[cut]).norm();
+  EXPECT_GT(moved, 1e-3); // the loads deform the pieces measurably
+  for (unsigned i = 0; i <= n; ++i)
+    {
+      const Vec3 &alone = i <= cut ? a.positions()[i] : b.positions()[i - cut - 1];
+      EXPECT_LT((whole.positions()[i] - alone).norm(), 1e-10 * moved) << "node " << i;
+    }
+  EXPECT_GT((uncut.positions()[cut] - a.positions()[cut]).norm(), 0.1 * moved);
+  std::printf("cut end moved %.4e m; cut rod against its pieces %.2e m; uncut rod %.4e m away\n", moved,
+              (whole.positions()[cut] - a.positions()[cut]).norm(),
+              (uncut.positions()[cut] - a.positions()[cut]).norm());
 }

@@ -189,6 +189,18 @@ namespace suturesim::rod
       return fixed[node][component];
     }
 
+    /// Cuts the rod at element @p element: it is left out from then on (no energy, force
+    /// or stiffness; its nodes turn and move apart freely), so the rod is two pieces,
+    /// each of which must be held for a solve (an interrupted series' thread cut beside a
+    /// stitch's knot, scene/interrupted_series.h). Self-contact still sees the element.
+    void
+    cut(std::size_t element);
+    bool
+    is_cut(std::size_t element) const
+    {
+      return cut_element[element] != 0;
+    }
+
     /// Fixed-direction nodal forces (N) and moments (N m), spatial.
     std::vector<Vec3> &
     forces()
@@ -282,7 +294,7 @@ namespace suturesim::rod
     void
     update(const Eigen::VectorXd &delta, double step = 1);
 
-    /// Element centre states (strains, resultants).
+    /// Element centre states (strains, resultants); a cut element's are zero.
     std::vector<ElementState>
     element_states() const;
 
@@ -355,6 +367,7 @@ namespace suturesim::rod
     SectionStiffness                   stiffness;
     std::vector<NodeInertia>           lumped;
     std::vector<std::array<bool, 6>>   fixed;
+    std::vector<char>                  cut_element; ///< per element, 1 where cut
     std::vector<Vec3>                  force, moment;
     SelfContact                        self_contact;
     ContactFriction                    contact_friction;
