@@ -74,6 +74,16 @@ namespace suturesim::scene
     pose0      = path.pose(0);
     if (scene.bodies == "tissue and suture")
       build_suture();
+    if (suture && closure && scene.closure.tie_off_each_stitch)
+      {
+        // (its checks: scenarios/accurate_needle.cc)
+        planned = np.planned_series();
+        closure->set_stitches(InterruptedSeries::windows(*planned));
+        std::vector<double> arc{0.0};
+        for (const auto &r : suture->references())
+          arc.push_back(arc.back() + r.length);
+        series.emplace(np, std::move(arc), geometry.length());
+      }
     build_contacts();
     // where adaptive steps end: the needle's kinks, the grasp and the grasped end's
     // keyframes (linear between them, so each is a kink)
@@ -233,8 +243,12 @@ namespace suturesim::scene
   void
   AccurateStitch::hold_suture(const double t)
   {
-    const tools::Pose pose = path.pose(closure ? closure->motion_time(t) : t);
+    const tools::Pose pose = needle_pose(t);
     suture->set_node(0, geometry.swage(pose), pose.orientation * pose0.orientation.inverse() * frame0);
+    // an interrupted series' tail hands, each carrying its tail to its lay
+    for (std::size_t k = 0; series && k < series->size(); ++k)
+      if (const auto node = series->tail_node(k))
+        carry(*node, series->tail_position(k, t, closure->stitch_ties()));
     const auto       &end  = scene.suture.last_end;
     const std::size_t last = suture->n_nodes() - 1;
     if (end.type == "free" || t < end.grasp_time)
@@ -246,29 +260,73 @@ namespace suturesim::scene
         const bool r = end.fixes_rotation();
         suture->constrain(last, {{true, true, true, r, r, r}});
       }
-    const double    motion = closure ? closure->motion_time(t) : t;
-    const rod::Vec3 to     = end.position(std::max(motion, end.grasp_time), grasped_at);
-    // The grasper carries the slack thread between it and the last pierce point along
+    const double motion = closure ? closure->motion_time(t) : t;
+    carry(last, end.position(std::max(motion, end.grasp_time), grasped_at));
+  }
+
+  void
+  AccurateStitch::carry(const std::size_t node, const rod::Vec3 &to)
+  {
+    // A hand carries the slack thread between it and the pierce point before it along
     // as a predictor, the move growing linearly with the arc length to it: moved alone,
     // the end node of a thread drawn at 60 mm/s stretched its element to several times
     // its length, and the suture's Newton iteration, its directions turning the slack
     // thread by thousands of radians, crawled at the step cap for 500 iterations
     // (docs/interrupted_stitch.md). The solve then starts from a thread of about its
     // own length.
-    const rod::Vec3                d        = to - suture->positions()[last];
-    const std::vector<std::size_t> carriers = needle->thread_elements();
-    const std::size_t              from     = carriers.empty() ? 0 : carriers.back() + 1;
-    const auto                    &refs     = suture->references();
-    double                         span     = 0;
-    for (std::size_t k = from; k < last; ++k)
+    const rod::Vec3   d    = to - suture->positions()[node];
+    std::size_t       from = 0;
+    for (const std::size_t e : needle->thread_elements())
+      if (e < node)
+        from = std::max(from, e + 1);
+    const auto &refs = suture->references();
+    double      span = 0;
+    for (std::size_t k = from; k < node; ++k)
       span += refs[k].length;
     double along = 0;
-    for (std::size_t i = from + 1; i < last && span > 0; ++i)
+    for (std::size_t i = from + 1; i < node && span > 0; ++i)
       {
         along += refs[i - 1].length;
         suture->set_node(i, suture->positions()[i] + along / span * d, suture->rotations()[i]);
       }
-    suture->set_node(last, to, suture->rotations()[last]);
+    suture->set_node(node, to, suture->rotations()[node]);
+  }
+
+  tools::Pose
+  AccurateStitch::needle_pose(const double t) const
+  {
+    const double motion = closure ? closure->motion_time(t) : t;
+    return planned ? planned->pose(motion, series->pull_stops(), closure->stitch_ties()) : path.pose(motion);
+  }
+
+  void
+  AccurateStitch::advance_series(const double t)
+  {
+    if (!series)
+      return;
+    const auto                           x     = positions();
+    const std::size_t                    first = needle->first_pierce_index();
+    const auto                          &p     = needle->pierce_points(); // ζ ascending: the newest first
+    std::vector<InterruptedSeries::Hole> holes;
+    for (std::size_t j = 0; j < p.size(); ++j)
+      holes.push_back({p[j].zeta, {x[first + j][0], x[first + j][1], x[first + j][2]}, p[j].anchor > geometry.length()});
+    const auto act = series->advance(t, holes, *closure, scene.scope("Needle/Pass"),
+                                     [this](const std::size_t i) -> Eigen::Vector3d { return suture->positions()[i]; });
+    if (act.tail || !act.tie.empty())
+      apply_series();
+  }
+
+  void
+  AccurateStitch::apply_series()
+  {
+    // clamped where they are: a hand or a knot holds the strand and its turn
+    for (const std::size_t node : series->held_nodes())
+      suture->constrain(node, {{true, true, true, true, true, true}});
+    for (const std::size_t e : series->cut_elements())
+      {
+        suture->cut(e);
+        needle->cut_thread(e);
+      }
   }
 
   std::vector<Point<3>>
@@ -288,6 +346,9 @@ namespace suturesim::scene
     std::vector<char> skip = needle->thread_nodes_in_tracts();
     skip.front()           = 1;
     skip.back()            = skip.back() || grasped;
+    if (series)
+      for (const std::size_t node : series->held_nodes())
+        skip[node] = 1;
     // After five rounds, the most that any step of the wound series that settled took
     // (L1, 2026-11-28), the set only grows: on L1 and L2 a step's contacts still changed
     // after 40 rounds, each a coupled solve, and the step was halved
@@ -360,6 +421,7 @@ namespace suturesim::scene
   StepAttempt
   AccurateStitch::attempt(const double tn, const double dt)
   {
+    step_time = tn;
     needle->save();
     model->save_state();
     if (suture)
@@ -368,7 +430,7 @@ namespace suturesim::scene
         saved_q = suture->rotations();
         hold_suture(tn);
       }
-    if (needle->begin_step(tn, path.pose(closure ? closure->motion_time(tn) : tn), x_surface))
+    if (needle->begin_step(tn, needle_pose(tn), x_surface))
       locate_loads();
     detect_faces(x_surface); // the last accepted state
     if (drag)
@@ -451,6 +513,7 @@ namespace suturesim::scene
     if (points_changed)
       locate_loads();
     model->surface_positions(surface, x_surface);
+    advance_series(step_time);
   }
 
   nlohmann::json
@@ -494,6 +557,8 @@ namespace suturesim::scene
       j["faces"] = faces->snapshot();
     if (closure)
       j["closure"] = closure->snapshot();
+    if (series)
+      j["series"] = series->snapshot();
     return j;
   }
 
@@ -543,6 +608,18 @@ namespace suturesim::scene
       faces->restore(j.at("faces"));
     if (closure)
       closure->restore(j.at("closure"));
+    if (series)
+      {
+        try
+          {
+            series->restore(j.at("series"));
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw InputError(std::string("--restart: ") + e.what());
+          }
+        apply_series();
+      }
     load                = {io::triple_as<Tensor<1, 3>>(j.at("load").at(0)), io::triple_as<Tensor<1, 3>>(j.at("load").at(1))};
     end_tension         = j.at("end_tension").get<double>();
     stabilization_force = j.at("stabilization_force").get<double>();

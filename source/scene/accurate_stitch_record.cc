@@ -178,6 +178,8 @@ namespace suturesim::scene
       }
     if (stitch.closure)
       stitch.closure->write(metrics);
+    if (stitch.series)
+      stitch.series->write(metrics);
   }
 
   nlohmann::json

@@ -154,9 +154,27 @@ namespace suturesim::scene
                       "Unit: 1. Range: 1-100.");
     prm.declare_entry("Tail length", default_text(d.tail_length), Patterns::Double(0),
                       "Series = interrupted: the pull draws the thread through each stitch until this much is "
-                      "left beyond its entry (the tail), then stops; the other hand holds the tail there while "
-                      "the tightening draws the stitch closed (at the pull's end if the tail is still longer). "
+                      "left beyond its entry (the tail), then stops; the other hand takes the tail there (and "
+                      "lays it: Tail lay) while the tightening draws the stitch closed (at the pull's end if the "
+                      "tail is still longer). "
                       "Unit: m. Range: > 0.");
+    prm.declare_entry("Tail lay", to_text(d.tail_lay), vector_pattern(),
+                      "Series = interrupted, with a Tail lay duration: where the other hand carries each "
+                      "stitch's tail once it has taken it, from the stitch's planned exit point (where the "
+                      "needle's strand leaves the skin), in world axes: across the wound and beyond the exit, "
+                      "as a first throw is laid, so that the tightening draws the two strands apart (the "
+                      "default stitch's grasper lays its tail 8 mm beyond the exit, 2 mm up). The hand then "
+                      "holds it there; it stops where it is at the stitch's tie-off. Unit: m.");
+    prm.declare_entry("Tail lay duration", default_text(d.tail_lay_duration), Patterns::Double(0),
+                      "Series = interrupted: how long the other hand takes to carry a tail to its Tail lay, "
+                      "from where it took it, at a constant speed. 0: it holds the tail still where it took "
+                      "it. Unit: s. Range: >= 0.");
+    prm.declare_entry("Tail draw", to_text(d.tail_draw), vector_pattern(),
+                      "Series = interrupted, with a Tail lay duration: how far the other hand draws each tail on "
+                      "from its Tail lay, at a constant speed until the stitch's tightening ends (or the stitch "
+                      "is tied off), in world axes: the tail drawn one way while the needle draws the other, "
+                      "as a throw is drawn down (the default stitch's grasper draws its tail 18 mm on). 0: the "
+                      "hand holds the tail at its lay. Unit: m.");
     prm.declare_entry("Series", "running", Patterns::Selection("running|interrupted"),
                       "With Stitches > 1: 'running', one continuous suture drawn through every pass; "
                       "'interrupted', each stitch pulled through to a short tail (Tail length), held by the "
@@ -335,6 +353,9 @@ namespace suturesim::scene
     series.transfer_duration = prm.get_double("Transfer duration");
     series.interrupted       = prm.get("Series") == "interrupted";
     tail_length              = prm.get_double("Tail length"); // > 0: its Range
+    tail_lay                 = get_vector(prm, "Tail lay");
+    tail_lay_duration        = prm.get_double("Tail lay duration");
+    tail_draw                = get_vector(prm, "Tail draw");
     prm.leave_subsection();
     prm.leave_subsection();
     scope.require(jaws.empty() || shape != "double-pointed", "Jaws",

@@ -400,10 +400,7 @@ namespace suturesim::scene
       {
         // each stitch closes from its pull's start, is tied off from its pull's end (or
         // its tail's taking) to its tightening's end
-        std::vector<ClosureMonitor::StitchWindow> windows;
-        for (const auto &pass : scene.needle.planned_series().passes)
-          windows.push_back({pass.t_turn_end, pass.t_end, pass.t_tightened});
-        closure->set_stitches(std::move(windows));
+        closure->set_stitches(InterruptedSeries::windows(scene.needle.planned_series()));
       }
     for (const auto &pair : scene.closure.pairs)
       try
@@ -420,10 +417,14 @@ namespace suturesim::scene
   void
   RealtimeWorld::tool_poses(const double t, std::vector<rt::ToolPose> &poses)
   {
-    poses.resize(first_end_tool + tool_ends.size() + (probe_tool ? 1 : 0) + 2 * series.size());
-    // an interrupted series' ties and tail hands hold the thread where they took it
-    for (std::size_t k = 0; k < 2 * series.size(); ++k)
+    const std::size_t stitches = series ? series->size() : 0;
+    poses.resize(first_end_tool + tool_ends.size() + (probe_tool ? 1 : 0) + 2 * stitches);
+    // an interrupted series' ties hold the thread where they took it, its tail hands
+    // carry their tails to their lays (Needle/Pass/Tail lay) and hold them there
+    for (std::size_t k = 0; k < 2 * stitches; ++k)
       poses[first_series_tool + k] = rt::ToolPose();
+    for (std::size_t k = 0; k < stitches; ++k)
+      poses[first_series_tool + 2 * k + 1].position = series->tail_displacement(k, t, closure->stitch_ties());
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       {
         auto &e = tool_ends[k];
@@ -449,7 +450,7 @@ namespace suturesim::scene
             scene.scope(section).fail(key, e.problem);
           }
         static const std::vector<double> none;
-        poses[needle->tool()] = needle->pose(t, pull_stops, closure ? closure->stitch_ties() : none);
+        poses[needle->tool()] = needle->pose(t, series ? series->pull_stops() : none, closure ? closure->stitch_ties() : none);
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);
@@ -553,12 +554,12 @@ namespace suturesim::scene
                  "an interrupted series cuts its thread: Realtime/Self-collision must be off");
     const auto &sys = world->system();
     uncut           = Eigen::RowVectorXd::Ones(sys.suture.size() - 1);
-    series.resize(scene.closure.pairs.size());
-    pull_stops.assign(series.size(), std::numeric_limits<double>::infinity());
-    const auto passes = scene.needle.planned_series().passes;
-    for (std::size_t k = 0; k < series.size(); ++k)
-      series[k].pull_end = passes[k].t_end;
-    for (std::size_t k = 0; k < series.size(); ++k)
+    // the thread's nodes a link apart from the swage
+    std::vector<double> arc(sys.suture.size());
+    for (std::size_t i = 0; i < arc.size(); ++i)
+      arc[i] = static_cast<double>(i) * world->suture()->link_length();
+    series.emplace(scene.needle, std::move(arc), world->needle()->geometry().length());
+    for (std::size_t k = 0; k < series->size(); ++k)
       for (const char *role : {"tie", "tail"})
         {
           const std::size_t tool =
@@ -571,83 +572,33 @@ namespace suturesim::scene
   void
   RealtimeWorld::advance_series()
   {
-    if (series.empty())
+    if (!series)
       return;
-    const auto         &sys    = world->system();
-    const auto         &points = world->needle()->pierce_points(); // ζ ascending: the newest first
-    const std::uint32_t first = sys.suture.begin, count = sys.suture.size();
-    const double        L     = world->needle()->geometry().length();
-    const double        link  = world->suture()->link_length();
-    const double        t     = world->time();
-    const auto         &ties  = closure->stitch_ties();
-    // the stitch under way: the first not tied off
-    std::size_t k = 0;
-    while (k < series.size() && series[k].points > 0)
-      ++k;
-    if (k == series.size())
+    std::vector<InterruptedSeries::Hole> holes;
+    for (const auto &p : world->needle()->pierce_points()) // ζ ascending: the newest first
+      holes.push_back({p.zeta, p.position, p.on_suture});
+    const std::uint32_t first = world->system().suture.begin;
+    const auto          act   = series->advance(world->time(), holes, *closure, scene.scope("Needle/Pass"),
+                                                [&](const std::size_t i) -> Eigen::Vector3d {
+                                                  return world->system().nodes.x.col(first + i);
+                                                });
+    const std::size_t   k     = act.stitch;
+    if (act.tail)
+      world->grasp(first_series_tool + 2 * k + 1, {first + static_cast<std::uint32_t>(*act.tail)}, rt::ToolPose());
+    if (act.tie.empty())
       return;
-    auto             &stitch = series[k];
-    const std::size_t before = k == 0 ? 0 : series[k - 1].points; // earlier stitches' holes
-    const std::size_t mine   = points.size() > before ? points.size() - before : 0;
-    // the tail: the suture's last end, or the cut end the stitch before left
-    const std::uint32_t end = k == 0 ? count - 1 : series[k - 1].cut - 1;
-    const bool tail_held = std::isfinite(pull_stops[k]);
-    if (!tail_held && mine > 0 && points[mine - 1].on_suture)
-      {
-        const double tail = end * link - (points[mine - 1].zeta - L);
-        if (tail <= scene.needle.tail_length || t >= stitch.pull_end)
-          {
-            world->grasp(first_series_tool + 2 * k + 1, {first + end}, rt::ToolPose());
-            pull_stops[k] = t;
-            closure->start_stitch(k, t); // drawn tight from now on: it may be tied off
-          }
-      }
-    if (!(ties[k] < std::numeric_limits<double>::infinity()))
-      return;
-    const auto fail = [&](const std::string &why) {
-      scene.scope("Needle/Pass").fail("Pull", "stitch " + std::to_string(k + 1) + " tied off at " +
-                                                default_text(ties[k]) + " s: " + why);
-    };
-    if (mine == 0 || !std::isfinite(pull_stops[k]))
-      fail("its tail is not held: its pass made no hole on the suture");
-    // its holes: the pierce points its pass added, nearest the needle
-    const double s_exit  = points.front().zeta - L;
-    const double s_entry = points[mine - 1].zeta - L;
-    // the knot: each strand held one stitch width (entry to exit) beyond its hole, where
-    // strands tied over the wound meet, so that the strands crossing over it are kept
-    // (held at their holes, the stitches opened again to 0.23-0.28 mm of 0.35-0.40 mm)
-    const double reach = (points[mine - 1].position - points.front().position).norm();
-    const auto   tail    = static_cast<std::uint32_t>(std::min<double>(std::ceil((s_entry + reach) / link), end));
-    const auto   lead    = static_cast<std::uint32_t>(std::max(0.0, std::floor((s_exit - reach) / link)));
-    if (lead < 3 || s_exit < 0)
-      fail("its exit hole is at the needle's swage: too little thread is drawn through to tie it there");
-    // (a tail shorter than the reach: its hand, holding the end, is the tail strand's hold)
-    world->grasp(first_series_tool + 2 * k,
-                 tail < end ? std::vector<std::uint32_t>{first + lead, first + tail}
-                            : std::vector<std::uint32_t>{first + lead},
-                 rt::ToolPose());
-    // the thread cut next to the needle strand's hold: the rest is the next stitch's
-    world->cut_suture(lead - 1);
-    uncut[lead - 1] = 0;
-    stitch.points   = points.size();
-    stitch.cut      = lead;
+    std::vector<std::uint32_t> held;
+    for (const std::size_t node : act.tie)
+      held.push_back(first + static_cast<std::uint32_t>(node));
+    world->grasp(first_series_tool + 2 * k, held, rt::ToolPose());
+    world->cut_suture(static_cast<std::uint32_t>(act.cut));
+    uncut[static_cast<Eigen::Index>(act.cut)] = 0;
   }
 
   void
   RealtimeWorld::write_series(nlohmann::json &metrics) const
   {
-    if (series.empty())
-      return;
-    auto &list = metrics["interrupted_series"] = nlohmann::json::array();
-    for (std::size_t k = 0; k < series.size(); ++k)
-      {
-        const auto  &s    = series[k];
-        const double stop = pull_stops[k];
-        const bool   held = std::isfinite(stop);
-        list.push_back({{"stitch", k + 1},
-                        {"tail_taken_at", held ? nlohmann::json(stop) : nlohmann::json(nullptr)},
-                        {"pull_stopped", held && stop < s.pull_end},
-                        {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)}});
-      }
+    if (series)
+      series->write(metrics);
   }
 } // namespace suturesim::scene

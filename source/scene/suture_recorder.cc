@@ -2,6 +2,7 @@
 #include <suturesim/scene/scene_parameters.h>
 #include <suturesim/scene/suture_recorder.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -31,6 +32,13 @@ namespace suturesim::scene
       }
     data.segment_fields = {{"axial_force", axial},       {"shear_force", shear}, {"bending_moment", bending},
                            {"twisting_moment", twisting}, {"twist", twist},       {"curvature", curvature}};
+    // an interrupted series' thread, cut beside each knot: 1 on the cut elements, which
+    // join the pieces' ends only in the picture (ParaView: Threshold cut < 0.5)
+    std::vector<double> cut(states.size(), 0.0);
+    for (std::size_t e = 0; e < states.size(); ++e)
+      cut[e] = model.is_cut(e) ? 1.0 : 0.0;
+    if (std::find(cut.begin(), cut.end(), 1.0) != cut.end())
+      data.segment_fields.emplace_back("cut", std::move(cut));
     return data;
   }
 

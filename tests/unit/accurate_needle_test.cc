@@ -517,6 +517,78 @@ TEST(AccurateNeedle, ARunningSeriesStitchesOnAlongTheWound)
   EXPECT_EQ(e["too_close_to_neighbour"], 0);
 }
 
+TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRod)
+{
+  // parameters/stitch_series_interrupted.prm in the accurate path (its Model accurate
+  // block: Q1-P0 hexahedra of 2 mm, 20 ms steps, tied off at the closure gap), two
+  // stitches on a 60 mm thread, to 5.6 s: the first stitch's pull stops once 15 mm of tail
+  // is left beyond its entry, the other hand takes that tail (a clamped rod node), lays it
+  // across the wound and draws it on, and the stitch is tied off as its own gap pair
+  // closes (not at its tightening's end), its strands clamped a stitch width beyond its
+  // holes and the rod cut beside the needle's (one element left out, drawn with cut = 1 in
+  // the suture's VTU). Once cut, the needle's thread ends there: the needle pulls on
+  // nothing but the drag of its free thread, and the stitch stays closed. Measured
+  // 2026-12-05: tail taken at 2.59 s, closed at 5.08 s with 5.38 N, tied off at 5.09 s at
+  // a gap of 0.096 mm, the needle's pull 4.53 N before the cut and 0.0028 N after, cut at
+  // element 50 of 120. About three minutes.
+  const auto r = run_suturesim(
+    "stitch_series_accurate",
+    {source_path("parameters/stitch_series_interrupted.prm"), "--set", "Model=accurate", "--set",
+     "Needle/Pass/Stitches=2", "--set",
+     "Closure/Gap probes=s1: -0.0001732, -0.005, 0.006, 0.0001732, -0.005, 0.006; s2: -0.0002, 0, 0.006, 0.0002, "
+     "0, 0.006",
+     "--set", "Suture/Straight/Length=0.06", "--set", "Suture/Elements=120", "--set", "Time/End time=5.6"},
+    {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "900"});
+  ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
+  const auto &m      = r.summary["metrics"];
+  const auto &series = m["interrupted_series"];
+  ASSERT_EQ(series.size(), 2u) << m;
+  const auto &g = m["gaps"]["s1"];
+  ASSERT_TRUE(g["closure_time"].is_number() && g["tie_off_time"].is_number()) << g;
+  const double taken = series[0]["tail_taken_at"].get<double>(), tied = g["tie_off_time"].get<double>();
+  std::printf("[ accurate series ] stitch 1: tail taken at %.3f s, closed at %.3f s with %.3f N, tied off at %.3f s "
+              "with %.3f N at a gap of %.3e m, final gap %.3e m, cut at node %d\n",
+              taken, g["closure_time"].get<double>(), g["closure_tension"].get<double>(), tied,
+              g["tie_off_tension"].get<double>(), g["tie_off_gap"].get<double>(), g["final"].get<double>(),
+              series[0]["cut_node"].get<int>());
+  EXPECT_TRUE(series[0]["pull_stopped"].get<bool>()) << series[0];
+  EXPECT_LT(taken, tied);
+  EXPECT_LE(g["closure_time"].get<double>(), tied);
+  EXPECT_LT(g["tie_off_gap"].get<double>(), 1e-4); // tied as it closed
+  EXPECT_LT(g["final"].get<double>(), 1e-4);       // and held
+  EXPECT_TRUE(series[1]["cut_node"].is_null());    // the second is not tied yet
+  // the needle's pull: drawn tight at the tie-off, then on nothing but its free thread
+  std::string header;
+  const auto  rows = read_forces(r, &header);
+  const auto  time = column(header, "time");
+  const auto  fx = column(header, "needle_force_x"), fy = column(header, "needle_force_y"),
+             fz = column(header, "needle_force_z");
+  const auto  needle_force = [&](const std::size_t j) {
+    return std::sqrt(rows[j][fx] * rows[j][fx] + rows[j][fy] * rows[j][fy] + rows[j][fz] * rows[j][fz]);
+  };
+  std::size_t i = 0;
+  while (i < rows.size() && rows[i][time] <= tied + 1e-9)
+    ++i;
+  ASSERT_LT(i, rows.size());
+  EXPECT_GT(needle_force(i - 1), 1.0);
+  EXPECT_LT(needle_force(i), 0.05) << rows[i][time];
+  // the last suture VTU: one element cut, the one beside the needle strand's hold
+  std::string last;
+  for (const auto &f : std::filesystem::directory_iterator(r.directory))
+    if (f.path().filename().string().rfind("suture_", 0) == 0 && f.path().extension() == ".vtu")
+      last = std::max(last, f.path().string());
+  ASSERT_FALSE(last.empty());
+  const auto  vtu = read_vtu(last);
+  const auto &cut = vtu.get("PointData", "cut");
+  // each segment is a patch of its own two points
+  std::vector<std::size_t> cut_segments;
+  for (std::size_t p = 0; p < cut.values.size(); p += 2)
+    if (cut.values[p] == 1)
+      cut_segments.push_back(p / 2);
+  ASSERT_EQ(cut_segments.size(), 1u);
+  EXPECT_EQ(cut_segments.front(), series[0]["cut_node"].get<std::size_t>());
+}
+
 TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
 {
   // The default scene, accurate, at the resolution of its "subsection Model accurate"

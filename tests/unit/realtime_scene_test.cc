@@ -445,10 +445,11 @@ TEST(RealtimeScene, ARunningSutureOnALongerWoundClosesStitchByStitch)
 TEST(RealtimeScene, AnInterruptedSeriesClosesAndTiesOffEachStitchWithItsOwnSuture)
 {
   // parameters/stitch_series_interrupted.prm: three stitches 5 mm apart, each pulled
-  // through to a 15 mm tail, its tail held, drawn closed by the needle's tightening, tied
-  // off on its own gap pair and cut beside it (Needle/Pass/Series = interrupted). Each
-  // stitch closes in its own turn (the second as its pull draws the thread through,
-  // before its tail is taken: measured 13.68 s, the tail at 15.21 s), is tied off once
+  // through to a 15 mm tail, its tail taken and laid across the wound, drawn closed by the
+  // needle's tightening, tied off on its own gap pair and cut beside it
+  // (Needle/Pass/Series = interrupted). Each stitch closes in its own turn (the second as
+  // its pull draws the thread through, before its tail is taken: measured 13.61 s, the
+  // tail at 15.21 s), is tied off once
   // its tail is held, at its tie-off gap (not at its tightening's end) and before the
   // next stitch's entry, and stays closed to under a third of its initial gap (held at
   // their holes instead of a stitch width beyond, the strands crossing over the wound

@@ -23,6 +23,10 @@
  *  - Closure (scene/wound_closure.h): the gap probes join the tissue's probes; the
  *    tie-off stops the needle's and the far end's motions; the incision's faces touch
  *    by penalty (coupling/accurate/wound_contact.h, Closure/Face contact).
+ *  - An interrupted series (Needle/Pass/Series = interrupted; scene/interrupted_series.h
+ *    decides when and where): the other hand's hold on a stitch's tail and the tie-off's
+ *    holds on both strands clamp the rod's nodes where they are (all six components),
+ *    and the thread is cut by leaving out one rod element (rod::RodModel::cut).
  * The record (forces.csv, VTU, summary.json) is scene/accurate_stitch_record.h's.
  */
 
@@ -32,6 +36,7 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/rod/viscous_drag.h>
+#include <suturesim/scene/interrupted_series.h>
 #include <suturesim/scene/scene_parameters.h>
 #include <suturesim/scene/suture_newton_trace.h>
 #include <suturesim/tissue/condensed_bodies.h>
@@ -108,6 +113,7 @@ namespace suturesim::scene
     std::optional<rod::RodModel>                    suture;
     std::optional<coupling::SutureContact>          contact;
     std::optional<coupling::WoundContact>           faces;
+    std::optional<InterruptedSeries>                series; ///< Needle/Pass/Series = interrupted
     Eigen::Matrix3Xd                                x_surface; ///< the surface's vertices, last accepted state
     bool                                            grasped = false;
     /// of the last accepted step: the needle's force and torque, the grasper's pull on
@@ -140,10 +146,27 @@ namespace suturesim::scene
     /// needle numbers them from 0), then the contacts.
     void
     locate_loads();
-    /// Moves the suture's held nodes to time @p t: the swage, and the far end once
-    /// grasped (from where it was then, by its keyframes, as in the realtime path).
+    /// The needle's pose at time @p t: its motion, stopped at a tie-off, and in an
+    /// interrupted series at each stitch's tail taken and tie-off.
+    tools::Pose
+    needle_pose(double t) const;
+    /// An interrupted series after the step accepted at @p t: a tail taken, a stitch tied
+    /// off (its nodes held, the thread cut).
+    void
+    advance_series(double t);
+    /// The series' holds and cuts so far, on the rod and the pierce points' thread (a
+    /// restart's).
+    void
+    apply_series();
+    /// Moves the suture's held nodes to time @p t: the swage, an interrupted series' tails
+    /// on their way to their lays, and the far end once grasped (from where it was then, by
+    /// its keyframes, as in the realtime path).
     void
     hold_suture(double t);
+    /// Moves the held node @p node to @p to, and the slack thread between it and the
+    /// pierce point before it along, in proportion to the arc length (a predictor).
+    void
+    carry(std::size_t node, const rod::Vec3 &to);
     /// New contacts of the suture against the surface at @p at; true when they changed.
     /// From the sixth round of a step on, the set only grows (SutureContact::detect()).
     bool
@@ -177,6 +200,8 @@ namespace suturesim::scene
     unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
     unsigned                                 suture_iterations = 0; ///< this attempt's most of one suture solve
     std::vector<double>                      events;          ///< sorted, s
+    std::optional<tools::SurgicalSeries>     planned;         ///< an interrupted series' passes
+    double                                   step_time = 0;   ///< of the step attempted last, s
     bool                                     points_changed = false;
   };
 } // namespace suturesim::scene

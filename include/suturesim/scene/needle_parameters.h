@@ -60,6 +60,12 @@ namespace suturesim::scene
     /// (true, as before 2026-12-05) or stops at them (false: accurate path)
     bool        load_across_wound    = true;
     double      tail_length          = 0.015;     ///< m, an interrupted series' tail when held
+    /// an interrupted series: where the other hand lays each tail, from the stitch's
+    /// planned exit point (m, world axes), over tail_lay_duration (s; 0: held still)
+    Eigen::Vector3d tail_lay          = Eigen::Vector3d(0.008, 0, 0.002);
+    double          tail_lay_duration = 0;
+    /// and how far it draws the tail on from there until the stitch's tightening ends (m)
+    Eigen::Vector3d tail_draw         = Eigen::Vector3d::Zero();
 
     /// The pass of a scene that gives none: 3 mm deep, drawn 30 mm up after the turn.
     static tools::PassParameters

@@ -30,6 +30,7 @@
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/ligament_tearing.h>
 #include <suturesim/realtime/world.h>
+#include <suturesim/scene/interrupted_series.h>
 #include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_settings.h>
 #include <suturesim/scene/scene_parameters.h>
@@ -66,20 +67,13 @@ namespace suturesim::scene
     double
     closure_tension() const;
 
-    /// An interrupted series (Needle/Pass/Series), between steps, stitch by stitch:
-    ///  - the other hand takes the stitch's tail where it lies once the thread beyond
-    ///    the stitch's entry hole is no longer than Tail length (or at the pull's end),
-    ///    and the needle's pull stops there (tools::SurgicalSeries::pose): the tail is the
-    ///    suture's last end for the first stitch, the cut end for the others;
-    ///  - once the closure ties the stitch off (ClosureMonitor::stitch_ties), a tool of
-    ///    its own holds the thread where it is on each strand, one stitch width (from
-    ///    its entry to its exit) beyond the strand's hole (the entry's on the tail's
-    ///    side, the exit's on the needle's), where strands tied over the wound meet; the
-    ///    thread is cut next to the exit strand's hold (SutureModel::cut), and the rest,
-    ///    on the needle, is the next stitch's suture, its cut end the next tail.
-    /// A stitch's holes are the pierce points its pass added (thread coordinate ζ − L on
-    /// the suture, L the needle's length). A ParameterError naming Needle/Pass/Pull when
-    /// the exit's hold would fall on the needle's swage (too little thread drawn through).
+    /// An interrupted series (Needle/Pass/Series), between steps, stitch by stitch
+    /// (scene/interrupted_series.h decides when and where): the other hand's tool takes
+    /// the stitch's tail, and once the closure ties the stitch off a tool of its own holds
+    /// the thread where it is on each strand and the thread is cut next to the needle
+    /// strand's hold (SutureModel::cut); the rest, on the needle, is the next stitch's
+    /// suture. A ParameterError naming Needle/Pass/Pull when the exit's hold would fall on
+    /// the needle's swage (too little thread drawn through).
     void
     advance_series();
     /// metrics.interrupted_series: per stitch when its tail was taken (s) and whether its
@@ -120,19 +114,10 @@ namespace suturesim::scene
     std::optional<ClosureMonitor>                    closure;
     std::vector<std::pair<std::size_t, std::size_t>> gap_probes;
     std::vector<double>                              gaps; ///< of the last measure_closure()
-    /// An interrupted series' state: per stitch two tools (its tie, its tail's hand)
-    /// from first_series_tool on, its pull's planned end, the pierce points counted and
-    /// the needle strand's hold (where the thread was cut) once tied off; when its pull
-    /// stopped and its tail was taken is pull_stops[k] (∞ before).
-    struct SeriesStitch
-    {
-      double        pull_end  = 0;
-      std::size_t   points    = 0; ///< pierce points counted at its tie-off
-      std::uint32_t cut       = 0; ///< suture node of the needle strand's hold
-    };
-    std::size_t               first_series_tool = 0;
-    std::vector<SeriesStitch> series;
-    std::vector<double>       pull_stops; ///< per stitch: its tail taken, its pull stopped (s)
+    /// An interrupted series' state, and per stitch two tools (its tie, its tail's hand)
+    /// from first_series_tool on.
+    std::optional<InterruptedSeries> series;
+    std::size_t                      first_series_tool = 0;
     /// per suture link: 0 where cut (the record's longest link leaves it out), else 1
     Eigen::RowVectorXd        uncut;
 

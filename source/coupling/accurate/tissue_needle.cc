@@ -358,15 +358,17 @@ namespace suturesim::coupling
     // The walk never turns round, so a point cannot swing back and forth.
     constexpr double slack     = 0.1;
     int              last_step = 0;
+    // nor does it pass a cut (cut_thread())
+    const auto cut = [&](const std::size_t k) { return k < thread_cut.size() && thread_cut[k] != 0; };
     for (std::size_t walked = 0; walked <= n; ++walked)
       {
         xi = along(e);
-        if (xi > 1 + slack && e + 1 < n && last_step >= 0)
+        if (xi > 1 + slack && e + 1 < n && !cut(e + 1) && last_step >= 0)
           {
             ++e;
             last_step = 1;
           }
-        else if (xi < -slack && e > 0 && last_step <= 0)
+        else if (xi < -slack && e > 0 && !cut(e - 1) && last_step <= 0)
           {
             --e;
             last_step = -1;

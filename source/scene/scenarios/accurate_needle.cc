@@ -54,15 +54,24 @@ namespace suturesim::scene
         scene.scope("Knot").require(scene.knot.knot == "none", "Knot",
                                     "the accurate path ties knots in a free suture (Bodies = suture); a stitch is "
                                     "tied off with a knot in the realtime path only (Model = realtime)");
-        scene.scope("Needle/Pass")
-          .require(!scene.closure.tie_off_each_stitch, "Series",
-                   "an interrupted series is tied off stitch by stitch in the realtime path only so far (Model = "
-                   "realtime)");
         scene.parse_bodies(prm);
         if (scene.has_suture())
           scene.scope("Suture/Start end")
             .require(scene.suture.start_end.type == "free", "Type",
                      "must be free: the needle holds the suture's start (Needle/Attach suture)");
+        if (scene.has_suture() && scene.closure.tie_off_each_stitch)
+          {
+            // the realtime path's checks (RealtimeWorld::add_series)
+            scene.scope("Suture/Last end")
+              .require(scene.suture.last_end.type == "free", "Type",
+                       "must be free in an interrupted series (Needle/Pass/Series): the other hand takes each "
+                       "stitch's tail once it is Tail length long");
+            // a cut element would join the two pieces' ends in the self-contact's segments
+            scene.scope("Suture/Self-contact")
+              .require(!scene.suture.contact.enabled, "Enabled",
+                       "an interrupted series (Needle/Pass/Series) cuts its thread: the suture's self-contact must "
+                       "be off");
+          }
         scene.scope("Tissue").require(scene.tissue.region_moduli.empty(), "Region moduli",
                                       "layered tissue is realtime only so far: use Model = realtime");
         scene.parse_time(prm);

@@ -67,6 +67,7 @@
 #include <suturesim/tissue/point_loads.h>
 #include <suturesim/tools/curved_needle.h>
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <string>
@@ -128,6 +129,14 @@ namespace suturesim::coupling
     void
     set_thread(const std::vector<rod::Vec3> *nodes, std::vector<double> element_lengths,
                const std::vector<rod::Quat> *rotations = nullptr);
+    /// The thread is cut at its element @p element (rod::RodModel::cut): a pierce point
+    /// following the thread stops at the cut instead of passing onto the other piece.
+    void
+    cut_thread(std::size_t element)
+    {
+      thread_cut.resize(std::max(thread_cut.size(), element + 1), 0);
+      thread_cut[element] = 1;
+    }
 
     /// Residual and Jacobian the pierce points on the thread add to suture element
     /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
@@ -382,6 +391,7 @@ namespace suturesim::coupling
     std::size_t                        saved_log = 0;
     std::vector<dealii::Point<3>>      X;
     ThreadCurve                        thread; ///< the suture beyond the swage
+    std::vector<char>                  thread_cut; ///< per thread element, 1 where cut (cut_thread())
     tools::Pose                        current, saved_pose;
     double                             time = 0, last_time = 0, saved_time = 0, saved_last_time = 0;
     double                             touch_value = 0;
