@@ -70,7 +70,7 @@ namespace suturesim::scene
             act.tail     = end;
             stitch.tail  = end;
             stitch.taken = node(end);
-            stops[k]    = t;
+            stops[k]     = t;
             closure.start_stitch(k, t); // drawn tight from now on: it may be tied off
           }
       }
