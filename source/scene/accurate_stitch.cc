@@ -312,6 +312,10 @@ namespace suturesim::scene
       holes.push_back({p[j].zeta, {x[first + j][0], x[first + j][1], x[first + j][2]}, p[j].anchor > geometry.length()});
     const auto act = series->advance(t, holes, *closure, scene.scope("Needle/Pass"),
                                      [this](const std::size_t i) -> Eigen::Vector3d { return suture->positions()[i]; });
+    // the hand's pull on the tail as the stitch is tied off: the reaction at its clamped
+    // node in the accepted state
+    if (!act.tie.empty())
+      series->set_tail_force(act.stitch, suture_reaction.segment<3>(6 * *series->tail_node(act.stitch)).norm());
     if (act.tail || !act.tie.empty())
       apply_series();
   }
@@ -500,6 +504,8 @@ namespace suturesim::scene
         const Eigen::VectorXd r = body->residual();
         swage_pull              = -r.head<6>();
         end_tension             = r.tail<6>().head<3>().norm(); // the grasper's reaction
+        if (series)
+          suture_reaction = r; // the series' hands' and ties' reactions
         stabilization_force     = drag ? drag->total_force(suture->positions()) : 0.0;
         suture->commit_contact();
       }

@@ -17,8 +17,8 @@ namespace suturesim::scene
     , draw(needle.tail_draw)
   {
     for (const auto &pass : needle.planned_series().passes)
-      stitches.push_back(
-        {pass.t_end, 0, 0, 0, {}, pass.exit + needle.tail_lay, Eigen::Vector3d::Zero(), pass.t_tightened});
+      stitches.push_back({pass.t_end, 0, 0, 0, {}, pass.exit + needle.tail_lay, Eigen::Vector3d::Zero(),
+                          pass.t_tightened, std::numeric_limits<double>::quiet_NaN()});
     stops.assign(stitches.size(), std::numeric_limits<double>::infinity());
   }
 
@@ -150,7 +150,9 @@ namespace suturesim::scene
         list.push_back({{"stitch", k + 1},
                         {"tail_taken_at", held ? nlohmann::json(stop) : nlohmann::json(nullptr)},
                         {"pull_stopped", held && stop < s.pull_end},
-                        {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)}});
+                        {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)},
+                        {"tail_force_at_tie_off",
+                         std::isfinite(s.tail_force) ? nlohmann::json(s.tail_force) : nlohmann::json(nullptr)}});
       }
   }
 
@@ -166,7 +168,8 @@ namespace suturesim::scene
                         {"cut", s.cut},
                         {"tail", s.tail},
                         {"tie", s.tie},
-                        {"taken", {s.taken[0], s.taken[1], s.taken[2]}}});
+                        {"taken", {s.taken[0], s.taken[1], s.taken[2]}},
+                        {"tail_force", std::isfinite(s.tail_force) ? nlohmann::json(s.tail_force) : nlohmann::json(nullptr)}});
       }
     return list;
   }
@@ -189,6 +192,8 @@ namespace suturesim::scene
         if (x.size() != 3)
           throw std::invalid_argument("the checkpoint's interrupted series has a tail position that is not a point");
         s.taken = Eigen::Vector3d(x[0], x[1], x[2]);
+        const auto &f = r.at("tail_force");
+        s.tail_force  = f.is_null() ? std::numeric_limits<double>::quiet_NaN() : f.get<double>();
         for (const std::size_t node : s.tie)
           if (node >= arc.size())
             throw std::invalid_argument("the checkpoint's interrupted series holds a node the suture does not have");

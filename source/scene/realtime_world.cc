@@ -590,6 +590,8 @@ namespace suturesim::scene
     std::vector<std::uint32_t> held;
     for (const std::size_t node : act.tie)
       held.push_back(first + static_cast<std::uint32_t>(node));
+    // the hand's pull on the tail as the stitch is tied off
+    series->set_tail_force(k, world->tool_forces()[first_series_tool + 2 * k + 1].force.norm());
     world->grasp(first_series_tool + 2 * k, held, rt::ToolPose());
     world->cut_suture(static_cast<std::uint32_t>(act.cut));
     uncut[static_cast<Eigen::Index>(act.cut)] = 0;

@@ -530,7 +530,8 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
   // nothing but the drag of its free thread, and the stitch stays closed. Measured
   // 2026-12-05: tail taken at 2.59 s, closed at 5.08 s with 5.38 N, tied off at 5.09 s at
   // a gap of 0.096 mm, the needle's pull 4.53 N before the cut and 0.0028 N after, cut at
-  // element 50 of 120. About three minutes.
+  // element 50 of 120; the hand's pull on the tail at the tie-off 13.75 N. About three
+  // minutes.
   const auto r = run_suturesim(
     "stitch_series_accurate",
     {source_path("parameters/stitch_series_interrupted.prm"), "--set", "Model=accurate", "--set",
@@ -546,12 +547,17 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
   const auto &g = m["gaps"]["s1"];
   ASSERT_TRUE(g["closure_time"].is_number() && g["tie_off_time"].is_number()) << g;
   const double taken = series[0]["tail_taken_at"].get<double>(), tied = g["tie_off_time"].get<double>();
+  ASSERT_TRUE(series[0]["tail_force_at_tie_off"].is_number()) << series[0];
   std::printf("[ accurate series ] stitch 1: tail taken at %.3f s, closed at %.3f s with %.3f N, tied off at %.3f s "
-              "with %.3f N at a gap of %.3e m, final gap %.3e m, cut at node %d\n",
+              "with %.3f N (the hand's pull on the tail %.3f N) at a gap of %.3e m, final gap %.3e m, cut at node "
+              "%d\n",
               taken, g["closure_time"].get<double>(), g["closure_tension"].get<double>(), tied,
-              g["tie_off_tension"].get<double>(), g["tie_off_gap"].get<double>(), g["final"].get<double>(),
-              series[0]["cut_node"].get<int>());
+              g["tie_off_tension"].get<double>(), series[0]["tail_force_at_tie_off"].get<double>(),
+              g["tie_off_gap"].get<double>(), g["final"].get<double>(), series[0]["cut_node"].get<int>());
   EXPECT_TRUE(series[0]["pull_stopped"].get<bool>()) << series[0];
+  // the hand's draw closes it: at the tie-off the hand pulls harder than the needle
+  // (measured 13.75 N against 5.53 N)
+  EXPECT_GT(series[0]["tail_force_at_tie_off"].get<double>(), g["tie_off_tension"].get<double>());
   EXPECT_LT(taken, tied);
   EXPECT_LE(g["closure_time"].get<double>(), tied);
   EXPECT_LT(g["tie_off_gap"].get<double>(), 1e-4); // tied as it closed

@@ -477,10 +477,12 @@ TEST(RealtimeScene, AnInterruptedSeriesClosesAndTiesOffEachStitchWithItsOwnSutur
       const auto &s = series[k];
       ASSERT_TRUE(g["closure_time"].is_number() && g["tie_off_time"].is_number()) << g;
       const double closed = g["closure_time"].get<double>(), tied = g["tie_off_time"].get<double>();
+      ASSERT_TRUE(s["tail_force_at_tie_off"].is_number()) << s;
       std::printf("[ interrupted series ] stitch %d: tail taken at %.3f s, closed at %.3f s with %.3f N, tied off "
-                  "at %.3f s with %.3f N, final gap %.3e m\n",
+                  "at %.3f s with %.3f N (the hand's pull on the tail %.3f N), final gap %.3e m\n",
                   k + 1, s["tail_taken_at"].get<double>(), closed, g["closure_tension"].get<double>(), tied,
-                  g["tie_off_tension"].get<double>(), g["final"].get<double>());
+                  g["tie_off_tension"].get<double>(), s["tail_force_at_tie_off"].get<double>(),
+                  g["final"].get<double>());
       EXPECT_TRUE(s["pull_stopped"].get<bool>()) << s;
       EXPECT_LE(s["tail_taken_at"].get<double>(), tied);
       EXPECT_LE(closed, tied);

@@ -202,6 +202,7 @@ namespace suturesim::scene
     std::vector<double>                      events;          ///< sorted, s
     std::optional<tools::SurgicalSeries>     planned;         ///< an interrupted series' passes
     double                                   step_time = 0;   ///< of the step attempted last, s
+    Eigen::VectorXd                          suture_reaction; ///< a series': the rod's residual accepted last, N (N m)
     bool                                     points_changed = false;
   };
 } // namespace suturesim::scene

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -113,6 +114,13 @@ namespace suturesim::scene
     {
       return stitches.size();
     }
+    /// The other hand's pull on stitch @p k's tail (N) when it is tied off (the paths
+    /// measure it: the tail's tool, the reaction at the rod's clamped node).
+    void
+    set_tail_force(std::size_t k, double force)
+    {
+      stitches.at(k).tail_force = force;
+    }
     /// Every node a hand or a tie holds so far, and every element cut (a restart
     /// applies them again).
     std::vector<std::size_t>
@@ -122,7 +130,7 @@ namespace suturesim::scene
 
     /// metrics.interrupted_series: per stitch when its tail was taken (s) and whether its
     /// pull stopped for it (the tail short before the pull's end), the suture node its
-    /// thread was cut at (null before its tie-off).
+    /// thread was cut at and the hand's pull on its tail then (N; null before its tie-off).
     void
     write(nlohmann::json &metrics) const;
     nlohmann::json
@@ -142,6 +150,7 @@ namespace suturesim::scene
       Eigen::Vector3d          lay   = Eigen::Vector3d::Zero(); ///< its tail's lay: the planned exit + offset, m
       Eigen::Vector3d          taken = Eigen::Vector3d::Zero(); ///< where its tail was taken, m
       double                   tightened = 0; ///< its tightening's planned end, s
+      double                   tail_force = std::numeric_limits<double>::quiet_NaN(); ///< at its tie-off, N
     };
     /// The first node at or beyond arc length @p s (clamped to the last).
     std::size_t
