@@ -274,8 +274,12 @@ namespace suturesim::scene
     // thread by thousands of radians, crawled at the step cap for 500 iterations
     // (docs/interrupted_stitch.md). The solve then starts from a thread of about its
     // own length.
-    const rod::Vec3   d    = to - suture->positions()[node];
-    std::size_t       from = 0;
+    const rod::Vec3 d = to - suture->positions()[node];
+    // a hand that has stopped (a tail laid and tied, an end after the tie-off) is there
+    // already: hold_suture() asks this of it at every attempt
+    if (d.isZero(0))
+      return;
+    std::size_t from = 0;
     for (const std::size_t e : needle->thread_elements())
       if (e < node)
         from = std::max(from, e + 1);
