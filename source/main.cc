@@ -2,6 +2,7 @@
 #include <suturesim/core/blas_threads.h>
 #include <suturesim/core/error.h>
 #include <suturesim/core/interruption.h>
+#include <suturesim/core/mpi_session.h>
 #include <suturesim/core/version.h>
 #include <suturesim/io/checked_output.h>
 #include <suturesim/scene/default_scene.h>
@@ -75,15 +76,9 @@ main(int argc, char **argv)
     return study::study_command(std::vector<std::string>(argv + 2, argv + argc));
   if (argc > 1 && std::string(argv[1]) == "calibrate")
     return study::calibrate_command(std::vector<std::string>(argv + 2, argv + argc));
-  // Started without a launcher, Open MPI makes the process a singleton and forks a daemon
-  // (orted) for it, which only MPI_Comm_spawn and connect/accept need; this program uses
-  // neither. Its documented MCA parameter ess_singleton_isolated skips the daemon, a
-  // third of a run's start-up (0.3 s of 0.9 s here; the 178 input-error tests, each a
-  // process, 196 s -> 167 s). A launcher's processes (mpirun) are not singletons and
-  // ignore it; a value set by the user is kept; other MPIs ignore the variable.
-  setenv("OMPI_MCA_ess_singleton_isolated", "1", 0);
-  // One thread per process unless --threads asks for more (below).
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  // One thread per process unless --threads asks for more (below); an Open MPI singleton
+  // isolated in a session directory of its own (core/mpi_session.h).
+  const MpiSession mpi(argc, argv);
   limit_blas_threads();
   const bool root = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 

@@ -64,9 +64,10 @@ namespace suturesim::study
     }
 
     /// The last "error: ..." or "incomplete: ..." line of the case's log (its one-line
-    /// diagnostic).
+    /// diagnostic); without one, its last non-blank line in @p other (what a library
+    /// that stopped the process said last, such as Open MPI's failed MPI_Init).
     std::string
-    error_line(const fs::path &log)
+    error_line(const fs::path &log, std::string &other)
     {
       std::ifstream in(log);
       std::string   line, last;
@@ -75,6 +76,8 @@ namespace suturesim::study
           last = line.substr(7);
         else if (line.rfind("incomplete: ", 0) == 0)
           last = line.substr(12);
+        else if (line.find_first_not_of(" \t\r") != std::string::npos)
+          other = line;
       return last;
     }
 
@@ -146,10 +149,12 @@ namespace suturesim::study
         {5, "failed"},    {6, "incomplete"}, {130, "interrupted"}, {143, "interrupted"}};
       const auto                       s = statuses.find(o.exit_code);
       o.status = s == statuses.end() ? "crashed" : s->second;
+      std::string last;
       if (o.exit_code != 0)
-        o.reason = error_line(log);
+        o.reason = error_line(log, last);
       if (o.reason.empty() && o.exit_code != 0)
-        o.reason = "exit code " + std::to_string(o.exit_code) + ", see " + log.string();
+        o.reason = "exit code " + std::to_string(o.exit_code) + (last.empty() ? "" : " after '" + last.substr(0, 200) + "'") +
+                   ", see " + log.string();
       return o;
     }
 

@@ -14,6 +14,7 @@
 // the global matrix, so its time is the time per cell.
 // Run: build/tests/benchmarks/tissue_benchmark --benchmark_filter=...
 #include <suturesim/core/blas_threads.h>
+#include <suturesim/core/mpi_session.h>
 #include <suturesim/io/recorder.h>
 #include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/simulation.h>
@@ -158,7 +159,7 @@ int
 main(int argc, char **argv)
 {
   suturesim::select_blas_kernels(argv); // timed on the kernels the program uses
-  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const suturesim::MpiSession mpi(argc, argv); // as the program starts MPI
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -2,6 +2,7 @@
 // Model = accurate through the suturesim command, on Q1 hexahedra of 2 mm (the tissue
 // alone, then with the Cosserat suture through the pierce points; penalty and Lagrange
 // enforcement of the pierce ties).
+#include "restart_checks.h"
 #include "run_scene.h"
 #include "stitch_checks.h"
 #include "vtu_reader.h"
@@ -531,15 +532,14 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
   // 2026-12-05: tail taken at 2.59 s, closed at 5.08 s with 5.38 N, tied off at 5.09 s at
   // a gap of 0.096 mm, the needle's pull 4.53 N before the cut and 0.0028 N after, cut at
   // element 50 of 120; the hand's pull on the tail at the tie-off 13.75 N. About three
-  // minutes.
-  const auto r = run_suturesim(
-    "stitch_series_accurate",
-    {source_path("parameters/stitch_series_interrupted.prm"), "--set", "Model=accurate", "--set",
+  // minutes, and a restart from its checkpoint (below).
+  const Args args{source_path("parameters/stitch_series_interrupted.prm"), "--set", "Model=accurate", "--set",
      "Needle/Pass/Stitches=2", "--set",
      "Closure/Gap probes=s1: -0.0001732, -0.005, 0.006, 0.0001732, -0.005, 0.006; s2: -0.0002, 0, 0.006, 0.0002, "
      "0, 0.006",
-     "--set", "Suture/Straight/Length=0.06", "--set", "Suture/Elements=120", "--set", "Time/End time=5.6"},
-    {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "900"});
+     "--set", "Suture/Straight/Length=0.06", "--set", "Suture/Elements=120", "--set", "Time/End time=5.6", "--set",
+     "Time/Checkpoint steps=300"};
+  const auto r = run_suturesim("stitch_series_accurate", args, {"/usr/bin/env", "OPENBLAS_NUM_THREADS=1", "timeout", "900"});
   ASSERT_EQ(r.exit_code, 0) << r.output.substr(r.output.size() > 3000 ? r.output.size() - 3000 : 0);
   const auto &m      = r.summary["metrics"];
   const auto &series = m["interrupted_series"];
@@ -593,6 +593,24 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
       cut_segments.push_back(p / 2);
   ASSERT_EQ(cut_segments.size(), 1u);
   EXPECT_EQ(cut_segments.front(), series[0]["cut_node"].get<std::size_t>());
+
+  // Restarted from its checkpoint (after step 300 of 335, t = 4.91 s: the tail held and
+  // drawn, the stitch not yet closed), a copy of the run takes the tail's hold back and
+  // ties off, cuts and ends as the run did (scene/interrupted_series.h, snapshot() and
+  // restore()). To the needle pass's restart tolerance (tests/unit/interruption_test.cc),
+  // 100 times below this scene's own solver floor (0.01 x 5e4 N/m x 1e-7 m = 5e-5 N):
+  // measured 2026-12-05, the largest difference in forces.csv 2.5e-10; the rest of the
+  // run took 6 s.
+  const std::string copy = r.directory + "_restarted";
+  std::filesystem::remove_all(copy);
+  std::filesystem::copy(r.directory, copy, std::filesystem::copy_options::recursive);
+  const auto restarted = restart(args, copy);
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  const double from = restarted.summary["restarted_from"]["t"].get<double>();
+  EXPECT_GT(from, taken);
+  EXPECT_LT(from, g["closure_time"].get<double>());
+  constexpr double series_floor = 5e-7;
+  expect_as_uninterrupted(restarted, r, series_floor);
 }
 
 TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)

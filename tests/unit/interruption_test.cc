@@ -3,6 +3,7 @@
 // is 128 + the signal.
 #include <suturesim/core/process.h>
 
+#include "restart_checks.h"
 #include "run_scene.h"
 
 #include <gtest/gtest.h>
@@ -20,14 +21,6 @@ namespace fs = std::filesystem;
 
 namespace
 {
-  struct Stopped
-  {
-    int            exit_code = -1;
-    std::string    output, directory;
-    nlohmann::json summary;
-    std::vector<std::vector<double>> rows;
-  };
-
   /// Runs suturesim with @p args into a fresh folder @p name, sends @p signal once
   /// forces.csv has @p rows_before rows (the run is under way), and waits for the end.
   Stopped
@@ -159,61 +152,6 @@ TEST(Interruption, SigtermStopsAnAccurateRunAfterAnAcceptedStep)
 
 namespace
 {
-  /// `suturesim args... --restart dir`: its exit code, output, summary.json and forces.csv.
-  Stopped
-  restart(const std::vector<std::string> &args, const fs::path &dir)
-  {
-    Stopped s;
-    s.directory = dir.string();
-    s.exit_code = run_logged(join(join({suturesim_binary()}, args), {"--restart", dir.string()}),
-                             dir.string() + "_restart.log", s.output, {"OPENBLAS_NUM_THREADS=1"});
-    RunResult r;
-    r.directory = dir.string();
-    s.rows      = read_forces(r);
-    std::ifstream summary(dir / "summary.json");
-    if (summary)
-      summary >> s.summary;
-    return s;
-  }
-
-  /// The solvers' tolerance of this scene: the tissue's Newton floor, 0.01 × Pierce
-  /// points/Transverse stiffness (500 N/m) × Coupling tolerance (1e-7 m) = 5e-7 N
-  /// (scene/accurate_stitch.cc); a solve stops anywhere within it.
-  constexpr double solver_floor = 5e-7;
-
-  /// Every number under @p a (metrics, events, the steps' account) equals the one under
-  /// @p b to the solvers' tolerance (relative 1e-6, absolute solver_floor; N, m, m/s,
-  /// N m). The restart takes the same steps from the same state, but not bit for bit:
-  /// the suture's rotations are normalised again when they are set back, a change in
-  /// their last bit, which the stick-slip steps after it amplify (measured: 1e-14 N in the
-  /// first step, 1.4e-8 N fifty steps on, 35 times below the floor). A lost friction
-  /// history is seen: a restart whose pierce points lost their stick anchors (set to
-  /// their current ζ) differed by 2.2e-3 m/s in a slip velocity.
-  void
-  expect_same_numbers(const nlohmann::json &a, const nlohmann::json &b, const std::string &path)
-  {
-    ASSERT_EQ(a.type(), b.type()) << path;
-    if (a.is_number())
-      EXPECT_NEAR(a.get<double>(), b.get<double>(), 1e-6 * std::abs(b.get<double>()) + solver_floor) << path;
-    else if (a.is_object())
-      {
-        ASSERT_EQ(a.size(), b.size()) << path;
-        for (auto it = b.begin(); it != b.end(); ++it)
-          {
-            ASSERT_TRUE(a.contains(it.key())) << path << "/" << it.key();
-            expect_same_numbers(a[it.key()], it.value(), path + "/" + it.key());
-          }
-      }
-    else if (a.is_array())
-      {
-        ASSERT_EQ(a.size(), b.size()) << path;
-        for (std::size_t k = 0; k < a.size(); ++k)
-          expect_same_numbers(a[k], b[k], path + "/" + std::to_string(k));
-      }
-    else
-      EXPECT_EQ(a, b) << path;
-  }
-
   /// The accurate needle pass with its suture (parameters/needle_pass.prm, Model =
   /// accurate: Q1 hexahedra of 2 mm) through both punctures and onto the suture, with
   /// two tear criteria over its tract (scene/tear_monitor.h): a restart takes their
@@ -233,37 +171,10 @@ namespace
                                                "--set",
                                                "Tearing/fracture-energy/Fracture toughness=0.3"};
 
-  /// A restarted run's record against the uninterrupted one's: status, metrics, events,
-  /// the steps' solver account, and forces.csv row by row.
-  void
-  expect_as_uninterrupted(const Stopped &restarted, const RunResult &whole)
-  {
-    EXPECT_EQ(restarted.exit_code, 0) << restarted.output;
-    ASSERT_FALSE(restarted.summary.is_null()) << restarted.output;
-    EXPECT_EQ(restarted.summary["status"], "completed");
-    for (const char *part : {"metrics", "events", "steps"})
-      expect_same_numbers(restarted.summary[part], whole.summary[part], part);
-    expect_same_numbers(restarted.summary["solver"]["steps"], whole.summary["solver"]["steps"], "solver/steps");
-    // the series list the uninterrupted run's states, no more (after deal.II's comment
-    // with the time the file was written)
-    const auto collection = [](const std::string &file) {
-      const std::string text = read_text(file);
-      return text.substr(std::min(text.size(), text.find("<VTKFile")));
-    };
-    for (const char *series : {"tissue.pvd", "suture.pvd"})
-      EXPECT_EQ(collection((fs::path(restarted.directory) / series).string()),
-                collection((fs::path(whole.directory) / series).string()))
-        << series;
-    const auto rows = read_forces(whole);
-    ASSERT_EQ(restarted.rows.size(), rows.size());
-    for (std::size_t i = 0; i < rows.size(); ++i)
-      for (std::size_t j = 0; j < rows[i].size(); ++j)
-        if (std::isnan(rows[i][j])) // a tear criterion before its first tract
-          EXPECT_TRUE(std::isnan(restarted.rows[i][j])) << "row " << i << " column " << j;
-        else
-          EXPECT_NEAR(restarted.rows[i][j], rows[i][j], 1e-6 * std::abs(rows[i][j]) + solver_floor)
-            << "row " << i << " column " << j;
-  }
+  /// The solvers' tolerance of this scene: the tissue's Newton floor, 0.01 × Pierce
+  /// points/Transverse stiffness (500 N/m) × Coupling tolerance (1e-7 m) = 5e-7 N
+  /// (scene/accurate_stitch.cc); a solve stops anywhere within it.
+  constexpr double solver_floor = 5e-7;
 } // namespace
 
 // Stopped mid-run by SIGTERM (which writes a checkpoint), then --restart: the run goes on
@@ -283,7 +194,7 @@ TEST(Restart, AnAccurateNeedlePassStoppedMidRunEndsAsTheUninterruptedRun)
   const auto restarted = restart(accurate_pass, dir);
   EXPECT_NE(restarted.output.find("restarting from the checkpoint after step"), std::string::npos)
     << restarted.output;
-  expect_as_uninterrupted(restarted, whole);
+  expect_as_uninterrupted(restarted, whole, solver_floor);
 }
 
 // A periodic checkpoint (Time/Checkpoint steps) of a run that then ran to its end: a
@@ -334,7 +245,7 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
   EXPECT_NE(restarted.output.find("restarting from the checkpoint after step " + std::to_string(steps / 25 * 25)),
             std::string::npos)
     << restarted.output;
-  expect_as_uninterrupted(restarted, whole);
+  expect_as_uninterrupted(restarted, whole, solver_floor);
   EXPECT_TRUE(restarted.summary.contains("restarted_from")) << restarted.summary.dump();
   // the checkpoint (after step 25k, near the end) holds the tract made before it
   const auto &tracts = whole.summary["metrics"]["tearing"]["criteria"]["max-principal-stretch"]["tracts"];

@@ -31,16 +31,18 @@ namespace
     nlohmann::json study; ///< study.json, when written
   };
 
-  /// `suturesim study <file> --output <scratch>/<name> <args>`; @p fresh clears the folder.
+  /// `suturesim study <file> --output <scratch>/<name> <args>`; @p fresh clears the folder;
+  /// @p environment as start_process() takes it.
   StudyRun
-  run_study(const std::string &name, const std::string &file, const Args &args, const bool fresh = true)
+  run_study(const std::string &name, const std::string &file, const Args &args, const bool fresh = true,
+            const Args &environment = {})
   {
     StudyRun r;
     r.folder = (scratch_path() / name).string();
     if (fresh)
       fs::remove_all(r.folder);
     r.exit_code = run_logged(join({suturesim_binary(), "study", file, "--output", r.folder}, args), r.folder + ".log",
-                             r.output);
+                             r.output, environment);
     std::ifstream json(r.folder + "/study.json");
     if (json)
       json >> r.study;
@@ -292,6 +294,23 @@ TEST(StudyRun, ACaseThatEndsWithoutWhatItsSceneAskedIsIncompleteWithTheReason)
 // A reference that fails (exit 3) stops the study at its report, naming it; with
 // Reference/On failure = report (per axis only) the study goes on: the failed
 // reference's cases are not compared with it and their map cells carry its status.
+// A case that a library stopped, with no line of suturesim's own: the study names the exit
+// code and what the log said last. Here Open MPI's MPI_Init, told to make its session
+// directory under a file (OMPI_MCA_orte_tmpdir_base, the user's to set, which each case
+// keeps: core/mpi_session.h), fails and exits 1 (as it did in CI, 2026-12-05, when two
+// singletons shared a session directory; the reason said only "exit code 1").
+TEST(StudyRun, ACaseThatALibraryStoppedIsCrashedWithWhatItsLogSaidLast)
+{
+  const auto not_a_folder = scratch_path() / "not_a_folder";
+  std::ofstream(not_a_folder) << "a file\n";
+  const auto r = run_study("study_library_stopped", small_study, {},
+                           true, {"OMPI_MCA_orte_tmpdir_base=" + (not_a_folder / "tmp").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("crashed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("exit code 1 after '"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("MPI_INIT"), std::string::npos) << r.output;
+}
+
 TEST(StudyRun, AFailedReferenceStopsTheStudyOrIsReportedInItsCells)
 {
   const std::string file = source_path("tests/data/studies/failed_reference.prm");
