@@ -43,6 +43,19 @@ namespace suturesim::test_support
     return s;
   }
 
+  /// restart() of a copy of @p run's folder (<folder>_restarted), which keeps the run's
+  /// own outputs to compare with: a run that wrote periodic checkpoints goes on from its
+  /// last.
+  inline Stopped
+  restart_copy(const std::vector<std::string> &args, const RunResult &run)
+  {
+    namespace fs         = std::filesystem;
+    const fs::path copy = run.directory + "_restarted";
+    fs::remove_all(copy);
+    fs::copy(run.directory, copy, fs::copy_options::recursive);
+    return restart(args, copy);
+  }
+
   /// Every number under @p a (metrics, events, the steps' account) equals the one under
   /// @p b to the solvers' tolerance: relative 1e-6, absolute @p floor (N, m, m/s, N m;
   /// the scene's, see its caller). The restart takes the same steps from the same state,
