@@ -9,6 +9,23 @@
 
 namespace suturesim::scene
 {
+  namespace
+  {
+    /// A time or force of the record: null where it is not finite (not reached yet).
+    nlohmann::json
+    finite_or_null(const double v)
+    {
+      return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+    }
+
+    /// finite_or_null() back, @p absent for null.
+    double
+    number_or(const nlohmann::json &j, const double absent)
+    {
+      return j.is_null() ? absent : j.get<double>();
+    }
+  } // namespace
+
   InterruptedSeries::InterruptedSeries(const NeedleParameters &needle, std::vector<double> s, const double L)
     : arc(std::move(s))
     , tail_length(needle.tail_length)
@@ -148,11 +165,10 @@ namespace suturesim::scene
         const double stop = stops[k];
         const bool   held = std::isfinite(stop);
         list.push_back({{"stitch", k + 1},
-                        {"tail_taken_at", held ? nlohmann::json(stop) : nlohmann::json(nullptr)},
+                        {"tail_taken_at", finite_or_null(stop)},
                         {"pull_stopped", held && stop < s.pull_end},
                         {"cut_node", s.points > 0 ? nlohmann::json(s.cut - 1) : nlohmann::json(nullptr)},
-                        {"tail_force_at_tie_off",
-                         std::isfinite(s.tail_force) ? nlohmann::json(s.tail_force) : nlohmann::json(nullptr)}});
+                        {"tail_force_at_tie_off", finite_or_null(s.tail_force)}});
       }
   }
 
@@ -163,13 +179,13 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < stitches.size(); ++k)
       {
         const auto &s = stitches[k];
-        list.push_back({{"stop", std::isfinite(stops[k]) ? nlohmann::json(stops[k]) : nlohmann::json(nullptr)},
+        list.push_back({{"stop", finite_or_null(stops[k])},
                         {"points", s.points},
                         {"cut", s.cut},
                         {"tail", s.tail},
                         {"tie", s.tie},
                         {"taken", {s.taken[0], s.taken[1], s.taken[2]}},
-                        {"tail_force", std::isfinite(s.tail_force) ? nlohmann::json(s.tail_force) : nlohmann::json(nullptr)}});
+                        {"tail_force", finite_or_null(s.tail_force)}});
       }
     return list;
   }
@@ -183,7 +199,7 @@ namespace suturesim::scene
       {
         auto       &s = stitches[k];
         const auto &r = j.at(k);
-        stops[k]      = r.at("stop").is_null() ? std::numeric_limits<double>::infinity() : r.at("stop").get<double>();
+        stops[k]      = number_or(r.at("stop"), std::numeric_limits<double>::infinity());
         s.points      = r.at("points").get<std::size_t>();
         s.cut         = r.at("cut").get<std::size_t>();
         s.tail        = r.at("tail").get<std::size_t>();
@@ -192,8 +208,7 @@ namespace suturesim::scene
         if (x.size() != 3)
           throw std::invalid_argument("the checkpoint's interrupted series has a tail position that is not a point");
         s.taken = Eigen::Vector3d(x[0], x[1], x[2]);
-        const auto &f = r.at("tail_force");
-        s.tail_force  = f.is_null() ? std::numeric_limits<double>::quiet_NaN() : f.get<double>();
+        s.tail_force  = number_or(r.at("tail_force"), std::numeric_limits<double>::quiet_NaN());
         for (const std::size_t node : s.tie)
           if (node >= arc.size())
             throw std::invalid_argument("the checkpoint's interrupted series holds a node the suture does not have");

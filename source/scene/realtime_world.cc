@@ -16,6 +16,19 @@ namespace suturesim::scene
 
   namespace
   {
+    /// An interrupted series' tools, two per stitch from @p first (RealtimeWorld's
+    /// first_series_tool): stitch @p k's tie, then its tail's hand.
+    std::size_t
+    tie_tool(const std::size_t first, const std::size_t k)
+    {
+      return first + 2 * k;
+    }
+    std::size_t
+    tail_tool(const std::size_t first, const std::size_t k)
+    {
+      return tie_tool(first, k) + 1;
+    }
+
     rt::ToolPose
     pose_of(const rod::EndCondition &end, const Eigen::Vector3d &initial, const double t)
     {
@@ -424,7 +437,7 @@ namespace suturesim::scene
     for (std::size_t k = 0; k < 2 * stitches; ++k)
       poses[first_series_tool + k] = rt::ToolPose();
     for (std::size_t k = 0; k < stitches; ++k)
-      poses[first_series_tool + 2 * k + 1].position = series->tail_displacement(k, t, closure->stitch_ties());
+      poses[tail_tool(first_series_tool, k)].position = series->tail_displacement(k, t, closure->stitch_ties());
     for (std::size_t k = 0; k < tool_ends.size(); ++k)
       {
         auto &e = tool_ends[k];
@@ -584,15 +597,15 @@ namespace suturesim::scene
                                                 });
     const std::size_t   k     = act.stitch;
     if (act.tail)
-      world->grasp(first_series_tool + 2 * k + 1, {first + static_cast<std::uint32_t>(*act.tail)}, rt::ToolPose());
+      world->grasp(tail_tool(first_series_tool, k), {first + static_cast<std::uint32_t>(*act.tail)}, rt::ToolPose());
     if (act.tie.empty())
       return;
     std::vector<std::uint32_t> held;
     for (const std::size_t node : act.tie)
       held.push_back(first + static_cast<std::uint32_t>(node));
     // the hand's pull on the tail as the stitch is tied off
-    series->set_tail_force(k, world->tool_forces()[first_series_tool + 2 * k + 1].force.norm());
-    world->grasp(first_series_tool + 2 * k, held, rt::ToolPose());
+    series->set_tail_force(k, world->tool_forces()[tail_tool(first_series_tool, k)].force.norm());
+    world->grasp(tie_tool(first_series_tool, k), held, rt::ToolPose());
     world->cut_suture(static_cast<std::uint32_t>(act.cut));
     uncut[static_cast<Eigen::Index>(act.cut)] = 0;
   }

@@ -48,15 +48,9 @@ namespace suturesim
     MpiSession &
     operator=(const MpiSession &) = delete;
 
-    /// The session directory base made for this singleton, "" when none was (a
-    /// launcher's process, a base set by the user, or none could be made).
-    const std::string &
-    private_tmpdir() const
-    {
-      return tmpdir;
-    }
-
   private:
+    /// the session directory base made for this singleton, "" when none was (a
+    /// launcher's process, a base set by the user, or none could be made)
     std::string                                               tmpdir;
     std::unique_ptr<dealii::Utilities::MPI::MPI_InitFinalize> mpi;
   };
