@@ -263,7 +263,8 @@ namespace suturesim::rod
                       "Energy line-search trials per iteration; 0 takes full Newton steps. Unit: 1. Range: 0-50.");
     prm.declare_entry("Stall window", std::to_string(d.newton.stall_window), Patterns::Integer(0, 1000),
                       "Full steps (Line search steps = 0): after this many iterations in a row "
-                      "without the residual falling below 0.99 of its least value so far, the "
+                      "without the residual falling below 0.99 of its least value so far (the "
+                      "window runs on when a pierce point changes its carrier element), the "
                       "solve goes on with the energy line search (4 trials a step, from the "
                       "capped step). Full steps cycle where a pierce point's slip reverses "
                       "across its stick band (docs/interrupted_stitch.md). 0: never. Unit: 1. "

@@ -105,7 +105,7 @@ namespace suturesim::rod
     std::function<void(const NewtonIterate &)> observer;
     /// Called after every step: terms whose active set moves with the state (the pierce
     /// points' carrier elements) update it there and return true; the solve then
-    /// assembles again at the same state and restarts its stall window.
+    /// assembles again at the same state. The stall window runs on across such changes.
     std::function<bool()> follow;
   };
 
