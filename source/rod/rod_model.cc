@@ -642,8 +642,8 @@ namespace suturesim::rod
             // a change of the active set re-assembles the residual but does not restart
             // the stall window: a pierce point at a node can switch its carrier back and
             // forth every other iteration, and a window restarted at each switch never
-            // closed (bite_spacing.prm at b = 6 mm, s = 3 mm: 500 full steps, 257
-            // switches, no line search)
+            // closed (bite_spacing.prm at b = 6 mm, s = 3 mm: a failed solve of 500 full
+            // steps and 257 switches, never the line search)
             if (prm.follow && prm.follow())
               assemble(s, extra, true);
             norm = free_norm(s.r);
