@@ -13,6 +13,7 @@ namespace suturesim::coupling
     const double   capacity = friction_limit(p, normal);
     const double   gap      = zeta - anchor;
     const double   trial    = -p.stiffness * gap;
+    r.capacity              = capacity;
     if (branch ? !branch->slipping : coulomb_sticks(p.stiffness, capacity, gap))
       {
         r.force      = trial;

@@ -62,6 +62,23 @@ TEST(CoulombFriction, AHeldBranchGivesOneSidedSlopesAtTheStickSlipKink)
       // on its own branch the held law is the law
       EXPECT_DOUBLE_EQ(coulomb_friction(p, zeta, 0, N, &branch).force, base.force);
     }
+  // Where a slipping step leaves a point (its anchor returned to k_t |ζ − ζ_a| = μN), the
+  // next step starts on the kink and round-off would pick the tangent's branch: there it
+  // is slip on either side of the kink within 1e-9 of μN (both carry μN), stick beyond.
+  for (const double zeta : {0.001, 0.0013, -0.002, 0.0123})
+    {
+      const FrictionResult slipped = coulomb_friction(p, zeta, 0, N);
+      ASSERT_TRUE(slipped.slipping);
+      for (const double nudge : {-1e-12, 0.0, 1e-12})
+        {
+          const double         at   = zeta + (zeta > 0 ? nudge : -nudge) * kink;
+          const FrictionResult next = coulomb_friction(p, at, slipped.anchor, N);
+          EXPECT_TRUE(FrictionBranch::of(next, at - slipped.anchor).slipping) << zeta << ", nudge " << nudge;
+        }
+      const double         inside = zeta - (zeta > 0 ? 1e-8 : -1e-8) * kink;
+      const FrictionResult next   = coulomb_friction(p, inside, slipped.anchor, N);
+      EXPECT_FALSE(FrictionBranch::of(next, inside - slipped.anchor).slipping) << zeta;
+    }
   // a held slip keeps its direction: f = −sign μN even where the gap has reversed
   const FrictionBranch forward{true, 1};
   EXPECT_DOUBLE_EQ(coulomb_friction(p, -0.001, 0, N, &forward).force, -0.6);

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 using namespace suturesim;
 using coupling::HermiteSegment;
@@ -174,4 +175,59 @@ TEST(ThreadCurve, ArcLengthNamesTheElementAndTheWeightOfItsSecondNode)
   // beyond the ends: the first and the last element, the weight clamped
   EXPECT_EQ(thread.element(-1e-3), std::make_pair(std::size_t(0), 0.0));
   EXPECT_EQ(thread.element(s + 1e-3), std::make_pair(thread.n_elements() - 1, 1.0));
+}
+
+TEST(ThreadCurve, ReactionIsTheVirtualWorkOfTheForceAtTheCurvesPoint)
+{
+  // HermiteSegment::reaction(u, f) against central differences of f·c(u) over the 12
+  // nodal unknowns at fixed u: positions moved by ±h, rotations turned by exp(±h ê)
+  // (the rod's spatial increments). The end tangents' length, the chord ℓ, has third
+  // derivatives of order 3/ℓ² in the positions, so the differences are exact to
+  // (h/ℓ)² |f| (with h²/6, |t| < 1 and a factor 2 to spare), plus the round-off
+  // 4 ε |f| |c| / h. Then the statics: the loads'
+  // resultant is f and their moment about the origin c(u) × f (the force acts where the
+  // curve is; the chord's weights miss the curve's bulge). Inside the element and 0.1
+  // and 0.3 beyond either end (a pierce point on the curve continued, before its
+  // carrier moves on), with and without directors (the chord).
+  const Helix           h;
+  const Eigen::Vector3d f(0.3, -1.1, 0.7); // N
+  const double          step = 1e-7; // m and rad
+  unsigned              checked = 0;
+  for (const bool directors : {true, false})
+    for (std::size_t e = 0; e + 1 < h.x.size(); ++e)
+      for (const double u : {-0.3, -0.1, 0.0, 0.35, 0.8, 1.0, 1.1, 1.3})
+        {
+          SCOPED_TRACE("element " + std::to_string(e) + ", u = " + std::to_string(u) +
+                       (directors ? "" : ", chord"));
+          const auto work = [&](const unsigned c, const double by) {
+            rod::Vec3 xa = h.x[e], xb = h.x[e + 1];
+            rod::Quat qa = h.q[e], qb = h.q[e + 1];
+            rod::Vec3 &y = c < 6 ? xa : xb;
+            rod::Quat &q = c < 6 ? qa : qb;
+            if (c % 6 >= 3)
+              q = rod::quaternion_exp(by * rod::Vec3::Unit(c % 3)) * q;
+            else
+              y += by * rod::Vec3::Unit(c % 3);
+            return f.dot(HermiteSegment::through(xa, qa, xb, qb, directors).at(u));
+          };
+          const HermiteSegment               c = HermiteSegment::through(h.x[e], h.q[e], h.x[e + 1], h.q[e + 1], directors);
+          const Eigen::Matrix<double, 12, 1> r = c.reaction(u, f);
+          const double                       size = c.at(u).norm() * f.norm();
+          const double                       chord = (h.x[e + 1] - h.x[e]).norm();
+          for (unsigned k = 0; k < 12; ++k)
+            EXPECT_NEAR(r[k], (work(k, step) - work(k, -step)) / (2 * step),
+                        std::pow(step / chord, 2) * f.norm() + 4 * eps * size / step)
+              << "unknown " << k;
+          const Eigen::Vector3d resultant = r.head<3>() + r.segment<3>(6);
+          const Eigen::Vector3d moment =
+            h.x[e].cross(r.head<3>()) + r.segment<3>(3) + h.x[e + 1].cross(r.segment<3>(6)) + r.segment<3>(9);
+          EXPECT_LE((resultant - f).norm(), 8 * eps * f.norm());
+          EXPECT_LE((moment - c.at(u).cross(f)).norm(), 64 * eps * size);
+          if (!directors)
+            {
+              EXPECT_EQ(r.segment<3>(3).norm() + r.segment<3>(9).norm(), 0.0);
+            }
+          ++checked;
+        }
+  EXPECT_EQ(checked, 2 * 8 * (h.x.size() - 1));
 }

@@ -29,6 +29,7 @@
 #include <suturesim/core/model_parameters.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace suturesim::coupling
 {
@@ -63,6 +64,7 @@ namespace suturesim::coupling
     double force      = 0;     ///< f along the tangent on the tissue point, N
     double derivative = 0;     ///< ∂f/∂ζ at fixed N (−k_t in stick, 0 in slip), N/m
     double anchor     = 0;     ///< ζ_a after this evaluation, m
+    double capacity   = 0;     ///< μ N, N
     bool   slipping   = false;
   };
 
@@ -72,11 +74,18 @@ namespace suturesim::coupling
     bool   slipping = false;
     double sign     = 1;
 
-    /// The branch that the return mapping chose for @p r at gap ζ − ζ_a = @p gap.
+    /// The branch of @p r at gap ζ − ζ_a = @p gap for a Newton tangent: the return
+    /// mapping's, except that a stick within a relative 1e-9 of the capacity counts as
+    /// slip. A slipping step returns the anchor to exactly k_t |ζ − ζ_a| = μ N, so the
+    /// next step starts on the kink, where round-off would pick the branch: a restart,
+    /// whose rotations are normalised again in their last bit, then took another Newton
+    /// path from the same state (Restart.AnAccurateNeedlePassStoppedMidRun…, 5 against
+    /// 7 suture iterations in one step). Both branches carry μ N there.
     static FrictionBranch
     of(const FrictionResult &r, const double gap)
     {
-      return {r.slipping, gap >= 0 ? 1.0 : -1.0};
+      const bool at_capacity = r.capacity > 0 && std::abs(r.force) >= (1 - 1e-9) * r.capacity;
+      return {r.slipping || at_capacity, gap >= 0 ? 1.0 : -1.0};
     }
   };
 

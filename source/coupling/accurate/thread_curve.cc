@@ -10,9 +10,32 @@ namespace suturesim::coupling
                           const bool directors)
   {
     if (!directors)
-      return {xa, xb - xa, xb, xb - xa};
+      return {xa, xb - xa, xb, xb - xa, false};
     const double chord = (xb - xa).norm();
-    return {xa, chord * (qa * Eigen::Vector3d::UnitX()), xb, chord * (qb * Eigen::Vector3d::UnitX())};
+    return {xa, chord * (qa * Eigen::Vector3d::UnitX()), xb, chord * (qb * Eigen::Vector3d::UnitX()), true};
+  }
+
+  Eigen::Matrix<double, 12, 1>
+  HermiteSegment::reaction(const double u, const Eigen::Vector3d &f) const
+  {
+    Eigen::Matrix<double, 12, 1> r = Eigen::Matrix<double, 12, 1>::Zero();
+    const double                 chord = (xb - xa).norm();
+    if (!directors || chord == 0)
+      {
+        r.head<3>()       = (1 - u) * f;
+        r.segment<3>(6)   = u * f;
+        return r;
+      }
+    const double          u2 = u * u, u3 = u2 * u;
+    const double          h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = 3 * u2 - 2 * u3, h11 = u3 - u2;
+    const Eigen::Vector3d e = (xb - xa) / chord, da = ma / chord, db = mb / chord;
+    // the end tangents' length is the chord's: moving a node along it stretches both
+    const double along = (h10 * da + h11 * db).dot(f);
+    r.head<3>()        = h00 * f - along * e;
+    r.segment<3>(3)    = chord * h10 * da.cross(f);
+    r.segment<3>(6)    = h01 * f + along * e;
+    r.segment<3>(9)    = chord * h11 * db.cross(f);
+    return r;
   }
 
   double

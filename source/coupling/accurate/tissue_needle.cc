@@ -134,7 +134,6 @@ namespace suturesim::coupling
   TissueNeedle::thread_terms(const std::vector<Point<3>> &x, const std::size_t element,
                              Eigen::Matrix<double, 12, 1> &residual, Eigen::Matrix<double, 12, 12> *jacobian) const
   {
-    using Vec12              = Eigen::Matrix<double, 12, 1>;
     const std::size_t offset = first_pierce_index();
     for (std::size_t j = 0; j < pierce.size(); ++j)
       {
@@ -145,27 +144,21 @@ namespace suturesim::coupling
           continue;
         const Eigen::Vector3d xj = eigen(x[offset + j]);
         AccuratePiercePoint   p  = pierce[j];
-        // the point's force f on the tissue at offset o and its reaction on the nodes
-        const auto load = [&](const Offset &o, FrictionResult *r_out) {
+        // the point's force f on the tissue, measured across the element's curve with its
+        // nodes somewhere, and f's reaction on those nodes at the curve's point c(u)
+        // (HermiteSegment::reaction())
+        const auto load = [&](const HermiteSegment &curve, FrictionResult *r_out, Offset *o_out) {
+          const Offset       o = across_element(e, xj, curve, xi);
           const Tensor<1, 3> f = pierce_force(p, o, r_out, nullptr);
-          const double       u = std::clamp(o.u, 0.0, 1.0);
-          Vec12              r = Vec12::Zero();
-          for (unsigned i = 0; i < 3; ++i)
-            {
-              r[i]     = (1 - u) * f[i];
-              r[6 + i] = u * f[i];
-            }
-          return r;
-        };
-        // its offset with the element's nodes at (ya, ra), (yb, rb)
-        const auto offset_at = [&](const rod::Vec3 &ya, const rod::Quat &ra, const rod::Vec3 &yb, const rod::Quat &rb) {
-          return across_element(e, xj, thread.segment(ya, ra, yb, rb), xi);
+          if (o_out)
+            *o_out = o;
+          return curve.reaction(o.u, Eigen::Vector3d(f[0], f[1], f[2]));
         };
         const auto [xa, qa] = thread.node(e);
         const auto [xb, qb] = thread.node(e + 1);
-        const Offset   base = offset_at(xa, qa, xb, qb);
+        Offset         base;
         FrictionResult here;
-        residual += load(base, &here);
+        residual += load(thread.segment(xa, qa, xb, qb), &here, &base);
         if (!jacobian)
           continue;
         // differenced on the branch the law took here, unless one is held
@@ -185,7 +178,7 @@ namespace suturesim::coupling
                 q = rod::quaternion_exp(v) * q;
               else
                 y += v;
-              return load(offset_at(ya, ra, yb, rb), nullptr);
+              return load(thread.segment(ya, ra, yb, rb), nullptr, nullptr);
             };
             jacobian->col(c) += (moved(h) - moved(-h)) / (2 * h);
           }
@@ -377,7 +370,8 @@ namespace suturesim::coupling
           break;
       }
     // kept inside the element, so that the carrier names it (ThreadCurve::element() of an
-    // element's end names the next one): a point beyond an end loads that end's node
+    // element's end names the next one); the point itself is measured and loaded where
+    // it projects, past the end if it lies there (thread_terms())
     return L + thread.arc_length(e) + std::clamp(xi, 1e-9, 1 - 1e-9) * thread.element_length(e);
   }
 

@@ -37,6 +37,9 @@ namespace suturesim::coupling
   struct HermiteSegment
   {
     Eigen::Vector3d xa, ma, xb, mb;
+    /// Whether the end tangents are the nodes' directors scaled by the chord (else the
+    /// chord itself): what reaction() differentiates.
+    bool directors = true;
 
     /// The curve from (@p xa, @p qa) to (@p xb, @p qb): end tangents the rod's tangent
     /// director d₁ = R e₁ at each node scaled by the chord with @p directors, else the
@@ -65,6 +68,20 @@ namespace suturesim::coupling
     {
       return (12 * u - 6) * (xa - xb) + (6 * u - 4) * ma + (6 * u - 2) * mb;
     }
+
+    /// The nodal loads a force @p f applied to the curve's material point c(u) puts on
+    /// the element: the generalised forces (∂c(u)/∂q)ᵀ f conjugate to the nodes'
+    /// positions and spatial rotation increments q = (x_a, θ_a, x_b, θ_b) at fixed u
+    /// (virtual work f·δc), N and N m. With directors, m = ℓ d₁, ℓ = |x_b − x_a|,
+    /// e = (x_b − x_a)/ℓ, δd₁ = δθ × d₁ and t = h₁₀ d₁ₐ + h₁₁ d₁ᵦ:
+    ///   x_a: h₀₀ f − e (t·f),   θ_a: ℓ h₁₀ d₁ₐ × f,
+    ///   x_b: h₀₁ f + e (t·f),   θ_b: ℓ h₁₁ d₁ᵦ × f;
+    /// for the chord, (1 − u) f and u f and no moments. Their resultant is f and their
+    /// moment c(u) × f: the force acts where the curve is, and for a potential whose
+    /// force this is (a penalty tie to the curve, at its closest point) they are its
+    /// gradient with respect to q (the closest point's own variation drops out there).
+    Eigen::Matrix<double, 12, 1>
+    reaction(double u, const Eigen::Vector3d &f) const;
 
     /// The parameter u of the point of the curve (extended past its ends by the cubic)
     /// closest to @p x: Newton on g(u) = (x − c)·c′ = 0 from @p u0, u kept within

@@ -43,12 +43,19 @@
  * carrier element flips between the two that meet there; each flip jumped the tie's
  * force and the stitch's tightening stalled at any step size (docs/interrupted_stitch.md).
  * Pierce points pass onto the thread at the swage and are released at its far end. A
- * point on the thread loads the element's two nodes with −(1 − u) f and −u f (u within
- * [0, 1]; thread_terms(); the tissue side takes f at x). These are the chord's weights,
- * not the curve's: the couple left out, f × (c(u) − the chord's point), is of the
- * order of f l θ/8 for an element of length l turned by θ against its neighbour, and
- * putting the curve's weights on the nodes' rotations instead would load the rod in
- * shear by f/l.
+ * point on the thread puts −f on the thread where the curve is, at c(u): its element's
+ * nodes take the forces and moments conjugate to c(u) (HermiteSegment::reaction(), u
+ * as projected, also within the tenth of an element past an end that the carrier's
+ * dead zone allows; thread_terms(); the tissue side takes f at x). The loads' resultant
+ * is f and their moment c(u) × f, and for the penalty tie they are the gradient of its
+ * energy ½ k⊥ |P⊥ d|² with respect to the nodes (the closest point's own variation
+ * drops out), so that the tie's part of the suture's tangent is symmetric.
+ * Before 2026-12-05 the nodes took the chord's weights (1 − u) f and u f, u clamped to
+ * [0, 1]: a kink in the residual at u = 0 and 1, and no moment for the curve's bulge.
+ * A point sitting at a node then crossed the kink at every iterate (bite_spacing.prm at
+ * b = s = 3 mm: u = 0.987 and 1.014 by turns, the residual cycling at 8 mN with
+ * period 2 and, with the line search, 3), and 96 steps of that run failed; with the
+ * curve's loads none (docs/tearing.md).
  * The element is the one that carries the point's projection (AccuratePiercePoint::
  * carrier), not the anchor's: a thread that slides by more than an element within a
  * step would otherwise hold the point on its anchor element's curve extended, and a solve
@@ -140,11 +147,12 @@ namespace suturesim::coupling
 
     /// Residual and Jacobian the pierce points on the thread add to suture element
     /// @p element (its two nodes) with the tissue points at @p x (one per points(), held
-    /// fixed): the reaction of the point's force f (tie and friction), (1 − u) f on node
-    /// a and u f on node b. The Jacobian (positions and rotations of both nodes) is the
-    /// central difference of that residual (steps 1e-8 m, 1e-7 rad): f goes through the
-    /// projection on the Hermite curve, the return mapping and the smoothed normal
-    /// force, whose exact chain would be long, and the tests check its convergence.
+    /// fixed): the reaction of the point's force f (tie and friction) at the curve's
+    /// point c(u) (HermiteSegment::reaction()). The Jacobian (positions and rotations of
+    /// both nodes) is the central difference of that residual (steps 1e-8 m, 1e-7 rad):
+    /// f goes through the projection on the Hermite curve, the return mapping and the
+    /// smoothed normal force, whose exact chain would be long, and the tests check its
+    /// convergence.
     /// @p jacobian may be nullptr (the residual alone: 1 evaluation a point, not 25).
     void
     thread_terms(const std::vector<dealii::Point<3>> &x, std::size_t element,
