@@ -31,15 +31,25 @@ import matplotlib.pyplot as plt  # noqa: E402
 POWER = {"fracture-energy": 2, "strain-energy-density": 2, "max-principal-stress": 1, "max-principal-stretch": 1}
 
 
+def fail(message):
+    """Bad input: one line naming what, exit 2 (as suturesim's own input errors)."""
+    print("tear_history.py: " + message, file=sys.stderr)
+    sys.exit(2)
+
+
 def read(run):
-    with open(run / "forces.csv") as f:
-        rows = list(csv.reader(f))
-    header = rows[0]
-    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    try:
+        with open(run / "forces.csv") as f:
+            rows = list(csv.reader(f))
+        header = rows[0]
+        data = np.array([[float(x) for x in r] for r in rows[1:]])
+        tearing = json.loads((run / "summary.json").read_text())["metrics"]["tearing"]
+    except OSError as e:
+        fail("cannot read %s: %s" % (e.filename, e.strerror))
+    except (IndexError, ValueError, KeyError) as e:
+        fail("%s: not a run with Tearing/Criteria (forces.csv and summary.json's metrics.tearing): %s" % (run, e))
     if "pull_tension [N]" not in header:
-        sys.exit("tear_history.py: %s/forces.csv has no pull_tension (a run without Tearing/Criteria, "
-                 "or older than the column)" % run)
-    tearing = json.loads((run / "summary.json").read_text())["metrics"]["tearing"]
+        fail("%s/forces.csv has no pull_tension (a run without Tearing/Criteria, or older than the column)" % run)
     return header, data, tearing
 
 
@@ -53,7 +63,7 @@ def main():
     runs = [(run, *read(run)) for run in args.runs]
     names = [n for n in POWER if all("tear_%s [1]" % n in h for _, h, _, _ in runs)]
     if not names:
-        sys.exit("tear_history.py: the runs share no criterion")
+        fail("the runs share no criterion")
     fig, axes = plt.subplots(1, len(names), figsize=(4 * len(names), 3.5), squeeze=False)
     print("| run | criterion | k | rms misfit | T* (N) | onset tension (N) |")
     print("|---|---|---|---|---|---|")
@@ -88,8 +98,12 @@ def main():
     axes[0][0].legend()
     fig.tight_layout()
     out = args.out or args.runs[0]
-    for suffix in ("png", "pdf"):
-        fig.savefig(out / ("tear_history." + suffix))
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        for suffix in ("png", "pdf"):
+            fig.savefig(out / ("tear_history." + suffix))
+    except OSError as e:
+        fail("cannot write %s: %s" % (out / "tear_history.png", e.strerror))
 
 
 if __name__ == "__main__":
