@@ -321,8 +321,10 @@ namespace suturesim::study
       return cases;
     }
 
-    /// Applies @p c to the base scene as the run will; a bad setting is an error at
-    /// the study file's @p key.
+    /// Applies @p c to the base scene as the run will, and checks the scene as
+    /// `suturesim --validate` does (the parameters together, and a scenario that runs
+    /// them): a bad setting is an error at the study file's @p key before any run, not
+    /// a refused run after the others have spent their time.
     void
     check(const Case &c, const std::string &scene, const ParameterScope &scope, const std::string &key)
     {
@@ -330,7 +332,8 @@ namespace suturesim::study
       scene::Simulation::declare_parameters(prm);
       try
         {
-          ParameterFile::from_file(prm, scene, c.settings);
+          const ParameterFile file = ParameterFile::from_file(prm, scene, c.settings);
+          const scene::Simulation checked(prm, file);
         }
       catch (const InputError &e)
         {

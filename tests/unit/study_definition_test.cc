@@ -125,6 +125,10 @@ TEST(StudyDefinition, BadStudiesAreOneLineErrorsAtTheirLine)
     {"no_base", "set Name = x\n", "Base scene (default): a study needs a base scene"},
     {"bad_reference", header + "subsection Reference\n  set Settings = Model=nonsense\nend\n",
      ":4: Reference/Settings: case 'reference'"},
+    // values each valid, refused by the scene together (as suturesim --validate refuses them)
+    {"scene_refuses", header + "subsection Reference\n  set Settings = Mesh/Local refinement/Levels=1\nend\n",
+     ":4: Reference/Settings: case 'reference': --set Mesh/Local refinement/Levels: refinement needs Near "
+     "boundaries or Near needle path"},
     {"unmatched", header + "subsection Reference\n  set Per axis = Time/Step size\nend\n" +
                     "subsection Cases\n  set List = a: Time/Step size=0.5; b: Time/End time=2\nend\n",
      ":4: Reference/Per axis: case 'b' does not set 'Time/Step size', so it has no reference"},
