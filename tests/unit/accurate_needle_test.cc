@@ -665,10 +665,11 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // 2.6e-15 and the final gap by 3.8e-12 relative, the closure and tie-off times not at
   // all; on an Intel Xeon (model 0xCF) OpenBLAS's SkylakeX kernels, which stored the
   // values before these (2026-11-28, core/blas_threads.h, with the suture's trust-region
-  // step; the lazy tangent of 2026-11-29 moved them by 2.4e-12 at most, the low-rank update without
-  // its points of zero stiffness by 3.1e-12; a new virtual machine of the same model and
-  // Debian packages, with no change of the accurate path, by 2.5e-12 on 2026-11-30),
-  // against its Prescott ones by 6.4e-13 and 2.6e-15, the final gap by 3.5e-12.
+  // step; the lazy tangent of 2026-11-29 moved them by 2.4e-12 at most, the low-rank
+  // update without its points of zero stiffness by 3.1e-12; a new virtual machine of the
+  // same model and Debian packages, with no change of the accurate path, by 2.5e-12 on
+  // 2026-11-30), against its Prescott ones by 6.4e-13 and 2.6e-15, the final gap by
+  // 3.5e-12.
   // The closure tension took one of two values on virtual machines of this model,
   // 8.644158949987604 or 8.64415895000956 N (2.5e-12 apart; the project's CI on
   // 2026-12-01 gave the first, the machine that stored the second on 2026-11-30), so
