@@ -74,8 +74,13 @@ namespace suturesim::coupling
     bool   slipping = false;
     double sign     = 1;
 
+    /// Relative distance below the capacity μ N within which a stick counts as slip
+    /// (of()): well above the round-off (≈ 1e-16 relative) that picks a branch on the
+    /// kink, well below any stick force a Newton step resolves.
+    static constexpr double at_capacity_within = 1e-9;
+
     /// The branch of @p r at gap ζ − ζ_a = @p gap for a Newton tangent: the return
-    /// mapping's, except that a stick within a relative 1e-9 of the capacity counts as
+    /// mapping's, except that a stick within at_capacity_within of the capacity counts as
     /// slip. A slipping step returns the anchor to exactly k_t |ζ − ζ_a| = μ N, so the
     /// next step starts on the kink, where round-off would pick the branch: a restart,
     /// whose rotations are normalised again in their last bit, then took another Newton
@@ -84,7 +89,8 @@ namespace suturesim::coupling
     static FrictionBranch
     of(const FrictionResult &r, const double gap)
     {
-      const bool at_capacity = r.capacity > 0 && std::abs(r.force) >= (1 - 1e-9) * r.capacity;
+      const bool at_capacity =
+        r.capacity > 0 && std::abs(r.force) >= (1 - at_capacity_within) * r.capacity;
       return {r.slipping || at_capacity, gap >= 0 ? 1.0 : -1.0};
     }
   };

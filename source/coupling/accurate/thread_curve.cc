@@ -26,8 +26,8 @@ namespace suturesim::coupling
         r.segment<3>(6)   = u * f;
         return r;
       }
-    const double          u2 = u * u, u3 = u2 * u;
-    const double          h00 = 2 * u3 - 3 * u2 + 1, h10 = u3 - 2 * u2 + u, h01 = 3 * u2 - 2 * u3, h11 = u3 - u2;
+    const Eigen::Vector4d h = basis(u);
+    const double          h00 = h[0], h10 = h[1], h01 = h[2], h11 = h[3];
     const Eigen::Vector3d e = (xb - xa) / chord, da = ma / chord, db = mb / chord;
     // the end tangents' length is the chord's: moving a node along it stretches both
     const double along = (h10 * da + h11 * db).dot(f);

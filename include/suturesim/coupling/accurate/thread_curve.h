@@ -48,12 +48,21 @@ namespace suturesim::coupling
     through(const rod::Vec3 &xa, const rod::Quat &qa, const rod::Vec3 &xb, const rod::Quat &qb,
             bool directors);
 
+    /// The cubic Hermite basis (h₀₀, h₁₀, h₀₁, h₁₁)(u) = (2u³ − 3u² + 1, u³ − 2u² + u,
+    /// 3u² − 2u³, u³ − u²), the weights of x_a, m_a, x_b, m_b in c(u): shared by at()
+    /// and reaction(), which must weight the nodes as the curve does.
+    static Eigen::Vector4d
+    basis(const double u)
+    {
+      const double u2 = u * u, u3 = u2 * u;
+      return {2 * u3 - 3 * u2 + 1, u3 - 2 * u2 + u, 3 * u2 - 2 * u3, u3 - u2};
+    }
     /// c(u), m.
     Eigen::Vector3d
     at(const double u) const
     {
-      const double u2 = u * u, u3 = u2 * u;
-      return (2 * u3 - 3 * u2 + 1) * xa + (u3 - 2 * u2 + u) * ma + (3 * u2 - 2 * u3) * xb + (u3 - u2) * mb;
+      const Eigen::Vector4d h = basis(u);
+      return h[0] * xa + h[1] * ma + h[2] * xb + h[3] * mb;
     }
     /// c′(u), m.
     Eigen::Vector3d
