@@ -107,6 +107,13 @@ namespace suturesim::rod
   }
 
   void
+  RodModel::restore_node(const std::size_t i, const Vec3 &x, const Quat &q)
+  {
+    pos[i] = x;
+    rot[i] = q;
+  }
+
+  void
   RodModel::constrain(const std::size_t node, const std::array<bool, 6> &f)
   {
     fixed[node] = f;

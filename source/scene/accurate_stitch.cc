@@ -5,9 +5,11 @@
 #include <deal.II/base/mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <string>
 
 namespace suturesim::scene
 {
@@ -588,9 +590,16 @@ namespace suturesim::scene
         const auto x = j.at("suture").at("x").get<std::vector<double>>(), q = j.at("suture").at("q").get<std::vector<double>>();
         if (x.size() != 3 * suture->n_nodes() || q.size() != 4 * suture->n_nodes())
           throw InputError("--restart: the checkpoint's suture has another number of nodes");
+        // exactly as saved (the checkpoint keeps each double whole): normalised again, the
+        // rotations would differ from the stopped run's in their last bit
         for (std::size_t i = 0; i < suture->n_nodes(); ++i)
-          suture->set_node(i, rod::Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]),
-                           rod::Quat(q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]));
+          {
+            const rod::Quat qi(q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]);
+            if (!(std::abs(qi.norm() - 1) <= 1e-12))
+              throw InputError("--restart: the checkpoint's suture rotation at node " +
+                               std::to_string(i) + " is not a unit quaternion");
+            suture->restore_node(i, rod::Vec3(x[3 * i], x[3 * i + 1], x[3 * i + 2]), qi);
+          }
         const auto anchors = j.at("suture").value("friction_anchors", std::vector<double>{});
         if (anchors.size() % rod::FrictionAnchor::size != 0)
           throw InputError("--restart: the checkpoint's suture friction anchors are not whole records");

@@ -529,11 +529,13 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
   // holes and the rod cut beside the needle's (one element left out, drawn with cut = 1 in
   // the suture's VTU). Once cut, the needle's thread ends there: the needle pulls on
   // nothing but the drag of its free thread, and the stitch stays closed. Measured
-  // 2026-12-05 (after the suture's stall window was mended, 289 steps instead of 335):
-  // tail taken at 2.59 s, closed at 5.075 s with 5.37 N, tied off at 5.087 s at a gap of
-  // 0.097 mm, the needle's pull 5.49 N before the cut and 0.014 N after, cut at element
-  // 50 of 120; the hand's pull on the tail at the tie-off 13.69 N. About three minutes,
-  // and a restart from its checkpoint (below).
+  // 2026-12-05 on an AMD EPYC (291 steps, 4 failed attempts): tail taken at 2.59 s,
+  // closed at 5.292 s with 7.83 N, tied off at 5.307 s at a gap of 0.096 mm, the
+  // needle's pull 8.00 N before the cut and 0.016 N after, cut at element 51 of 120; the
+  // hand's pull on the tail at the tie-off 13.75 N. An earlier run the same day, on
+  // another machine (289 steps), closed at 5.075 s with 5.37 N, the hand's pull 13.69 N:
+  // the slack tail's path is not one this test stores (docs/tearing.md, the series).
+  // About three minutes, and a restart from its checkpoint (below).
   const Args args{source_path("parameters/stitch_series_interrupted.prm"), "--set", "Model=accurate", "--set",
      "Needle/Pass/Stitches=2", "--set",
      "Closure/Gap probes=s1: -0.0001732, -0.005, 0.006, 0.0001732, -0.005, 0.006; s2: -0.0002, 0, 0.006, 0.0002, "
@@ -595,13 +597,14 @@ TEST(AccurateNeedle, AnInterruptedSeriesTakesTheTailTiesTheStitchOffAndCutsTheRo
   ASSERT_EQ(cut_segments.size(), 1u);
   EXPECT_EQ(cut_segments.front(), series[0]["cut_node"].get<std::size_t>());
 
-  // Restarted from its checkpoint (after step 250 of 289, t = 4.83 s: the tail held and
+  // Restarted from its checkpoint (after step 250 of 291, t = 4.81 s: the tail held and
   // drawn, the stitch not yet closed), a copy of the run takes the tail's hold back and
   // ties off, cuts and ends as the run did (scene/interrupted_series.h, snapshot() and
   // restore()). To the needle pass's restart tolerance (tests/unit/interruption_test.cc),
-  // 100 times below this scene's own solver floor (0.01 x 5e4 N/m x 1e-7 m = 5e-5 N):
-  // measured 2026-12-05, the largest difference in forces.csv 3.1e-10; the rest of the
-  // run took 8 s.
+  // 100 times below this scene's own solver floor (0.01 x 5e4 N/m x 1e-7 m = 5e-5 N), and
+  // forces.csv to the byte: measured 2026-12-05, identical (3.1e-10 apart while the
+  // checkpoint's rotations were normalised again; on this path that flipped a pierce
+  // point to slip at step 269); the rest of the run took 15 s.
   const auto restarted = restart_copy(args, r);
   ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
   const double from = restarted.summary["restarted_from"]["t"].get<double>();
@@ -785,8 +788,9 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
   // grasper's hold back, closes, ties off and ends as the run did, its tear criteria's
   // record with it (docs/checkpoints.md). The tolerance is the needle pass's restart
   // tolerance (tests/unit/interruption_test.cc), 100 times below this scene's own solver
-  // floor (0.01 x 5e4 N/m x 1e-7 m = 5e-5 N): measured 2026-12-05, the largest difference
-  // in forces.csv 1.1e-9; the rest of the run took 13 s.
+  // floor (0.01 x 5e4 N/m x 1e-7 m = 5e-5 N), and forces.csv to the byte: measured
+  // 2026-12-05, identical (1.1e-9 apart while the checkpoint's rotations were normalised
+  // again); the rest of the run took 13 s.
   const auto restarted = restart_copy(args, r);
   ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
   const double from = restarted.summary["restarted_from"]["t"].get<double>();

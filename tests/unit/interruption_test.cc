@@ -11,8 +11,12 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <thread>
+#include <vector>
 
 #include <sys/wait.h>
 
@@ -239,6 +243,32 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
   EXPECT_EQ(garbled.exit_code, 2) << garbled.output;
   EXPECT_NE(garbled.output.find("shared.cbor is not a checkpoint"), std::string::npos) << garbled.output;
   EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  // the suture's rotations are set back as saved, not normalised (rod::RodModel::
+  // restore_node()), so a checkpoint whose rotation is not unit is refused
+  const fs::path scaled = scratch_path() / "restart_not_unit";
+  fs::remove_all(scaled);
+  fs::copy(dir, scaled, fs::copy_options::recursive);
+  {
+    const fs::path file = scaled / "checkpoint" / "shared.cbor";
+    std::ifstream  in(file, std::ios::binary);
+    auto state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+    ASSERT_TRUE(state["scenario"]["stitch"].contains("suture"))
+      << state["scenario"].dump().substr(0, 300);
+    auto &q = state["scenario"]["stitch"]["suture"]["q"];
+    ASSERT_GE(q.size(), 8u);
+    for (int k = 4; k < 8; ++k) // node 1
+      q[k] = 1.001 * q[k].get<double>();
+    const auto    bytes = nlohmann::json::to_cbor(state);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    ASSERT_FALSE(out.fail()) << file;
+  }
+  const auto not_unit = restart(every_25, scaled);
+  EXPECT_EQ(not_unit.exit_code, 2) << not_unit.output;
+  EXPECT_NE(not_unit.output.find("the checkpoint's suture rotation at node 1 is not a unit quaternion"),
+            std::string::npos)
+    << not_unit.output;
 
   const auto restarted = restart(every_25, dir);
   const std::size_t steps = whole.summary["solver"]["steps"].get<std::size_t>();

@@ -83,7 +83,7 @@ namespace suturesim::coupling
     /// mapping's, except that a stick within at_capacity_within of the capacity counts as
     /// slip. A slipping step returns the anchor to exactly k_t |ζ − ζ_a| = μ N, so the
     /// next step starts on the kink, where round-off would pick the branch: a restart,
-    /// whose rotations are normalised again in their last bit, then took another Newton
+    /// whose rotations were then normalised again in their last bit, took another Newton
     /// path from the same state (Restart.AnAccurateNeedlePassStoppedMidRun…, 5 against
     /// 7 suture iterations in one step). Both branches carry μ N there.
     static FrictionBranch

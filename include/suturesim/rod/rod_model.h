@@ -161,8 +161,16 @@ namespace suturesim::rod
     {
       return rot;
     }
+    /// Node @p i at @p x with rotation @p q normalised (a unit quaternion may change in
+    /// its last bit).
     void
     set_node(std::size_t i, const Vec3 &x, const Quat &q);
+    /// Node @p i at @p x with rotation @p q exactly as given: a state this model had (a
+    /// checkpoint's), already unit, which set_node()'s normalisation would change in its
+    /// last bit and a restarted run's stick-slip steps amplify. The caller checks that
+    /// @p q is unit.
+    void
+    restore_node(std::size_t i, const Vec3 &x, const Quat &q);
 
     const std::vector<ElementReference> &
     references() const
