@@ -7,12 +7,13 @@
 // 5.8e-13 N; on one process every repeat is identical to the byte). With GMRES and
 // PETSc's smoothed aggregation instead of MUMPS, the same runs repeat to the byte (the
 // L0 stitch three times, the needle pass twice).
-// The scatter is therefore MUMPS's: its multifrontal factorisation sums the
-// contribution blocks that arrive from the other process in the order they arrive
+// The scatter is therefore MUMPS's, whose multifrontal factorisation is asynchronous
 // (Amestoy, Duff, Koster & L'Excellent, SIAM J. Matrix Anal. Appl. 23:15, 2001, "a fully
 // asynchronous multifrontal solver"). Neither OMP_NUM_THREADS=1 nor ICNTL(13) = 1 (no
 // ScaLAPACK root) removed it, and the L0 stitch's analysis has no type-2 (split)
-// fronts, so it is not the choice of a front's helper processes either.
+// fronts, so it is not the choice of a front's helper processes either; the likely
+// mechanism, not traced inside MUMPS, is a front summing the contribution blocks from
+// the other process in the order they arrive.
 //
 // What this test holds: everything of suturesim's own in a parallel run (the
 // partitioned assembly and its ghost exchanges, the replicated needle and suture, the
