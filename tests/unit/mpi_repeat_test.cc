@@ -6,7 +6,11 @@
 // 0.5 s run five times: each of the other four differs from the first, by up to
 // 5.8e-13 N; on one process every repeat is identical to the byte). With GMRES and
 // PETSc's smoothed aggregation instead of MUMPS, the same runs repeat to the byte (the
-// L0 stitch three times, the needle pass twice).
+// L0 stitch three times, the needle pass twice). The needle pass's measurement: this
+// test's arguments without the two solver settings, run twice with --output A and
+// --output B under OPENBLAS_NUM_THREADS=1 mpirun -np 2 build/suturesim, then
+// cmp A/forces.csv B/forces.csv; then with them. The L0 stitch's: docs/tearing.md
+// ("Onset under refinement").
 // The scatter is therefore MUMPS's, whose multifrontal factorisation is asynchronous
 // (Amestoy, Duff, Koster & L'Excellent, SIAM J. Matrix Anal. Appl. 23:15, 2001, "a fully
 // asynchronous multifrontal solver"). Neither OMP_NUM_THREADS=1 nor ICNTL(13) = 1 (no
@@ -25,8 +29,6 @@
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -34,13 +36,6 @@ using namespace suturesim::test_support;
 
 namespace
 {
-  std::string
-  file_text(const std::string &path)
-  {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-
   /// The first line (1-based) where @p a and @p b differ, 0 if none.
   std::size_t
   first_different_line(const std::string &a, const std::string &b)
@@ -82,8 +77,8 @@ TEST(MpiRepeat, TwoProcessRunsWithAKrylovSolverRepeatBitForBit)
   ASSERT_GT(rows.size(), 50u);
   EXPECT_GT(rows.back()[column(header, "suture_tension_swage")], 1e-3);
 
-  const std::string a = file_text(first.directory + "/forces.csv");
-  const std::string b = file_text(second.directory + "/forces.csv");
+  const std::string a = read_text(first.directory + "/forces.csv");
+  const std::string b = read_text(second.directory + "/forces.csv");
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(first_different_line(a, b), 0u)
     << "the two runs' forces.csv differ from that line on";
