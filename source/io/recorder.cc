@@ -28,8 +28,13 @@ namespace suturesim::io
                                                 "Mesh/Maximum cells",   "Mesh/Gmsh time limit",
                                                 "Mesh/Gmsh memory limit", "Tissue/Linear solver/Maximum memory"};
 
+    /// Diagnostics that write files beside the run and change no result: a restart from
+    /// a failed run's checkpoint may turn them on to see its failing step.
+    const std::set<std::string> diagnostics{"Suture/Newton/Trace failures"};
+
     /// The settings of a parameters.prm text, "Subsection/Key" → value, without those a
-    /// restart may change: the end time, the checkpoints and the resource limits.
+    /// restart may change: the end time, the checkpoints, the resource limits and the
+    /// diagnostics.
     std::map<std::string, std::string>
     settings(const std::string &text)
     {
@@ -57,7 +62,8 @@ namespace suturesim::io
                 key = *p + "/" + key;
               std::string value = line.substr(line.find('=') + 1);
               value             = trim(value.substr(0, value.rfind(" # default:")));
-              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0 && !resource_limits.count(key))
+              if (key != "Time/End time" && key.rfind("Time/Checkpoint", 0) != 0 && !resource_limits.count(key) &&
+                  !diagnostics.count(key))
                 values[key] = value;
             }
         }

@@ -287,6 +287,34 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
     << restarted.summary["restarted_from"].dump();
 }
 
+// A run whose step still fails after its halvings (exit 3) keeps its last converged state
+// as a checkpoint too: a restart replays the failed step from there, with the same
+// failure, and may turn on the failure traces, which change no result.
+TEST(Restart, AFailedRunsCheckpointReplaysItsFailedStep)
+{
+  // one Newton iteration a solve: the steps fail once the needle presses the tissue
+  const std::vector<std::string> failing = join(accurate_pass, {"--set", "Time/End time=0.5", "--set",
+                                                                "Tissue/Newton/Max iterations=1", "--set",
+                                                                "Time/Max cutbacks=1"});
+  const auto     failed = run_suturesim("restart_failed", failing);
+  const fs::path dir    = scratch_path() / "restart_failed";
+  ASSERT_EQ(failed.exit_code, 3) << failed.output;
+  const std::string error = failed.summary.value("error", "");
+  EXPECT_NE(error.find("(suturesim --restart " + dir.string() + " replays the failed step from it)"),
+            std::string::npos)
+    << error;
+  ASSERT_TRUE(fs::exists(dir / "checkpoint" / "shared.cbor"));
+  const std::size_t at = error.find("Newton failed at t = ");
+  ASSERT_NE(at, std::string::npos) << error;
+  const std::string failure = error.substr(at, error.find(';', at) - at);
+
+  const auto replayed = restart(join(failing, {"--set", "Suture/Newton/Trace failures=true"}), dir);
+  EXPECT_EQ(replayed.exit_code, 3) << replayed.output;
+  EXPECT_NE(replayed.output.find("restarting from the checkpoint after step"), std::string::npos) << replayed.output;
+  EXPECT_NE(replayed.summary.value("error", "").find(failure), std::string::npos)
+    << failure << "\n" << replayed.summary.value("error", "");
+}
+
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)
 {
   const fs::path empty = scratch_path() / "restart_nothing";

@@ -282,3 +282,79 @@ TEST(PierceEnforcement, ThreadPointIsTiedToACurveWhoseTangentIsContinuousAtTheNo
   EXPECT_GT((J * turn_only).norm(), 1e-2 * Jv.norm()); // the tangents shape the curve
   EXPECT_LT((Jv - fd).norm(), 1e-6 * Jv.norm());
 }
+
+TEST(PierceEnforcement, APointPastItsCarriersEndIsMeasuredAcrossTheThreadWhereItIs)
+{
+  // A thread of two 1 mm elements, the first straight, the second bent by 40° (the
+  // rod's tangent director turns from the node between them to the end): their curves
+  // share the node's position and tangent, not its curvature. A pierce point carried by
+  // the first element whose tissue point lies 50 µm beside the second, just past the
+  // node, sits in its carrier's dead zone (TissueNeedle::carried_to() moves a carrier
+  // only a tenth of an element past its end). It must be measured across the second
+  // element's curve, 50 µm away; the first element's curve continued past the node
+  // leaves the thread at second order (that measure made the hole's normal force change
+  // as the thread slid, and the suture's Newton solve cycle between stick and slip:
+  // docs/tearing.md). Its force then loads the second element only, and its measure
+  // runs on without a jump as the point passes the node.
+  const ThreadBench                bench;
+  coupling::TissueNeedleParameters p;
+  p.transverse_stiffness = 5e4;
+  const double           l = 0.001, bend = 40 * M_PI / 180, offset = 5e-5;
+  const Eigen::Vector3d  t0(-1, 0, 0), t1(-std::cos(bend), std::sin(bend), 0); // along +s
+  std::vector<rod::Vec3> nodes{{0, 0, 0}, l * t0, l * t0 + l * (t0 + t1).normalized()};
+  const auto             frame = [](const Eigen::Vector3d &d1) { // R e₁ = d1
+    return rod::Quat::FromTwoVectors(Eigen::Vector3d::UnitX(), d1.normalized());
+  };
+  std::vector<rod::Quat> rotations{frame(t0), frame(t0), frame(t1)};
+  coupling::ThreadCurve  thread;
+  thread.attach(&nodes, {l, l}, &rotations);
+  // the tissue point beside the thread's curve at parameter u of element e, in its plane
+  const auto beside = [&](const std::size_t e, const double u) {
+    const coupling::HermiteSegment h = thread.segment(e);
+    const Eigen::Vector3d          n = Eigen::Vector3d::UnitZ().cross(h.rate(u)).normalized();
+    return Eigen::Vector3d(h.at(u) + offset * n);
+  };
+  coupling::TissueNeedle tie = bench.pierced(p, nodes, {l, l}, &rotations, 0.5 * l); // carried by element 0
+  const auto             state = [&](const Eigen::Vector3d &x) {
+    return tie.thread_point_states({Point<3>(x[0], x[1], x[2])}).front();
+  };
+
+  const Eigen::Vector3d x     = beside(1, 0.05);
+  const auto            there = state(x);
+  const coupling::HermiteSegment carrier = thread.segment(0);
+  const double          continued = (x - carrier.at(carrier.closest(x, 1))).norm();
+  std::printf("past the node: measured on element %zu at u = %.4f, %.6e m across (the carrier's curve continued: "
+              "u = %.4f, %.6e m)\n",
+              there.element, there.u, there.across, carrier.closest(x, 1), continued);
+  EXPECT_EQ(there.element, 1u);
+  EXPECT_NEAR(there.u, 0.05, 1e-6);
+  EXPECT_NEAR(there.across, offset, 1e-9);
+  EXPECT_GT(std::abs(continued - offset), 1e-7); // the old measure's error, 1e-6 m here
+  EXPECT_EQ(tie.loaded_elements(), (std::vector<std::size_t>{0, 1}));
+  const std::vector<Point<3>>  at{Point<3>(x[0], x[1], x[2])};
+  Eigen::Matrix<double, 12, 1> on_carrier = Eigen::Matrix<double, 12, 1>::Zero(), on_next = on_carrier;
+  tie.thread_terms(at, 0, on_carrier, nullptr);
+  tie.thread_terms(at, 1, on_next, nullptr);
+  EXPECT_EQ(on_carrier.norm(), 0.0);
+  EXPECT_GT(on_next.norm(), 1.0); // the tie: k⊥ × 50 µm = 2.5 N
+
+  // through the node: the thread coordinate and the distance across it without a jump
+  double zeta = 0, across = 0, largest_step = 0, largest_change = 0;
+  for (int k = -20; k <= 20; ++k)
+    {
+      const double s  = 1 + k * 0.005; // in element lengths
+      const auto   st = state(s < 1 ? beside(0, s) : beside(1, s - 1));
+      const double z  = st.slip + 0.5 * l; // ζ − ζ_a, the anchor 0.5 l on
+      if (k > -20)
+        {
+          largest_step   = std::max(largest_step, std::abs(z - zeta) / (0.005 * l));
+          largest_change = std::max(largest_change, std::abs(st.across - across));
+        }
+      zeta   = z;
+      across = st.across;
+    }
+  std::printf("through the node: dζ/ds up to %.6f, the distance across changes by up to %.3e m a step\n",
+              largest_step, largest_change);
+  EXPECT_NEAR(largest_step, 1.0, 0.01); // ζ advances with the point, at the rate of arc length
+  EXPECT_LT(largest_change, 1e-9);
+}

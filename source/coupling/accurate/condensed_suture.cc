@@ -35,7 +35,7 @@ namespace suturesim::coupling
     newton.follow = [this] {
       if (!needle.follow_thread(seen))
         return false;
-      elements = needle.thread_elements();
+      elements = needle.loaded_elements();
       return true;
     };
   }
@@ -43,7 +43,7 @@ namespace suturesim::coupling
   CondensedSuture::Attached::Attached(CondensedSuture &b)
     : body(b)
   {
-    body.elements = body.needle.thread_elements();
+    body.elements = body.needle.loaded_elements();
     body.suture.set_element_terms(&body.element_terms, &body.elements);
   }
 
@@ -138,7 +138,8 @@ namespace suturesim::coupling
     hold(x);
 
     // F_q = ∂f/∂q: the loads on the tissue as the suture's nodes near them move (the
-    // carrier elements' nodes and the contacts' nodes)
+    // nodes of the elements the points may load, TissueNeedle::loaded_elements(), and
+    // the contacts' nodes)
     std::vector<std::size_t> nodes;
     for (const std::size_t e : elements)
       {

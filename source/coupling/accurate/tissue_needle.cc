@@ -95,6 +95,48 @@ namespace suturesim::coupling
   }
 
   std::vector<std::size_t>
+  TissueNeedle::loaded_elements() const
+  {
+    std::vector<std::size_t> elements;
+    for (const std::size_t e : thread_elements())
+      {
+        if (e > 0 && !thread_cut_at(e - 1))
+          elements.push_back(e - 1);
+        elements.push_back(e);
+        if (e + 1 < thread.n_elements() && !thread_cut_at(e + 1))
+          elements.push_back(e + 1);
+      }
+    std::sort(elements.begin(), elements.end());
+    elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+    return elements;
+  }
+
+  TissueNeedle::Offset
+  TissueNeedle::measured_on(const std::size_t carrier, const double u0, const Eigen::Vector3d &x,
+                            std::size_t &element) const
+  {
+    element        = carrier;
+    const Offset o = across_element(carrier, x, thread.segment(carrier), u0);
+    // past an end, on the neighbour's curve if the projection falls on it (where it
+    // falls past the node on both, which the curves' differing curvatures allow in a
+    // sliver at a bend's inside, on the carrier's curve continued)
+    Offset     n;
+    const auto beside = [&](const std::size_t k, const double from) {
+      if (thread_cut_at(k))
+        return false;
+      n = across_element(k, x, thread.segment(k), from);
+      return n.u >= 0 && n.u <= 1;
+    };
+    if ((o.u > 1 && carrier + 1 < thread.n_elements() && beside(carrier + 1, 0)) ||
+        (o.u < 0 && carrier > 0 && beside(carrier - 1, 1)))
+      {
+        element = o.u > 1 ? carrier + 1 : carrier - 1;
+        return n;
+      }
+    return o;
+  }
+
+  std::vector<std::size_t>
   TissueNeedle::thread_points() const
   {
     const std::size_t        offset = first_pierce_index();
@@ -113,8 +155,9 @@ namespace suturesim::coupling
     for (std::size_t j = 0; j < pierce.size(); ++j)
       if (on_thread(pierce[j]))
         {
-          const auto [e, xi] = thread.element(pierce[j].carrier - needle.length());
-          const Offset     o = across_element(e, eigen(x[offset + j]), thread.segment(e), xi);
+          const auto [carrier, xi] = thread.element(pierce[j].carrier - needle.length());
+          std::size_t      e;
+          const Offset     o = measured_on(carrier, xi, eigen(x[offset + j]), e);
           FrictionResult   r;
           ThreadPointState s;
           pierce_force(pierce[j], o, &r, &s.normal);
@@ -139,16 +182,18 @@ namespace suturesim::coupling
       {
         if (!on_thread(pierce[j]))
           continue;
-        const auto [e, xi] = thread.element(pierce[j].carrier - needle.length());
+        const auto [carrier, xi] = thread.element(pierce[j].carrier - needle.length());
+        const Eigen::Vector3d xj = eigen(x[offset + j]);
+        std::size_t           e;
+        const double          u0 = measured_on(carrier, xi, xj, e).u;
         if (e != element)
           continue;
-        const Eigen::Vector3d xj = eigen(x[offset + j]);
         AccuratePiercePoint   p  = pierce[j];
         // the point's force f on the tissue, measured across the element's curve with its
         // nodes somewhere, and f's reaction on those nodes at the curve's point c(u)
         // (HermiteSegment::reaction())
         const auto load = [&](const HermiteSegment &curve, FrictionResult *r_out, Offset *o_out) {
-          const Offset       o = across_element(e, xj, curve, xi);
+          const Offset       o = across_element(e, xj, curve, u0);
           const Tensor<1, 3> f = pierce_force(p, o, r_out, nullptr);
           if (o_out)
             *o_out = o;
@@ -267,8 +312,9 @@ namespace suturesim::coupling
   {
     if (on_thread(p))
       {
-        const auto [e, xi] = thread.element(p.carrier - needle.length());
-        return across_element(e, eigen(x), thread.segment(e), xi);
+        const auto [carrier, xi] = thread.element(p.carrier - needle.length());
+        std::size_t e;
+        return measured_on(carrier, xi, eigen(x), e);
       }
     Offset o;
     o.zeta            = projection(p, x);
@@ -346,22 +392,21 @@ namespace suturesim::coupling
     // it. The slack is a dead zone, kept from the polyline (where a point at the outside
     // of a bend projects beyond the end of either element that meets there, and the
     // carrier swapped between the two on every round): within it the point stays on its
-    // element, measured across that element's curve continued by at most a tenth of an
-    // element, which the next element's curve meets with the same tangent at the node.
-    // The walk never turns round, so a point cannot swing back and forth.
+    // element, and is measured where the thread is, across the neighbour's curve
+    // (measured_on()). The walk never turns round, so a point cannot swing back and
+    // forth.
     constexpr double slack     = 0.1;
     int              last_step = 0;
     // nor does it pass a cut (cut_thread())
-    const auto cut = [&](const std::size_t k) { return k < thread_cut.size() && thread_cut[k] != 0; };
     for (std::size_t walked = 0; walked <= n; ++walked)
       {
         xi = along(e);
-        if (xi > 1 + slack && e + 1 < n && !cut(e + 1) && last_step >= 0)
+        if (xi > 1 + slack && e + 1 < n && !thread_cut_at(e + 1) && last_step >= 0)
           {
             ++e;
             last_step = 1;
           }
-        else if (xi < -slack && e > 0 && !cut(e - 1) && last_step <= 0)
+        else if (xi < -slack && e > 0 && !thread_cut_at(e - 1) && last_step <= 0)
           {
             --e;
             last_step = -1;

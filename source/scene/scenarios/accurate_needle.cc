@@ -117,6 +117,8 @@ namespace suturesim::scene
             s << "Newton failed at t = " << tn << " s after " << scene.time.max_cutbacks
               << " step halvings: " << reason << "; last converged state t = " << t << " s"
               << (where.empty() ? "" : " in " + where);
+            if (tn > 0)
+              s << " (suturesim --restart " << recorder.directory() << " replays the failed step from it)";
             throw SolverError(s.str());
           };
           if (recorder.resuming())
@@ -173,7 +175,12 @@ namespace suturesim::scene
                   << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
                   << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
           };
-          hooks.fail = [&](const double tn, unsigned, const std::string &reason) { fail(tn, reason); };
+          hooks.fail = [&](const double tn, unsigned, const std::string &reason) {
+            // the last accepted state as a checkpoint too: a restart with the failure
+            // traces on (Suture/Newton/Trace failures) replays the failing step alone
+            checkpoint();
+            fail(tn, reason);
+          };
           hooks.next_event = [&](const double tn) { return stitch.next_event(tn); };
           hooks.keep = [&](const double tn) {
             // a run stopped early can go on from here: the checkpoint before the state is

@@ -45,8 +45,9 @@
  * Pierce points pass onto the thread at the swage and are released at its far end. A
  * point on the thread puts −f on the thread where the curve is, at c(u): its element's
  * nodes take the forces and moments conjugate to c(u) (HermiteSegment::reaction(), u
- * as projected, also within the tenth of an element past an end that the carrier's
- * dead zone allows; thread_terms(); the tissue side takes f at x). The loads' resultant
+ * as projected; thread_terms(); the tissue side takes f at x). A point within the tenth
+ * of an element past its carrier's end that the carrier's dead zone allows is measured
+ * and loaded on the neighbour's curve, where the thread is (measured_on()). The loads' resultant
  * is f and their moment c(u) × f, and for the penalty tie they are the gradient of its
  * energy ½ k⊥ |P⊥ d|² with respect to the nodes (the closest point's own variation
  * drops out), so that the tie's part of the suture's tangent is symmetric.
@@ -203,9 +204,14 @@ namespace suturesim::coupling
     void
     add_pierce_point(const dealii::Point<3> &X, double anchor);
 
-    /// The suture elements that hold pierce points now.
+    /// The suture elements that hold pierce points now (their carriers).
     std::vector<std::size_t>
     thread_elements() const;
+    /// The elements a pierce point's force may load: each carrier and its neighbours
+    /// (not across a cut), where a point in its carrier's dead zone is measured
+    /// (measured_on()). thread_terms() adds to each only the points measured on it.
+    std::vector<std::size_t>
+    loaded_elements() const;
 
     /// Total length of needle and thread, m.
     double
@@ -297,7 +303,7 @@ namespace suturesim::coupling
     struct ThreadPointState
     {
       std::size_t point   = 0; ///< index among points()
-      std::size_t element = 0; ///< the carrier element
+      std::size_t element = 0; ///< the element it is measured on (its carrier, or a neighbour)
       double      u       = 0; ///< the projection's Hermite parameter (beyond [0, 1]: past a node)
       double      slip    = 0; ///< ζ − ζ_a, m
       bool        slipping = false;
@@ -358,7 +364,7 @@ namespace suturesim::coupling
     projected_curve(double zeta) const;
     /// Pierce point @p p at @p x against the curve: its projection ζ (m), the tangent
     /// there, the part of x − c(ζ) across it (m) and, on the thread, the projection's
-    /// Hermite parameter u on the carrier element.
+    /// Hermite parameter u on the element it is measured on (measured_on()).
     struct Offset
     {
       double               zeta = 0;
@@ -372,6 +378,25 @@ namespace suturesim::coupling
     /// at @p u0.
     Offset
     across_element(std::size_t e, const Eigen::Vector3d &x, const HermiteSegment &h, double u0) const;
+    /// A thread point at @p x carried by element @p carrier (Hermite parameter @p u0
+    /// there), measured where the thread is: across the carrier's curve, or, where its
+    /// projection falls past the carrier's end (the carrier's dead zone, carried_to()),
+    /// across the neighbour's curve if it falls on that. The carrier's curve continued
+    /// past its node leaves the thread at second order (the two cubics share the node's
+    /// position and tangent, not its curvature), so a point sliding along it saw the
+    /// thread move across it and its normal force change with the slip: a friction that
+    /// softened as it slid, whose stick and slip branches each led Newton to the other
+    /// (docs/tearing.md, "A point past its carrier's end"). At the node both curves give
+    /// the same foot (the same tangent), so the measure is continuous. @p element: the
+    /// element measured on.
+    Offset
+    measured_on(std::size_t carrier, double u0, const Eigen::Vector3d &x, std::size_t &element) const;
+    /// Whether thread element @p k is cut (cut_thread()).
+    bool
+    thread_cut_at(const std::size_t k) const
+    {
+      return k < thread_cut.size() && thread_cut[k] != 0;
+    }
     /// The friction branch of @p p at offset @p o: its held one, else the return
     /// mapping's choice there.
     FrictionBranch
