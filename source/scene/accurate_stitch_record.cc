@@ -51,6 +51,8 @@ namespace suturesim::scene
         columns.push_back("pull_tension [N]");
         for (const auto &criterion : scene.tearing.criteria)
           columns.push_back("tear_" + criterion.first + " [1]");
+        for (const auto &criterion : scene.tearing.criteria)
+          columns.push_back("tear_force_" + criterion.first + " [N]");
       }
     recorder.set_columns(columns);
   }
@@ -119,16 +121,35 @@ namespace suturesim::scene
     if (tears)
       {
         // before the VTU, which shows the cell ratios of this state
-        tears->update(t, pull_tension(), model, stitch.needle->pierce_points());
+        tears->update(t, pull_tension(), model, stitch.needle->pierce_points(), hole_forces());
         metrics["tearing"] = tears->summary();
         row.push_back(pull_tension());
         for (const double ratio : tears->current())
           row.push_back(ratio);
+        for (const double f : tears->current_forces())
+          row.push_back(f);
       }
     recorder.add_row(row);
     if (stitch.scene.time.output_due(t, last_output))
       write_state(t);
     summary.step(statistics, t);
+  }
+
+  std::vector<double>
+  AccurateStitchRecord::hole_forces() const
+  {
+    const auto         &needle = *stitch.needle;
+    const auto          x      = stitch.positions();
+    const std::size_t   first  = needle.first_pierce_index();
+    std::vector<double> forces;
+    for (std::size_t j = 0; j < needle.pierce_points().size(); ++j)
+      {
+        Tensor<1, 3> f;
+        Tensor<2, 3> unused;
+        needle.force(first + j, x[first + j], f, unused);
+        forces.push_back(f.norm());
+      }
+    return forces;
   }
 
   void

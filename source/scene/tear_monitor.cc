@@ -30,7 +30,7 @@ namespace suturesim::scene
 
   void
   TearMonitor::update(const double t, const double tension, tissue::TissueModel &model,
-                      const std::vector<coupling::AccuratePiercePoint> &pierce)
+                      const std::vector<coupling::AccuratePiercePoint> &pierce, const std::vector<double> &forces)
   {
     // Newest first: an exit followed by an entry is one pass's tract, the entry made
     // first. A tract is known by its entry point, which never moves (material point).
@@ -47,6 +47,12 @@ namespace suturesim::scene
     std::vector<tearing::Tract> tracts;
     for (const auto &s : tract_states)
       tracts.push_back(s.tract);
+    // each tract's force on its holes: the larger of its entry's and its exit's
+    std::vector<double> tract_force(tract_states.size(), std::nan(""));
+    for (std::size_t z = 0; z < tract_states.size(); ++z)
+      for (std::size_t k = 0; k + 1 < pierce.size() && k + 1 < forces.size(); ++k)
+        if (point3(pierce[k + 1].X) == tract_states[z].tract.entry && point3(pierce[k].X) == tract_states[z].tract.exit)
+          tract_force[z] = std::max(forces[k], forces[k + 1]);
     // Evaluated with no tract too: the VTU's cell ratios show where the tissue stands.
     tearing::ProcessZones::Separates cut;
     if (wound.present())
@@ -73,19 +79,40 @@ namespace suturesim::scene
               {
                 // at the crossing of 1 within the last step; at this state when the last
                 // one has no mean (the tract's first state)
-                Onset onset{t, tension, sample.mean(), sample.peak_location, sample.peak_direction};
+                Onset onset{t, tension, tract_force[z], sample.mean(), sample.peak_location, sample.peak_direction};
                 if (const double s = level_crossing(state.last_ratio[c], ratio, 1.0); s < 1)
                   {
                     onset.time    = at_fraction(last_time, t, s);
                     onset.tension = at_fraction(last_tension, tension, s);
+                    if (std::isfinite(state.last_force))
+                      onset.force = at_fraction(state.last_force, tract_force[z], s);
                   }
                 state.onset[c] = onset;
               }
             state.last_ratio[c] = ratio;
           }
       }
+    for (std::size_t z = 0; z < tract_states.size(); ++z)
+      tract_states[z].last_force = tract_force[z];
     last_time    = t;
     last_tension = tension;
+  }
+
+  std::vector<double>
+  TearMonitor::current_forces() const
+  {
+    std::vector<double> forces(criteria.criteria.size(), std::nan(""));
+    for (std::size_t c = 0; c < forces.size(); ++c)
+      {
+        double largest = std::nan("");
+        for (const auto &s : tract_states)
+          if (!std::isnan(s.last_ratio[c]) && !(s.last_ratio[c] <= largest))
+            {
+              largest   = s.last_ratio[c];
+              forces[c] = s.last_force;
+            }
+      }
+    return forces;
   }
 
   std::vector<double>
@@ -120,6 +147,7 @@ namespace suturesim::scene
             if (const auto &o = s.onset[c])
               onset = {{"time", o->time},
                        {"suture_tension", o->tension},
+                       {"force", std::isnan(o->force) ? nlohmann::json() : nlohmann::json(o->force)},
                        {"mean", o->mean},
                        {"location", o->location},
                        {"direction", o->direction}};
@@ -128,6 +156,7 @@ namespace suturesim::scene
                                  {"largest_mean_over_critical", s.largest_ratio[c]},
                                  {"mean_over_critical", std::isnan(s.last_ratio[c]) ? nlohmann::json()
                                                                                     : nlohmann::json(s.last_ratio[c])},
+                                 {"force", std::isnan(s.last_force) ? nlohmann::json() : nlohmann::json(s.last_force)},
                                  {"onset", onset}});
           }
         result["criteria"][name] = {{"unit", criterion->unit()},
@@ -139,6 +168,8 @@ namespace suturesim::scene
         if (first)
           {
             result["criteria"][name]["onset_tension"] = first->tension;
+            if (std::isfinite(first->force))
+              result["criteria"][name]["onset_force"] = first->force;
             result["criteria"][name]["onset_time"]    = first->time;
           }
       }
@@ -167,9 +198,13 @@ namespace suturesim::scene
             tract_states[z].largest_ratio[c] = j.at("largest_mean_over_critical").get<double>();
             if (const auto &r = j.value("mean_over_critical", nlohmann::json()); r.is_number())
               tract_states[z].last_ratio[c] = r.get<double>();
+            // a force is null where a hole was gone (NaN)
+            const auto force = [](const nlohmann::json &f) { return f.is_number() ? f.get<double>() : std::nan(""); };
+            tract_states[z].last_force = force(j.at("force"));
             if (const auto &o = j.at("onset"); !o.is_null())
               tract_states[z].onset[c]
-                  = Onset{o.at("time").get<double>(), o.at("suture_tension").get<double>(), o.at("mean").get<double>(),
+                  = Onset{o.at("time").get<double>(),          o.at("suture_tension").get<double>(),
+                          force(o.at("force")),                o.at("mean").get<double>(),
                           o.at("location").get<tearing::Point3>(), o.at("direction").get<tearing::Point3>()};
           }
       }

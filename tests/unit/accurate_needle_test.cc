@@ -712,13 +712,16 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
         if (!s["onset"].is_null() && (!first || s["onset"]["time"] < (*first)["time"]))
           first = &s["onset"];
       EXPECT_EQ(c.contains("onset_tension"), first != nullptr);
-      // forces.csv: the criterion's largest zone mean / critical value per state, and the
-      // tension it is charged to; the stitch's onset lies where that column crosses 1,
-      // at a tension between the two rows' (interpolated within the step)
+      // forces.csv: the criterion's largest zone mean / critical value per state, the
+      // tension it is charged to and the force on that tract's holes; the stitch's onset
+      // lies where the ratio crosses 1, at a tension and a force between the two rows'
+      // (interpolated within the step)
       const std::size_t ratio = column(header, "tear_" + name + " ["), pull = column(header, "pull_tension [");
+      const std::size_t holes = column(header, "tear_force_" + name + " [");
       if (first)
         {
           EXPECT_EQ(c["onset_tension"], (*first)["suture_tension"]);
+          EXPECT_EQ(c["onset_force"], (*first)["force"]);
           EXPECT_EQ(c["onset_time"], (*first)["time"]);
           const double t_onset = (*first)["time"].get<double>(), tension = (*first)["suture_tension"].get<double>();
           const auto   after   = std::find_if(rows.begin(), rows.end(),
@@ -729,14 +732,24 @@ TEST(AccurateNeedle, CoarseStitchClosesTheWoundAtItsStoredTension)
           EXPECT_GE((*after)[ratio], 1.0);
           EXPECT_GE(tension, std::min(before[pull], (*after)[pull]));
           EXPECT_LE(tension, std::max(before[pull], (*after)[pull]));
+          const double force = (*first)["force"].get<double>();
+          EXPECT_GE(force, std::min(before[holes], (*after)[holes]));
+          EXPECT_LE(force, std::max(before[holes], (*after)[holes]));
+          EXPECT_GT(force, 0.0);
         }
       else
         for (const auto &row : rows)
           EXPECT_FALSE(row[ratio] >= 1.0) << row[0];
-      double latest = 0;
+      double latest = 0, latest_force = 0;
       for (const auto &s : c["tracts"])
-        latest = std::max(latest, s["mean_over_critical"].get<double>());
+        if (s["mean_over_critical"].get<double>() >= latest)
+          {
+            latest       = s["mean_over_critical"].get<double>();
+            latest_force = s["force"].get<double>();
+          }
       EXPECT_NEAR(rows.back()[ratio], latest, 1e-12 * latest);
+      EXPECT_NEAR(rows.back()[holes], latest_force, 1e-12 * latest_force); // that tract's
+      EXPECT_GT(latest_force, 0.0);
       double largest_of_all = 0;
       for (const auto &s : c["tracts"])
         largest_of_all = std::max(largest_of_all, s["largest_mean_over_critical"].get<double>());

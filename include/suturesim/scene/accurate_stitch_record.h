@@ -11,8 +11,9 @@
  *  - tissue_*.vtu and suture_*.vtu at Time/Output interval (and the last state);
  *  - with Tearing/Criteria, the tear criteria per stitch at every accepted state
  *    (scene/tear_monitor.h): metrics.tearing, their cell ratios in the VTU, and in
- *    forces.csv the tension they are charged to (pull_tension) and each criterion's
- *    largest zone mean / critical value (tear_<criterion>);
+ *    forces.csv the tension they are charged to (pull_tension), each criterion's
+ *    largest zone mean / critical value (tear_<criterion>) and the force on that
+ *    tract's holes (tear_force_<criterion>);
  *  - summary.json: the steps' solver account, the reactions and probes of the last
  *    state, events and puncture/pull metrics (NeedleParameters::write_summary), the
  *    suture nodes left inside the tissue, the closure metrics.
@@ -68,6 +69,10 @@ namespace suturesim::scene
     {
       return stitch.grasped ? stitch.end_tension : stitch.load.first.norm();
     }
+    /// Each pierce point's force on the tissue |f| (tie and friction), N, in the order
+    /// of the needle's pierce points: what a tract's holes carry (TearMonitor).
+    std::vector<double>
+    hole_forces() const;
     void
     write_state(double t);
     /// The closure's gaps from the probes @p probes, into the row and the monitor.
