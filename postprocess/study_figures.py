@@ -284,7 +284,8 @@ def study_map(study, folder):
         handles = [plt.Rectangle((0, 0), 1, 1, fill=False, hatch=h, label=f"{f} > 0") for f, h in flags]
         fig.legend(handles=handles, fontsize=7, loc="lower center", ncol=len(handles))
     fig.suptitle(f"study {study['name']}: map", fontsize=10)
-    fig.tight_layout(rect=(0, 0.05 if flags else 0, 1, 1))
+    # room for the title above the first row's panel titles (half an inch)
+    fig.tight_layout(rect=(0, 0.05 if flags else 0, 1, 1 - 0.5 / fig.get_figheight()))
     save(fig, folder, "map", tight=False)
 
 
