@@ -34,25 +34,28 @@ namespace suturesim::scene
   {
     // Newest first: an exit followed by an entry is one pass's tract, the entry made
     // first. A tract is known by its entry point, which never moves (material point).
+    // Its force on its holes: the larger of its entry's and its exit's (NaN for a tract
+    // whose holes are gone).
+    std::vector<double> tract_force(tract_states.size(), std::nan(""));
     for (std::size_t k = 0; k + 1 < pierce.size(); ++k)
       if (pierce[k].exit && !pierce[k + 1].exit)
         {
           const tearing::Tract tract{point3(pierce[k + 1].X), point3(pierce[k].X)};
           const auto           known = std::find_if(tract_states.begin(), tract_states.end(),
                                                     [&](const TractState &s) { return s.tract.entry == tract.entry; });
+          const auto           z     = static_cast<std::size_t>(known - tract_states.begin());
           if (known == tract_states.end())
-            tract_states.emplace_back(tract, criteria.criteria.size());
+            {
+              tract_states.emplace_back(tract, criteria.criteria.size());
+              tract_force.push_back(std::nan(""));
+            }
+          if (k + 1 < forces.size())
+            tract_force[z] = std::max(forces[k], forces[k + 1]);
         }
 
     std::vector<tearing::Tract> tracts;
     for (const auto &s : tract_states)
       tracts.push_back(s.tract);
-    // each tract's force on its holes: the larger of its entry's and its exit's
-    std::vector<double> tract_force(tract_states.size(), std::nan(""));
-    for (std::size_t z = 0; z < tract_states.size(); ++z)
-      for (std::size_t k = 0; k + 1 < pierce.size() && k + 1 < forces.size(); ++k)
-        if (point3(pierce[k + 1].X) == tract_states[z].tract.entry && point3(pierce[k].X) == tract_states[z].tract.exit)
-          tract_force[z] = std::max(forces[k], forces[k + 1]);
     // Evaluated with no tract too: the VTU's cell ratios show where the tissue stands.
     tearing::ProcessZones::Separates cut;
     if (wound.present())

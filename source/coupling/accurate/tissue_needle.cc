@@ -183,6 +183,10 @@ namespace suturesim::coupling
         if (!on_thread(pierce[j]))
           continue;
         const auto [carrier, xi] = thread.element(pierce[j].carrier - needle.length());
+        // measured on its carrier or a neighbour (measured_on()): the other points of
+        // the loaded elements are passed over before any projection
+        if (element + 1 < carrier || element > carrier + 1)
+          continue;
         const Eigen::Vector3d xj = eigen(x[offset + j]);
         std::size_t           e;
         const double          u0 = measured_on(carrier, xi, xj, e).u;

@@ -109,7 +109,8 @@ namespace suturesim::scene
                                  {"record", record.snapshot()}},
                                 stitch.local_snapshot());
           };
-          const auto fail = [&](const double tn, const std::string &reason) {
+          // @p replayable: a checkpoint of the last accepted state was written
+          const auto fail = [&](const double tn, const std::string &reason, const bool replayable) {
             // the state is the last accepted one again: keep it
             const std::string where = record.keep(t);
             record.finish(t);
@@ -117,7 +118,7 @@ namespace suturesim::scene
             s << "Newton failed at t = " << tn << " s after " << scene.time.max_cutbacks
               << " step halvings: " << reason << "; last converged state t = " << t << " s"
               << (where.empty() ? "" : " in " + where);
-            if (tn > 0)
+            if (replayable)
               s << " (suturesim --restart " << recorder.directory() << " replays the failed step from it)";
             throw SolverError(s.str());
           };
@@ -146,7 +147,7 @@ namespace suturesim::scene
             {
               std::string failure;
               if (!stitch.solve_initial(failure))
-                fail(0, failure);
+                fail(0, failure, false);
               record.record(0, stitch.step_statistics(0, 0));
             }
 
@@ -179,7 +180,7 @@ namespace suturesim::scene
             // the last accepted state as a checkpoint too: a restart with the failure
             // traces on (Suture/Newton/Trace failures) replays the failing step alone
             checkpoint();
-            fail(tn, reason);
+            fail(tn, reason, true);
           };
           hooks.next_event = [&](const double tn) { return stitch.next_event(tn); };
           hooks.keep = [&](const double tn) {
