@@ -281,8 +281,10 @@ namespace suturesim::rod
                       "solve that fails goes to suture_newton_trace.csv in the output folder, "
                       "its residual split by contribution (elements, self-contact, applied "
                       "loads, pierce-point ties, stabilization, tissue contact), the step "
-                      "taken, and the node with the largest residual (diagnostics: "
-                      "docs/interrupted_stitch.md). Unit: none.");
+                      "taken, and the node with the largest residual; and every trial "
+                      "state of each coupled tissue-suture solve that fails goes to "
+                      "coupled_newton_trace.csv (residual, step, pierce points' stick or "
+                      "slip; diagnostics: docs/interrupted_stitch.md). Unit: none.");
     prm.leave_subsection();
     prm.declare_entry("Damping", "0", Patterns::Double(0),
                       "Mass-proportional damping c of the dynamics (force c m v, moment c J "

@@ -123,6 +123,17 @@ namespace suturesim::scene
       parts.push_back(&*faces);
     both.emplace(parts);
     coupled = parts.empty() ? nullptr : parts.size() == 1 ? parts.front() : &*both;
+    if (coupled && body && scene.suture.trace_failures && Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      {
+        coupled_trace.emplace(*coupled, (std::filesystem::path(directory) / "coupled_newton_trace.csv").string(),
+                              [this] {
+                                return CoupledNewtonTrace::BodyState{body->last_iterations(),
+                                                                     contact ? contact->contacts().size() : 0,
+                                                                     faces ? faces->n_touching() : 0,
+                                                                     body->point_states()};
+                              });
+        coupled = &*coupled_trace;
+      }
   }
 
   std::vector<Point<3>>
@@ -401,6 +412,7 @@ namespace suturesim::scene
     for (rounds = 1;; ++rounds)
       {
         report = coupled ? model->solve_coupled(tn, force_floor, *coupled) : model->solve_static(tn, force_floor);
+        solve_failed = !report.converged;
         step_iterations += report.iterations;
         if (body)
           suture_iterations = std::max(suture_iterations, body->take_peak_iterations());
@@ -452,6 +464,8 @@ namespace suturesim::scene
       {
         if (trace && report.failure.find("suture: ") != std::string::npos)
           trace->write(tn, dt);
+        if (coupled_trace && solve_failed)
+          coupled_trace->write(tn, dt);
         return {StepAttempt::Outcome::failed, report.failure};
       }
     // land the puncture within 4 % above the threshold: a step that overshoots is cut

@@ -65,10 +65,17 @@ namespace suturesim::scene
   }
 
   std::string
-  SutureNewtonTrace::points_file() const
+  trace_points_file(const std::string &file)
   {
     std::filesystem::path p(file);
     return (p.parent_path() / (p.stem().string() + "_points" + p.extension().string())).string();
+  }
+
+  void
+  write_point_state(std::ostream &out, const coupling::TissueNeedle::ThreadPointState &p)
+  {
+    out << ',' << p.point << ',' << p.element << ',' << p.u << ',' << p.slip << ',' << p.slipping << ','
+        << p.normal << ',' << p.friction << ',' << p.across;
   }
 
   void
@@ -102,18 +109,20 @@ namespace suturesim::scene
       throw std::runtime_error(file + ": cannot write the suture's Newton trace");
     if (!point_states)
       return;
-    std::ofstream points(points_file(), solves == 1 ? std::ios::trunc : std::ios::app);
+    const std::string points_file = trace_points_file(file);
+    std::ofstream     points(points_file, solves == 1 ? std::ios::trunc : std::ios::app);
     if (solves == 1)
-      points << "time [s],dt [s],solve,iteration,point,element,u [1],slip [m],slipping [0|1],normal [N],"
-                "friction [N],across [m]\n";
+      points << "time [s],dt [s],solve,iteration," << point_state_columns << '\n';
     points << std::setprecision(9);
     for (const Row &r : rows)
       for (const auto &p : r.points)
-        points << t << ',' << dt << ',' << solves << ',' << r.iteration << ',' << p.point << ',' << p.element << ','
-               << p.u << ',' << p.slip << ',' << p.slipping << ',' << p.normal << ',' << p.friction << ','
-               << p.across << '\n';
+        {
+          points << t << ',' << dt << ',' << solves << ',' << r.iteration;
+          write_point_state(points, p);
+          points << '\n';
+        }
     points.flush();
     if (!points)
-      throw std::runtime_error(points_file() + ": cannot write the suture's Newton trace");
+      throw std::runtime_error(points_file + ": cannot write the suture's Newton trace");
   }
 } // namespace suturesim::scene

@@ -36,4 +36,11 @@ namespace suturesim::tissue
       }
     return true;
   }
+
+  void
+  CondensedBodies::observe(const Trial &trial)
+  {
+    for (auto *b : bodies)
+      b->observe(trial);
+  }
 } // namespace suturesim::tissue

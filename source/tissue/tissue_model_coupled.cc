@@ -217,7 +217,10 @@ namespace suturesim::tissue
       r_norm = free_residual_norm();
       return true;
     };
-    if (!state(solution))
+    constexpr double not_reached = std::numeric_limits<double>::quiet_NaN();
+    const bool       started     = state(solution);
+    body.observe({0, 0, 0, started ? r_norm : not_reached, started});
+    if (!started)
       return report;
     for (unsigned it = 0;; ++it)
       {
@@ -273,8 +276,10 @@ namespace suturesim::tissue
             trial = solution;
             trial.add(alpha, update);
             step_mixed(alpha);
-            const bool ok = state(trial);
-            if (ok && (bc_moving || r_norm <= (1 - 1e-4 * alpha) * r_start || k >= np.max_backtracks))
+            const bool ok   = state(trial);
+            const bool take = ok && (bc_moving || r_norm <= (1 - 1e-4 * alpha) * r_start || k >= np.max_backtracks);
+            body.observe({it + 1, k, alpha, ok ? r_norm : not_reached, take});
+            if (take)
               break;
             if (!ok && k >= np.max_backtracks)
               {

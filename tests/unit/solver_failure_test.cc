@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -82,13 +84,22 @@ TEST(SolverFailure, SutureNewtonThatCannotConvergeKeepsTheInitialState)
   expect_outputs_end_at(r, 0.0, "suture.pvd");
 }
 
+namespace
+{
+  /// The accurate needle pass: two tissue Newton iterations solve the approach, not the
+  /// first step with a pierce point on the needle (its first halving also fails).
+  std::vector<std::string>
+  failing_needle_pass()
+  {
+    return {source_path("parameters/needle_pass.prm"), "--set", "Model=accurate", "--set", "Time/Step size=0.04",
+            "--set", "Time/End time=1.5", "--set", "Tissue/Newton/Max iterations=2", "--set",
+            "Time/Max cutbacks=1"};
+  }
+} // namespace
+
 TEST(SolverFailure, CoupledNeedlePassThatCannotConvergeKeepsItsLastAcceptedStep)
 {
-  // The accurate needle pass: two tissue Newton iterations solve the approach, not the
-  // first step with a pierce point on the needle (its first halving also fails).
-  const auto r = run_suturesim("fail_needle", {source_path("parameters/needle_pass.prm"), "--set", "Model=accurate",
-                                               "--set", "Time/Step size=0.04", "--set", "Time/End time=1.5", "--set",
-                                               "Tissue/Newton/Max iterations=2", "--set", "Time/Max cutbacks=1"});
+  const auto r = run_suturesim("fail_needle", failing_needle_pass());
   std::smatch       m;
   const std::regex  last(R"(last converged state t = ([0-9.eE+-]+) s)");
   ASSERT_TRUE(std::regex_search(r.output, m, last)) << r.output;
@@ -99,6 +110,52 @@ TEST(SolverFailure, CoupledNeedlePassThatCannotConvergeKeepsItsLastAcceptedStep)
   expect_outputs_end_at(r, converged, "tissue.pvd");
   expect_outputs_end_at(r, converged, "suture.pvd");
   EXPECT_NEAR(r.summary["metrics"]["simulated_time"].get<double>(), converged, 1e-12);
+}
+
+// With Suture/Newton/Trace failures the same run writes each failed coupled solve's
+// trial states to coupled_newton_trace.csv (scene/coupled_newton_trace.h), and fails as
+// it does without: the trace only watches. Every solve the log reports failed is there,
+// from its start (iteration 0) through the two iterations allowed, each iteration going
+// on from exactly one trial state. The points file is begun; its rows are the pierce
+// points on the thread, none yet in these first steps (the needle's tip holds them).
+TEST(SolverFailure, AFailedCoupledSolvesTrialStatesAreTraced)
+{
+  std::vector<std::string> args = failing_needle_pass();
+  args.insert(args.end(), {"--set", "Suture/Newton/Trace failures=true"});
+  const auto r = run_suturesim("fail_needle_traced", args);
+  expect_failed(r);
+  EXPECT_NE(r.output.find("coupled Newton: no convergence in 2 iterations"), std::string::npos) << r.output;
+
+  std::string header;
+  const auto  rows = read_numeric_csv(r.directory + "/coupled_newton_trace.csv", &header);
+  ASSERT_FALSE(rows.empty()) << "no coupled_newton_trace.csv";
+  const std::size_t solve = column(header, "solve"), iteration = column(header, "iteration"),
+                    taken = column(header, "taken"), residual = column(header, "residual"),
+                    step = column(header, "step");
+  int failed = 0;
+  for (std::size_t at = 0; (at = r.output.find("failed: coupled Newton", at)) != std::string::npos; ++at)
+    ++failed;
+  EXPECT_GE(failed, 2) << r.output; // the step and its halving
+  std::map<std::pair<int, int>, int> taken_per_iterate;
+  for (const auto &row : rows)
+    {
+      const int s = static_cast<int>(row.at(solve)), it = static_cast<int>(row.at(iteration));
+      EXPECT_GE(s, 1);
+      EXPECT_LE(s, failed);
+      EXPECT_LE(it, 2);
+      EXPECT_EQ(row.at(step) > 0, it > 0) << "solve " << s << " iteration " << it;
+      if (row.at(taken) == 1)
+        {
+          ++taken_per_iterate[{s, it}];
+          EXPECT_TRUE(std::isfinite(row.at(residual))) << "solve " << s << " iteration " << it;
+        }
+    }
+  for (int s = 1; s <= failed; ++s)
+    for (int it = 0; it <= 2; ++it)
+      EXPECT_EQ((taken_per_iterate[{s, it}]), 1) << "solve " << s << " iteration " << it;
+  std::string points_header;
+  read_numeric_csv(r.directory + "/coupled_newton_trace_points.csv", &points_header);
+  EXPECT_EQ(points_header.rfind("time [s],dt [s],solve,iteration,halvings,point,element,", 0), 0u) << points_header;
 }
 
 // Rod dynamics that run away (no numerical dissipation, rho_inf = 1, no damping, a 50 N

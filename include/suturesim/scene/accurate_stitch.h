@@ -38,6 +38,7 @@
 #include <suturesim/rod/viscous_drag.h>
 #include <suturesim/scene/interrupted_series.h>
 #include <suturesim/scene/scene_parameters.h>
+#include <suturesim/scene/coupled_newton_trace.h>
 #include <suturesim/scene/suture_newton_trace.h>
 #include <suturesim/tissue/condensed_bodies.h>
 #include <suturesim/tissue/point_load_list.h>
@@ -191,12 +192,14 @@ namespace suturesim::scene
     std::optional<coupling::CondensedSuture> body;
     std::vector<tissue::CondensedBody *>     parts;
     std::optional<tissue::CondensedBodies>   both;
+    std::optional<CoupledNewtonTrace>        coupled_trace; ///< wraps the body solved with the tissue
     tissue::CondensedBody                   *coupled = nullptr;
     std::vector<rod::Vec3>                   saved_x;
     std::vector<rod::Quat>                   saved_q;
     Eigen::Matrix3Xd                         round_surface;
     tissue::NewtonReport                     report;
     unsigned                                 rounds         = 0;
+    bool                                     solve_failed   = false; ///< the last coupled or tissue solve (not its rounds)
     unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
     unsigned                                 suture_iterations = 0; ///< this attempt's most of one suture solve
     std::vector<double>                      events;          ///< sorted, s

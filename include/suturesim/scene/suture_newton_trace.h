@@ -20,6 +20,7 @@
 #include <suturesim/rod/rod_model.h>
 
 #include <fstream>
+#include <ostream>
 #include <functional>
 #include <string>
 #include <utility>
@@ -27,6 +28,16 @@
 
 namespace suturesim::scene
 {
+  /// A trace's points file: @p file with "_points" before its extension.
+  std::string
+  trace_points_file(const std::string &file);
+  /// The columns of a pierce point's state in a trace's points file, after the row's own.
+  inline constexpr const char *point_state_columns =
+    "point,element,u [1],slip [m],slipping [0|1],normal [N],friction [N],across [m]";
+  /// One point's state in those columns, each preceded by a comma.
+  void
+  write_point_state(std::ostream &out, const coupling::TissueNeedle::ThreadPointState &p);
+
   class SutureNewtonTrace
   {
   public:
@@ -60,9 +71,6 @@ namespace suturesim::scene
       std::vector<double> worst_norms; ///< each part's norm at that node
       std::vector<coupling::TissueNeedle::ThreadPointState> points;
     };
-    /// The points file: file with "_points" before its extension.
-    std::string
-    points_file() const;
     std::vector<std::string>                                      names;
     std::vector<std::pair<std::string, const rod::NodalTerms *>> nodal;
     std::string                                                   file;

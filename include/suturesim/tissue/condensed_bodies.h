@@ -24,6 +24,9 @@ namespace suturesim::tissue
     coupled_points() const override;
     bool
     equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) override;
+    /// Shown to every part.
+    void
+    observe(const Trial &trial) override;
 
   private:
     std::vector<CondensedBody *> bodies;

@@ -40,5 +40,21 @@ namespace suturesim::tissue
     /// solve fails.
     virtual bool
     equilibrate(const std::vector<dealii::Point<3>> &x, Eigen::MatrixXd &G, std::string &failure) = 0;
+
+    /// A state a coupled solve brought the body to equilibrium in (observe()).
+    struct Trial
+    {
+      unsigned iteration = 0;     ///< the iterate it is a trial for (0: the solve's start)
+      unsigned halvings  = 0;     ///< of the Newton update before this trial
+      double   step      = 0;     ///< the fraction of the update taken, 1
+      double   residual  = 0;     ///< the tissue's free residual norm there, N; NaN when not reached
+      bool     taken     = false; ///< whether the solve went on from it
+    };
+    /// Called by TissueModel::solve_coupled() after each trial state, the start's
+    /// included (and after one whose equilibrate() failed); for a body that watches
+    /// the solve (scene/coupled_newton_trace.h). Ignored by default.
+    virtual void
+    observe(const Trial &)
+    {}
   };
 } // namespace suturesim::tissue

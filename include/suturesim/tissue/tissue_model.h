@@ -112,9 +112,10 @@ namespace suturesim::tissue
     /// iterate the body is brought to equilibrium with the tissue's points held, and
     /// the Newton update solves (K + Nᵀ G N) Δu = −R by the Sherman–Morrison–Woodbury
     /// formula, with 3m more solves of the factorised K (m points: the coupled ones,
-    /// then the other spread ones whose tangents K leaves out; low_rank_update()). Full
-    /// steps, halved only when an element inverts. Implemented in
-    /// tissue_model_coupled.cc.
+    /// then the other spread ones whose tangents K leaves out; low_rank_update()). The
+    /// step is halved while an element inverts or the residual's norm does not fall
+    /// (full steps while the boundary still moves); each trial state is shown to
+    /// @p body (CondensedBody::observe()). Implemented in tissue_model_coupled.cc.
     NewtonReport
     solve_coupled(double t, double force_floor, CondensedBody &body);
 
