@@ -251,6 +251,12 @@ namespace suturesim::rod
     prm.declare_entry("Depth", Utilities::to_string(d.tissue_contact.depth), Patterns::Double(0),
                       "A node at most this far behind the surface is still pushed out (deeper "
                       "ones are taken to be inside on purpose). Unit: m. Range: > 0.");
+    prm.declare_entry("Smoothing width", Utilities::to_string(d.tissue_contact.smoothing), Patterns::Double(0),
+                      "delta: the penalty -k g holds where a node presses by more than delta; "
+                      "over |g| < delta it is rounded to k (delta - g)^2 / (4 delta), which meets "
+                      "it with value and slope, so that Newton's tangent sees a node grazing "
+                      "the surface (0: the sharp law). Unit: m. Range: 0 to a tenth of the "
+                      "suture's radius.");
     prm.leave_subsection();
 
     prm.enter_subsection("Newton");
@@ -446,9 +452,12 @@ namespace suturesim::rod
     tissue_contact.enabled   = prm.get_bool("Enabled");
     tissue_contact.stiffness = prm.get_double("Penalty stiffness");
     tissue_contact.depth     = prm.get_double("Depth");
+    tissue_contact.smoothing = prm.get_double("Smoothing width");
     prm.leave_subsection();
     tc.require(!tissue_contact.enabled || tissue_contact.stiffness > 0, "Penalty stiffness", "must be > 0 N/m");
     tc.require(!tissue_contact.enabled || tissue_contact.depth > 0, "Depth", "must be > 0 m");
+    tc.require(!tissue_contact.enabled || tissue_contact.smoothing <= 0.1 * section.radius, "Smoothing width",
+               "must be at most a tenth of the suture's radius (Suture/Radius)");
 
     prm.enter_subsection("Newton");
     newton.max_iterations    = prm.get_integer("Max iterations");

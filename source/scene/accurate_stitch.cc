@@ -126,10 +126,14 @@ namespace suturesim::scene
     if (coupled && body && scene.suture.trace_failures && Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
       {
         coupled_trace.emplace(*coupled, (std::filesystem::path(directory) / "coupled_newton_trace.csv").string(),
-                              [this] {
+                              [this](const tissue::CondensedBody::Trial &trial) {
+                                const auto [X, component] = model->dof_location(trial.dof);
                                 return CoupledNewtonTrace::BodyState{body->last_iterations(),
                                                                      contact ? contact->contacts().size() : 0,
+                                                                     contact ? contact->n_pressing(suture->positions()) : 0,
                                                                      faces ? faces->n_touching() : 0,
+                                                                     X,
+                                                                     component,
                                                                      body->point_states()};
                               });
         coupled = &*coupled_trace;
@@ -184,7 +188,8 @@ namespace suturesim::scene
       {
         contact.emplace(coupling::SutureContactParameters{scene.suture.tissue_contact.stiffness,
                                                           scene.suture.section.radius,
-                                                          scene.suture.tissue_contact.depth},
+                                                          scene.suture.tissue_contact.depth,
+                                                          scene.suture.tissue_contact.smoothing},
                         surface.triangles, surface.reference);
         contact->set_suture(&suture->positions());
       }

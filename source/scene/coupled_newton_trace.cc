@@ -18,7 +18,7 @@ namespace suturesim::scene
   {
     if (trial.iteration == 0)
       rows.clear();
-    rows.push_back({trial, sample()});
+    rows.push_back({trial, sample(trial)});
     body.observe(trial);
   }
 
@@ -27,13 +27,18 @@ namespace suturesim::scene
   {
     std::ofstream out(file, solves == 0 ? std::ios::trunc : std::ios::app);
     if (solves++ == 0)
-      out << "time [s],dt [s],solve,iteration,halvings,step [1],residual [N],taken [0|1],suture iterations,"
-             "suture contacts,touching face pairs\n";
+      out << "time [s],dt [s],solve,iteration,halvings,step [1],largest move [m],residual [N],taken [0|1],"
+             "largest entry [N],largest X [m],largest Y [m],largest Z [m],largest component,suture iterations,"
+             "suture contacts,pressing,touching face pairs\n";
     out << std::setprecision(9);
     for (const Row &r : rows)
-      out << t << ',' << dt << ',' << solves << ',' << r.trial.iteration << ',' << r.trial.halvings << ','
-          << r.trial.step << ',' << r.trial.residual << ',' << r.trial.taken << ',' << r.state.suture_iterations
-          << ',' << r.state.contacts << ',' << r.state.touching << '\n';
+      {
+        const auto &X = r.state.largest_at;
+        out << t << ',' << dt << ',' << solves << ',' << r.trial.iteration << ',' << r.trial.halvings << ','
+            << r.trial.step << ',' << r.trial.moved << ',' << r.trial.residual << ',' << r.trial.taken << ','
+            << r.trial.largest << ',' << X[0] << ',' << X[1] << ',' << X[2] << ',' << r.state.largest_component
+            << ',' << r.state.suture_iterations << ',' << r.state.contacts << ',' << r.state.pressing << ',' << r.state.touching << '\n';
+      }
     out.flush();
     if (!out)
       throw std::runtime_error(file + ": cannot write the coupled Newton trace");

@@ -6,6 +6,8 @@
 #include <suturesim/core/error.h>
 #include <suturesim/tissue/tissue_model.h>
 
+#include <deal.II/fe/mapping_q1.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -42,6 +44,39 @@ namespace suturesim::tissue
     const double c_norm = c.l2_norm();
     r += c;
     return std::hypot(r.l2_norm(), c_norm);
+  }
+
+  std::pair<double, types::global_dof_index>
+  TissueModel::largest_free_residual() const
+  {
+    Vector r = system_rhs;
+    for (const auto i : owned_dirichlet)
+      r[i] = 0;
+    r.compress(VectorOperation::insert);
+    std::pair<double, types::global_dof_index> worst{0, 0};
+    for (const auto i : locally_owned_dofs)
+      if (std::abs(r[i]) > std::abs(worst.first))
+        worst = {r[i], i};
+    return worst;
+  }
+
+  std::pair<Point<3>, unsigned>
+  TissueModel::dof_location(const types::global_dof_index dof) const
+  {
+    const double                         nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned i = 0; i < dofs.size(); ++i)
+            if (dofs[i] == dof)
+              {
+                const Point<3> X = MappingQ1<3>().transform_unit_to_real_cell(cell, fe.unit_support_point(i));
+                return {X, fe.system_to_component_index(i).first};
+              }
+        }
+    return {Point<3>(nan, nan, nan), 0};
   }
 
   bool

@@ -180,6 +180,59 @@ TEST(SutureContact, BothSidesJacobiansMatchCentralDifferences)
     }
 }
 
+// The rounded law (Suture/Tissue contact/Smoothing width δ): the sharp penalty k (−g)
+// wherever the node presses by δ or more, nothing from g = δ on, and between them the
+// quadratic k (δ − g)²/(4δ), meeting both with value and slope (C¹). Its slope on both
+// sides is the derivative of its force, across the band's ends too, where the sharp law's
+// jumps from 0 to k at g = 0.
+TEST(SutureContact, TheRoundedPenaltyIsTheSharpOneBeyondItsBandAndC1AcrossIt)
+{
+  const Box     box;
+  const double  delta = 2e-6;
+  SutureContact rounded(SutureContactParameters{k, r, depth, delta}, box.surface.triangles, box.mesh.vertices);
+  SutureContact sharp(SutureContactParameters{k, r, depth}, box.surface.triangles, box.mesh.vertices);
+  std::vector<Vec3> nodes{{0.0031, 0.0042, top + r}};
+  for (SutureContact *c : {&rounded, &sharp})
+    {
+      c->set_suture(&nodes);
+      ASSERT_TRUE(c->detect(box.mesh.vertices, nodes, {0}));
+      c->set_tissue_positions(c->points());
+    }
+  // the force on the node and its slope along the normal (+z) at gap g
+  const auto at_gap = [&](const SutureContact &c, const double g) {
+    suturesim::rod::Vec6 residual = suturesim::rod::Vec6::Zero();
+    suturesim::rod::Mat6 jacobian = suturesim::rod::Mat6::Zero();
+    c.add_node_terms(0, Vec3(0.0031, 0.0042, top + r + g), residual, jacobian);
+    return std::pair<double, double>{-residual[2], jacobian(2, 2)};
+  };
+  for (const double g : {-50 * delta, -3 * delta, -delta * (1 + 1e-9)})
+    {
+      EXPECT_NEAR(at_gap(rounded, g).first, -k * g, 1e-12) << g;
+      EXPECT_NEAR(at_gap(rounded, g).second, k, 1e-9 * k) << g; // the gap's round-off over δ
+      EXPECT_NEAR(at_gap(sharp, g).first, at_gap(rounded, g).first, 1e-12) << g;
+    }
+  for (const double g : {-0.5 * delta, 0.0, 0.5 * delta})
+    EXPECT_NEAR(at_gap(rounded, g).first, k * (delta - g) * (delta - g) / (4 * delta), 1e-12) << g;
+  EXPECT_NEAR(at_gap(rounded, 0).first, k * delta / 4, 1e-12);  // the sharp law: 0
+  EXPECT_NEAR(at_gap(rounded, 0).second, k / 2, 1e-9 * k);        // the sharp law: 0 or k
+  EXPECT_EQ(at_gap(rounded, delta * (1 + 1e-9)).first, 0.0);
+  EXPECT_EQ(at_gap(rounded, 5 * delta).first, 0.0);
+  // the slope is the force's derivative everywhere, the band's ends included
+  const double h = 1e-3 * delta;
+  for (const double g : {-2 * delta, -delta, -0.3 * delta, 0.0, 0.7 * delta, delta})
+    {
+      const double fd = (at_gap(rounded, g - h).first - at_gap(rounded, g + h).first) / (2 * h);
+      EXPECT_NEAR(at_gap(rounded, g).second, fd, 1e-3 * k) << g;
+    }
+  // the tissue's side: the same force, opposite, and its slope
+  dealii::Tensor<1, 3> f;
+  dealii::Tensor<2, 3> df;
+  nodes[0] = Vec3(0.0031, 0.0042, top + r - 0.4 * delta);
+  rounded.force(0, rounded.points()[0], f, df);
+  EXPECT_NEAR(f[2], -k * 1.4 * 1.4 * delta / 4, 1e-12);
+  EXPECT_NEAR(df[2][2], -k * 1.4 / 2, 1e-9 * k);
+}
+
 TEST(PointLoadList, JoinsPartsInOrderAndSendsEachPointToItsOwnPart)
 {
   // two contact sets on one box as the parts (the pass joins the needle's points and the

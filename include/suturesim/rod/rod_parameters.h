@@ -90,6 +90,7 @@ namespace suturesim::rod
       bool   enabled   = true;
       double stiffness = 5e4;  ///< per node, N/m
       double depth     = 1e-3; ///< how far inside a node is still pushed out, m
+      double smoothing = 1e-6; ///< the penalty's kink rounded over |g| < smoothing, m
     } tissue_contact;
 
     /// Declares into the current subsection ("Suture").

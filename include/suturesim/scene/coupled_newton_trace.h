@@ -6,7 +6,8 @@
  * (tissue::TissueModel::solve_coupled()) brings the suture to equilibrium in, the full
  * Newton step and each halving of it, and when the solve fails its states are appended
  * to coupled_newton_trace.csv. Per state: the iterate it is a trial for, the step's
- * fraction, the tissue's free residual there, whether the solve went on from it, the
+ * fraction and the largest DoF move it makes, the tissue's free residual there and its
+ * largest entry (where, which component), whether the solve went on from it, the
  * suture Newton iterations its equilibrium took, and the suture's contacts and the
  * wound's touching face pairs. Beside it, coupled_newton_trace_points.csv has each
  * pierce point on the thread per state (carrier, slip, stick or slip, forces): a tissue
@@ -34,10 +35,13 @@ namespace suturesim::scene
     {
       unsigned    suture_iterations = 0; ///< of the last equilibrate()
       std::size_t contacts          = 0; ///< the suture's contacts with the tissue's surface
+      std::size_t pressing          = 0; ///< those of them that press (gap < 0)
       std::size_t touching          = 0; ///< the wound's face pairs in contact
+      dealii::Point<3> largest_at;       ///< where the tissue's largest residual entry is (reference), m
+      unsigned         largest_component = 0;
       std::vector<coupling::TissueNeedle::ThreadPointState> points;
     };
-    using Sample = std::function<BodyState()>;
+    using Sample = std::function<BodyState(const Trial &)>;
 
     /// @p body: traced (kept by the caller); @p file: the trace's CSV.
     CoupledNewtonTrace(tissue::CondensedBody &body, std::string file, Sample sample);

@@ -152,6 +152,12 @@ namespace suturesim::tissue
     dealii::Point<3>
     point_position(std::size_t k) const;
 
+    /// The reference position X of this process's DoF @p dof (its support point) and its
+    /// component; NaN coordinates when this process does not own it (diagnostics: a
+    /// loop over the cells).
+    std::pair<dealii::Point<3>, unsigned>
+    dof_location(dealii::types::global_dof_index dof) const;
+
     /// The boundary as triangles (collective), its vertices the boundary faces' corners
     /// (on a locally refined mesh hanging ones among them; the triangles then meet at
     /// T-junctions, without gaps since a hanging node stays on its coarse edge).
@@ -290,6 +296,10 @@ namespace suturesim::tissue
     /// whose constraints do not hold is not taken for converged.
     double
     free_residual_norm() const;
+    /// The free residual's largest entry in magnitude among this process's DoFs (N; the
+    /// equilibrium part) and its DoF.
+    std::pair<double, dealii::types::global_dof_index>
+    largest_free_residual() const;
 
     /// Newton update of the mixed fields that are Newton unknowns (no-op otherwise):
     /// begin_mixed_update() recovers every cell's Δp̃, ΔJ̃ from the displacement update

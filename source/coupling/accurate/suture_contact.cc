@@ -80,10 +80,17 @@ namespace suturesim::coupling
   }
 
   double
-  SutureContact::pressure(const Contact &c, const Eigen::Vector3d &p, const Eigen::Vector3d &q) const
+  SutureContact::pressure(const Contact &c, const Eigen::Vector3d &p, const Eigen::Vector3d &q, double *slope) const
   {
-    const double g = (p - q).dot(c.normal) - prm.radius;
-    return g < 0 ? -prm.stiffness * g : 0.0;
+    const double g = (p - q).dot(c.normal) - prm.radius, d = prm.smoothing, k = prm.stiffness;
+    double       F = 0, dF = 0;
+    if (g <= -d)
+      F = -k * g, dF = k;
+    else if (g < d)
+      F = k * (d - g) * (d - g) / (4 * d), dF = k * (d - g) / (2 * d);
+    if (slope)
+      *slope = dF;
+    return F;
   }
 
   void
@@ -95,12 +102,13 @@ namespace suturesim::coupling
       return;
     const auto           &c = list[k];
     const Eigen::Vector3d q(seen[k][0], seen[k][1], seen[k][2]);
-    const double          F = pressure(c, x, q);
+    double                slope = 0;
+    const double          F = pressure(c, x, q, &slope);
     if (F <= 0)
       return;
     // f = F n on the node; residual −f, and ∂(−f)/∂x = k n nᵀ
     residual.head<3>() -= F * c.normal;
-    jacobian.topLeftCorner<3, 3>() += prm.stiffness * c.normal * c.normal.transpose();
+    jacobian.topLeftCorner<3, 3>() += slope * c.normal * c.normal.transpose();
   }
 
   double
@@ -112,11 +120,21 @@ namespace suturesim::coupling
     return total;
   }
 
+  std::size_t
+  SutureContact::n_pressing(const std::vector<rod::Vec3> &nodes) const
+  {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < list.size(); ++k)
+      n += pressure(list[k], nodes[list[k].node], Eigen::Vector3d(seen[k][0], seen[k][1], seen[k][2])) > 0;
+    return n;
+  }
+
   void
   SutureContact::force(const std::size_t k, const Point<3> &x, Tensor<1, 3> &f, Tensor<2, 3> &df_dx) const
   {
     const auto &c = list[k];
-    const double F = pressure(c, (*suture)[c.node], Eigen::Vector3d(x[0], x[1], x[2]));
+    double       slope = 0;
+    const double F = pressure(c, (*suture)[c.node], Eigen::Vector3d(x[0], x[1], x[2]), &slope);
     f              = Tensor<1, 3>();
     df_dx          = Tensor<2, 3>();
     if (F <= 0)
@@ -126,7 +144,7 @@ namespace suturesim::coupling
       {
         f[i] = -F * c.normal[i];
         for (unsigned j = 0; j < 3; ++j)
-          df_dx[i][j] = -prm.stiffness * c.normal[i] * c.normal[j];
+          df_dx[i][j] = -slope * c.normal[i] * c.normal[j];
       }
   }
 

@@ -13,9 +13,19 @@
  *    material point of the surface, embedded in its FE cell like a pierce point) and the
  *    outward normal n are frozen until the next detection;
  *  - response: the gap g = (p − x_q)·n − r, x_q the surface point's current position,
- *    and a penalty f = −k g n on the node while g < 0 (frictionless), −f on the tissue
- *    at x_q (tissue::PointLoads). Node side: residual −f, Jacobian k n nᵀ; tissue side:
- *    ∂f_q/∂x_q = −k n nᵀ. Each side is solved with the other held (the accurate pass's
+ *    and a penalty f = F n on the node (frictionless), −f on the tissue at x_q
+ *    (tissue::PointLoads), with
+ *        F = −k g                 for g ≤ −δ,
+ *        F = k (δ − g)² / (4δ)    for |g| < δ,
+ *        F = 0                    for g ≥ δ:
+ *    the penalty −k g wherever it presses by more than δ, its kink at g = 0 rounded off
+ *    by the quadratic that meets it with value and slope at g = ±δ (C¹; δ = 0 the sharp
+ *    law). Why: with the kink sharp, a node grazing the surface pressed at the full
+ *    Newton step and not at any of its halvings, the tangent never saw it, and the
+ *    coupled solve stalled above its tolerance (docs/tearing.md, "The coupled solve's
+ *    stalls"). The realtime path keeps the sharp law: its integrators take no Newton
+ *    step across it. Node side: residual −f, Jacobian F' n nᵀ; tissue side:
+ *    ∂f_q/∂x_q = −F' n nᵀ, F' = dF/d(−g). Each side is solved with the other held (the accurate pass's
  *    block Gauss–Seidel rounds), as the pierce points are.
  * Nodes the pierce points draw into the tissue (a stitch's tracts,
  * TissueNeedle::thread_nodes_in_tracts()) and nodes held by a support (the swage, a
@@ -44,6 +54,7 @@ namespace suturesim::coupling
     double stiffness = 0; ///< k per node, N/m
     double radius    = 0; ///< r of the suture, m
     double depth     = 0; ///< how far inside a node is still pushed out, m
+    double smoothing = 0;    ///< δ: the law's kink at g = 0 rounded over |g| < δ (0: none), m
   };
 
   class SutureContact : public tissue::PointLoads
@@ -91,6 +102,10 @@ namespace suturesim::coupling
     /// points at their last set positions, N.
     double
     total_force(const std::vector<rod::Vec3> &nodes) const;
+    /// How many contacts press (g < 0) with the nodes at @p nodes and the tissue points
+    /// at their last set positions.
+    std::size_t
+    n_pressing(const std::vector<rod::Vec3> &nodes) const;
 
     /// The contacts of the last accepted state, for a checkpoint (io/checkpoint.h);
     /// restore() takes them back.
@@ -129,10 +144,10 @@ namespace suturesim::coupling
     }
 
   private:
-    /// Penalty force magnitude k max(0, −g) of contact @p c for node position @p p and
-    /// surface point @p q, N.
+    /// Penalty force magnitude F(g) of contact @p c for node position @p p and surface
+    /// point @p q (N), and in @p slope (when given) F' = dF/d(−g), N/m.
     double
-    pressure(const Contact &c, const Eigen::Vector3d &p, const Eigen::Vector3d &q) const;
+    pressure(const Contact &c, const Eigen::Vector3d &p, const Eigen::Vector3d &q, double *slope = nullptr) const;
     /// The contacts' material points X and the nodes' slots, from list.
     void
     adopt(std::size_t n_nodes);
