@@ -36,9 +36,9 @@
 #include <suturesim/coupling/accurate/tissue_needle.h>
 #include <suturesim/coupling/accurate/wound_contact.h>
 #include <suturesim/rod/viscous_drag.h>
+#include <suturesim/scene/coupled_newton_trace.h>
 #include <suturesim/scene/interrupted_series.h>
 #include <suturesim/scene/scene_parameters.h>
-#include <suturesim/scene/coupled_newton_trace.h>
 #include <suturesim/scene/suture_newton_trace.h>
 #include <suturesim/tissue/condensed_bodies.h>
 #include <suturesim/tissue/point_load_list.h>

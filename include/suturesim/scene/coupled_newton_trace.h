@@ -35,7 +35,7 @@ namespace suturesim::scene
     {
       unsigned    suture_iterations = 0; ///< of the last equilibrate()
       std::size_t contacts          = 0; ///< the suture's contacts with the tissue's surface
-      std::size_t pressing          = 0; ///< those of them that press (gap < 0)
+      std::size_t pressing          = 0; ///< those of them that carry a force (SutureContact::n_pressing())
       std::size_t touching          = 0; ///< the wound's face pairs in contact
       dealii::Point<3> largest_at;       ///< where the tissue's largest residual entry is (reference), m
       unsigned         largest_component = 0;

@@ -20,8 +20,8 @@
 #include <suturesim/rod/rod_model.h>
 
 #include <fstream>
-#include <ostream>
 #include <functional>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>

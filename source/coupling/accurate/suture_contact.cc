@@ -15,8 +15,8 @@ namespace suturesim::coupling
     , triangles(surface)
     , reference(X0)
   {
-    if (!(prm.stiffness > 0) || !(prm.radius > 0) || !(prm.depth > 0))
-      throw std::invalid_argument("suture contact: stiffness, radius and depth must be > 0");
+    if (!(prm.stiffness > 0) || !(prm.radius > 0) || !(prm.depth > 0) || !(prm.smoothing >= 0))
+      throw std::invalid_argument("suture contact: stiffness, radius and depth must be > 0, smoothing >= 0");
     // leaves grown by the farther of the two reaches, outside (1.25 r) and inside (depth)
     tree.build(X0, triangles, std::max(1.25 * prm.radius, prm.depth));
   }
@@ -106,7 +106,7 @@ namespace suturesim::coupling
     const double          F = pressure(c, x, q, &slope);
     if (F <= 0)
       return;
-    // f = F n on the node; residual −f, and ∂(−f)/∂x = k n nᵀ
+    // f = F n on the node; residual −f, and ∂(−f)/∂x = F' n nᵀ
     residual.head<3>() -= F * c.normal;
     jacobian.topLeftCorner<3, 3>() += slope * c.normal * c.normal.transpose();
   }
@@ -139,7 +139,7 @@ namespace suturesim::coupling
     df_dx          = Tensor<2, 3>();
     if (F <= 0)
       return;
-    // −F n on the tissue point; the gap shrinks as x_q moves along n: ∂f/∂x_q = −k n nᵀ
+    // −F n on the tissue point; the gap shrinks as x_q moves along n: ∂f/∂x_q = −F' n nᵀ
     for (unsigned i = 0; i < 3; ++i)
       {
         f[i] = -F * c.normal[i];

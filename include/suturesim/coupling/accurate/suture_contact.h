@@ -25,8 +25,8 @@
  *    coupled solve stalled above its tolerance (docs/tearing.md, "The coupled solve's
  *    stalls"). The realtime path keeps the sharp law: its integrators take no Newton
  *    step across it. Node side: residual −f, Jacobian F' n nᵀ; tissue side:
- *    ∂f_q/∂x_q = −F' n nᵀ, F' = dF/d(−g). Each side is solved with the other held (the accurate pass's
- *    block Gauss–Seidel rounds), as the pierce points are.
+ *    ∂f_q/∂x_q = −F' n nᵀ, F' = dF/d(−g). Each side is solved with the other held
+ *    (the accurate pass's block Gauss–Seidel rounds), as the pierce points are.
  * Nodes the pierce points draw into the tissue (a stitch's tracts,
  * TissueNeedle::thread_nodes_in_tracts()) and nodes held by a support (the swage, a
  * grasper) are left out.
@@ -54,7 +54,7 @@ namespace suturesim::coupling
     double stiffness = 0; ///< k per node, N/m
     double radius    = 0; ///< r of the suture, m
     double depth     = 0; ///< how far inside a node is still pushed out, m
-    double smoothing = 0;    ///< δ: the law's kink at g = 0 rounded over |g| < δ (0: none), m
+    double smoothing = 0; ///< δ: the law's kink at g = 0 rounded over |g| < δ (0: none), m
   };
 
   class SutureContact : public tissue::PointLoads
@@ -102,8 +102,8 @@ namespace suturesim::coupling
     /// points at their last set positions, N.
     double
     total_force(const std::vector<rod::Vec3> &nodes) const;
-    /// How many contacts press (g < 0) with the nodes at @p nodes and the tissue points
-    /// at their last set positions.
+    /// How many contacts carry a force (g < δ) with the nodes at @p nodes and the tissue
+    /// points at their last set positions.
     std::size_t
     n_pressing(const std::vector<rod::Vec3> &nodes) const;
 
