@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <sstream>
 #include <stdexcept>
 
 namespace suturesim::scene
@@ -79,50 +80,59 @@ namespace suturesim::scene
   }
 
   void
-  SutureNewtonTrace::write(const double t, const double dt)
+  append_trace_rows(const std::string &path, const bool first, const std::string &header,
+                    const std::function<void(std::ostream &)> &rows, const std::string &what)
   {
-    std::ofstream out(file, solves == 0 ? std::ios::trunc : std::ios::app);
-    if (solves++ == 0)
-      {
-        out << "time [s],dt [s],solve,iteration,residual [N|N m],step [1],largest move [m],largest turn [rad]";
-        for (const auto &name : names)
-          out << ',' << name << " [N|N m]";
-        out << ",worst node";
-        for (const auto &name : names)
-          out << ",worst node " << name << " [N|N m]";
-        out << '\n';
-      }
+    std::ofstream out(path, first ? std::ios::trunc : std::ios::app);
+    if (first)
+      out << header << '\n';
     out << std::setprecision(9);
-    for (const Row &r : rows)
-      {
-        out << t << ',' << dt << ',' << solves << ',' << r.iteration << ',' << r.residual << ',' << r.step << ','
-            << r.moved << ',' << r.turned;
-        for (const double v : r.norms)
-          out << ',' << v;
-        out << ',' << r.worst;
-        for (const double v : r.worst_norms)
-          out << ',' << v;
-        out << '\n';
-      }
+    rows(out);
     out.flush();
     if (!out)
-      throw std::runtime_error(file + ": cannot write the suture's Newton trace");
+      throw std::runtime_error(path + ": cannot write " + what);
+  }
+
+  void
+  SutureNewtonTrace::write(const double t, const double dt)
+  {
+    std::ostringstream header;
+    header << "time [s],dt [s],solve,iteration,residual [N|N m],step [1],largest move [m],largest turn [rad]";
+    for (const auto &name : names)
+      header << ',' << name << " [N|N m]";
+    header << ",worst node";
+    for (const auto &name : names)
+      header << ",worst node " << name << " [N|N m]";
+    const bool first = solves++ == 0;
+    append_trace_rows(
+      file, first, header.str(),
+      [&](std::ostream &out) {
+        for (const Row &r : rows)
+          {
+            out << t << ',' << dt << ',' << solves << ',' << r.iteration << ',' << r.residual << ',' << r.step
+                << ',' << r.moved << ',' << r.turned;
+            for (const double v : r.norms)
+              out << ',' << v;
+            out << ',' << r.worst;
+            for (const double v : r.worst_norms)
+              out << ',' << v;
+            out << '\n';
+          }
+      },
+      "the suture's Newton trace");
     if (!point_states)
       return;
-    const std::string points_file = trace_points_file(file);
-    std::ofstream     points(points_file, solves == 1 ? std::ios::trunc : std::ios::app);
-    if (solves == 1)
-      points << "time [s],dt [s],solve,iteration," << point_state_columns << '\n';
-    points << std::setprecision(9);
-    for (const Row &r : rows)
-      for (const auto &p : r.points)
-        {
-          points << t << ',' << dt << ',' << solves << ',' << r.iteration;
-          write_point_state(points, p);
-          points << '\n';
-        }
-    points.flush();
-    if (!points)
-      throw std::runtime_error(points_file + ": cannot write the suture's Newton trace");
+    append_trace_rows(
+      trace_points_file(file), first, std::string("time [s],dt [s],solve,iteration,") + point_state_columns,
+      [&](std::ostream &out) {
+        for (const Row &r : rows)
+          for (const auto &p : r.points)
+            {
+              out << t << ',' << dt << ',' << solves << ',' << r.iteration;
+              write_point_state(out, p);
+              out << '\n';
+            }
+      },
+      "the suture's Newton trace");
   }
 } // namespace suturesim::scene

@@ -37,6 +37,12 @@ namespace suturesim::scene
   /// One point's state in those columns, each preceded by a comma.
   void
   write_point_state(std::ostream &out, const coupling::TissueNeedle::ThreadPointState &p);
+  /// Appends to a trace's CSV @p path what @p rows writes (9 digits), the file begun
+  /// afresh with the line @p header when @p first; throws std::runtime_error naming the
+  /// file and @p what when a write fails.
+  void
+  append_trace_rows(const std::string &path, bool first, const std::string &header,
+                    const std::function<void(std::ostream &)> &rows, const std::string &what);
 
   class SutureNewtonTrace
   {
