@@ -127,11 +127,16 @@ namespace suturesim::scene
       {
         coupled_trace.emplace(*coupled, (std::filesystem::path(directory) / "coupled_newton_trace.csv").string(),
                               [this](const tissue::CondensedBody::Trial &trial) {
-                                const auto [X, component] = model->dof_location(trial.dof);
+                                // the residual of a state not reached is not this state's
+                                const auto [largest, dof] = std::isnan(trial.residual)
+                                                              ? std::pair<double, types::global_dof_index>{0, 0}
+                                                              : model->largest_free_residual();
+                                const auto [X, component] = model->dof_location(dof);
                                 return CoupledNewtonTrace::BodyState{body->last_iterations(),
                                                                      contact ? contact->contacts().size() : 0,
                                                                      contact ? contact->n_pressing(suture->positions()) : 0,
                                                                      faces ? faces->n_touching() : 0,
+                                                                     largest,
                                                                      X,
                                                                      component,
                                                                      body->point_states()};

@@ -36,7 +36,7 @@ namespace suturesim::scene
             const auto &X = r.state.largest_at;
             out << t << ',' << dt << ',' << solves << ',' << r.trial.iteration << ',' << r.trial.halvings << ','
                 << r.trial.step << ',' << r.trial.moved << ',' << r.trial.residual << ',' << r.trial.taken << ','
-                << r.trial.largest << ',' << X[0] << ',' << X[1] << ',' << X[2] << ','
+                << r.state.largest << ',' << X[0] << ',' << X[1] << ',' << X[2] << ','
                 << r.state.largest_component << ',' << r.state.suture_iterations << ',' << r.state.contacts << ','
                 << r.state.pressing << ',' << r.state.touching << '\n';
           }

@@ -16,7 +16,6 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
-#include <tuple>
 
 namespace suturesim::tissue
 {
@@ -219,15 +218,8 @@ namespace suturesim::tissue
       return true;
     };
     constexpr double not_reached = std::numeric_limits<double>::quiet_NaN();
-    const auto       show        = [&](CondensedBody::Trial trial, const bool ok, const double moved) {
-      trial.residual = ok ? r_norm : not_reached;
-      trial.moved    = moved;
-      if (ok)
-        std::tie(trial.largest, trial.dof) = largest_free_residual();
-      body.observe(trial);
-    };
-    const bool started = state(solution);
-    show({0, 0, 0, 0, started}, started, 0);
+    const bool       started     = state(solution);
+    body.observe({0, 0, 0, started ? r_norm : not_reached, started, 0});
     if (!started)
       return report;
     for (unsigned it = 0;; ++it)
@@ -286,7 +278,7 @@ namespace suturesim::tissue
             step_mixed(alpha);
             const bool ok   = state(trial);
             const bool take = ok && (bc_moving || r_norm <= (1 - 1e-4 * alpha) * r_start || k >= np.max_backtracks);
-            show({it + 1, k, alpha, 0, take}, ok, alpha * du_max);
+            body.observe({it + 1, k, alpha, ok ? r_norm : not_reached, take, alpha * du_max});
             if (take)
               break;
             if (!ok && k >= np.max_backtracks)

@@ -49,14 +49,13 @@ namespace suturesim::tissue
   std::pair<double, types::global_dof_index>
   TissueModel::largest_free_residual() const
   {
-    Vector r = system_rhs;
-    for (const auto i : owned_dirichlet)
-      r[i] = 0;
-    r.compress(VectorOperation::insert);
+    std::vector<types::global_dof_index> fixed = owned_dirichlet;
+    std::sort(fixed.begin(), fixed.end());
     std::pair<double, types::global_dof_index> worst{0, 0};
     for (const auto i : locally_owned_dofs)
-      if (std::abs(r[i]) > std::abs(worst.first))
-        worst = {r[i], i};
+      if (const double r = system_rhs[i];
+          std::abs(r) > std::abs(worst.first) && !std::binary_search(fixed.begin(), fixed.end(), i))
+        worst = {r, i};
     return worst;
   }
 

@@ -37,7 +37,8 @@ namespace suturesim::scene
       std::size_t contacts          = 0; ///< the suture's contacts with the tissue's surface
       std::size_t pressing          = 0; ///< those of them that carry a force (SutureContact::n_pressing())
       std::size_t touching          = 0; ///< the wound's face pairs in contact
-      dealii::Point<3> largest_at;       ///< where the tissue's largest residual entry is (reference), m
+      double           largest = 0;      ///< the tissue's largest free residual entry, N
+      dealii::Point<3> largest_at;       ///< where it is (reference), m
       unsigned         largest_component = 0;
       std::vector<coupling::TissueNeedle::ThreadPointState> points;
     };

@@ -20,7 +20,6 @@
 
 #include <Eigen/Core>
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -51,10 +50,6 @@ namespace suturesim::tissue
       double   residual  = 0;     ///< the tissue's free residual norm there, N; NaN when not reached
       bool     taken     = false; ///< whether the solve went on from it
       double   moved     = 0;     ///< the largest DoF's change from the iterate before, α |Δu|∞, m
-      /// The free residual's largest entry of this process's DoFs (N) and the DoF
-      /// (TissueModel::dof_location() tells where it is).
-      double        largest = 0;
-      std::uint64_t dof     = 0;
     };
     /// Called by TissueModel::solve_coupled() after each trial state, the start's
     /// included (and after one whose equilibrate() failed); for a body that watches

@@ -157,6 +157,11 @@ namespace suturesim::tissue
     /// loop over the cells).
     std::pair<dealii::Point<3>, unsigned>
     dof_location(dealii::types::global_dof_index dof) const;
+    /// The last assembled residual's largest free entry in magnitude among this process's
+    /// DoFs (N; the equilibrium part) and its DoF; not collective (diagnostics: a trace on
+    /// one process reads it from CondensedBody::observe()).
+    std::pair<double, dealii::types::global_dof_index>
+    largest_free_residual() const;
 
     /// The boundary as triangles (collective), its vertices the boundary faces' corners
     /// (on a locally refined mesh hanging ones among them; the triangles then meet at
@@ -296,10 +301,6 @@ namespace suturesim::tissue
     /// whose constraints do not hold is not taken for converged.
     double
     free_residual_norm() const;
-    /// The free residual's largest entry in magnitude among this process's DoFs (N; the
-    /// equilibrium part) and its DoF.
-    std::pair<double, dealii::types::global_dof_index>
-    largest_free_residual() const;
 
     /// Newton update of the mixed fields that are Newton unknowns (no-op otherwise):
     /// begin_mixed_update() recovers every cell's Δp̃, ΔJ̃ from the displacement update
