@@ -298,15 +298,6 @@ namespace suturesim::scene
           scene.scope("Needle").fail("Shape", "a needle needs tissue (Bodies = tissue or tissue and suture)");
         scene.needle.check_entry_on_surface(world->tissue()->surface(), world->system().nodes.reference,
                                             scene.scope("Needle/Pass"));
-        if (!scene.needle.load_across_wound)
-          scene.scope("Pierce points")
-            .fail("Load across the wound", "the realtime path samples a spread load at the nodes, the far face's "
-                                           "among them: set it for the accurate path only (subsection Model "
-                                           "accurate)");
-        if (scene.needle.puncture.touch_radius > 0)
-          scene.scope("Puncture").fail("Touch radius", "the realtime path's touch is a node of the surface (a "
-                                                       "triangle split where the tip touches): set it for the "
-                                                       "accurate path only (subsection Model accurate)");
         try
           {
             needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);

@@ -66,6 +66,20 @@ namespace suturesim::scene
     model  = prm.get("Model");
     bodies = prm.get("Bodies");
     needle.parse(prm, scope());
+    // the accurate path's spread touch and loads stopped at the wound: refused here, not
+    // where the realtime world is built, so that --validate (and a study's) refuses them
+    if (model == "realtime" && needle.present())
+      {
+        if (!needle.load_across_wound)
+          scope("Pierce points")
+            .fail("Load across the wound", "the realtime path samples a spread load at the nodes, the far face's "
+                                           "among them: set it for the accurate path only (subsection Model "
+                                           "accurate)");
+        if (needle.puncture.touch_radius > 0)
+          scope("Puncture").fail("Touch radius", "the realtime path's touch is a node of the surface (a triangle "
+                                                 "split where the tip touches): set it for the accurate path only "
+                                                 "(subsection Model accurate)");
+      }
     closure.parse(prm, scope());
     // an interrupted series ties each stitch off on its own gap pair
     if (needle.present() && needle.motion == "pass" && needle.series.interrupted)

@@ -228,6 +228,21 @@ TEST(Validate, TheEmbeddedDefaultSceneIsTheInterruptedStitch)
   EXPECT_NE(r.output.find("<default scene stitch_interrupted.prm>: valid"), std::string::npos) << r.output;
 }
 
+TEST(Validate, RefusesTheAccuratePathsSpreadTouchAndLoadsInTheRealtimePath)
+{
+  // --validate refuses them as the run does (InputErrors/BadScene): a study's --validate
+  // once passed a reference with Puncture/Touch radius that its realtime run refused
+  for (const std::string bad : {"realtime_touch_radius", "load_across_wound_realtime"})
+    {
+      const auto r = run_suturesim("validate_" + bad, {"--validate", source_path("tests/data/bad/" + bad + ".prm")});
+      EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+      EXPECT_NE(r.output.find(bad == "realtime_touch_radius" ? "Puncture/Touch radius: the realtime path"
+                                                             : "Load across the wound: the realtime path"),
+                std::string::npos)
+        << r.output;
+    }
+}
+
 TEST(Validate, RejectsUnknownKey)
 {
   const auto r = run_suturesim("validate_bad", {"--validate", source_path("tests/data/bad/unknown_key.prm")});
