@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <tuple>
 #include <sstream>
 #include <string>
 
@@ -127,19 +128,24 @@ namespace suturesim::scene
       {
         coupled_trace.emplace(*coupled, (std::filesystem::path(directory) / "coupled_newton_trace.csv").string(),
                               [this](const tissue::CondensedBody::Trial &trial) {
-                                // the residual of a state not reached is not this state's
-                                const auto [largest, dof] = std::isnan(trial.residual)
-                                                              ? std::pair<double, types::global_dof_index>{0, 0}
-                                                              : model->largest_free_residual();
-                                const auto [X, component] = model->dof_location(dof);
-                                return CoupledNewtonTrace::BodyState{body->last_iterations(),
-                                                                     contact ? contact->contacts().size() : 0,
-                                                                     contact ? contact->n_pressing(suture->positions()) : 0,
-                                                                     faces ? faces->n_touching() : 0,
-                                                                     largest,
-                                                                     X,
-                                                                     component,
-                                                                     body->point_states()};
+                                CoupledNewtonTrace::BodyState state;
+                                state.suture_iterations = body->last_iterations();
+                                state.contacts          = contact ? contact->contacts().size() : 0;
+                                state.pressing          = contact ? contact->n_pressing(suture->positions()) : 0;
+                                state.touching          = faces ? faces->n_touching() : 0;
+                                state.points            = body->point_states();
+                                // a state not reached has no residual of its own: its largest
+                                // entry and place stay NaN, as its residual is
+                                const double nan = std::numeric_limits<double>::quiet_NaN();
+                                state.largest    = nan;
+                                state.largest_at = Point<3>(nan, nan, nan);
+                                if (!std::isnan(trial.residual))
+                                  {
+                                    const auto [largest, dof] = model->largest_free_residual();
+                                    state.largest             = largest;
+                                    std::tie(state.largest_at, state.largest_component) = model->dof_location(dof);
+                                  }
+                                return state;
                               });
         coupled = &*coupled_trace;
       }
