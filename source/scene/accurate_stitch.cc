@@ -74,6 +74,7 @@ namespace suturesim::scene
         });
       }
     pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;
+    clearance.emplace(np);
     pose0      = path.pose(0);
     if (scene.bodies == "tissue and suture")
       build_suture();
@@ -134,11 +135,7 @@ namespace suturesim::scene
                                 state.pressing          = contact ? contact->n_pressing(suture->positions()) : 0;
                                 state.touching          = faces ? faces->n_touching() : 0;
                                 state.points            = body->point_states();
-                                // a state not reached has no residual of its own: its largest
-                                // entry and place stay NaN, as its residual is
-                                const double nan = std::numeric_limits<double>::quiet_NaN();
-                                state.largest    = nan;
-                                state.largest_at = Point<3>(nan, nan, nan);
+                                // a state not reached keeps BodyState's NaN largest entry
                                 if (!std::isnan(trial.residual))
                                   {
                                     const auto [largest, dof] = model->largest_free_residual();
@@ -555,6 +552,8 @@ namespace suturesim::scene
     if (points_changed)
       locate_loads();
     model->surface_positions(surface, x_surface);
+    clearance->check(closure ? closure->motion_time(step_time) : step_time, needle_pose(step_time), x_surface,
+                     surface.triangles, scene.scope("Needle/Pass"));
     advance_series(step_time);
   }
 

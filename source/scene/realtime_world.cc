@@ -301,6 +301,7 @@ namespace suturesim::scene
         try
           {
             needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);
+            clearance.emplace(scene.needle);
           }
         catch (const ParameterError &e) // the coupling's own parameters (Load radius)
           {
@@ -455,6 +456,10 @@ namespace suturesim::scene
           }
         static const std::vector<double> none;
         poses[needle->tool()] = needle->pose(t, series ? series->pull_stops() : none, closure ? closure->stitch_ties() : none);
+        // the driver's pose, before a knot planner takes the needle over
+        if (!planner || planner->phase() == knot::KnotPlanner::Phase::waiting)
+          clearance->check(t, poses[needle->tool()], world->system().nodes.x, world->tissue()->surface(),
+                           scene.scope("Needle/Pass"));
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);

@@ -112,3 +112,34 @@ TEST(NeedleDriver, RefusesWhatCannotLetTheNeedleGoInOneLine)
   // the jaws must be out of the tissue when they let go
   expect_refusal("needle_driver_grip_inside", driver_with({"Needle/Pass/Grip point=0.4"}), "Needle/Pass/Grip point");
 }
+
+TEST(NeedleDriver, APassDrawnBackIntoTheTissueStopsInOneLineInBothPaths)
+{
+  // tests/data/needle_clearance/pass_drawn_down.prm: after the turn (ended at 1.013 s) the
+  // pull draws the needle 5 mm up over 0.5 s, the tightening 30 mm down over 1 s, which
+  // takes the swage back into the pad near its exit. Both paths stop there with one
+  // error line naming Needle/Pass/Tighten and its time, and write no summary.json
+  // (scene/needle_clearance.h). Without the tightening the same scene runs to its end,
+  // so the check does not fire on the pass itself or on the pull away from the tissue.
+  const std::string scene = "tests/data/needle_clearance/pass_drawn_down.prm";
+  for (const std::string model : {"realtime", "accurate"})
+    {
+      SCOPED_TRACE(model);
+      const auto down = run_suturesim("needle_clearance_" + model, scene_with(scene, {"Model=" + model}));
+      EXPECT_EQ(down.exit_code, 2) << down.output;
+      EXPECT_FALSE(down.has_summary);
+      const auto at = down.output.find("error: ");
+      ASSERT_NE(at, std::string::npos) << down.output;
+      const std::string line = down.output.substr(at, down.output.find('\n', at) - at);
+      EXPECT_EQ(down.output.find("error: ", at + 1), std::string::npos) << down.output;
+      EXPECT_NE(line.find("pass_drawn_down.prm:30: Needle/Pass/Tighten: at 1.7"), std::string::npos) << line;
+      EXPECT_NE(line.find("the needle's swage is back inside the tissue"), std::string::npos) << line;
+      EXPECT_NE(line.find("after pass 1's turn ended at 1.013 s"), std::string::npos) << line;
+
+      const auto up = run_suturesim("needle_clearance_" + model + "_up",
+                                    scene_with(scene, {"Model=" + model, "Needle/Pass/Tighten=0, 0, 0"}));
+      EXPECT_EQ(up.exit_code, 0) << up.output;
+      ASSERT_TRUE(up.has_summary);
+      EXPECT_EQ(up.summary["status"], "completed");
+    }
+}

@@ -38,6 +38,7 @@
 #include <suturesim/rod/viscous_drag.h>
 #include <suturesim/scene/coupled_newton_trace.h>
 #include <suturesim/scene/interrupted_series.h>
+#include <suturesim/scene/needle_clearance.h>
 #include <suturesim/scene/scene_parameters.h>
 #include <suturesim/scene/suture_newton_trace.h>
 #include <suturesim/tissue/condensed_bodies.h>
@@ -110,6 +111,7 @@ namespace suturesim::scene
     tools::CurvedNeedle                             geometry;
     std::unique_ptr<coupling::TissueNeedle>         needle;
     tools::Trajectory                               path;
+    std::optional<NeedleClearance>                  clearance; ///< a planned pass's needle out of the tissue after it
     double                                          pull_start = 0;
     std::optional<rod::RodModel>                    suture;
     std::optional<coupling::SutureContact>          contact;

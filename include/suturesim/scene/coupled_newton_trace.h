@@ -22,6 +22,7 @@
 #include <suturesim/tissue/condensed_body.h>
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -37,8 +38,10 @@ namespace suturesim::scene
       std::size_t contacts          = 0; ///< the suture's contacts with the tissue's surface
       std::size_t pressing          = 0; ///< those of them that carry a force (SutureContact::n_pressing())
       std::size_t touching          = 0; ///< the wound's face pairs in contact
-      double           largest = 0;      ///< the tissue's largest free residual entry, N
-      dealii::Point<3> largest_at;       ///< where it is (reference), m
+      /// the tissue's largest free residual entry, N, and where it is (reference), m; NaN
+      /// for a state the solve did not reach, which has no residual of its own
+      double           largest    = std::numeric_limits<double>::quiet_NaN();
+      dealii::Point<3> largest_at = dealii::Point<3>(largest, largest, largest);
       unsigned         largest_component = 0;
       std::vector<coupling::TissueNeedle::ThreadPointState> points;
     };

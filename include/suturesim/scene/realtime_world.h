@@ -31,6 +31,7 @@
 #include <suturesim/realtime/ligament_tearing.h>
 #include <suturesim/realtime/world.h>
 #include <suturesim/scene/interrupted_series.h>
+#include <suturesim/scene/needle_clearance.h>
 #include <suturesim/scene/realtime_needle.h>
 #include <suturesim/scene/realtime_settings.h>
 #include <suturesim/scene/scene_parameters.h>
@@ -103,6 +104,7 @@ namespace suturesim::scene
     std::unique_ptr<realtime::World>                 world;
     std::vector<Boundary>                            boundaries;
     std::optional<RealtimeNeedle>                    needle;
+    std::optional<NeedleClearance>                   clearance; ///< a planned pass's needle out of the tissue after it
     std::optional<realtime::LigamentTearing>         tearing; ///< Realtime/Tearing, when on
     std::optional<knot::KnotPlanner>                 planner; ///< Knot, when one is tied
     std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's

@@ -1,0 +1,64 @@
+#include <suturesim/scene/needle_clearance.h>
+
+#include <suturesim/collision/volume_penetration.h>
+
+#include <limits>
+#include <sstream>
+
+namespace suturesim::scene
+{
+  NeedleClearance::NeedleClearance(const NeedleParameters &parameters)
+  {
+    if (!parameters.present() || parameters.motion != "pass" || parameters.released())
+      return;
+    needle.emplace(parameters.needle());
+    const auto planned = parameters.planned_series();
+    for (std::size_t k = 0; k < planned.passes.size(); ++k)
+      {
+        const bool last = k + 1 == planned.passes.size();
+        open.emplace_back(planned.passes[k].t_turn_end,
+                          last ? std::numeric_limits<double>::infinity()
+                               : planned.passes[k + 1].trajectory.start_time());
+        pull_ends.push_back(planned.passes[k].t_end);
+      }
+  }
+
+  void
+  NeedleClearance::check(const double t, const tools::Pose &pose, const Eigen::Matrix3Xd &vertices,
+                         const std::vector<std::array<std::uint32_t, 3>> &triangles, const ParameterScope &pass)
+  {
+    if (!needle || triangles.empty() || t < next_check)
+      return;
+    next_check = t + 5e-3;
+    std::size_t k = 0;
+    while (k < open.size() && !(t >= open[k].first && t < open[k].second))
+      ++k;
+    if (k == open.size())
+      return;
+    // the surface's bounding box: most of the time the needle is well above it
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const auto &tri : triangles)
+      for (const auto v : tri)
+        {
+          lo = lo.cwiseMin(vertices.col(v));
+          hi = hi.cwiseMax(vertices.col(v));
+        }
+    const std::pair<const char *, Eigen::Vector3d> ends[] = {{"swage", needle->swage(pose)},
+                                                             {"tip", needle->tip(pose)}};
+    for (const auto &[name, at] : ends)
+      {
+        if ((at.array() < lo.array()).any() || (at.array() > hi.array()).any() ||
+            collision::winding_number(at, vertices, triangles) <= 0.5)
+          continue;
+        const bool        pulling = t < pull_ends[k];
+        std::ostringstream why;
+        why.precision(4);
+        why << "at " << t << " s the needle's " << name << " is back inside the tissue, at (" << at[0] << ", "
+            << at[1] << ", " << at[2] << ") m, after pass " << k + 1 << "'s turn ended at " << open[k].first
+            << " s: the " << (pulling ? "pull" : "tightening")
+            << " drives it into the tissue (a tie-off stops it only once the wound closes); draw it less far "
+               "towards the tissue, or end the scene earlier";
+        pass.fail(pulling ? "Pull" : "Tighten", why.str());
+      }
+  }
+} // namespace suturesim::scene
