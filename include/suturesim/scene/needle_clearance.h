@@ -9,8 +9,8 @@
  * back into the skin there, and the scene's contact does not stop it: the suture's node
  * at the swage is then pressed into the tissue by a prescribed motion, which the
  * accurate path's Newton cannot follow (on the bite × spacing scene with its earlier
- * tightening, a failure at 10.5 s after 3008 iterates; docs/tearing.md) and the realtime
- * path passes through without a word. So a needle whose swage or tip is inside the
+ * tightening it failed at 10.504 s, after six halvings; docs/tearing.md) and the
+ * realtime path passes through without a word. So a needle whose swage or tip is inside the
  * tissue in one of those windows is refused with the scene's one-line error, naming
  * Needle/Pass/Pull or Tighten and the time.
  *
