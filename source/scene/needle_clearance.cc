@@ -23,18 +23,18 @@ namespace suturesim::scene
       }
   }
 
-  void
+  std::string
   NeedleClearance::check(const double t, const tools::Pose &pose, const Eigen::Matrix3Xd &vertices,
-                         const std::vector<std::array<std::uint32_t, 3>> &triangles, const ParameterScope &pass)
+                         const std::vector<std::array<std::uint32_t, 3>> &triangles)
   {
     if (!needle || triangles.empty() || t < next_check)
-      return;
+      return "";
     next_check = t + 5e-3;
     std::size_t k = 0;
     while (k < open.size() && !(t >= open[k].first && t < open[k].second))
       ++k;
     if (k == open.size())
-      return;
+      return "";
     // the surface's bounding box: most of the time the needle is well above it
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto &tri : triangles)
@@ -50,15 +50,14 @@ namespace suturesim::scene
         if ((at.array() < lo.array()).any() || (at.array() > hi.array()).any() ||
             collision::winding_number(at, vertices, triangles) <= 0.5)
           continue;
-        const bool        pulling = t < pull_ends[k];
         std::ostringstream why;
         why.precision(4);
-        why << "at " << t << " s the needle's " << name << " is back inside the tissue, at (" << at[0] << ", "
+        why << "the needle's " << name << " went back into the tissue at t = " << t << " s, at (" << at[0] << ", "
             << at[1] << ", " << at[2] << ") m, after pass " << k + 1 << "'s turn ended at " << open[k].first
-            << " s: the " << (pulling ? "pull" : "tightening")
-            << " drives it into the tissue (a tie-off stops it only once the wound closes); draw it less far "
-               "towards the tissue, or end the scene earlier";
-        pass.fail(pulling ? "Pull" : "Tighten", why.str());
+            << " s: Needle/Pass/" << (t < pull_ends[k] ? "Pull" : "Tighten")
+            << " drives it there (a tie-off stops that motion only once the wound closes); the run stops there";
+        return why.str();
       }
+    return "";
   }
 } // namespace suturesim::scene

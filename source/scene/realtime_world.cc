@@ -458,8 +458,9 @@ namespace suturesim::scene
         poses[needle->tool()] = needle->pose(t, series ? series->pull_stops() : none, closure ? closure->stitch_ties() : none);
         // the driver's pose, before a knot planner takes the needle over
         if (!planner || planner->phase() == knot::KnotPlanner::Phase::waiting)
-          clearance->check(t, poses[needle->tool()], world->system().nodes.x, world->tissue()->surface(),
-                           scene.scope("Needle/Pass"));
+          if (auto why = clearance->check(t, poses[needle->tool()], world->system().nodes.x, world->tissue()->surface());
+              !why.empty())
+            stopped = std::move(why);
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);

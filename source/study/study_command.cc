@@ -192,7 +192,9 @@ namespace suturesim::study
         row.map_values.push_back(run.metric(is_reference ? other : own).value_or(NAN));
       for (const auto &name : study.figures.map_flags)
         row.map_flags.push_back(run.metric(name).value_or(NAN));
-      if (outcome.status != "completed")
+      // an incomplete run (exit 6) measured what it did until it ended: a needle that its
+      // tightening drove back into the tissue stops a stitch whose punctures stand
+      if (outcome.status != "completed" && outcome.status != "incomplete")
         return row;
       std::vector<std::string> missing;
       try
@@ -203,7 +205,7 @@ namespace suturesim::study
         {
           study.fail(e.key, e.what());
         }
-      if (!missing.empty())
+      if (!missing.empty() && row.outcome.status == "completed")
         {
           row.outcome.status = "incomplete";
           row.outcome.reason = missing.front() + (missing.size() > 1 ? " (and " + std::to_string(missing.size() - 1) +
@@ -363,11 +365,13 @@ namespace suturesim::study
       for (std::size_t k = 0; k < count; ++k)
         {
           const auto &outcome = e.outcomes[k];
-          const bool  kept    = study.report_failed_references && outcome.status == "failed";
+          const bool  kept    = study.report_failed_references &&
+                             (outcome.status == "failed" || outcome.status == "incomplete");
           if (outcome.status != "completed" && !kept)
             study.fail(study.reference_series ? "Reference/Series" : "Reference/Settings",
                        "the reference run '" + p.jobs[k].name + "' " + outcome.status + ": " + outcome.reason);
-          // a failed run keeps its last converged state's summary (exit 3)
+          // a failed run keeps its last converged state's summary (exit 3), an incomplete
+          // one the state it ended in (exit 6)
           references.push_back(written_run(p.jobs[k].folder).value_or(RunData{}));
         }
       // a resolution series: every row against its extrapolation, the series' own too

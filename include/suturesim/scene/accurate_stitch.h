@@ -112,6 +112,7 @@ namespace suturesim::scene
     std::unique_ptr<coupling::TissueNeedle>         needle;
     tools::Trajectory                               path;
     std::optional<NeedleClearance>                  clearance; ///< a planned pass's needle out of the tissue after it
+    std::string                                     stopped; ///< why the run ends early (NeedleClearance); "": it goes on
     double                                          pull_start = 0;
     std::optional<rod::RodModel>                    suture;
     std::optional<coupling::SutureContact>          contact;

@@ -11,8 +11,11 @@
  * accurate path's Newton cannot follow (on the bite × spacing scene with its earlier
  * tightening it failed at 10.504 s, after six halvings; docs/tearing.md) and the
  * realtime path passes through without a word. So a needle whose swage or tip is inside the
- * tissue in one of those windows is refused with the scene's one-line error, naming
- * Needle/Pass/Pull or Tighten and the time.
+ * tissue in one of those windows ends the run there, as incomplete (exit 6, with the
+ * reason naming Needle/Pass/Pull or Tighten, the time and the point): what the run
+ * computed until then stands (a study keeps its onsets), what the scene asked for after
+ * it cannot be done. Not an input error: a tie-off stops the motion when the wound
+ * closes, which only the run knows.
  *
  * Inside: the winding number of the tissue's closed, deformed surface exceeds ½
  * (collision::winding_number). Its cost, a solid angle per surface triangle and point, is
@@ -20,7 +23,6 @@
  * bounding box.
  */
 
-#include <suturesim/core/parameter_file.h>
 #include <suturesim/scene/needle_parameters.h>
 #include <suturesim/tools/curved_needle.h>
 
@@ -29,6 +31,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -43,19 +46,12 @@ namespace suturesim::scene
     /// the needle's).
     explicit NeedleClearance(const NeedleParameters &parameters);
 
-    /// Refuses, through @p pass (the scope of Needle/Pass), the needle in pose @p pose at
-    /// motion time @p t (s) when its swage or tip lies inside the closed surface
-    /// @p triangles of @p vertices (m) within a window. Checks at most every 5 ms of @p t.
-    void
+    /// Why the run stops at motion time @p t (s), the needle in pose @p pose: its swage or
+    /// tip inside the closed surface @p triangles of @p vertices (m) within a window; ""
+    /// while it is clear, or between checks (at most one every 5 ms of @p t).
+    std::string
     check(double t, const tools::Pose &pose, const Eigen::Matrix3Xd &vertices,
-          const std::vector<std::array<std::uint32_t, 3>> &triangles, const ParameterScope &pass);
-
-    /// The windows (from, to), s.
-    const std::vector<std::pair<double, double>> &
-    windows() const
-    {
-      return open;
-    }
+          const std::vector<std::array<std::uint32_t, 3>> &triangles);
 
   private:
     std::optional<tools::CurvedNeedle>     needle;

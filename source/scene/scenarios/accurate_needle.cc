@@ -19,6 +19,11 @@ namespace suturesim::scene
 
   namespace
   {
+    /// Thrown from an accepted step after which the run cannot go on as its scene asks
+    /// (AccurateStitch::stopped): it ends there, incomplete, its state kept.
+    struct EndsEarly
+    {};
+
     /// Where the steps stand, for a checkpoint (io/checkpoint.h), and back.
     nlohmann::json
     stepper_state(const StepperState &s)
@@ -175,6 +180,9 @@ namespace suturesim::scene
                   << statistics["suture_newton_iterations"] << ")  rounds " << statistics["coupling_rounds"]
                   << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
                   << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
+            // a needle driven back into the tissue (scene/needle_clearance.h) ends the run
+            if (!stitch.stopped.empty())
+              throw EndsEarly();
           };
           hooks.fail = [&](const double tn, unsigned, const std::string &reason) {
             // the last accepted state as a checkpoint too: a restart with the failure
@@ -199,11 +207,20 @@ namespace suturesim::scene
           };
           // a step that overshoots the puncture threshold is halved up to 8 more times
           const auto &time = scene.time;
-          run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size, time.target_iterations,
-                             time.maximum_steps},
-                            hooks, 0, recorder.resuming() ? &stepper : nullptr);
+          try
+            {
+              run_with_cutbacks({time.end_time, time.step_size, time.max_cutbacks, 8, time.max_step_size,
+                                 time.target_iterations, time.maximum_steps},
+                                hooks, 0, recorder.resuming() ? &stepper : nullptr);
+            }
+          catch (const EndsEarly &)
+            {
+              record.keep(t); // the state it stopped in, out of turn
+            }
 
           record.finish(t);
+          if (!stitch.stopped.empty())
+            RunSummary(recorder.summary()).incomplete(stitch.stopped);
           // failed_attempts: steps whose solve failed and was halved (events' refinements
           // of a step that overshot a threshold are not failures)
           RunSummary summary(recorder.summary());

@@ -10,6 +10,7 @@
 #include <suturesim/realtime/divergence_guard.h>
 #include <suturesim/scene/knot_parameters.h>
 #include <suturesim/scene/realtime_record.h>
+#include <suturesim/scene/run_summary.h>
 #include <suturesim/scene/scenario.h>
 
 #include <chrono>
@@ -96,6 +97,9 @@ namespace suturesim::scene
             // the tools' poses (a knot planner reading the rope) are part of the tick
             loop.begin_tick();
             world.tool_poses(t, poses);
+            // a needle driven back into the tissue: the run ends at the last state before
+            if (!world.stopped.empty())
+              break;
             try
               {
                 loop.tick(poses);
@@ -135,6 +139,8 @@ namespace suturesim::scene
                   << stats.p99_us << " us, max " << stats.max_us << " us, " << stats.deadline_misses
                   << " deadline misses (" << stats.deadline_us << " us); whole tick median " << tick.median_us
                   << " us, p99 " << tick.p99_us << " us, " << tick.deadline_misses << " misses\n";
+        if (!world.stopped.empty())
+          RunSummary(recorder.summary()).incomplete(world.stopped);
         if (!failure.empty())
           throw SolverError(failure + "; outputs hold the last good state (t = " + std::to_string(rw.time()) + " s)");
         if (stop_signal != 0)
