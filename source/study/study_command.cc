@@ -229,14 +229,15 @@ namespace suturesim::study
       return RunData::read(folder);
     }
 
-    /// The row of a case whose reference @p reference failed: its own metrics for the
-    /// map, no errors; a case that completed says why it is not compared.
+    /// The row of a case whose reference @p reference failed or ended incomplete: its own
+    /// metrics for the map, no errors; a case that completed or ended incomplete (which
+    /// row_of() would measure) says why it is not compared.
     CaseRow
     unreferenced_row(const StudyDefinition &study, const Case &c, const CaseOutcome &outcome, const RunData *data,
                      const std::string &reference, const CaseOutcome &theirs)
     {
       CaseOutcome own = outcome;
-      if (own.status == "completed")
+      if (own.status == "completed" || own.status == "incomplete")
         {
           own.status = "no reference";
           own.reason = "its reference run '" + reference + "' " + theirs.status + ": " + theirs.reason;

@@ -311,6 +311,58 @@ TEST(StudyRun, ACaseThatALibraryStoppedIsCrashedWithWhatItsLogSaidLast)
   EXPECT_NE(r.output.find("MPI_INIT"), std::string::npos) << r.output;
 }
 
+TEST(StudyRun, AnIncompleteRunIsMeasuredAndAnIncompleteReferenceIsReportedInItsCell)
+{
+  // tests/data/studies/incomplete_reference.prm: per Needle/Pass/Tighten duration, 1 s
+  // takes the needle back into the pad at 1.7 s (the run ends there, incomplete), 100 s
+  // does not. With Reference/On failure = report the incomplete reference keeps its cell
+  // and its case is not compared; the other cell is.
+  const std::string file = source_path("tests/data/studies/incomplete_reference.prm");
+  const auto        r    = run_study("study_incomplete_reference", file, {});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, nlohmann::json> rows;
+  for (const auto &c : r.study.at("cases"))
+    rows[c["name"].get<std::string>()] = c;
+  ASSERT_EQ(rows.size(), 4u) << r.study.dump(1);
+  EXPECT_EQ(rows.at("reference_1")["status"], "incomplete");
+  EXPECT_NE(rows.at("reference_1").value("reason", "").find("the needle's swage went back into the tissue"),
+            std::string::npos)
+    << rows.at("reference_1").dump();
+  EXPECT_EQ(rows.at("reference_100")["status"], "completed");
+  EXPECT_EQ(rows.at("1")["status"], "no reference") << rows.at("1").dump();
+  EXPECT_EQ(rows.at("1").value("reason", "").rfind("its reference run 'reference_1' incomplete: ", 0), 0u)
+    << rows.at("1").dump();
+  EXPECT_EQ(rows.at("100")["status"], "completed");
+  EXPECT_TRUE(rows.at("100")["errors"]["puncture_force_entry"].is_number()) << rows.at("100").dump();
+
+  // the references ended before the needle comes down (a copy with their End time at
+  // 1.65 s): both complete, and the case that ends incomplete at 1.7 s has its error
+  // measured as a completed one's, its status and reason its own
+  std::ifstream     in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string study = text.str();
+  const auto  base  = study.find("../needle_clearance");
+  ASSERT_NE(base, std::string::npos);
+  study.replace(base, std::string("..").size(), source_path("tests/data"));
+  const auto rate = study.find("Realtime/Rate=1000");
+  ASSERT_NE(rate, std::string::npos);
+  study.insert(rate + std::string("Realtime/Rate=1000").size(), ", Time/End time=1.65");
+  const auto short_file = scratch_path() / "incomplete_reference_short.prm";
+  std::ofstream(short_file) << study;
+  const auto s = run_study("study_incomplete_reference_short", short_file.string(), {});
+  ASSERT_EQ(s.exit_code, 0) << s.output;
+  rows.clear();
+  for (const auto &c : s.study.at("cases"))
+    rows[c["name"].get<std::string>()] = c;
+  ASSERT_EQ(rows.size(), 4u) << s.study.dump(1);
+  EXPECT_EQ(rows.at("reference_1")["status"], "completed");
+  EXPECT_EQ(rows.at("1")["status"], "incomplete");
+  EXPECT_NE(rows.at("1").value("reason", "").find("Needle/Pass/Tighten drives it there"), std::string::npos)
+    << rows.at("1").dump();
+  EXPECT_TRUE(rows.at("1")["errors"]["puncture_force_entry"].is_number()) << rows.at("1").dump();
+}
+
 TEST(StudyRun, AFailedReferenceStopsTheStudyOrIsReportedInItsCells)
 {
   const std::string file = source_path("tests/data/studies/failed_reference.prm");
