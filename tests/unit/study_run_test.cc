@@ -101,6 +101,32 @@ namespace
     return times;
   }
 
+  /// The study file @p file's text with its base scene's relative path @p relative (its
+  /// first occurrence) given from the source tree's @p from instead, so that a changed
+  /// copy in the scratch folder finds it; "" when the file does not hold @p relative.
+  std::string
+  study_text_from_anywhere(const std::string &file, const std::string &relative, const std::string &from)
+  {
+    std::ifstream     in(file);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string study = text.str();
+    const auto  base  = study.find(relative);
+    if (base == std::string::npos)
+      return "";
+    return study.replace(base, relative.size(), source_path(from));
+  }
+
+  /// study.json's rows by name.
+  std::map<std::string, nlohmann::json>
+  rows_by_name(const nlohmann::json &study)
+  {
+    std::map<std::string, nlohmann::json> rows;
+    for (const auto &c : study.at("cases"))
+      rows[c["name"].get<std::string>()] = c;
+    return rows;
+  }
+
   const std::string small_study = source_path("tests/data/studies/realtime_small.prm");
 } // namespace
 
@@ -320,9 +346,7 @@ TEST(StudyRun, AnIncompleteRunIsMeasuredAndAnIncompleteReferenceIsReportedInItsC
   const std::string file = source_path("tests/data/studies/incomplete_reference.prm");
   const auto        r    = run_study("study_incomplete_reference", file, {});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::map<std::string, nlohmann::json> rows;
-  for (const auto &c : r.study.at("cases"))
-    rows[c["name"].get<std::string>()] = c;
+  auto rows = rows_by_name(r.study);
   ASSERT_EQ(rows.size(), 4u) << r.study.dump(1);
   EXPECT_EQ(rows.at("reference_1")["status"], "incomplete");
   EXPECT_NE(rows.at("reference_1").value("reason", "").find("the needle's swage went back into the tissue"),
@@ -338,13 +362,8 @@ TEST(StudyRun, AnIncompleteRunIsMeasuredAndAnIncompleteReferenceIsReportedInItsC
   // the references ended before the needle comes down (a copy with their End time at
   // 1.65 s): both complete, and the case that ends incomplete at 1.7 s has its error
   // measured as a completed one's, its status and reason its own
-  std::ifstream     in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string study = text.str();
-  const auto  base  = study.find("../needle_clearance");
-  ASSERT_NE(base, std::string::npos);
-  study.replace(base, std::string("..").size(), source_path("tests/data"));
+  std::string study = study_text_from_anywhere(file, "../needle_clearance", "tests/data/needle_clearance");
+  ASSERT_FALSE(study.empty());
   const auto rate = study.find("Realtime/Rate=1000");
   ASSERT_NE(rate, std::string::npos);
   study.insert(rate + std::string("Realtime/Rate=1000").size(), ", Time/End time=1.65");
@@ -352,9 +371,7 @@ TEST(StudyRun, AnIncompleteRunIsMeasuredAndAnIncompleteReferenceIsReportedInItsC
   std::ofstream(short_file) << study;
   const auto s = run_study("study_incomplete_reference_short", short_file.string(), {});
   ASSERT_EQ(s.exit_code, 0) << s.output;
-  rows.clear();
-  for (const auto &c : s.study.at("cases"))
-    rows[c["name"].get<std::string>()] = c;
+  rows = rows_by_name(s.study);
   ASSERT_EQ(rows.size(), 4u) << s.study.dump(1);
   EXPECT_EQ(rows.at("reference_1")["status"], "completed");
   EXPECT_EQ(rows.at("1")["status"], "incomplete");
@@ -375,21 +392,14 @@ TEST(StudyRun, AFailedReferenceStopsTheStudyOrIsReportedInItsCells)
   EXPECT_FALSE(fs::exists(fs::path(stopped.folder) / "study.json"));
 
   // the same file with the reference's failure reported (a copy in the scratch folder)
-  std::ifstream     in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string study = text.str();
-  const auto  base  = study.find("../../../benchmarks");
-  ASSERT_NE(base, std::string::npos);
-  study.replace(base, std::string("../../..").size(), source_path(""));
+  std::string study = study_text_from_anywhere(file, "../../../benchmarks", "benchmarks");
+  ASSERT_FALSE(study.empty());
   study.replace(study.find("  set Per axis"), 0, "  set On failure = report\n");
   const auto reported_file = scratch_path() / "failed_reference_report.prm";
   std::ofstream(reported_file) << study;
   const auto r = run_study("study_failed_reference_report", reported_file.string(), {});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::map<std::string, nlohmann::json> rows;
-  for (const auto &c : r.study.at("cases"))
-    rows[c["name"].get<std::string>()] = c;
+  auto rows = rows_by_name(r.study);
   ASSERT_EQ(rows.size(), 6u) << r.study.dump(1);
   EXPECT_EQ(rows.at("reference_300")["status"], "failed");
   EXPECT_EQ(rows.at("reference_4000")["status"], "completed");
