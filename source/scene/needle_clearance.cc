@@ -20,7 +20,19 @@ namespace suturesim::scene
                           last ? std::numeric_limits<double>::infinity()
                                : planned.passes[k + 1].trajectory.start_time());
         pull_ends.push_back(planned.passes[k].t_end);
+        // a running series tightens its last pass only, the others go on to the transfer
+        tighten_ends.push_back(last || parameters.series.interrupted ? planned.passes[k].t_tightened
+                                                                      : planned.passes[k].t_end);
       }
+  }
+
+  const char *
+  NeedleClearance::motion(const std::size_t k, const double t) const
+  {
+    if (t < pull_ends[k])
+      return "Pull";
+    // after the last pass's tightening the needle stays where that put it
+    return t < tighten_ends[k] || k + 1 == open.size() ? "Tighten" : "Transfer duration";
   }
 
   std::string
@@ -54,7 +66,7 @@ namespace suturesim::scene
         why.precision(4);
         why << "the needle's " << name << " went back into the tissue at t = " << t << " s, at (" << at[0] << ", "
             << at[1] << ", " << at[2] << ") m, after pass " << k + 1 << "'s turn ended at " << open[k].first
-            << " s: Needle/Pass/" << (t < pull_ends[k] ? "Pull" : "Tighten")
+            << " s: Needle/Pass/" << motion(k, t)
             << " drives it there (a tie-off stops that motion only once the wound closes); the run stops there";
         return why.str();
       }
