@@ -552,10 +552,8 @@ namespace suturesim::scene
     if (points_changed)
       locate_loads();
     model->surface_positions(surface, x_surface);
-    if (auto why = clearance->check(closure ? closure->motion_time(step_time) : step_time, needle_pose(step_time),
-                                    x_surface, surface.triangles);
-        !why.empty())
-      stopped = std::move(why);
+    clearance->check(closure ? closure->motion_time(step_time) : step_time, needle_pose(step_time), x_surface,
+                     surface.triangles);
     advance_series(step_time);
   }
 

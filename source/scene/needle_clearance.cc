@@ -2,6 +2,7 @@
 
 #include <suturesim/collision/volume_penetration.h>
 
+#include <algorithm>
 #include <limits>
 #include <sstream>
 
@@ -15,38 +16,35 @@ namespace suturesim::scene
     const auto planned = parameters.planned_series();
     for (std::size_t k = 0; k < planned.passes.size(); ++k)
       {
-        const bool last = k + 1 == planned.passes.size();
-        open.emplace_back(planned.passes[k].t_turn_end,
-                          last ? std::numeric_limits<double>::infinity()
-                               : planned.passes[k + 1].trajectory.start_time());
-        pull_ends.push_back(planned.passes[k].t_end);
+        const auto &pass = planned.passes[k];
+        const bool  last = k + 1 == planned.passes.size();
         // a running series tightens its last pass only, the others go on to the transfer
-        tighten_ends.push_back(last || parameters.series.interrupted ? planned.passes[k].t_tightened
-                                                                      : planned.passes[k].t_end);
+        windows.push_back({pass.t_turn_end,
+                           last ? std::numeric_limits<double>::infinity()
+                                : planned.passes[k + 1].trajectory.start_time(),
+                           pass.t_end, last || parameters.series.interrupted ? pass.t_tightened : pass.t_end, last});
       }
   }
 
   const char *
-  NeedleClearance::motion(const std::size_t k, const double t) const
+  NeedleClearance::motion(const Window &w, const double t)
   {
-    if (t < pull_ends[k])
+    if (t < w.pull_end)
       return "Pull";
-    // after the last pass's tightening the needle stays where that put it
-    return t < tighten_ends[k] || k + 1 == open.size() ? "Tighten" : "Transfer duration";
+    return t < w.tighten_end || w.last ? "Tighten" : "Transfer duration";
   }
 
-  std::string
+  void
   NeedleClearance::check(const double t, const tools::Pose &pose, const Eigen::Matrix3Xd &vertices,
                          const std::vector<std::array<std::uint32_t, 3>> &triangles)
   {
-    if (!needle || triangles.empty() || t < next_check)
-      return "";
+    if (!needle || triangles.empty() || !why.empty() || t < next_check)
+      return;
     next_check = t + 5e-3;
-    std::size_t k = 0;
-    while (k < open.size() && !(t >= open[k].first && t < open[k].second))
-      ++k;
-    if (k == open.size())
-      return "";
+    const auto w = std::find_if(windows.begin(), windows.end(),
+                                [t](const Window &v) { return t >= v.from && t < v.to; });
+    if (w == windows.end())
+      return;
     // the surface's bounding box: most of the time the needle is well above it
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (const auto &tri : triangles)
@@ -62,14 +60,14 @@ namespace suturesim::scene
         if ((at.array() < lo.array()).any() || (at.array() > hi.array()).any() ||
             collision::winding_number(at, vertices, triangles) <= 0.5)
           continue;
-        std::ostringstream why;
-        why.precision(4);
-        why << "the needle's " << name << " went back into the tissue at t = " << t << " s, at (" << at[0] << ", "
-            << at[1] << ", " << at[2] << ") m, after pass " << k + 1 << "'s turn ended at " << open[k].first
-            << " s: Needle/Pass/" << motion(k, t)
-            << " drives it there (a tie-off stops that motion only once the wound closes); the run stops there";
-        return why.str();
+        std::ostringstream text;
+        text.precision(4);
+        text << "the needle's " << name << " went back into the tissue at t = " << t << " s, at (" << at[0] << ", "
+             << at[1] << ", " << at[2] << ") m, after pass " << w - windows.begin() + 1 << "'s turn ended at "
+             << w->from << " s: Needle/Pass/" << motion(*w, t)
+             << " drives it there (a tie-off stops that motion only once the wound closes); the run stops there";
+        why = text.str();
+        return;
       }
-    return "";
   }
 } // namespace suturesim::scene

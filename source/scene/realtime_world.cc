@@ -458,9 +458,7 @@ namespace suturesim::scene
         poses[needle->tool()] = needle->pose(t, series ? series->pull_stops() : none, closure ? closure->stitch_ties() : none);
         // the driver's pose, before a knot planner takes the needle over
         if (!planner || planner->phase() == knot::KnotPlanner::Phase::waiting)
-          if (auto why = clearance->check(t, poses[needle->tool()], world->system().nodes.x, world->tissue()->surface());
-              !why.empty())
-            stopped = std::move(why);
+          clearance->check(t, poses[needle->tool()], world->system().nodes.x, world->tissue()->surface());
       }
     if (probe_tool)
       poses[*probe_tool].position = probe.position(t);

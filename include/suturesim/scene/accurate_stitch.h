@@ -111,8 +111,8 @@ namespace suturesim::scene
     tools::CurvedNeedle                             geometry;
     std::unique_ptr<coupling::TissueNeedle>         needle;
     tools::Trajectory                               path;
-    std::optional<NeedleClearance>                  clearance; ///< a planned pass's needle out of the tissue after it
-    std::string                                     stopped; ///< why the run ends early (NeedleClearance); "": it goes on
+    /// a planned pass's needle out of the tissue after it; its reason() ends the run
+    std::optional<NeedleClearance>                  clearance;
     double                                          pull_start = 0;
     std::optional<rod::RodModel>                    suture;
     std::optional<coupling::SutureContact>          contact;

@@ -46,23 +46,39 @@ namespace suturesim::scene
     /// the needle's).
     explicit NeedleClearance(const NeedleParameters &parameters);
 
-    /// Why the run stops at motion time @p t (s), the needle in pose @p pose: its swage or
-    /// tip inside the closed surface @p triangles of @p vertices (m) within a window; ""
-    /// while it is clear, or between checks (at most one every 5 ms of @p t).
-    std::string
+    /// Checks the needle in pose @p pose at motion time @p t (s) against the closed
+    /// surface @p triangles of @p vertices (m), at most once every 5 ms of @p t: its swage
+    /// or tip inside it within a window ends the run (reason()).
+    void
     check(double t, const tools::Pose &pose, const Eigen::Matrix3Xd &vertices,
           const std::vector<std::array<std::uint32_t, 3>> &triangles);
 
-  private:
-    /// The entry of Needle/Pass whose motion carries the needle at time @p t of window
-    /// @p k: Pull, Tighten or (a series' transfer to the next pass) Transfer duration.
-    const char *
-    motion(std::size_t k, double t) const;
+    /// Why the run ends here, the first time check() found the needle inside; "" while
+    /// it has not.
+    const std::string &
+    reason() const
+    {
+      return why;
+    }
 
-    std::optional<tools::CurvedNeedle>     needle;
-    std::vector<std::pair<double, double>> open;
-    std::vector<double>                    pull_ends;    ///< each pass's pull's end, s
-    std::vector<double>                    tighten_ends; ///< and its tightening's (its pull's without one), s
-    double                                 next_check = -1;
+  private:
+    /// After pass k's turn, until the next pass starts (s).
+    struct Window
+    {
+      double from, to;
+      double pull_end;    ///< the pass's pull's end
+      double tighten_end; ///< its tightening's (its pull's where the transfer follows it)
+      bool   last;        ///< after the last pass's tightening the needle stays put
+    };
+
+    /// The entry of Needle/Pass whose motion carries the needle at time @p t of window
+    /// @p w: Pull, Tighten or (a series' transfer to the next pass) Transfer duration.
+    static const char *
+    motion(const Window &w, double t);
+
+    std::optional<tools::CurvedNeedle> needle;
+    std::vector<Window>                windows;
+    double                             next_check = -1;
+    std::string                        why;
   };
 } // namespace suturesim::scene

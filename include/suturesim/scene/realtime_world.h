@@ -104,8 +104,8 @@ namespace suturesim::scene
     std::unique_ptr<realtime::World>                 world;
     std::vector<Boundary>                            boundaries;
     std::optional<RealtimeNeedle>                    needle;
-    std::optional<NeedleClearance>                   clearance; ///< a planned pass's needle out of the tissue after it
-    std::string                                      stopped; ///< why the run ends early (NeedleClearance); "": it goes on
+    /// a planned pass's needle out of the tissue after it; its reason() ends the run
+    std::optional<NeedleClearance>                   clearance;
     std::optional<realtime::LigamentTearing>         tearing; ///< Realtime/Tearing, when on
     std::optional<knot::KnotPlanner>                 planner; ///< Knot, when one is tied
     std::size_t                                      first_end_tool = 0; ///< the suture ends' tools follow the needle's

@@ -20,7 +20,7 @@ namespace suturesim::scene
   namespace
   {
     /// Thrown from an accepted step after which the run cannot go on as its scene asks
-    /// (AccurateStitch::stopped): it ends there, incomplete, its state kept.
+    /// (NeedleClearance::reason()): it ends there, incomplete, its state kept.
     struct EndsEarly
     {};
 
@@ -181,7 +181,7 @@ namespace suturesim::scene
                   << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
                   << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
             // a needle driven back into the tissue (scene/needle_clearance.h) ends the run
-            if (!stitch.stopped.empty())
+            if (!stitch.clearance->reason().empty())
               throw EndsEarly();
           };
           hooks.fail = [&](const double tn, unsigned, const std::string &reason) {
@@ -219,8 +219,8 @@ namespace suturesim::scene
             }
 
           record.finish(t);
-          if (!stitch.stopped.empty())
-            RunSummary(recorder.summary()).incomplete(stitch.stopped);
+          if (!stitch.clearance->reason().empty())
+            RunSummary(recorder.summary()).incomplete(stitch.clearance->reason());
           // failed_attempts: steps whose solve failed and was halved (events' refinements
           // of a step that overshot a threshold are not failures)
           RunSummary summary(recorder.summary());
