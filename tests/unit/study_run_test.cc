@@ -107,10 +107,7 @@ namespace
   std::string
   study_text_from_anywhere(const std::string &file, const std::string &relative, const std::string &from)
   {
-    std::ifstream     in(file);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::string study = text.str();
+    std::string study = read_text(file);
     const auto  base  = study.find(relative);
     if (base == std::string::npos)
       return "";
