@@ -461,10 +461,13 @@ namespace suturesim::scene
     model->save_state();
     if (suture)
       {
-        saved_x = suture->positions();
-        saved_q = suture->rotations();
+        saved_x       = suture->positions();
+        saved_q       = suture->rotations();
+        saved_grasped = grasped;
         hold_suture(tn);
       }
+    if (contact)
+      contact->save();
     if (needle->begin_step(tn, needle_pose(tn), x_surface))
       locate_loads();
     detect_faces(x_surface); // the last accepted state
@@ -519,8 +522,20 @@ namespace suturesim::scene
     model->restore_state();
     needle->restore();
     if (suture)
-      for (std::size_t i = 0; i < saved_x.size(); ++i)
-        suture->set_node(i, saved_x[i], saved_q[i]);
+      {
+        for (std::size_t i = 0; i < saved_x.size(); ++i)
+          suture->set_node(i, saved_x[i], saved_q[i]);
+        // a step that ended on the grasp and was halved ends before it: the end is
+        // free again, and grasped where it is when a step reaches the grasp time
+        if (grasped && !saved_grasped)
+          {
+            grasped = false;
+            suture->constrain(suture->n_nodes() - 1, {});
+          }
+      }
+    // the contacts the step's rounds detected go with it
+    if (contact)
+      contact->restore();
     locate_loads();
   }
 

@@ -315,6 +315,48 @@ TEST(Restart, AFailedRunsCheckpointReplaysItsFailedStep)
     << failure << "\n" << replayed.summary.value("error", "");
 }
 
+// A step undone after its rounds detected new contacts of the suture on the tissue
+// leaves none of them behind (scene/accurate_stitch.h, undo()): the checkpoint of a run
+// that gives up holds the last accepted state's contacts, and its replay fails at the
+// same step. The stitch of the bite x spacing map with its thread at 0.25 mm touches
+// the skin from about 1.3 s; one round a step makes the first step whose contacts change
+// fail. Before the contacts were taken back (2026-12-06) this checkpoint held the failed
+// step's one contact where the accepted state had none, and the replay got past
+// t = 1.29125 s and failed at the next step.
+TEST(Restart, AStepUndoneAfterItsContactsChangedLeavesTheAcceptedContactsToItsReplay)
+{
+  const std::vector<std::string> args{source_path("parameters/tearing/bite_spacing.prm"),
+                                      "--set", "Model=accurate",
+                                      "--set", "Suture/Elements=320",
+                                      "--set", "Closure/Face contact=",
+                                      "--set", "Pierce points/Accurate/Coupling iterations=1",
+                                      "--set", "Time/Max cutbacks=0"};
+  const auto     failed = run_suturesim("restart_contacts", args);
+  const fs::path dir    = scratch_path() / "restart_contacts";
+  ASSERT_EQ(failed.exit_code, 3) << failed.output;
+  const std::string error = failed.summary.value("error", "");
+  const std::size_t at    = error.find("Newton failed at t = ");
+  ASSERT_NE(at, std::string::npos) << error;
+  const std::string failure = error.substr(at, error.find(';', at) - at);
+  EXPECT_NE(failure.find("the contacts still changed"), std::string::npos) << failure;
+
+  // the checkpoint's contacts are the last recorded (accepted) state's
+  std::string header;
+  const auto  rows = read_forces(failed, &header);
+  ASSERT_FALSE(rows.empty());
+  std::ifstream in(dir / "checkpoint" / "shared.cbor", std::ios::binary);
+  const auto    state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+  const auto   &contacts = state["scenario"]["stitch"]["contact"]["contacts"];
+  ASSERT_TRUE(contacts.is_array()) << state["scenario"]["stitch"].dump().substr(0, 300);
+  EXPECT_EQ(static_cast<double>(contacts.size()), rows.back()[column(header, "suture_tissue_contacts")])
+    << "at t = " << rows.back()[0] << " s";
+
+  const auto replayed = restart(args, dir);
+  EXPECT_EQ(replayed.exit_code, 3) << replayed.output;
+  EXPECT_NE(replayed.summary.value("error", "").find(failure), std::string::npos)
+    << failure << "\n" << replayed.summary.value("error", "");
+}
+
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)
 {
   const fs::path empty = scratch_path() / "restart_nothing";

@@ -64,7 +64,10 @@ namespace suturesim::scene
     bool
     solve_initial(std::string &failure);
 
-    /// The cut-back stepper's hooks: solve to @p tn over a step @p dt, undo.
+    /// The cut-back stepper's hooks: solve to @p tn over a step @p dt; undo() goes back
+    /// to the last accepted state, all of it (tissue, needle, the suture with its grasp
+    /// and its contacts with the tissue), so that a halved step, and the checkpoint a
+    /// run that gives up writes, start where the failed step started.
     StepAttempt
     attempt(double tn, double dt);
     void
@@ -199,6 +202,7 @@ namespace suturesim::scene
     tissue::CondensedBody                   *coupled = nullptr;
     std::vector<rod::Vec3>                   saved_x;
     std::vector<rod::Quat>                   saved_q;
+    bool                                     saved_grasped = false; ///< grasped, at the step's start
     Eigen::Matrix3Xd                         round_surface;
     tissue::NewtonReport                     report;
     unsigned                                 rounds         = 0;

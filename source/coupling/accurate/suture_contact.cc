@@ -178,6 +178,21 @@ namespace suturesim::coupling
   }
 
   void
+  SutureContact::save()
+  {
+    saved_list = list;
+    saved_seen = seen;
+  }
+
+  void
+  SutureContact::restore()
+  {
+    list = saved_list;
+    seen = saved_seen;
+    adopt(slot.size());
+  }
+
+  void
   SutureContact::restore(const nlohmann::json &j)
   {
     list.clear();

@@ -114,6 +114,18 @@ namespace suturesim::coupling
     void
     restore(const nlohmann::json &snapshot);
 
+    /// Keeps the contacts as they are (each with the weights and normal it was frozen
+    /// with, and where the suture saw its point) at the start of a step; restore() with
+    /// no argument takes them back when the step is undone. Why: the rounds of a step
+    /// detect again, so an attempt that failed after its first round left its own
+    /// contacts to the halved attempt, and to the checkpoint written when the run gave
+    /// up, whose replay then started from another first iterate (docs/tearing.md, "The
+    /// coupled solve's stalls").
+    void
+    save();
+    void
+    restore();
+
     const std::vector<Contact> &
     contacts() const
     {
@@ -160,6 +172,8 @@ namespace suturesim::coupling
     std::vector<Contact>                list;
     std::vector<int>                    slot;
     std::vector<dealii::Point<3>>       X, seen;
+    std::vector<Contact>                saved_list; ///< save()'s
+    std::vector<dealii::Point<3>>       saved_seen;
     const std::vector<rod::Vec3>       *suture = nullptr;
   };
 } // namespace suturesim::coupling
