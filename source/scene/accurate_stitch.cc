@@ -468,6 +468,8 @@ namespace suturesim::scene
       }
     if (contact)
       contact->save();
+    if (faces)
+      faces->save();
     if (needle->begin_step(tn, needle_pose(tn), x_surface))
       locate_loads();
     detect_faces(x_surface); // the last accepted state
@@ -523,8 +525,9 @@ namespace suturesim::scene
     needle->restore();
     if (suture)
       {
+        // as they were, bit for bit (set_node() would normalise the rotations again)
         for (std::size_t i = 0; i < saved_x.size(); ++i)
-          suture->set_node(i, saved_x[i], saved_q[i]);
+          suture->restore_node(i, saved_x[i], saved_q[i]);
         // a step that ended on the grasp and was halved ends before it: the end is
         // free again, and grasped where it is when a step reaches the grasp time
         if (grasped && !saved_grasped)
@@ -536,6 +539,8 @@ namespace suturesim::scene
     // the contacts the step's rounds detected go with it
     if (contact)
       contact->restore();
+    if (faces)
+      faces->restore();
     locate_loads();
   }
 

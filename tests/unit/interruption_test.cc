@@ -14,7 +14,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iterator>
+#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -25,6 +27,14 @@ namespace fs = std::filesystem;
 
 namespace
 {
+  /// A run folder's checkpoint/shared.cbor.
+  nlohmann::json
+  read_checkpoint(const fs::path &dir)
+  {
+    std::ifstream in(dir / "checkpoint" / "shared.cbor", std::ios::binary);
+    return nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+  }
+
   /// Runs suturesim with @p args into a fresh folder @p name, sends @p signal once
   /// forces.csv has @p rows_before rows (the run is under way), and waits for the end.
   Stopped
@@ -249,9 +259,8 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
   fs::remove_all(scaled);
   fs::copy(dir, scaled, fs::copy_options::recursive);
   {
-    const fs::path file = scaled / "checkpoint" / "shared.cbor";
-    std::ifstream  in(file, std::ios::binary);
-    auto state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+    const fs::path file  = scaled / "checkpoint" / "shared.cbor";
+    auto           state = read_checkpoint(scaled);
     ASSERT_TRUE(state["scenario"]["stitch"].contains("suture"))
       << state["scenario"].dump().substr(0, 300);
     auto &q = state["scenario"]["stitch"]["suture"]["q"];
@@ -315,24 +324,24 @@ TEST(Restart, AFailedRunsCheckpointReplaysItsFailedStep)
     << failure << "\n" << replayed.summary.value("error", "");
 }
 
-// A step undone after its rounds detected new contacts of the suture on the tissue
-// leaves none of them behind (scene/accurate_stitch.h, undo()): the checkpoint of a run
-// that gives up holds the last accepted state's contacts, and its replay fails at the
-// same step. The stitch of the bite x spacing map with its thread at 0.25 mm touches
-// the skin from about 1.3 s; one round a step makes the first step whose contacts change
-// fail. Before the contacts were taken back (2026-12-06) this checkpoint held the failed
-// step's one contact where the accepted state had none, and the replay got past
-// t = 1.29125 s and failed at the next step.
-TEST(Restart, AStepUndoneAfterItsContactsChangedLeavesTheAcceptedContactsToItsReplay)
+// A step undone leaves nothing of its own behind (scene/accurate_stitch.h, undo()): the
+// checkpoint of a run that gave up is its last accepted state to the bit, and the replay
+// fails at the same step. The stitch of the bite x spacing map with its thread at 0.25 mm
+// touches the skin from about 1.3 s; one round a step makes the first step whose
+// contacts change fail, after its round detected them and the wound's faces were
+// equilibrated. The same run ended at that last accepted time writes the state to
+// compare with. Before the undo took back the contacts, the faces' equilibrium and the
+// suture's rotations as saved (2026-12-06), this checkpoint held the failed step's one
+// contact where the accepted state had none, and the replay got past t = 1.29125 s.
+TEST(Restart, AFailedRunsCheckpointIsItsLastAcceptedStateToTheBit)
 {
   const std::vector<std::string> args{source_path("parameters/tearing/bite_spacing.prm"),
                                       "--set", "Model=accurate",
                                       "--set", "Suture/Elements=320",
-                                      "--set", "Closure/Face contact=",
                                       "--set", "Pierce points/Accurate/Coupling iterations=1",
                                       "--set", "Time/Max cutbacks=0"};
-  const auto     failed = run_suturesim("restart_contacts", args);
-  const fs::path dir    = scratch_path() / "restart_contacts";
+  const auto     failed = run_suturesim("restart_undone", args);
+  const fs::path dir    = scratch_path() / "restart_undone";
   ASSERT_EQ(failed.exit_code, 3) << failed.output;
   const std::string error = failed.summary.value("error", "");
   const std::size_t at    = error.find("Newton failed at t = ");
@@ -340,16 +349,23 @@ TEST(Restart, AStepUndoneAfterItsContactsChangedLeavesTheAcceptedContactsToItsRe
   const std::string failure = error.substr(at, error.find(';', at) - at);
   EXPECT_NE(failure.find("the contacts still changed"), std::string::npos) << failure;
 
-  // the checkpoint's contacts are the last recorded (accepted) state's
-  std::string header;
-  const auto  rows = read_forces(failed, &header);
-  ASSERT_FALSE(rows.empty());
-  std::ifstream in(dir / "checkpoint" / "shared.cbor", std::ios::binary);
-  const auto    state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
-  const auto   &contacts = state["scenario"]["stitch"]["contact"]["contacts"];
-  ASSERT_TRUE(contacts.is_array()) << state["scenario"]["stitch"].dump().substr(0, 300);
-  EXPECT_EQ(static_cast<double>(contacts.size()), rows.back()[column(header, "suture_tissue_contacts")])
-    << "at t = " << rows.back()[0] << " s";
+  // the run ended at the failed run's last accepted step, its checkpoint written there
+  const nlohmann::json stopped = read_checkpoint(dir);
+  const auto          &stepper = stopped["scenario"]["stepper"];
+  std::ostringstream   end;
+  end << std::setprecision(17) << stepper["t"].get<double>();
+  const auto accepted = run_suturesim("restart_undone_accepted",
+                                      join(args, {"--set", "Time/End time=" + end.str(), "--set",
+                                                  "Time/Checkpoint steps=" + std::to_string(stepper["steps"].get<int>())}));
+  ASSERT_EQ(accepted.exit_code, 0) << accepted.output;
+  const fs::path       accepted_dir = scratch_path() / "restart_undone_accepted";
+  const nlohmann::json kept         = read_checkpoint(accepted_dir);
+  EXPECT_TRUE(kept["scenario"]["stepper"] == stepper);
+  for (const auto &[part, value] : kept["scenario"]["stitch"].items())
+    EXPECT_TRUE(stopped["scenario"]["stitch"][part] == value) << "the checkpoint's " << part << " is not the accepted state's";
+  EXPECT_TRUE(read_text((dir / "checkpoint" / "rank-0.cbor").string()) ==
+              read_text((accepted_dir / "checkpoint" / "rank-0.cbor").string()))
+    << "the tissue's state differs";
 
   const auto replayed = restart(args, dir);
   EXPECT_EQ(replayed.exit_code, 3) << replayed.output;

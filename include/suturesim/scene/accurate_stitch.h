@@ -189,7 +189,7 @@ namespace suturesim::scene
     bool                                     lagrange    = false;
     tools::Pose                              pose0;
     rod::Quat                                frame0;
-    rod::Vec3                                grasped_at;
+    rod::Vec3                                grasped_at = rod::Vec3::Zero();
     rod::NewtonParameters                    suture_newton;
     tissue::PointLoadList                    loads;
     std::optional<rod::ViscousDrag>          drag;

@@ -180,8 +180,9 @@ namespace suturesim::coupling
   void
   SutureContact::save()
   {
-    saved_list = list;
-    saved_seen = seen;
+    saved_list  = list;
+    saved_seen  = seen;
+    saved_nodes = slot.size();
   }
 
   void
@@ -189,7 +190,7 @@ namespace suturesim::coupling
   {
     list = saved_list;
     seen = saved_seen;
-    adopt(slot.size());
+    adopt(saved_nodes);
   }
 
   void

@@ -111,6 +111,22 @@ namespace suturesim::coupling
   }
 
   void
+  WoundContact::save()
+  {
+    saved = {active, seen, touching, pressing};
+  }
+
+  void
+  WoundContact::restore()
+  {
+    active = saved.active;
+    adopt();
+    seen     = saved.seen;
+    touching = saved.touching;
+    pressing = saved.pressing;
+  }
+
+  void
   WoundContact::restore(const nlohmann::json &j)
   {
     active = j.at("active").get<std::vector<std::size_t>>();

@@ -174,6 +174,7 @@ namespace suturesim::coupling
     std::vector<dealii::Point<3>>       X, seen;
     std::vector<Contact>                saved_list; ///< save()'s
     std::vector<dealii::Point<3>>       saved_seen;
+    std::size_t                         saved_nodes = 0;
     const std::vector<rod::Vec3>       *suture = nullptr;
   };
 } // namespace suturesim::coupling

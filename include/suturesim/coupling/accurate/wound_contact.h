@@ -78,6 +78,15 @@ namespace suturesim::coupling
     void
     restore(const nlohmann::json &snapshot);
 
+    /// Keeps the loaded pairs and where equilibrate() last saw their points at the start
+    /// of a step; restore() with no argument takes them back when the step is undone, so
+    /// that a halved step, and the checkpoint of a run that gave up, hold the last
+    /// accepted state's.
+    void
+    save();
+    void
+    restore();
+
     /// Where the contact's points are among the tissue's point loads: index of its first.
     void
     set_offset(std::size_t first)
@@ -144,5 +153,12 @@ namespace suturesim::coupling
     std::size_t                   offset   = 0;
     unsigned                      touching = 0;
     double                        pressing = 0;
+    struct Saved
+    {
+      std::vector<std::size_t>      active;
+      std::vector<dealii::Point<3>> seen;
+      unsigned                      touching = 0;
+      double                        pressing = 0;
+    } saved; ///< save()'s
   };
 } // namespace suturesim::coupling
