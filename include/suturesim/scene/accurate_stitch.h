@@ -65,9 +65,10 @@ namespace suturesim::scene
     solve_initial(std::string &failure);
 
     /// The cut-back stepper's hooks: solve to @p tn over a step @p dt; undo() goes back
-    /// to the last accepted state, all of it (tissue, needle, the suture with its grasp
-    /// and its contacts with the tissue), so that a halved step, and the checkpoint a
-    /// run that gives up writes, start where the failed step started.
+    /// to the last accepted state, all of it and bit for bit (tissue, needle, the suture
+    /// with its grasp and its contacts with the tissue, the wound faces' contact), so
+    /// that a halved step, and the checkpoint a run that gives up writes, start where
+    /// the failed step started (test Restart.AFailedRunsCheckpointIsItsLastAccepted…).
     StepAttempt
     attempt(double tn, double dt);
     void

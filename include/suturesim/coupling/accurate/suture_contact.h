@@ -119,8 +119,7 @@ namespace suturesim::coupling
     /// no argument takes them back when the step is undone. Why: the rounds of a step
     /// detect again, so an attempt that failed after its first round left its own
     /// contacts to the halved attempt, and to the checkpoint written when the run gave
-    /// up, whose replay then started from another first iterate (docs/tearing.md, "The
-    /// coupled solve's stalls").
+    /// up, whose replay then took another path (docs/checkpoints.md).
     void
     save();
     void
