@@ -533,6 +533,13 @@ namespace suturesim::scene
     return 0;
   }
 
+  const std::string &
+  RealtimeWorld::stop_reason() const
+  {
+    static const std::string none;
+    return clearance ? clearance->reason() : none;
+  }
+
   void
   RealtimeWorld::measure_closure()
   {

@@ -341,7 +341,7 @@ TEST(Restart, AFailedRunsCheckpointIsItsLastAcceptedStateToTheBit)
                                       "--set", "Pierce points/Accurate/Coupling iterations=1",
                                       "--set", "Time/Max cutbacks=0"};
   const auto     failed = run_suturesim("restart_undone", args);
-  const fs::path dir    = scratch_path() / "restart_undone";
+  const fs::path dir    = failed.directory;
   ASSERT_EQ(failed.exit_code, 3) << failed.output;
   const std::string error = failed.summary.value("error", "");
   const std::size_t at    = error.find("Newton failed at t = ");
@@ -358,7 +358,7 @@ TEST(Restart, AFailedRunsCheckpointIsItsLastAcceptedStateToTheBit)
                                       join(args, {"--set", "Time/End time=" + end.str(), "--set",
                                                   "Time/Checkpoint steps=" + std::to_string(stepper["steps"].get<int>())}));
   ASSERT_EQ(accepted.exit_code, 0) << accepted.output;
-  const fs::path       accepted_dir = scratch_path() / "restart_undone_accepted";
+  const fs::path       accepted_dir = accepted.directory;
   const nlohmann::json kept         = read_checkpoint(accepted_dir);
   EXPECT_TRUE(kept["scenario"]["stepper"] == stepper);
   for (const auto &[part, value] : kept["scenario"]["stitch"].items())

@@ -56,6 +56,11 @@ namespace suturesim::scene
     void
     tool_poses(double t, std::vector<realtime::ToolPose> &poses);
 
+    /// Why the run ends before its end time: a planned pass's needle driven back into the
+    /// tissue (NeedleClearance::reason(), found by tool_poses()); "" while it goes on.
+    const std::string &
+    stop_reason() const;
+
     /// The closure gaps of the current state and the suture tension charged to them:
     /// what the grasper on the suture's far end feels, else the needle's pull.
     void

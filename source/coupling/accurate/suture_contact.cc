@@ -180,17 +180,15 @@ namespace suturesim::coupling
   void
   SutureContact::save()
   {
-    saved_list  = list;
-    saved_seen  = seen;
-    saved_nodes = slot.size();
+    saved = {list, seen, slot.size()};
   }
 
   void
   SutureContact::restore()
   {
-    list = saved_list;
-    seen = saved_seen;
-    adopt(saved_nodes);
+    list = saved.list;
+    seen = saved.seen;
+    adopt(saved.nodes);
   }
 
   void

@@ -98,7 +98,7 @@ namespace suturesim::scene
             loop.begin_tick();
             world.tool_poses(t, poses);
             // a needle driven back into the tissue: the run ends at the last state before
-            if (world.clearance && !world.clearance->reason().empty())
+            if (!world.stop_reason().empty())
               break;
             try
               {
@@ -139,8 +139,8 @@ namespace suturesim::scene
                   << stats.p99_us << " us, max " << stats.max_us << " us, " << stats.deadline_misses
                   << " deadline misses (" << stats.deadline_us << " us); whole tick median " << tick.median_us
                   << " us, p99 " << tick.p99_us << " us, " << tick.deadline_misses << " misses\n";
-        if (world.clearance && !world.clearance->reason().empty())
-          RunSummary(recorder.summary()).incomplete(world.clearance->reason());
+        if (!world.stop_reason().empty())
+          RunSummary(recorder.summary()).incomplete(world.stop_reason());
         if (!failure.empty())
           throw SolverError(failure + "; outputs hold the last good state (t = " + std::to_string(rw.time()) + " s)");
         if (stop_signal != 0)

@@ -171,9 +171,12 @@ namespace suturesim::coupling
     std::vector<Contact>                list;
     std::vector<int>                    slot;
     std::vector<dealii::Point<3>>       X, seen;
-    std::vector<Contact>                saved_list; ///< save()'s
-    std::vector<dealii::Point<3>>       saved_seen;
-    std::size_t                         saved_nodes = 0;
+    struct Saved
+    {
+      std::vector<Contact>          list;
+      std::vector<dealii::Point<3>> seen;
+      std::size_t                   nodes = 0;
+    } saved; ///< save()'s
     const std::vector<rod::Vec3>       *suture = nullptr;
   };
 } // namespace suturesim::coupling
