@@ -42,7 +42,7 @@ namespace suturesim::realtime
     for (std::size_t t = 0; t < tets.size(); ++t)
       {
         const Element        &e = elements[t];
-        const Eigen::Matrix3d F = deformation_gradient(x, t);
+        const Eigen::Matrix3d F = realtime::deformation_gradient(x, tets[t], e.b);
         const double          J = F.determinant();
         sum += e.volume
                * (0.5 * e.mu * (F.squaredNorm() - 3)
@@ -52,18 +52,30 @@ namespace suturesim::realtime
   }
 
   void
+  NeoHookeanTetrahedra::add_element_forces(const Matrix3Xd &x, Matrix3Xd &f, const std::size_t t) const
+  {
+    const Element        &e = elements[t];
+    const Eigen::Matrix3d F = realtime::deformation_gradient(x, tets[t], e.b);
+    const Eigen::Matrix3d C = cofactor(F);
+    // J = f₁ · (f₂ × f₃), from the cofactor's first column
+    const Eigen::Matrix3d P = e.mu * F + e.lambda * (F.col(0).dot(C.col(0)) - e.gamma) * C;
+    for (int i = 0; i < 4; ++i)
+      f.col(tets[t][i]).noalias() -= e.volume * P * e.b[i];
+  }
+
+  void
   NeoHookeanTetrahedra::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
   {
     for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        const Element        &e = elements[t];
-        const Eigen::Matrix3d F = deformation_gradient(x, t);
-        const Eigen::Matrix3d C = cofactor(F);
-        // J = f₁ · (f₂ × f₃), from the cofactor's first column
-        const Eigen::Matrix3d P = e.mu * F + e.lambda * (F.col(0).dot(C.col(0)) - e.gamma) * C;
-        for (int i = 0; i < 4; ++i)
-          f.col(tets[t][i]).noalias() -= e.volume * P * e.b[i];
-      }
+      add_element_forces(x, f, t);
+  }
+
+  void
+  NeoHookeanTetrahedra::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f,
+                                      const std::vector<std::uint32_t> &tetrahedra) const
+  {
+    for (const auto t : tetrahedra)
+      add_element_forces(x, f, t);
   }
 
   void
@@ -76,7 +88,7 @@ namespace suturesim::realtime
         const Element        &e     = elements[t];
         const int             local = static_cast<int>(std::find(tets[t].begin(), tets[t].end(), i) - tets[t].begin());
         const Vector3d       &b     = e.b[local];
-        const Eigen::Matrix3d F     = deformation_gradient(x, t);
+        const Eigen::Matrix3d F     = realtime::deformation_gradient(x, tets[t], e.b);
         const Eigen::Matrix3d C     = cofactor(F);
         const Vector3d        g     = C * b;
         f.noalias() -= e.volume * (e.mu * F * b + e.lambda * (F.col(0).dot(C.col(0)) - e.gamma) * g);

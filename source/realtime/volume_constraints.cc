@@ -186,12 +186,7 @@ namespace suturesim::realtime
   bool
   VolumeConstraints::elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &tetrahedra) const
   {
-    tetrahedra.clear();
-    for (std::size_t t = 0; t < tets.size(); ++t)
-      if (std::any_of(tets[t].begin(), tets[t].end(),
-                      [&](const std::uint32_t i) { return i < touched.size() && touched[i] != 0; }))
-        tetrahedra.push_back(static_cast<std::uint32_t>(t));
-    return true;
+    return tetrahedra_touching(tets, touched, tetrahedra);
   }
 
   void

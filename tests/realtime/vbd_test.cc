@@ -326,3 +326,35 @@ TEST(VertexBlockDescent, OneSweepSettlesTheFeTissueWhereTheQuasiStaticFlowComesT
       EXPECT_NE(std::string(e.what()).find("vbd"), std::string::npos) << e.what();
     }
 }
+
+TEST(VertexBlockDescent, TwoThreadsSweepAsOneBitForBit)
+{
+  // The nodes of a colour share no element, so on two threads (each a share of every
+  // colour of the 16 × 16 × 4 block's ~1 400 nodes, tens a colour) every node's block and
+  // move are one thread's arithmetic: the sag is the same bit for bit, mid-fall (50
+  // steps, where an ordering or a race would show at once) and settled. Springs and
+  // volumes, and the finite-element tissue.
+  const std::map<std::string, std::string> one{{"Damping rate", "50"}};
+  auto                                     two = one;
+  two["Threads"]                               = "2";
+  for (const std::string tissue : {"volume", "fe"})
+    for (const int steps : {50, 1000})
+      {
+        const double sag_1 = settled_sag("vbd", one, tissue, steps);
+        const double sag_2 = settled_sag("vbd", two, tissue, steps);
+        EXPECT_LT(sag_1, -1e-6) << tissue << ", " << steps << " steps"; // it moved
+        EXPECT_EQ(sag_2, sag_1) << tissue << ", " << steps << " steps";
+      }
+  // nodal volumes' blocks read the patches of their elements' nodes, which another node
+  // of the colour moves: refused, with the family and the setting named
+  try
+    {
+      settled_sag("vbd", two, "fe", 1, {{"Volumetric energy", "nodal"}});
+      ADD_FAILURE() << "two threads accepted nodal volumes";
+    }
+  catch (const ParameterError &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("averaged nodal volumes"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("Threads"), std::string::npos) << e.what();
+    }
+}

@@ -174,6 +174,7 @@ INSTANTIATE_TEST_SUITE_P(
   ::testing::Values(std::tuple{"volume", "xpbd", "xpbd-rod", "transient-constraint", ""},
                     std::tuple{"volume", "xpbd", "xpbd-rod", "transient-constraint", "Warm start=true;Threads=2"},
                     std::tuple{"volume", "vbd", "xpbd-rod", "transient-constraint", ""},
+                    std::tuple{"fe", "vbd", "xpbd-rod", "transient-constraint", ""},
                     std::tuple{"volume", "xpbd", "xpbd-rod", "repelling-force", ""},
                     std::tuple{"surface", "quasi-static", "mass-spring", "repelling-force", ""},
                     std::tuple{"surface", "quasi-static", "ftl", "transient-constraint", ""},

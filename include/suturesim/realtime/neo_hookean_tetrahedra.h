@@ -62,6 +62,16 @@ namespace suturesim::realtime
     energy(const Matrix3Xd &x) const override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// The elements with a node in @p touched, so that a boundary's reaction evaluates
+    /// those only (World::reaction).
+    bool
+    elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &tetrahedra) const override
+    {
+      return tetrahedra_touching(tets, touched, tetrahedra);
+    }
+    /// add_forces() of the listed elements, in their order.
+    void
+    add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const override;
     /// f = −V₀ P bᵢ, H = V₀ (μ |bᵢ|² I + λ̂ gᵢ gᵢᵀ), gᵢ = cof(F) bᵢ: exact, since J is
     /// linear in each vertex, and positive definite
     void
@@ -76,6 +86,10 @@ namespace suturesim::realtime
     deformation_gradient(const Matrix3Xd &x, std::size_t t) const;
 
   private:
+    /// f −= V₀ P bᵢ at the four nodes of element @p t.
+    void
+    add_element_forces(const Matrix3Xd &x, Matrix3Xd &f, std::size_t t) const;
+
     struct Element : TetrahedronShape // b and V₀
     {
       double mu, lambda; ///< μ and λ̂ = λ + μ

@@ -64,6 +64,13 @@ namespace suturesim::realtime
     begin_sweep(const Matrix3Xd &x) override;
     void
     vertex_moved(const Matrix3Xd &x, std::uint32_t i, const std::uint32_t *tetrahedra, std::size_t n) override;
+    /// False: a block reads the pressures of its elements' nodes, and so the volumes of
+    /// their patches, which a move of a node two elements away changes.
+    bool
+    vertex_blocks_local() const override
+    {
+      return false;
+    }
     /// max |J_a − 1| over the nodes
     double
     max_violation(const Matrix3Xd &x) const override;

@@ -35,6 +35,23 @@ namespace suturesim::realtime
     return true;
   }
 
+  /// @p touching ← the indices of @p tets with a node flagged in @p touched (for
+  /// Interaction::elements_touching).
+  inline bool
+  tetrahedra_touching(const std::vector<mesh::Tetrahedron> &tets, const std::vector<char> &touched,
+                      std::vector<std::uint32_t> &touching)
+  {
+    touching.clear();
+    for (std::size_t t = 0; t < tets.size(); ++t)
+      for (const auto i : tets[t])
+        if (i < touched.size() && touched[i] != 0)
+          {
+            touching.push_back(static_cast<std::uint32_t>(t));
+            break;
+          }
+    return true;
+  }
+
   /// A linear tetrahedron's rest shape: ∂F/∂xᵢ = (·) bᵢᵀ and its rest volume V₀.
   struct TetrahedronShape
   {
