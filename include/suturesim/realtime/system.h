@@ -217,10 +217,9 @@ namespace suturesim::realtime
     vertex_moved(const Matrix3Xd &, std::uint32_t, const std::uint32_t *, std::size_t)
     {}
     /// Vertex block descent on several threads: true when add_vertex_block() for a node
-    /// reads the positions of its own elements' nodes only and writes nothing of the
-    /// family's (no begin_sweep() or vertex_moved(), no scratch), so that nodes which
-    /// share no element, one colour, may move at once. False for a family that keeps
-    /// what it derives.
+    /// reads its own elements' nodes only and writes nothing of the family's (no
+    /// begin_sweep(), vertex_moved() or scratch), so that nodes which share no element,
+    /// one colour, may move at once. False for a family that keeps what it derives.
     virtual bool
     vertex_blocks_local() const
     {
