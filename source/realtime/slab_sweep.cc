@@ -17,6 +17,18 @@ namespace suturesim::realtime
     }
   } // namespace
 
+  Eigen::Index
+  longest_tissue_axis(const System &s)
+  {
+    Eigen::Index axis = 0;
+    if (s.tissue.size() > 0)
+      {
+        const auto block = s.nodes.x.middleCols(s.tissue.begin, s.tissue.size());
+        (block.rowwise().maxCoeff() - block.rowwise().minCoeff()).maxCoeff(&axis);
+      }
+    return axis;
+  }
+
   SlabSweep::SlabSweep(const unsigned threads, const double caller_share)
     : team(at_least_two(threads))
     , share(caller_share)
@@ -32,12 +44,7 @@ namespace suturesim::realtime
     const Matrix3Xd &x = s.nodes.x;
     std::vector<std::uint32_t> tissue(s.tissue.size());
     std::iota(tissue.begin(), tissue.end(), s.tissue.begin);
-    Eigen::Index axis = 0;
-    if (!tissue.empty())
-      {
-        const auto block = x.middleCols(s.tissue.begin, s.tissue.size());
-        (block.rowwise().maxCoeff() - block.rowwise().minCoeff()).maxCoeff(&axis);
-      }
+    const Eigen::Index axis = longest_tissue_axis(s);
     std::stable_sort(tissue.begin(), tissue.end(),
                      [&](const std::uint32_t a, const std::uint32_t b) { return x(axis, a) < x(axis, b); });
     // the caller's slab first (the lowest coordinates), then the helpers' of equal count

@@ -32,11 +32,11 @@
 #include <suturesim/core/model_parameters.h>
 #include <suturesim/core/worker_team.h>
 #include <suturesim/realtime/integrator.h>
+#include <suturesim/realtime/slab_sweep.h>
 
 #include <Eigen/Cholesky>
 
 #include <algorithm>
-#include <limits>
 #include <memory>
 
 namespace suturesim::realtime
@@ -163,9 +163,12 @@ namespace suturesim::realtime
       std::string
       settings() const override
       {
-        return sweep_settings(n_iterations, suture_iterations) + ", " +
-               std::to_string(colour_offsets.empty() ? 0 : colour_offsets.size() - 1) + " colours" +
-               (team ? ", " + std::to_string(team->size()) + " threads" : "");
+        const std::size_t colours = colour_offsets.empty() ? 0 : colour_offsets.size() - 1;
+        std::size_t       shared  = 0; // colours large enough to be cut between the threads
+        for (std::size_t c = 0; c < colours; ++c)
+          shared += colour_offsets[c + 1] - colour_offsets[c] >= min_shared_colour;
+        return sweep_settings(n_iterations, suture_iterations) + ", " + std::to_string(colours) + " colours" +
+               (team ? ", " + std::to_string(team->size()) + " threads on " + std::to_string(shared) + " of them" : "");
       }
 
     private:
@@ -193,7 +196,8 @@ namespace suturesim::realtime
               }
             const std::size_t parts = team->size();
             team->run([&](const unsigned t) {
-              for (std::size_t k = begin + (end - begin) * t / parts; k < begin + (end - begin) * (t + 1) / parts; ++k)
+              const std::size_t first = begin + (end - begin) * t / parts, last = begin + (end - begin) * (t + 1) / parts;
+              for (std::size_t k = first; k < last; ++k)
                 move(s, order[k], idt);
             });
           }
@@ -279,13 +283,8 @@ namespace suturesim::realtime
         // thread keeps node order.)
         if (!team)
           return;
-        const Matrix3Xd &x = s.nodes.x;
-        Vector3d         lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-        for (const auto v : order)
-          lo = lo.cwiseMin(x.col(v)), hi = hi.cwiseMax(x.col(v));
-        Eigen::Index axis = 0;
-        if (!order.empty())
-          (hi - lo).maxCoeff(&axis);
+        const Matrix3Xd   &x    = s.nodes.x;
+        const Eigen::Index axis = longest_tissue_axis(s);
         for (std::size_t c = 0; c + 1 < colour_offsets.size(); ++c)
           std::stable_sort(order.begin() + colour_offsets[c], order.begin() + colour_offsets[c + 1],
                            [&](const std::uint32_t a, const std::uint32_t b) { return x(axis, a) < x(axis, b); });

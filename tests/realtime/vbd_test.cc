@@ -186,7 +186,7 @@ namespace
   double
   settled_sag(const std::string &integrator, const std::map<std::string, std::string> &values,
               const std::string &tissue = "volume", const int steps = 1000,
-              const std::map<std::string, std::string> &tissue_values = {})
+              const std::map<std::string, std::string> &tissue_values = {}, std::string *settings = nullptr)
   {
     const auto mesh = test_support::box_mesh(0.04, 0.04, 0.01, 16, 16, 4);
     WorldSetup w;
@@ -201,6 +201,8 @@ namespace
     world.initialize();
     for (int k = 0; k < steps; ++k)
       world.step({});
+    if (settings)
+      *settings = world.integrator().settings();
     return world.probe_displacement(probe)[2];
   }
 } // namespace
@@ -341,10 +343,14 @@ TEST(VertexBlockDescent, TwoThreadsSweepAsOneBitForBit)
   for (const std::string tissue : {"volume", "fe"})
     for (const int steps : {50, 250})
       {
+        std::string  settings;
         const double sag_1 = settled_sag("vbd", one, tissue, steps);
-        const double sag_2 = settled_sag("vbd", two, tissue, steps);
+        const double sag_2 = settled_sag("vbd", two, tissue, steps, {}, &settings);
         EXPECT_LT(sag_1, -1e-6) << tissue << ", " << steps << " steps"; // it moved
         EXPECT_EQ(sag_2, sag_1) << tissue << ", " << steps << " steps";
+        // the colours were shared, not all left on the haptic thread (too small)
+        EXPECT_NE(settings.find(" threads on "), std::string::npos) << settings;
+        EXPECT_EQ(settings.find(" threads on 0 of"), std::string::npos) << settings;
       }
   // nodal volumes' blocks read the patches of their elements' nodes, which another node
   // of the colour moves: refused, with the family and the setting named

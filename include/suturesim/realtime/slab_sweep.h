@@ -40,6 +40,11 @@
 
 namespace suturesim::realtime
 {
+  /// The axis (0, 1, 2) of the tissue's longest extent in @p s, along which threads cut
+  /// it into slabs that meet at a plane only (here, and vbd_integrator.cc's colours).
+  Eigen::Index
+  longest_tissue_axis(const System &s);
+
   class SlabSweep
   {
   public:
