@@ -11,7 +11,8 @@ namespace suturesim::realtime
 {
   namespace
   {
-    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    constexpr std::uint32_t none  = std::numeric_limits<std::uint32_t>::max();
+    constexpr double        sixth = 1.0 / 6;
   } // namespace
 
   void
@@ -29,7 +30,8 @@ namespace suturesim::realtime
         if (!(lambda[t] >= 0))
           throw std::invalid_argument("averaged nodal volumes: lambda must be >= 0");
         const auto &v = mesh.tetrahedra[t];
-        Element     e{ tetrahedron_shape(mesh, t, "averaged nodal volumes"), {} };
+        const double volume = tetrahedron_shape(mesh, t, "averaged nodal volumes").volume; // throws if degenerate
+        Element      e{ mesh.volume(t) > 0 ? 1.0 : -1.0, {} };
         for (int k = 0; k < 4; ++k)
           {
             const std::uint32_t i = node[v[k]];
@@ -42,15 +44,18 @@ namespace suturesim::realtime
                 modulus.push_back(0);
               }
             e.local[k] = local_of[i];
-            rest_volume[e.local[k]] += e.volume / 4;
-            modulus[e.local[k]] += lambda[t] * e.volume / 4;
+            rest_volume[e.local[k]] += volume / 4;
+            modulus[e.local[k]] += lambda[t] * volume / 4;
           }
         elements.push_back(e);
         tets.push_back({ node[v[0]], node[v[1]], node[v[2]], node[v[3]] });
       }
     // λ_a so far holds Σ λ_e V_e/4; every node's V_a > 0 (it belongs to a tetrahedron)
     for (std::size_t a = 0; a < modulus.size(); ++a)
-      modulus[a] = modulus[a] / rest_volume[a];
+      {
+        modulus[a] = modulus[a] / rest_volume[a];
+        inverse_rest_volume.push_back(1 / rest_volume[a]);
+      }
     volume_now.assign(tets.size(), 0);
     nodal_now.assign(rest_volume.size(), 0);
     work.assign(rest_volume.size(), 0);
@@ -64,9 +69,11 @@ namespace suturesim::realtime
   }
 
   double
-  NodalVolumes::jacobian(const Matrix3Xd &x, const std::size_t t) const
+  NodalVolumes::current_volume(const Matrix3Xd &x, const std::size_t t) const
   {
-    return deformation_gradient(x, tets[t], elements[t].b).determinant();
+    const Corners p = corners(x, tets[t]);
+    double        g[4][3];
+    return elements[t].orientation * volume_gradients(p.p[0], p.p[1], p.p[2], p.p[3], g);
   }
 
   void
@@ -75,7 +82,7 @@ namespace suturesim::realtime
     std::fill(v.begin(), v.end(), 0.0);
     for (std::size_t t = 0; t < tets.size(); ++t)
       {
-        const double volume = elements[t].volume * jacobian(x, t);
+        const double volume = current_volume(x, t);
         if (element_volumes)
           (*element_volumes)[t] = volume;
         for (const auto a : elements[t].local)
@@ -97,19 +104,39 @@ namespace suturesim::realtime
   }
 
   void
-  NodalVolumes::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  NodalVolumes::nodal_pressures(const Matrix3Xd &x) const
   {
     nodal_volumes(x, work);
     for (std::size_t a = 0; a < work.size(); ++a) // v_a → the node's pressure λ_a (J_a − 1)
       work[a] = modulus[a] * (work[a] / rest_volume[a] - 1);
+  }
+
+  void
+  NodalVolumes::add_element_forces(const Matrix3Xd &x, Matrix3Xd &f, const std::size_t t) const
+  {
+    const Element &e = elements[t];
+    const double   p = (work[e.local[0]] + work[e.local[1]] + work[e.local[2]] + work[e.local[3]]) / 4;
+    const Corners  c = corners(x, tets[t]);
+    double         g[4][3]; // V_e cof(F_e) bᵢ = ±∇ᵢV
+    volume_gradients(c.p[0], c.p[1], c.p[2], c.p[3], g);
+    for (int i = 0; i < 4; ++i)
+      f.col(tets[t][i]) -= p * e.orientation * Vector3d(g[i][0], g[i][1], g[i][2]);
+  }
+
+  void
+  NodalVolumes::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    nodal_pressures(x);
     for (std::size_t t = 0; t < tets.size(); ++t)
-      {
-        const Element        &e = elements[t];
-        const double          p = (work[e.local[0]] + work[e.local[1]] + work[e.local[2]] + work[e.local[3]]) / 4;
-        const Eigen::Matrix3d C = cofactor(deformation_gradient(x, tets[t], e.b));
-        for (int i = 0; i < 4; ++i)
-          f.col(tets[t][i]).noalias() -= p * e.volume * C * e.b[i];
-      }
+      add_element_forces(x, f, t);
+  }
+
+  void
+  NodalVolumes::add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const
+  {
+    nodal_pressures(x); // every element's volume: the listed ones' nodes have others
+    for (const auto t : tetrahedra)
+      add_element_forces(x, f, t);
   }
 
   void
@@ -130,7 +157,7 @@ namespace suturesim::realtime
       {
         const auto   t = tetrahedra[k];
         const double v
-            = after_block ? volume_now[t] + block_gradient[k].dot(step) : elements[t].volume * jacobian(x, t);
+            = after_block ? volume_now[t] + block_gradient[k].dot(step) : current_volume(x, t);
         const double delta = (v - volume_now[t]) / 4;
         volume_now[t]      = v;
         for (const auto a : elements[t].local)
@@ -152,14 +179,16 @@ namespace suturesim::realtime
       {
         const auto     t     = tetrahedra[k];
         const Element &e     = elements[t];
-        const int      local = static_cast<int>(std::find(tets[t].begin(), tets[t].end(), i) - tets[t].begin());
-        const Vector3d g     = e.volume * cofactor(deformation_gradient(x, tets[t], e.b)) * e.b[local] / 4;
+        double         grad[3]; // ∂v_e/∂xᵢ = V_e cof(F_e) bᵢ = ±∇ᵢV = ±6 ∇ᵢV / 6
+        six_vertex_volume_gradient(corners(x, tets[t]), local_index(tets[t], i), grad);
+        const Vector3d dv = e.orientation * sixth * Vector3d(grad[0], grad[1], grad[2]);
+        const Vector3d g  = dv / 4;
         if (k < block_gradient.size())
-          block_gradient[k] = 4 * g;
+          block_gradient[k] = dv;
         double p = 0;
         for (const auto a : e.local)
           {
-            p += modulus[a] * (nodal_now[a] / rest_volume[a] - 1);
+            p += modulus[a] * (nodal_now[a] * inverse_rest_volume[a] - 1);
             if (gradient[a].isZero(0) && std::find(touched.begin(), touched.end(), a) == touched.end())
               touched.push_back(a);
             gradient[a] += g;

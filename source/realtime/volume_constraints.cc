@@ -10,34 +10,6 @@
 
 namespace suturesim::realtime
 {
-  namespace
-  {
-    /// ∂V/∂x_k of the tetrahedron (p0, p1, p2, p3) into g[k]: with e_k = p_k − p0,
-    /// g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3);
-    /// returns V = e1 · g1.
-    /// Inline into the multi-versioned kernels (a call would not inherit their target).
-    [[gnu::always_inline]] inline double
-    volume_gradients(const double *p0, const double *p1, const double *p2, const double *p3,
-                     double (&g)[4][3])
-    {
-      const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-      const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-      const double e3[3] = {p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2]};
-      constexpr double sixth = 1.0 / 6;
-      g[1][0] = sixth * (e2[1] * e3[2] - e2[2] * e3[1]);
-      g[1][1] = sixth * (e2[2] * e3[0] - e2[0] * e3[2]);
-      g[1][2] = sixth * (e2[0] * e3[1] - e2[1] * e3[0]);
-      g[2][0] = sixth * (e3[1] * e1[2] - e3[2] * e1[1]);
-      g[2][1] = sixth * (e3[2] * e1[0] - e3[0] * e1[2]);
-      g[2][2] = sixth * (e3[0] * e1[1] - e3[1] * e1[0]);
-      g[3][0] = sixth * (e1[1] * e2[2] - e1[2] * e2[1]);
-      g[3][1] = sixth * (e1[2] * e2[0] - e1[0] * e2[2]);
-      g[3][2] = sixth * (e1[0] * e2[1] - e1[1] * e2[0]);
-      for (int d = 0; d < 3; ++d)
-        g[0][d] = -(g[1][d] + g[2][d] + g[3][d]);
-      return e1[0] * g[1][0] + e1[1] * g[1][1] + e1[2] * g[1][2];
-    }
-  } // namespace
 
   void
   VolumeConstraints::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
@@ -253,26 +225,13 @@ namespace suturesim::realtime
   VolumeConstraints::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
                                       const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
   {
-    // V is linear in x_i: V = ∇ᵢV · (x_i − x_b), x_b a vertex of the opposite face, and
-    // ∇ᵢV one cross product (the terms of volume_gradients() that involve the vertex only)
     for (std::size_t k = 0; k < n; ++k)
       {
         const auto     t = tetrahedra[k];
-        const auto    &T = tets[t];
-        const Vector3d a = x.col(T[0]), b = x.col(T[1]), c = x.col(T[2]), d = x.col(T[3]);
-        Vector3d       g;
-        double         V;
-        if (i == T[0])
-          {
-            g = (c - b).cross(d - b) / -6;
-            V = g.dot(a - b);
-          }
-        else
-          {
-            g = i == T[1] ? (c - a).cross(d - a) / 6 : i == T[2] ? (d - a).cross(b - a) / 6 : (b - a).cross(c - a) / 6;
-            V = g.dot(x.col(i) - a);
-          }
-        const double p = stiffness[t] * (V - rest[t]);
+        double         gradient[3];
+        const double   V = vertex_volume_gradient(corners(x, tets[t]), local_index(tets[t], i), gradient);
+        const Vector3d g(gradient[0], gradient[1], gradient[2]);
+        const double   p = stiffness[t] * (V - rest[t]);
         f -= p * g;
         H.noalias() += stiffness[t] * g * g.transpose();
       }

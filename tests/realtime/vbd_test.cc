@@ -124,6 +124,18 @@ TEST(VertexBlocks, SpringsVolumesHomeSpringsAndFeTetrahedraMatchFiniteDifference
   nodal.add_mesh(mesh, node, lambda);
   check_blocks(nodal, perturbed(mesh, 0.2, 4), true);
   check_blocks(nodal, 0.8 * x, true);
+  // mirrored, every tetrahedron's rest volume negative (its nodes in the other order):
+  // the blocks take J and its gradient from the signed volume, so its sign must cancel
+  auto mirrored = mesh;
+  mirrored.vertices.row(0) *= -1;
+  ASSERT_LT(mirrored.volume(0), 0);
+  NeoHookeanTetrahedra mirrored_elements;
+  mirrored_elements.add_mesh(mirrored, node, std::vector<double>(mesh.tetrahedra.size(), 1e3),
+                             std::vector<double>(mesh.tetrahedra.size(), 8e3));
+  check_blocks(mirrored_elements, perturbed(mirrored, 0.2, 5), true);
+  NodalVolumes mirrored_nodal;
+  mirrored_nodal.add_mesh(mirrored, node, lambda);
+  check_blocks(mirrored_nodal, perturbed(mirrored, 0.2, 6), true);
 }
 
 TEST(VertexBlocks, NodalVolumesFollowEachMoveOfASweep)

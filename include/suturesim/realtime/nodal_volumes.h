@@ -55,6 +55,17 @@ namespace suturesim::realtime
     energy(const Matrix3Xd &x) const override;
     void
     add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// The elements with a node in @p touched, so that a boundary's reaction evaluates
+    /// those only (World::reaction).
+    bool
+    elements_touching(const std::vector<char> &touched, std::vector<std::uint32_t> &tetrahedra) const override
+    {
+      return tetrahedra_touching(tets, touched, tetrahedra);
+    }
+    /// add_forces() of the listed elements, in their order (every node's pressure still
+    /// needs every element's volume: one pass without the forces).
+    void
+    add_forces_of(const Matrix3Xd &x, Matrix3Xd &f, const std::vector<std::uint32_t> &tetrahedra) const override;
     /// Reads the volumes of the last begin_sweep() and vertex_moved(), which must be
     /// those of @p x.
     void
@@ -76,20 +87,30 @@ namespace suturesim::realtime
     max_violation(const Matrix3Xd &x) const override;
 
   private:
-    struct Element : TetrahedronShape // b and V_e
+    struct Element
     {
-      std::array<std::uint32_t, 4> local; ///< the nodes' indices into the per-node arrays
+      double                       orientation; ///< ±1, the rest volume's sign
+      std::array<std::uint32_t, 4> local;       ///< the nodes' indices into the per-node arrays
     };
-    /// J of tetrahedron @p t at @p x
+    /// v_e = V_e J_e of tetrahedron @p t at @p x: its signed volume times its rest
+    /// volume's sign, so that the gradients V_e cof(F_e) bᵢ are volume_gradients()'s
+    /// times the orientation, and no element needs F
     double
-    jacobian(const Matrix3Xd &x, std::size_t t) const;
+    current_volume(const Matrix3Xd &x, std::size_t t) const;
     /// The nodes' volumes v_a at @p x into @p v (and the elements' v_e into
     /// @p element_volumes)
     void
     nodal_volumes(const Matrix3Xd &x, std::vector<double> &v, std::vector<double> *element_volumes = nullptr) const;
+    /// work ← the nodes' pressures λ_a (J_a − 1) at @p x
+    void
+    nodal_pressures(const Matrix3Xd &x) const;
+    /// f −= p̄_e ∂v_e/∂xᵢ at the four nodes of element @p t, from the pressures in work
+    void
+    add_element_forces(const Matrix3Xd &x, Matrix3Xd &f, std::size_t t) const;
 
     std::vector<Element> elements;
     std::vector<double>  rest_volume; ///< V_a
+    std::vector<double>  inverse_rest_volume; ///< 1/V_a, for the blocks' pressures
     std::vector<double>  modulus;     ///< λ_a
     std::vector<double>  volume_now;  ///< v_e of the current sweep
     std::vector<double>  nodal_now;   ///< v_a of the current sweep

@@ -102,6 +102,83 @@ namespace suturesim::realtime
     return C;
   }
 
+  /// The position of node @p i among @p nodes (0–3; 3 if it is none of the first three).
+  inline int
+  local_index(const mesh::Tetrahedron &nodes, const std::uint32_t i)
+  {
+    return nodes[0] == i ? 0 : nodes[1] == i ? 1 : nodes[2] == i ? 2 : 3;
+  }
+
+  /// Pointers to the positions of the four @p nodes in the column-major 3 × n @p x.
+  struct Corners
+  {
+    const double *p[4];
+  };
+  inline Corners
+  corners(const Matrix3Xd &x, const mesh::Tetrahedron &nodes)
+  {
+    return { { x.col(nodes[0]).data(), x.col(nodes[1]).data(), x.col(nodes[2]).data(), x.col(nodes[3]).data() } };
+  }
+
+  /// ∂V/∂x_k of the tetrahedron (p0, p1, p2, p3) into g[k]: with e_k = p_k − p0,
+  /// g1 = e2 × e3 / 6, g2 = e3 × e1 / 6, g3 = e1 × e2 / 6, g0 = −(g1 + g2 + g3);
+  /// returns the signed volume V = e1 · g1. V₀ cof(F) bₖ = ±gₖ (F = Σ xₖ bₖᵀ; the sign
+  /// is the rest volume's), so a tetrahedron's J and its gradients need no F.
+  /// Inline into the multi-versioned kernels (a call would not inherit their target).
+  [[gnu::always_inline]] inline double
+  volume_gradients(const double *p0, const double *p1, const double *p2, const double *p3, double (&g)[4][3])
+  {
+    const double     e1[3] = { p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2] };
+    const double     e2[3] = { p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2] };
+    const double     e3[3] = { p3[0] - p0[0], p3[1] - p0[1], p3[2] - p0[2] };
+    constexpr double sixth = 1.0 / 6;
+    g[1][0]                = sixth * (e2[1] * e3[2] - e2[2] * e3[1]);
+    g[1][1]                = sixth * (e2[2] * e3[0] - e2[0] * e3[2]);
+    g[1][2]                = sixth * (e2[0] * e3[1] - e2[1] * e3[0]);
+    g[2][0]                = sixth * (e3[1] * e1[2] - e3[2] * e1[1]);
+    g[2][1]                = sixth * (e3[2] * e1[0] - e3[0] * e1[2]);
+    g[2][2]                = sixth * (e3[0] * e1[1] - e3[1] * e1[0]);
+    g[3][0]                = sixth * (e1[1] * e2[2] - e1[2] * e2[1]);
+    g[3][1]                = sixth * (e1[2] * e2[0] - e1[0] * e2[2]);
+    g[3][2]                = sixth * (e1[0] * e2[1] - e1[1] * e2[0]);
+    for (int d = 0; d < 3; ++d)
+      g[0][d] = -(g[1][d] + g[2][d] + g[3][d]);
+    return e1[0] * g[1][0] + e1[1] * g[1][1] + e1[2] * g[1][2];
+  }
+
+  /// Six times the signed volume V of the tetrahedron (p[0], …, p[3]) and six times its
+  /// gradient, @p c, at vertex @p local alone, for a vertex block: V is linear in each
+  /// vertex, so V = ∇V · (p_local − p_o) for a vertex p_o of the opposite face, and 6 ∇V
+  /// is ± that face's cross product (the terms of volume_gradients() that hold the
+  /// vertex). The caller scales (a division in the inner loop costs more than the rest).
+  [[gnu::always_inline]] inline double
+  six_vertex_volume_gradient(const Corners &corners, const int local, double (&c)[3])
+  {
+    // the opposite face's origin o and edges o→u, o→w: 6 ∇V = ±(u − o) × (w − o)
+    static constexpr int    face[4][3] = { { 1, 2, 3 }, { 0, 2, 3 }, { 0, 3, 1 }, { 0, 1, 2 } };
+    static constexpr double sign[4]    = { -1, 1, 1, 1 };
+    const auto             &p = corners.p;
+    const double           *o = p[face[local][0]], *u = p[face[local][1]], *w = p[face[local][2]];
+    const double            a[3] = { u[0] - o[0], u[1] - o[1], u[2] - o[2] };
+    const double            b[3] = { w[0] - o[0], w[1] - o[1], w[2] - o[2] };
+    c[0]                         = sign[local] * (a[1] * b[2] - a[2] * b[1]);
+    c[1]                         = sign[local] * (a[2] * b[0] - a[0] * b[2]);
+    c[2]                         = sign[local] * (a[0] * b[1] - a[1] * b[0]);
+    const double *q              = p[local];
+    return c[0] * (q[0] - o[0]) + c[1] * (q[1] - o[1]) + c[2] * (q[2] - o[2]);
+  }
+
+  /// six_vertex_volume_gradient() as V and ∇V, @p g (divided by 6).
+  [[gnu::always_inline]] inline double
+  vertex_volume_gradient(const Corners &corners, const int local, double (&g)[3])
+  {
+    six_vertex_volume_gradient(corners, local, g);
+    for (double &c : g)
+      c /= 6;
+    const double *o = corners.p[local == 0 ? 1 : 0], *q = corners.p[local];
+    return g[0] * (q[0] - o[0]) + g[1] * (q[1] - o[1]) + g[2] * (q[2] - o[2]);
+  }
+
   /// A primal family of one element per tetrahedron, solved by forces or vertex blocks
   /// only: its constraint forces are its elastic ones, it has no multipliers, and XPBD,
   /// which would project it, is refused (World, projectable()).
