@@ -60,12 +60,9 @@ namespace suturesim::realtime
     nodal_now.assign(rest_volume.size(), 0);
     work.assign(rest_volume.size(), 0);
     gradient.assign(rest_volume.size(), Vector3d::Zero());
-    touched.reserve(rest_volume.size());
-    std::vector<std::size_t> valence(rest_volume.size(), 0);
-    for (const auto &e : elements)
-      for (const auto a : e.local)
-        ++valence[a];
-    block_gradient.assign(*std::max_element(valence.begin(), valence.end()), Vector3d::Zero());
+    block_pending.assign(rest_volume.size(), 0);
+    block_position.assign(rest_volume.size(), Vector3d::Zero());
+    block_gradient.assign(4 * tets.size(), Vector3d::Zero());
   }
 
   double
@@ -149,57 +146,64 @@ namespace suturesim::realtime
   NodalVolumes::vertex_moved(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
                              const std::size_t n)
   {
+    if (n == 0)
+      return;
     // after this vertex's own block (the descent's order), each v_e changes by
     // ∂v_e/∂xᵢ · Δxᵢ exactly, v_e being linear in each vertex; else recomputed
-    const bool     after_block = i == block_vertex && n <= block_gradient.size();
-    const Vector3d step        = x.col(i) - block_position;
+    const std::uint32_t own         = node_of(tetrahedra[0], i);
+    const bool          after_block = block_pending[own] != 0;
+    const Vector3d      step        = x.col(i) - block_position[own];
+    block_pending[own]              = 0;
     for (std::size_t k = 0; k < n; ++k)
       {
         const auto   t = tetrahedra[k];
-        const double v
-            = after_block ? volume_now[t] + block_gradient[k].dot(step) : current_volume(x, t);
+        const double v = after_block ? volume_now[t] + block_gradient[4 * t + local_index(tets[t], i)].dot(step)
+                                     : current_volume(x, t);
         const double delta = (v - volume_now[t]) / 4;
         volume_now[t]      = v;
         for (const auto a : elements[t].local)
           nodal_now[a] += delta;
       }
-    block_vertex = none;
   }
 
   void
   NodalVolumes::add_vertex_block(const Matrix3Xd &x, const std::uint32_t i, const std::uint32_t *tetrahedra,
                                  const std::size_t n, Vector3d &f, Eigen::Matrix3d &H) const
   {
+    if (n == 0)
+      return;
     // g_a = ∂v_a/∂xᵢ summed node by node over i's elements; f from the elements' mean
-    // pressures
-    touched.clear();
-    block_vertex   = i;
-    block_position = x.col(i);
+    // pressures. What a block writes is its own node's, its elements' or their nodes'
+    // (gradient[a]), so blocks of nodes two elements apart can run at once.
+    const std::uint32_t own = node_of(tetrahedra[0], i);
+    block_pending[own]      = 1;
+    block_position[own]     = x.col(i);
     for (std::size_t k = 0; k < n; ++k)
       {
         const auto     t     = tetrahedra[k];
         const Element &e     = elements[t];
+        const int      local = local_index(tets[t], i);
         double         grad[3]; // ∂v_e/∂xᵢ = V_e cof(F_e) bᵢ = ±∇ᵢV = ±6 ∇ᵢV / 6
-        six_vertex_volume_gradient(corners(x, tets[t]), local_index(tets[t], i), grad);
-        const Vector3d dv = e.orientation * sixth * Vector3d(grad[0], grad[1], grad[2]);
-        const Vector3d g  = dv / 4;
-        if (k < block_gradient.size())
-          block_gradient[k] = dv;
-        double p = 0;
+        six_vertex_volume_gradient(corners(x, tets[t]), local, grad);
+        const Vector3d dv             = e.orientation * sixth * Vector3d(grad[0], grad[1], grad[2]);
+        const Vector3d g              = dv / 4;
+        block_gradient[4 * t + local] = dv;
+        double p                      = 0;
         for (const auto a : e.local)
           {
             p += modulus[a] * (nodal_now[a] * inverse_rest_volume[a] - 1);
-            if (gradient[a].isZero(0) && std::find(touched.begin(), touched.end(), a) == touched.end())
-              touched.push_back(a);
             gradient[a] += g;
           }
         f.noalias() -= p * g;
       }
-    for (const auto a : touched)
-      {
-        H.noalias() += modulus[a] / rest_volume[a] * gradient[a] * gradient[a].transpose();
-        gradient[a].setZero();
-      }
+    // each node's g_a once, where it is first met (a g_a of exactly zero adds nothing)
+    for (std::size_t k = 0; k < n; ++k)
+      for (const auto a : elements[tetrahedra[k]].local)
+        if (!gradient[a].isZero(0))
+          {
+            H.noalias() += modulus[a] * inverse_rest_volume[a] * gradient[a] * gradient[a].transpose();
+            gradient[a].setZero();
+          }
   }
 
   double

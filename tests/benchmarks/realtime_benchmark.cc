@@ -231,6 +231,11 @@ namespace
                     std::string("fe"))
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+  BENCHMARK_CAPTURE(HapticTick, vbd_1_plus_8_fe_nodal_2_threads, std::string("vbd"),
+                    std::map<std::string, std::string>{{"Iterations", "1"}, {"Suture iterations", "8"}, {"Threads", "2"}},
+                    std::string("fe"), std::map<std::string, std::string>{{"Volumetric energy", "nodal"}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
   // the warm start, then also on two threads (slab_sweep.h): the ratios to xpbd_1_plus_8
   // are what the two cost and save
   BENCHMARK_CAPTURE(HapticTick, xpbd_1_plus_8_warm, std::string("xpbd"),

@@ -114,15 +114,23 @@ namespace suturesim::realtime
     std::vector<double>  modulus;     ///< λ_a
     std::vector<double>  volume_now;  ///< v_e of the current sweep
     std::vector<double>  nodal_now;   ///< v_a of the current sweep
-    // scratch of the const evaluations (a step runs on one thread): v_a in energy() and
-    // add_forces(), the g_a of a block and the nodes they were summed for
-    mutable std::vector<double>        work;
-    mutable std::vector<Vector3d>      gradient;
-    mutable std::vector<std::uint32_t> touched;
-    // the last block's vertex, its position and ∂v_e/∂xᵢ of its elements, from which
-    // vertex_moved() updates the volumes
-    mutable std::uint32_t         block_vertex = std::numeric_limits<std::uint32_t>::max();
-    mutable Vector3d              block_position;
-    mutable std::vector<Vector3d> block_gradient;
+    /// the per-node index of system node @p i, a node of element @p t
+    std::uint32_t
+    node_of(const std::uint32_t t, const std::uint32_t i) const
+    {
+      return elements[t].local[local_index(tets[t], i)];
+    }
+
+    // scratch of the const evaluations: v_a in energy() and add_forces() (on the stepping
+    // thread), and for the blocks, which may run on several threads at once for nodes
+    // that share no element's node (Interaction::vertex_blocks_local), what each block
+    // writes only of its node, its elements and their nodes: the g_a being summed, and
+    // ∂v_e/∂xᵢ of each element and vertex with the vertex's position at its block, from
+    // which vertex_moved() updates the volumes
+    mutable std::vector<double>   work;
+    mutable std::vector<Vector3d> gradient;       ///< per node
+    mutable std::vector<char>     block_pending;  ///< per node: its block ran, vertex_moved() not yet
+    mutable std::vector<Vector3d> block_position; ///< per node
+    mutable std::vector<Vector3d> block_gradient; ///< per element and vertex, 4 t + k
   };
 } // namespace suturesim::realtime

@@ -217,9 +217,9 @@ namespace suturesim::realtime
     vertex_moved(const Matrix3Xd &, std::uint32_t, const std::uint32_t *, std::size_t)
     {}
     /// Vertex block descent on several threads: true when add_vertex_block() for a node
-    /// reads its own elements' nodes only and writes nothing of the family's (no
-    /// begin_sweep(), vertex_moved() or scratch), so that nodes which share no element,
-    /// one colour, may move at once. False for a family that keeps what it derives.
+    /// reads its own elements' nodes only and writes nothing of the family's, so nodes
+    /// sharing no element (a colour) may move at once. False when a block and its
+    /// vertex_moved() reach their elements' nodes' elements: colours then keep two apart.
     virtual bool
     vertex_blocks_local() const
     {
