@@ -31,7 +31,6 @@
 #include <suturesim/realtime/tetrahedron_nodes.h>
 
 #include <array>
-#include <limits>
 #include <vector>
 
 namespace suturesim::realtime
@@ -109,11 +108,11 @@ namespace suturesim::realtime
     add_element_forces(const Matrix3Xd &x, Matrix3Xd &f, std::size_t t) const;
 
     std::vector<Element> elements;
-    std::vector<double>  rest_volume; ///< V_a
+    std::vector<double>  rest_volume;         ///< V_a
     std::vector<double>  inverse_rest_volume; ///< 1/V_a, for the blocks' pressures
-    std::vector<double>  modulus;     ///< λ_a
-    std::vector<double>  volume_now;  ///< v_e of the current sweep
-    std::vector<double>  nodal_now;   ///< v_a of the current sweep
+    std::vector<double>  modulus;             ///< λ_a
+    std::vector<double>  volume_now;          ///< v_e of the current sweep
+    std::vector<double>  nodal_now;           ///< v_a of the current sweep
     /// the per-node index of system node @p i, a node of element @p t
     std::uint32_t
     node_of(const std::uint32_t t, const std::uint32_t i) const

@@ -168,7 +168,8 @@ namespace suturesim::realtime
     return c[0] * (q[0] - o[0]) + c[1] * (q[1] - o[1]) + c[2] * (q[2] - o[2]);
   }
 
-  /// six_vertex_volume_gradient() as V and ∇V, @p g (divided by 6).
+  /// six_vertex_volume_gradient() as V and ∇V, @p g, divided by 6 and V dotted again:
+  /// the volume constraints' block's arithmetic, which it keeps bit for bit.
   [[gnu::always_inline]] inline double
   vertex_volume_gradient(const Corners &corners, const int local, double (&g)[3])
   {
