@@ -229,9 +229,9 @@ namespace suturesim::realtime
       }
 
       /// The node-to-element lists of the tissue's interactions and a greedy colouring
-      /// of their nodes: no two nodes of one element share a colour, so the nodes of a
-      /// colour can move in any order within a sweep (or at once, unless a family's blocks
-      /// read nodes beyond their elements: nodal_volumes.h).
+      /// of their nodes: no two nodes of one element share a colour (nor, where a
+      /// family's blocks reach beyond their elements, two neighbours of one node:
+      /// nodal_volumes.h), so the nodes of a colour can move in any order, or at once.
       void
       build(const System &s)
       {
@@ -286,9 +286,8 @@ namespace suturesim::realtime
         // with threads, each colour along the tissue's longest extent, so that the
         // threads' contiguous shares are slabs of the mesh, which meet at a plane only
         // (the mesh's numbering need not be spatial): the positions a thread reads are
-        // mostly its own writes. (The order within a colour is the sweep's only for a
-        // family whose blocks read beyond their elements, which threads refuse; one
-        // thread keeps node order.)
+        // mostly its own writes. (The order within a colour does not change the sweep,
+        // whose blocks there are independent; one thread keeps node order.)
         if (!team)
           return;
         const Matrix3Xd   &x    = s.nodes.x;
