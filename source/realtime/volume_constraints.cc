@@ -10,7 +10,6 @@
 
 namespace suturesim::realtime
 {
-
   void
   VolumeConstraints::add_mesh(const mesh::SimplexMesh &mesh, const std::vector<std::uint32_t> &node,
                               const double K)
