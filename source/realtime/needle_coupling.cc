@@ -89,6 +89,33 @@ namespace suturesim::realtime
     if (prm.load_radius > 0 && mesh::spread_weights(X, sys.nodes.mass, sys.tissue.begin, sys.tissue.end, origin,
                                                     prm.load_radius, p.nodes, p.weights))
       {
+        if (prm.hidden && !prm.load_across_wound)
+          {
+            // the load stops at the wound: the kernel over the nodes in sight, renormalised
+            // (a point on a face sees its own lip; with nothing in sight it is its
+            // triangle's, below)
+            double      kept = 0;
+            std::size_t m    = 0;
+            for (std::size_t j = 0; j < p.nodes.size(); ++j)
+              if (!prm.hidden(origin, X.col(p.nodes[j])))
+                {
+                  p.nodes[m]   = p.nodes[j];
+                  p.weights[m] = p.weights[j];
+                  kept += p.weights[m++];
+                }
+            p.nodes.resize(m);
+            p.weights.resize(m);
+            for (auto &w : p.weights)
+              w /= kept;
+          }
+        // the share of the weights that lies beyond the wound, as carried
+        if (prm.hidden)
+          for (std::size_t j = 0; j < p.nodes.size(); ++j)
+            if (prm.hidden(origin, X.col(p.nodes[j])))
+              p.across_wound += p.weights[j];
+      }
+    if (!p.nodes.empty())
+      {
         p.offset = origin;
         for (std::size_t j = 0; j < p.nodes.size(); ++j)
           p.offset -= p.weights[j] * X.col(p.nodes[j]);
@@ -559,6 +586,7 @@ namespace suturesim::realtime
         s.position       = tissue_point(points[k], x);
         s.reference      = tissue_point(points[k], sys.nodes.reference);
         s.surface_normal = points[k].surface_normal;
+        s.across_wound   = points[k].across_wound;
         // thread between an exit point and the next entry point further along it lies
         // inside the tissue
         if (points[k].exit && k + 1 < points.size() && !points[k + 1].exit)
@@ -602,6 +630,7 @@ namespace suturesim::realtime
     points[k].weights        = points[onto].weights;
     points[k].offset         = points[onto].offset;
     points[k].surface_normal = points[onto].surface_normal;
+    points[k].across_wound   = points[onto].across_wound;
     states[k].reference      = states[onto].reference;
     states[k].position       = states[onto].position;
   }

@@ -64,15 +64,10 @@ namespace suturesim::scene
     lagrange                        = parameters.lagrange;
     np.check_entry_on_surface(surface.triangles, surface.reference, scene.scope("Needle/Pass"));
     needle = std::make_unique<coupling::TissueNeedle>(geometry, parameters, surface.triangles, surface.reference);
-    if (!np.load_across_wound)
-      {
-        scene.scope("Pierce points")
-          .require(wound.present(), "Load across the wound",
-                   "false needs the wound's faces (Closure/Face contact or Stitch evaluation/Wound faces)");
-        needle->set_cut([this](const Point<3> &a, const Point<3> &b) {
-          return wound.separates({a[0], a[1], a[2]}, {b[0], b[1], b[2]});
-        });
-      }
+    if (!np.load_across_wound) // its faces: checked with the scene (SceneParameters::parse_common)
+      needle->set_cut([this](const Point<3> &a, const Point<3> &b) {
+        return wound.hides({a[0], a[1], a[2]}, {b[0], b[1], b[2]});
+      });
     pull_start = np.motion == "pass" ? np.planned_pass().t_turn_end : 0;
     clearance.emplace(np);
     pose0      = path.pose(0);

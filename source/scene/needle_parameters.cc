@@ -221,7 +221,7 @@ namespace suturesim::scene
                       "takes the tissue beyond the wound's faces within its radius (true; a point on a "
                       "face then shares its load with the other lip, as every study measured before "
                       "2026-12-05 did) or only the tissue a straight line from it reaches without "
-                      "crossing a face (false: the visibility criterion; accurate path, needs the "
+                      "passing through the wound (false: the visibility criterion, both paths; needs the "
                       "wound's faces from Closure/Face contact or Stitch evaluation/Wound faces). "
                       "Unit: 1. Range: true, false.");
     prm.enter_subsection("Accurate");

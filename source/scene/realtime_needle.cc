@@ -10,7 +10,7 @@ namespace suturesim::scene
   namespace rt = realtime;
 
   RealtimeNeedle::RealtimeNeedle(const NeedleParameters &parameters, rt::World &world,
-                                 const std::string &pierce_model, const double mass_ratio)
+                                 const std::string &pierce_model, const double mass_ratio, const tearing::Wound &wound)
     : prm(parameters)
     , path(parameters.trajectory())
   {
@@ -23,6 +23,9 @@ namespace suturesim::scene
     c.transverse_stiffness = prm.transverse_stiffness;
     c.spacing              = prm.spacing;
     c.load_radius          = prm.load_radius;
+    c.load_across_wound    = prm.load_across_wound;
+    if (wound.present())
+      c.hidden = [&wound](const Eigen::Vector3d &a, const Eigen::Vector3d &b) { return wound.hides(a, b); };
     c.mass_ratio           = mass_ratio;
     c.pierce_model         = pierce_model;
     jaws                   = prm.jaw_changes();

@@ -335,6 +335,16 @@ namespace suturesim::scene
       {
         const auto events = world.needle->events(rw);
         summary.needle(scene.needle, events, world.needle->peak_pull_force(), rw.needle()->pierce_model());
+        // the pierce points at the end in the order the needle made them (the coupling
+        // keeps the newest first): where each was born, and its spread's share on the
+        // tissue beyond the wound's faces (Pierce points/Load across the wound)
+        auto &points = summary.whole()["pierce_points"];
+        points       = nlohmann::json::array();
+        for (auto p = rw.needle()->pierce_points().rbegin(); p != rw.needle()->pierce_points().rend(); ++p)
+          points.push_back({{"reference", {p->reference[0], p->reference[1], p->reference[2]}},
+                            {"exit", p->exit},
+                            {"on_suture", p->on_suture},
+                            {"load_across_wound", p->across_wound}});
         if (const auto free = world.needle->free_record(rw); !free.empty())
           metrics["free_needle"] = free;
         // seed 003's evaluation measures a curved needle's pass from entry to exit across

@@ -300,7 +300,7 @@ namespace suturesim::scene
                                             scene.scope("Needle/Pass"));
         try
           {
-            needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio);
+            needle.emplace(scene.needle, *world, settings.pierce_model, settings.pierce_mass_ratio, wound);
             clearance.emplace(scene.needle);
           }
         catch (const ParameterError &e) // the coupling's own parameters (Load radius)

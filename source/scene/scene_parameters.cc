@@ -66,20 +66,12 @@ namespace suturesim::scene
     model  = prm.get("Model");
     bodies = prm.get("Bodies");
     needle.parse(prm, scope());
-    // the accurate path's spread touch and loads stopped at the wound: refused here, not
-    // where the realtime world is built, so that --validate (and a study's) refuses them
-    if (model == "realtime" && needle.present())
-      {
-        if (!needle.load_across_wound)
-          scope("Pierce points")
-            .fail("Load across the wound", "the realtime path samples a spread load at the nodes, the far face's "
-                                           "among them: set it for the accurate path only (subsection Model "
-                                           "accurate)");
-        if (needle.puncture.touch_radius > 0)
-          scope("Puncture").fail("Touch radius", "the realtime path's touch is a node of the surface (a triangle "
-                                                 "split where the tip touches): set it for the accurate path only "
-                                                 "(subsection Model accurate)");
-      }
+    // the accurate path's spread touch: refused here, not where the realtime world is
+    // built, so that --validate (and a study's) refuses it
+    if (model == "realtime" && needle.present() && needle.puncture.touch_radius > 0)
+      scope("Puncture").fail("Touch radius", "the realtime path's touch is a node of the surface (a triangle "
+                                             "split where the tip touches): set it for the accurate path only "
+                                             "(subsection Model accurate)");
     closure.parse(prm, scope());
     // an interrupted series ties each stitch off on its own gap pair
     if (needle.present() && needle.motion == "pass" && needle.series.interrupted)
@@ -107,6 +99,11 @@ namespace suturesim::scene
     stitch_evaluation =
       parse_plain(prm, scope("Stitch evaluation"), tearing::StitchLimits::declare, tearing::StitchLimits::parse);
     prm.leave_subsection();
+    // a spread stopped at the wound needs its faces (wound() names them), in both paths
+    if (needle.present() && !needle.load_across_wound)
+      scope("Pierce points")
+        .require(!stitch_evaluation.wound_faces.empty() || !closure.face_contact.empty(), "Load across the wound",
+                 "false needs the wound's faces (Closure/Face contact or Stitch evaluation/Wound faces)");
   }
 
   std::vector<dealii::types::boundary_id>

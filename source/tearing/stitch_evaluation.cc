@@ -49,6 +49,8 @@ namespace suturesim::tearing
         {
           const auto &tri = triangles[t];
           faces.push_back({vertices.col(tri[0]), vertices.col(tri[1]), vertices.col(tri[2])});
+          const auto &f = faces.back();
+          normals.push_back((f[1] - f[0]).cross(f[2] - f[0]).normalized());
           boxes.emplace_back(faces.back()[0]);
           for (const auto &v : faces.back())
             {
@@ -113,6 +115,33 @@ namespace suturesim::tearing
             return true;
         }
     return false;
+  }
+
+  bool
+  Wound::hides(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const
+  {
+    return separates(a, b) || looks_out(a, b - a) || looks_out(b, a - b);
+  }
+
+  bool
+  Wound::looks_out(const Eigen::Vector3d &p, const Eigen::Vector3d &d) const
+  {
+    // a direction within 1e-9 rad of a face's plane runs along it (round-off of points
+    // on one flat face)
+    const double along = 1e-9 * d.norm();
+    bool         on    = false;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+      if (boxes[i].exteriorDistance(p) <= tolerance)
+        {
+          const auto     &f = faces[i];
+          Eigen::Vector3d bary;
+          if ((collision::closest_point_on_triangle(p, f[0], f[1], f[2], bary) - p).norm() > tolerance)
+            continue;
+          if (d.dot(normals[i]) <= along)
+            return false;
+          on = true;
+        }
+    return on;
   }
 
   namespace

@@ -15,8 +15,9 @@ namespace
 {
   constexpr double R = 0.008, gap = 0.0004, top = 0.006;
 
-  /// Two rectangular faces, x = 0 (lip A) and x = gap (lip B), y in [-10, 10] mm, z in
-  /// [0, top]; and a skin triangle beside them that is not a face.
+  /// Two rectangular faces, x = 0 (lip A, x < 0) and x = gap (lip B), y in [-10, 10] mm,
+  /// z in [0, top], each wound counter-clockwise seen from the gap (outward from its
+  /// lip); and a skin triangle beside them that is not a face.
   tearing::Wound
   slit()
   {
@@ -25,7 +26,7 @@ namespace
         -0.01, 0.01, 0.01, -0.01, -0.01, 0.01, 0.01, -0.01, -0.01, 0.01, 0, //
         0, 0, top, top, 0, 0, top, top, top, top, top;
     const std::vector<std::array<std::uint32_t, 3>> triangles{
-        {{0, 1, 2}}, {{0, 2, 3}}, {{4, 5, 6}}, {{4, 6, 7}}, {{8, 9, 10}}};
+        {{0, 1, 2}}, {{0, 2, 3}}, {{4, 6, 5}}, {{4, 7, 6}}, {{8, 9, 10}}};
     return tearing::Wound(X, triangles, {1, 1, 1, 1, 0});
   }
 
@@ -159,4 +160,32 @@ TEST(StitchEvaluation, WithoutAWoundOrAnExitTheMeasuresThatNeedThemAreNull)
   // a chord longer than the needle's diameter has no arc of radius R
   events[1].reference = {2.5 * R, 0, top};
   EXPECT_TRUE(std::isnan(tearing::evaluate_stitches(events, none, R, {})[0].bite_depth));
+}
+
+TEST(StitchEvaluation, TheWoundHidesTheOtherLipFromAPointOnAFaceAndNotItsOwn)
+{
+  // Wound::hides, the visibility criterion of a spread pierce point (Pierce points/Load
+  // across the wound = false): from a point on lip A's face, the other lip's face is out
+  // of sight across the gap though the segment crosses no face strictly between its ends
+  // (separates() says no: each end is on its own lip's side); lip A's face and interior
+  // are in sight, lip B's interior is behind B's face.
+  const tearing::Wound w = slit();
+  const double         z = top - 0.0017;
+  const Vector3d       a(0, 0, z);
+  const Vector3d       on_b(gap, 0.001, z - 0.0005), on_a(0, 0.001, z - 0.001), in_a(-0.001, 0.0005, z),
+    in_b(gap + 0.001, 0, z), above_a(-0.001, 0, top);
+  EXPECT_FALSE(w.separates(a, on_b));
+  for (const auto &[b, hidden] : {std::pair{on_b, true}, std::pair{on_a, false}, std::pair{in_a, false},
+                                  std::pair{in_b, true}, std::pair{above_a, false}})
+    {
+      EXPECT_EQ(w.hides(a, b), hidden) << b.transpose();
+      EXPECT_EQ(w.hides(b, a), hidden) << b.transpose(); // a symmetric relation
+    }
+  // from inside lip A: its own face in sight, the other lip's face behind A's face
+  EXPECT_FALSE(w.hides(in_a, on_a));
+  EXPECT_TRUE(w.hides(in_a, on_b));
+  // the faces' common plane with the skin triangle beside them: a point on the skin
+  // (no face) sees lip A's face
+  EXPECT_FALSE(w.hides(above_a, on_a));
+  EXPECT_FALSE(tearing::Wound().hides(a, on_b));
 }

@@ -228,16 +228,19 @@ TEST(Validate, TheEmbeddedDefaultSceneIsTheInterruptedStitch)
   EXPECT_NE(r.output.find("<default scene stitch_interrupted.prm>: valid"), std::string::npos) << r.output;
 }
 
-TEST(Validate, RefusesTheAccuratePathsSpreadTouchAndLoadsInTheRealtimePath)
+TEST(Validate, RefusesTheAccuratePathsSpreadTouchInTheRealtimePathAndASpreadStoppedAtNoWound)
 {
   // --validate refuses them as the run does (InputErrors/BadScene): a study's --validate
-  // once passed a reference with Puncture/Touch radius that its realtime run refused
-  for (const std::string bad : {"realtime_touch_radius", "load_across_wound_realtime"})
+  // once passed a reference with Puncture/Touch radius that its realtime run refused; a
+  // spread stopped at the wound was refused without its faces only where the accurate
+  // stitch was built
+  for (const std::string bad :
+       {"realtime_touch_radius", "load_across_wound_without_faces", "load_across_wound_realtime_without_faces"})
     {
       const auto r = run_suturesim("validate_" + bad, {"--validate", source_path("tests/data/bad/" + bad + ".prm")});
       EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
       EXPECT_NE(r.output.find(bad == "realtime_touch_radius" ? "Puncture/Touch radius: the realtime path"
-                                                             : "Load across the wound: the realtime path"),
+                                                             : "Load across the wound: false needs the wound's faces"),
                 std::string::npos)
         << r.output;
     }

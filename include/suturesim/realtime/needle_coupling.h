@@ -61,6 +61,12 @@ namespace suturesim::realtime
     double transverse_stiffness = 100;  ///< k⊥, N/m
     /// ρ of the spread kernel (0: the point of the surface triangle it was born on), m
     double load_radius = 0;
+    /// Whether the tissue at the second reference point is out of the first's sight
+    /// across the wound (tearing::Wound::hides); empty: no wound. A spread point's share
+    /// of weight on such nodes is recorded (PiercePointState::across_wound), and with
+    /// load_across_wound false they are left out of its spread.
+    std::function<bool(const Vector3d &, const Vector3d &)> hidden;
+    bool load_across_wound = true; ///< Pierce points/Load across the wound
     double spacing              = 1e-4; ///< least distance between pierce points along the thread, m
     /// XPBD: the suture nodes' inverse masses within a pierce constraint are capped at
     /// this multiple of the tissue point's (mass scaling against jitter), 1
@@ -90,6 +96,10 @@ namespace suturesim::realtime
     Vector3d reference  = Vector3d::Zero(); ///< of the tissue point at rest (X), m
     /// the surface's outward normal where the point was born (at the touch)
     Vector3d surface_normal = Vector3d::Zero();
+    /// share of the point's weights on tissue beyond the wound's faces (the parameters'
+    /// `hidden`) as carried, 1: 0 without a wound or a load radius, or when the load
+    /// stops at the wound
+    double across_wound = 0;
   };
 
   class NeedleCoupling : public ContactSet
@@ -264,13 +274,15 @@ namespace suturesim::realtime
       Vector3d       normal_direction = Vector3d::Zero();
       bool           exit = false; ///< born where the tip came out of the tissue
       Vector3d       surface_normal = Vector3d::Zero(); ///< outward, at the touch
+      double         across_wound   = 0;                  ///< PiercePointState's
       bool           passed_swage = false;
     };
 
     Vector3d
     tissue_point(const PiercePoint &p, const Matrix3Xd &x) const;
     /// The tissue nodes that carry a point born at surface point @p at: its triangle's,
-    /// or, with a load radius, the spread weights about its reference position.
+    /// or, with a load radius, the spread weights about its reference position (without
+    /// the nodes beyond the wound, unless the load goes across it).
     void
     carry(PiercePoint &p, const coupling::SurfacePoint &at) const;
     /// After a step: the touch's force decides the puncture (a new pierce point), and

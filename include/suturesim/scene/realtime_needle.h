@@ -13,6 +13,7 @@
 
 #include <suturesim/realtime/world.h>
 #include <suturesim/scene/needle_parameters.h>
+#include <suturesim/tearing/stitch_evaluation.h>
 
 #include <nlohmann/json.hpp>
 
@@ -27,9 +28,11 @@ namespace suturesim::scene
   public:
     /// Adds the needle to @p world (as its next tool; before initialize()), its pierce
     /// points of the model named @p pierce_model (realtime/pierce_model.h, or
-    /// "automatic") with XPBD mass scaling @p mass_ratio.
+    /// "automatic") with XPBD mass scaling @p mass_ratio; a spread pierce point sees the
+    /// tissue across @p wound's faces as Pierce points/Load across the wound says
+    /// (@p wound, the tissue's reference, must outlive the needle).
     RealtimeNeedle(const NeedleParameters &parameters, realtime::World &world, const std::string &pierce_model,
-                   double mass_ratio);
+                   double mass_ratio, const tearing::Wound &wound);
 
     /// Replaces @p points by a straight suture of the same length and number of nodes
     /// leaving the needle's swage along the needle (the pose at t = 0).

@@ -74,7 +74,8 @@ namespace suturesim::tearing
     /// No wound: distances are NaN, no point is on a face.
     Wound() = default;
     /// The triangles of @p triangles (indices into @p vertices) whose @p on_face entry
-    /// is set.
+    /// is set, counter-clockwise seen from outside the tissue (both paths' boundary
+    /// surfaces are), so that each face's winding gives its lip's outward normal.
     Wound(const Eigen::Matrix3Xd &vertices, const std::vector<std::array<std::uint32_t, 3>> &triangles,
           const std::vector<char> &on_face);
 
@@ -97,10 +98,26 @@ namespace suturesim::tearing
     /// wound lies between them; an end on a face is on its own side).
     bool
     separates(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const;
+    /// The tissue at @p b is out of sight from @p a through the tissue: the segment
+    /// separates() them, or an end on a face looks out of its lip through that face,
+    /// (b − a)·n > 0 at a (and (a − b)·n > 0 at b) for the outward normal n of every face
+    /// the end lies on. The visibility criterion of meshless methods on cracked bodies
+    /// (Belytschko, Lu & Gu 1994, Int J Numer Meth Eng 37:229–256) for a spread pierce
+    /// point on a face (Pierce points/Load across the wound = false): the realtime path
+    /// samples its kernel at the nodes, and those of the other lip's face lie on that face,
+    /// reached across the gap without crossing a face strictly. A point in the plane of
+    /// its face sees along it (faces flat within the spread's radius, as the slit's are).
+    bool
+    hides(const Eigen::Vector3d &a, const Eigen::Vector3d &b) const;
 
   private:
+    /// @p p lies on a face, and @p d points out of the lip of every face it lies on
+    bool
+    looks_out(const Eigen::Vector3d &p, const Eigen::Vector3d &d) const;
+
     std::vector<std::array<Eigen::Vector3d, 3>> faces;
-    std::vector<Eigen::AlignedBox3d>            boxes; ///< each face's, for separates()
+    std::vector<Eigen::Vector3d>                normals; ///< each face's, unit and outward
+    std::vector<Eigen::AlignedBox3d>            boxes;   ///< each face's, for separates()
     double                                      tolerance = 0;
   };
 

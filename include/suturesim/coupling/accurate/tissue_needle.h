@@ -243,9 +243,9 @@ namespace suturesim::coupling
       return cut && cut(X[k], Y);
     }
 
-    /// Whether the straight line between two reference points crosses a cut (the wound's
-    /// faces; a point on a face is on its own lip's side): what a spread point takes of
-    /// the tissue stops there (PointLoads::cut_off()). Empty (the default): no cut.
+    /// Whether the second reference point is out of the first's sight across a cut (the
+    /// wound's faces: tearing::Wound::hides()): what a spread point takes of the tissue
+    /// stops there (PointLoads::cut_off()). Empty (the default): no cut.
     using Cut = std::function<bool(const dealii::Point<3> &, const dealii::Point<3> &)>;
     void
     set_cut(Cut c)
