@@ -262,6 +262,18 @@ namespace suturesim::realtime
   }
 
   void
+  World::add_wound_face_contact(const std::vector<std::uint32_t> &face_a, const std::vector<mesh::Triangle> &face_b,
+                                const double stiffness, const double margin)
+  {
+    if (!tissue_model)
+      throw std::invalid_argument("realtime world: the wound's face contact needs tissue");
+    auto c = std::make_unique<WoundFaceContact>(sys, face_a, face_b, stiffness, margin,
+                                                time_integrator->position_based());
+    face_contact = c.get();
+    sys.contacts.push_back(std::move(c));
+  }
+
+  void
   World::set_loads(Loads l)
   {
     loads = std::move(l);
@@ -342,6 +354,14 @@ namespace suturesim::realtime
             for (std::uint32_t i = 0; i < sys.nodes.size(); ++i)
               if (faces[i] > 0)
                 potential_contact->add(i, sys.nodes.x.col(i), faces[i] * probe_stiffness);
+          }
+        if (face_contact != nullptr)
+          {
+            std::vector<double> k(sys.nodes.size(), 0);
+            face_contact->add_potential_stiffness(k);
+            for (std::uint32_t i = 0; i < sys.nodes.size(); ++i)
+              if (k[i] > 0)
+                potential_contact->add(i, sys.nodes.x.col(i), k[i]);
           }
         const bool potential = potential_contact->size() > 0;
         if (potential)

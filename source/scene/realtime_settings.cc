@@ -41,6 +41,12 @@ namespace suturesim::scene
     prm.declare_entry("Contact depth", default_text(d.contact_depth), Patterns::Double(0),
                       "How far inside the tissue surface a suture node is still pushed out "
                       "(deeper nodes are taken to have pierced it). Unit: m. Range: >= 0.");
+    prm.declare_entry("Face contact stiffness", default_text(d.face_contact_stiffness), Patterns::Double(0),
+                      "Penalty stiffness k per vertex pair of the incision's faces (Closure/Face "
+                      "contact; compliance 1/k under XPBD), pairs listed within Closure/Face "
+                      "contact margin: realtime/wound_face_contact.h. 0: none, the seeds' "
+                      "realtime stitch, whose faces can pass through each other. Unit: N/m. "
+                      "Range: >= 0.");
     prm.declare_entry("Rate", default_text(d.rate), Patterns::Double(1, 1e7),
                       "Haptic rate: one step(tool poses) -> tool forces per 1/Rate of "
                       "simulated time, and the deadline of each step. Unit: Hz. Range: "
@@ -114,6 +120,7 @@ namespace suturesim::scene
     contact            = prm.get_bool("Contact");
     contact_stiffness  = prm.get_double("Contact stiffness");
     contact_depth      = prm.get_double("Contact depth");
+    face_contact_stiffness = prm.get_double("Face contact stiffness");
     rate               = prm.get_double("Rate");
     substeps           = prm.get_integer("Substeps");
     traction_subdivision = static_cast<unsigned>(prm.get_integer("Traction subdivision"));

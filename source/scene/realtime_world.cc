@@ -106,6 +106,7 @@ namespace suturesim::scene
       {
         hold_boundaries();
         add_tractions(settings.traction_subdivision);
+        add_face_contact(settings);
       }
     add_tools(settings);
     add_probes();
@@ -155,7 +156,6 @@ namespace suturesim::scene
       {
         throw InputError(scene.mesh.file + ": " + e.what());
       }
-    mesh::MeshInfo mesh_info;
     for (const auto &[id, name] : tissue_mesh.boundary_names)
       mesh_info.boundary_names[id] = name;
     mesh_info.description = tissue_mesh.description;
@@ -287,6 +287,41 @@ namespace suturesim::scene
                 external(c, s.nodes[k]) += t0[c] * s.share[k];
         }
     });
+  }
+
+  void
+  RealtimeWorld::add_face_contact(const RealtimeSettings &settings)
+  {
+    if (!(settings.face_contact_stiffness > 0))
+      return;
+    scene.scope("Realtime").require(!scene.closure.face_contact.empty(), "Face contact stiffness",
+                                    "the faces it keeps apart are Closure/Face contact's: name them");
+    const auto [a, b] = scene.closure.face_contact_ids(mesh_info);
+    const auto &tissue = *world->tissue();
+    std::vector<std::uint32_t> face_a;
+    std::vector<mesh::Triangle> face_b;
+    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
+      {
+        const auto &tri = surface.triangles[t];
+        if (static_cast<long>(surface.tags[t]) == static_cast<long>(a))
+          for (const auto v : tri)
+            face_a.push_back(static_cast<std::uint32_t>(tissue.node(v)));
+        else if (static_cast<long>(surface.tags[t]) == static_cast<long>(b))
+          face_b.push_back({{static_cast<std::uint32_t>(tissue.node(tri[0])),
+                             static_cast<std::uint32_t>(tissue.node(tri[1])),
+                             static_cast<std::uint32_t>(tissue.node(tri[2]))}});
+      }
+    std::sort(face_a.begin(), face_a.end());
+    face_a.erase(std::unique(face_a.begin(), face_a.end()), face_a.end());
+    try
+      {
+        world->add_wound_face_contact(face_a, face_b, settings.face_contact_stiffness,
+                                      scene.closure.face_contact_margin);
+      }
+    catch (const std::invalid_argument &e)
+      {
+        scene.scope("Closure").fail("Face contact", e.what());
+      }
   }
 
   void

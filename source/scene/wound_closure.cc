@@ -42,12 +42,14 @@ namespace suturesim::scene
                       "draws the throw a little past the edges' meeting); 0: at closure, "
                       "'Closure gap'. Unit: m. Range: 0 to 'Closure gap'.");
     prm.declare_entry("Face contact", "", Patterns::List(Patterns::Anything(), 0, 2, ","),
-                      "Accurate path: the incision's two faces as 'A, B' (boundary names or "
-                      "ids of the mesh), kept from passing through each other by a penalty "
-                      "between A's vertices and B's surface. Empty: no contact between them. "
+                      "The incision's two faces as 'A, B' (boundary names or ids of the mesh), "
+                      "kept from passing through each other by a penalty between A's vertices "
+                      "and B's surface: in the accurate path, and in the realtime path with "
+                      "Realtime/Face contact stiffness > 0. Empty: no contact between them. "
                       "Unit: none.");
     prm.declare_entry("Face contact stiffness", default_text(d.face_contact_stiffness), Patterns::Double(0),
-                      "Penalty of the face contact per vertex pair. Unit: N/m. Range: > 0.");
+                      "Penalty of the face contact per vertex pair, accurate path (the realtime "
+                      "path's: Realtime/Face contact stiffness). Unit: N/m. Range: > 0.");
     prm.declare_entry("Face contact margin", default_text(d.face_contact_margin), Patterns::Double(0),
                       "A vertex pair is loaded (costs the coupled Newton iteration three "
                       "linear solves) while its gap is below this. Unit: m. Range: >= 0.");

@@ -16,26 +16,23 @@
  * be behind the side face beyond the edge.
  *
  * Response, gap g = (p − Σ bₖ xₖ)·n − r < 0 with the closest point's barycentric
- * weights b and the normal frozen at detection:
- *  - force-based integrators: penalty f = −k g n on the node, −bₖ f on the triangle's
- *    vertices;
- *  - XPBD: the inequality constraint g ≥ 0 with compliance 1/k (λ ≥ 0);
- *  - nodes a geometric model positions (FTL): pushed out to g = 0 after the step and
- *    held there for the next step (a collision constraint of seed 002).
+ * weights b and the normal frozen at detection: node_triangle_contacts.h's penalty or
+ * XPBD inequality, and nodes a geometric model positions (FTL) pushed out to g = 0 after
+ * the step and held there for the next step (a collision constraint of seed 002).
  */
 
 #include <suturesim/collision/proximity.h>
 #include <suturesim/collision/sphere_tree.h>
 #include <suturesim/collision/triangle_sphere_tree.h>
 #include <suturesim/mesh/simplex_mesh.h>
-#include <suturesim/realtime/system.h>
+#include <suturesim/realtime/node_triangle_contacts.h>
 
 #include <string>
 #include <vector>
 
 namespace suturesim::realtime
 {
-  class SurfaceContact : public ContactSet
+  class SurfaceContact : public NodeTriangleContacts
   {
   public:
     struct Parameters
@@ -65,47 +62,11 @@ namespace suturesim::realtime
     void
     detect(const Matrix3Xd &x) override;
     void
-    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
-    /// E = Σ ½ k min(g, 0)² over the contacts found, their normals and weights held: the
-    /// penalty forces are −∂E/∂x at any @p x.
-    std::optional<double>
-    energy(const Matrix3Xd &x) const override;
-    void
-    add_constraint_forces(const Matrix3Xd &x, Matrix3Xd &f, double dt) const override;
-    bool
-    has_projection() const override
-    {
-      return prm.project;
-    }
-    void
-    reset_multipliers() override;
-    void
-    project(Matrix3Xd &x, const VectorXd &w, double dt) override;
-    void
     after_step(Nodes &nodes) override;
-    std::size_t
-    active() const override
-    {
-      return contacts.size();
-    }
     /// The surface's triangles changed (seed 002's subdivision): the tree on them is built
     /// again at @p x.
     void
     surface_changed(const Matrix3Xd &x);
-
-    struct Contact
-    {
-      std::uint32_t                node;
-      mesh::Triangle               triangle; ///< node indices
-      Vector3d                     bary;
-      Vector3d                     normal;
-      double                       lambda = 0;
-    };
-    const std::vector<Contact> &
-    list() const
-    {
-      return contacts;
-    }
 
     /// Suture nodes (local index, non-zero entries) to leave alone: those the needle's
     /// pierce points have drawn into the tissue. The mask is read at every detect().
@@ -114,10 +75,6 @@ namespace suturesim::realtime
     {
       exempted = mask;
     }
-
-    /// Signed gap of contact @p c at @p x (m): negative when the node is closer than r.
-    double
-    gap(const Contact &c, const Matrix3Xd &x) const;
 
   private:
     /// detect() of Parameters::every_triangle, from the broad phase's candidates.
@@ -131,7 +88,6 @@ namespace suturesim::realtime
     collision::TriangleSphereTree   surface_tree;
     collision::SphereTree           suture_tree;
     collision::LeafPairs            candidates;
-    std::vector<Contact>            contacts;
     std::vector<collision::NearestTriangle> nearest; ///< per suture node
     std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
     const std::vector<char>        *exempted = nullptr;

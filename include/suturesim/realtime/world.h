@@ -23,6 +23,7 @@
 #include <suturesim/realtime/self_collision.h>
 #include <suturesim/realtime/suture_model.h>
 #include <suturesim/realtime/surface_contact.h>
+#include <suturesim/realtime/wound_face_contact.h>
 #include <suturesim/realtime/tissue_model.h>
 #include <suturesim/tools/trajectory.h>
 
@@ -211,6 +212,21 @@ namespace suturesim::realtime
     probe_contact() const
     {
       return probe_contacts;
+    }
+
+    /// The incision's faces kept apart (wound_face_contact.h): the nodes @p face_a
+    /// (system indices) against the triangles @p face_b (outward from their lip), penalty
+    /// @p stiffness (N/m) or its XPBD compliance, pairs listed within @p margin (m).
+    /// Before initialize(); std::invalid_argument without tissue, with an empty face or a
+    /// stiffness that is not positive.
+    void
+    add_wound_face_contact(const std::vector<std::uint32_t> &face_a, const std::vector<mesh::Triangle> &face_b,
+                           double stiffness, double margin);
+    /// nullptr without one
+    const WoundFaceContact *
+    wound_face_contact() const
+    {
+      return face_contact;
     }
 
     const NodeAccess *
@@ -416,6 +432,7 @@ namespace suturesim::realtime
     NodeAccess                  *access_set      = nullptr;
     std::vector<SurfaceContact *> probe_contacts; ///< one per probe
     double                        probe_stiffness = 0; ///< the stiffest probe's, N/m
+    WoundFaceContact             *face_contact    = nullptr;
     std::vector<unsigned>        accesses_on_link; ///< how many accesses each suture link holds
     std::size_t                  needle_tool     = 0;
     std::optional<FreeNeedle>    free_body;       ///< the needle while let go

@@ -105,6 +105,7 @@ namespace suturesim::scene
     SceneParameters                                 &scene;
     mesh::SimplexMesh                                tissue_mesh;
     mesh::BoundarySurface                            surface;
+    mesh::MeshInfo                                   mesh_info; ///< the tissue mesh's names
     tearing::Wound                                   wound; ///< the stitch evaluation's, reference
     std::unique_ptr<realtime::World>                 world;
     std::vector<Boundary>                            boundaries;
@@ -140,6 +141,10 @@ namespace suturesim::scene
     /// @p subdivision² sub-triangles (RealtimeSettings::traction_subdivision).
     void
     add_tractions(unsigned subdivision);
+    /// Realtime/Face contact stiffness: the incision's faces (Closure/Face contact) kept
+    /// apart, face A's nodes against face B's triangles.
+    void
+    add_face_contact(const RealtimeSettings &settings);
     void
     add_tools(const RealtimeSettings &settings);
     void
