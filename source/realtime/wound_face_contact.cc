@@ -34,7 +34,8 @@ namespace suturesim::realtime
         Vector3d bary;
         for (const auto &t : face_b)
           {
-            const Vector3d q = collision::closest_point_on_triangle(X.col(a), X.col(t[0]), X.col(t[1]), X.col(t[2]), bary);
+            const Vector3d q =
+              collision::closest_point_on_triangle(X.col(a), X.col(t[0]), X.col(t[1]), X.col(t[2]), bary);
             if (const double d = (q - X.col(a)).norm(); d < nearest)
               {
                 nearest       = d;

@@ -22,6 +22,18 @@ namespace
   const Args scene = {source_path("benchmarks/realtime_seed004_scale/realtime_seed004_scale.prm")};
   // a coarse block (h = 5 mm) keeps these runs short
   const Args coarse = {"--set", "Mesh/Geo parameters=h: 0.005, hexahedra: 0"};
+
+  /// The default stitch on 1 mm tetrahedra with its pierce loads spread over 2 mm, and
+  /// the settings @p more ("Path/Key=value").
+  Args
+  spread_stitch_on_1mm(const std::vector<std::string> &more)
+  {
+    Args args{source_path("parameters/stitch_interrupted.prm"), "--set", "Pierce points/Load radius=0.002", "--set",
+              "Mesh/Geo parameters=h: 0.001, hexahedra: 0, Wg: 0.0004"};
+    for (const auto &setting : more)
+      args.insert(args.end(), {"--set", setting});
+    return args;
+  }
 } // namespace
 
 TEST(RealtimeScene, RunsTheSeed004ScaleSceneAndRecordsItsHapticStatistics)
@@ -612,18 +624,11 @@ TEST(RealtimeScene, ASpreadPointOnAWoundFaceLoadsTheOtherLipUnlessTheLoadStopsAt
   // its load on the other lip (the accurate path's share on its L2 mesh: 44 %,
   // docs/needle_and_pierce_points.md) and the skin points none (2 mm of a 5 mm bite);
   // stopped at the wound (false) none does.
-  const std::vector<std::string> pass{source_path("parameters/stitch_interrupted.prm"),
-                                      "--set",
-                                      "Pierce points/Load radius=0.002",
-                                      "--set",
-                                      "Mesh/Geo parameters=h: 0.001, hexahedra: 0, Wg: 0.0004",
-                                      "--set",
-                                      "Time/End time=2.5"};
   for (const std::string across : {"true", "false"})
     {
-      auto args = pass;
-      args.insert(args.end(), {"--set", "Pierce points/Load across the wound=" + across});
-      const auto r = run_suturesim("stitch_across_" + across, args);
+      const auto r = run_suturesim(
+        "stitch_across_" + across,
+        spread_stitch_on_1mm({"Time/End time=2.5", "Pierce points/Load across the wound=" + across}));
       ASSERT_EQ(r.exit_code, 0) << r.output;
       const auto &points = r.summary["pierce_points"];
       ASSERT_EQ(points.size(), 4u) << across;
@@ -654,23 +659,14 @@ TEST(RealtimeScene, TheWoundsFacesInContactNoLongerCrossAtTheStitchsDepth)
   // -69.0 um); with 1e4 N/m per pair they touch with the penalty's give (-10.7 um), as
   // the accurate faces do (-7.4 um on Q1-P0, docs/interrupted_stitch.md). The closure
   // tension hardly moves (3.543 -> 3.567 N): the crossing is not what keeps it low.
-  const std::vector<std::string> stitch{source_path("parameters/stitch_interrupted.prm"),
-                                        "--set",
-                                        "Pierce points/Load radius=0.002",
-                                        "--set",
-                                        "Realtime/quasi-static/Damping=per unit mass",
-                                        "--set",
-                                        "Realtime/quasi-static/Tissue damping rate=2e7",
-                                        "--set",
-                                        "Realtime/Rate=3000",
-                                        "--set",
-                                        "Mesh/Geo parameters=h: 0.001, hexahedra: 0, Wg: 0.0004"};
   std::vector<double> depth, tension;
   for (const std::string k : {"0", "1e4"})
     {
-      auto args = stitch;
-      args.insert(args.end(), {"--set", "Realtime/Face contact stiffness=" + k});
-      const auto r = run_suturesim("stitch_face_contact_" + k, args);
+      const auto r = run_suturesim("stitch_face_contact_" + k,
+                                   spread_stitch_on_1mm({"Realtime/quasi-static/Damping=per unit mass",
+                                                         "Realtime/quasi-static/Tissue damping rate=2e7",
+                                                         "Realtime/Rate=3000",
+                                                         "Realtime/Face contact stiffness=" + k}));
       ASSERT_EQ(r.exit_code, 0) << r.output;
       const auto &m = r.summary["metrics"];
       ASSERT_FALSE(m["closure_tension"].is_null()) << k;
