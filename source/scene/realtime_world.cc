@@ -297,22 +297,15 @@ namespace suturesim::scene
     scene.scope("Realtime").require(!scene.closure.face_contact.empty(), "Face contact stiffness",
                                     "the faces it keeps apart are Closure/Face contact's: name them");
     const auto [a, b] = scene.closure.face_contact_ids(mesh_info);
-    const auto &tissue = *world->tissue();
-    std::vector<std::uint32_t> face_a;
+    // face A's nodes, face B's triangles in system nodes (outward, as the tissue's surface is)
+    const auto                 &tissue = *world->tissue();
+    std::vector<std::uint32_t>  face_a;
     std::vector<mesh::Triangle> face_b;
-    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
-      {
-        const auto &tri = surface.triangles[t];
-        if (static_cast<long>(surface.tags[t]) == static_cast<long>(a))
-          for (const auto v : tri)
-            face_a.push_back(static_cast<std::uint32_t>(tissue.node(v)));
-        else if (static_cast<long>(surface.tags[t]) == static_cast<long>(b))
-          face_b.push_back({{static_cast<std::uint32_t>(tissue.node(tri[0])),
-                             static_cast<std::uint32_t>(tissue.node(tri[1])),
-                             static_cast<std::uint32_t>(tissue.node(tri[2]))}});
-      }
-    std::sort(face_a.begin(), face_a.end());
-    face_a.erase(std::unique(face_a.begin(), face_a.end()), face_a.end());
+    for (const auto v : mesh::vertices_with_tag(surface, a))
+      face_a.push_back(static_cast<std::uint32_t>(tissue.node(v)));
+    for (std::size_t t = 0; t < tissue.surface().size(); ++t)
+      if (tissue.surface_tags()[t] == static_cast<int>(b))
+        face_b.push_back(tissue.surface()[t]);
     try
       {
         world->add_wound_face_contact(face_a, face_b, settings.face_contact_stiffness,
