@@ -89,30 +89,31 @@ namespace suturesim::realtime
     if (prm.load_radius > 0 && mesh::spread_weights(X, sys.nodes.mass, sys.tissue.begin, sys.tissue.end, origin,
                                                     prm.load_radius, p.nodes, p.weights))
       {
-        if (prm.hidden && !prm.load_across_wound)
+        if (prm.hidden)
           {
-            // the load stops at the wound: the kernel over the nodes in sight, renormalised
-            // (a point on a face sees its own lip; with nothing in sight it is its
-            // triangle's, below)
-            double      kept = 0;
-            std::size_t m    = 0;
+            // the share of the weights beyond the wound, as carried; when the load stops at
+            // the wound, the kernel over the nodes in sight, renormalised (a point on a face
+            // sees its own lip; with nothing in sight it is its triangle's, below)
+            double      beyond = 0;
+            double      kept   = 0;
+            std::size_t m      = 0;
             for (std::size_t j = 0; j < p.nodes.size(); ++j)
-              if (!prm.hidden(origin, X.col(p.nodes[j])))
-                {
-                  p.nodes[m]   = p.nodes[j];
-                  p.weights[m] = p.weights[j];
-                  kept += p.weights[m++];
-                }
+              {
+                const bool behind = prm.hidden(origin, X.col(p.nodes[j]));
+                (behind ? beyond : kept) += p.weights[j];
+                if (behind && !prm.load_across_wound)
+                  continue;
+                p.nodes[m]     = p.nodes[j];
+                p.weights[m++] = p.weights[j];
+              }
             p.nodes.resize(m);
             p.weights.resize(m);
-            for (auto &w : p.weights)
-              w /= kept;
+            if (prm.load_across_wound)
+              p.across_wound += beyond;
+            else
+              for (auto &w : p.weights)
+                w /= kept;
           }
-        // the share of the weights that lies beyond the wound, as carried
-        if (prm.hidden)
-          for (std::size_t j = 0; j < p.nodes.size(); ++j)
-            if (prm.hidden(origin, X.col(p.nodes[j])))
-              p.across_wound += p.weights[j];
       }
     if (!p.nodes.empty())
       {

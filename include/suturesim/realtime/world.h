@@ -222,13 +222,6 @@ namespace suturesim::realtime
     void
     add_wound_face_contact(const std::vector<std::uint32_t> &face_a, const std::vector<mesh::Triangle> &face_b,
                            double stiffness, double margin);
-    /// nullptr without one
-    const WoundFaceContact *
-    wound_face_contact() const
-    {
-      return face_contact;
-    }
-
     const NodeAccess *
     access() const
     {
