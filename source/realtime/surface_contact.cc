@@ -167,4 +167,42 @@ namespace suturesim::realtime
           nodes.set_held(c.node, Nodes::transient, true);
         }
   }
+
+  void
+  SurfaceContact::carry_thread(const System &system, const SutureModel &model)
+  {
+    thread_system = &system;
+    thread        = &model;
+    link_tension.reserve(suture.size());
+  }
+
+  void
+  SurfaceContact::add_forces(const Matrix3Xd &x, Matrix3Xd &f) const
+  {
+    NodeTriangleContacts::add_forces(x, f);
+    if (thread == nullptr || contacts.empty())
+      return;
+    // the links' tensions once a step, and only with a node of the interior to load
+    bool tensions = false;
+    for (const auto &c : contacts)
+      {
+        const std::uint32_t i = c.node - suture.begin;
+        if (i == 0 || i + 1 >= suture.size() || gap(c, x) > 0.25 * prm.radius)
+          continue;
+        if (!tensions)
+          {
+            thread->segment_tension(*thread_system, link_tension);
+            tensions = true;
+          }
+        const Vector3d before = x.col(c.node - 1) - x.col(c.node), after = x.col(c.node + 1) - x.col(c.node);
+        const double   lb = before.norm(), la = after.norm();
+        if (!(lb > 0 && la > 0))
+          continue;
+        const double into = (link_tension[i - 1] / lb * before + link_tension[i] / la * after).dot(c.normal);
+        if (into >= 0)
+          continue; // the thread pulls away from the surface: nothing holds it
+        for (unsigned k = 0; k < 3; ++k)
+          f.col(c.triangle[k]) += c.bary[k] * into * c.normal;
+      }
+  }
 } // namespace suturesim::realtime

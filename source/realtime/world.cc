@@ -44,6 +44,9 @@ namespace suturesim::realtime
       suture_model->build(sys, setup.suture_geometry);
     sys.gravity = setup.gravity;
 
+    if (setup.contact_load && !(suture_model && tissue_model && setup.contact))
+      throw ParameterError("Contact load",
+                           "needs a suture in contact with the tissue (a scene with both, and Contact = true)");
     if (suture_model && tissue_model && setup.contact)
       {
         auto c = std::make_unique<SurfaceContact>(
@@ -52,6 +55,14 @@ namespace suturesim::realtime
                                      setup.contact_depth, time_integrator->position_based()},
           sys.suture, "suture-tissue contact");
         contact = c.get();
+        if (setup.contact_load)
+          {
+            if (!suture_model->geometric() || time_integrator->position_based())
+              throw ParameterError("Contact load", "the thread's pull into the surface loads the tissue for a "
+                                                   "thread moved geometrically (Suture model = ftl) under a "
+                                                   "force-based integrator");
+            contact->carry_thread(sys, *suture_model);
+          }
         sys.contacts.push_back(std::move(c));
       }
     if (suture_model)

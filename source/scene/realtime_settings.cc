@@ -41,6 +41,12 @@ namespace suturesim::scene
     prm.declare_entry("Contact depth", default_text(d.contact_depth), Patterns::Double(0),
                       "How far inside the tissue surface a suture node is still pushed out "
                       "(deeper nodes are taken to have pierced it). Unit: m. Range: >= 0.");
+    prm.declare_entry("Contact load", default_text(d.contact_load), Patterns::Bool(),
+                      "With Suture model = ftl under a force-based integrator: the thread's "
+                      "pull into the tissue surface at the nodes the contact holds loads the "
+                      "surface (a frictionless support's reaction, realtime/surface_contact.h). "
+                      "false: the contact only moves the thread (seed 002), and the tissue "
+                      "feels a thread lying on it only through the penalty. Unit: none.");
     prm.declare_entry("Face contact stiffness", default_text(d.face_contact_stiffness), Patterns::Double(0),
                       "Penalty stiffness k per vertex pair of the incision's faces (Closure/Face "
                       "contact; compliance 1/k under XPBD), pairs listed within Closure/Face "
@@ -120,6 +126,7 @@ namespace suturesim::scene
     contact            = prm.get_bool("Contact");
     contact_stiffness  = prm.get_double("Contact stiffness");
     contact_depth      = prm.get_double("Contact depth");
+    contact_load       = prm.get_bool("Contact load");
     face_contact_stiffness = prm.get_double("Face contact stiffness");
     rate               = prm.get_double("Rate");
     substeps           = prm.get_integer("Substeps");

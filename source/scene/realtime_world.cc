@@ -90,6 +90,7 @@ namespace suturesim::scene
     setup.contact           = scene.has_tissue() && scene.has_suture() && settings.contact;
     setup.contact_stiffness = settings.contact_stiffness;
     setup.contact_depth     = settings.contact_depth;
+    setup.contact_load      = settings.contact_load;
     setup.integrator        = std::move(models.integrator);
     // the models check what they read of their parameters as they are built (the
     // self-collision response, the tissue's bending points against the mesh)

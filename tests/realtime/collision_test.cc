@@ -287,3 +287,128 @@ TEST(Proximity, SegmentCrossesATriangleWhereTheLineMeetsItsPlaneInside)
   EXPECT_FALSE(segment_crosses_triangle({0.5, 0.25, 1}, {0.5, 0.25, 0.1}, a, b, c, s, bary));
   EXPECT_FALSE(segment_crosses_triangle({0.1, 0.1, 0}, {0.5, 0.5, 0}, a, b, c, s, bary));
 }
+
+namespace
+{
+  /// A block with an ftl thread of 20 links of 1 mm (k_q = 1e4 N/m) held at both ends by
+  /// tools, the thread's contact with the block, and Realtime/Contact load as @p load.
+  std::unique_ptr<World>
+  thread_on_a_block(const mesh::SimplexMesh &mesh, const bool load)
+  {
+    WorldSetup w;
+    w.mesh              = &mesh;
+    w.material          = {6e3, 0.45, 1060, {}};
+    w.tissue            = test_support::make_model<TissueModel::Registry>("volume");
+    w.suture            = test_support::make_model<SutureModel::Registry>(
+      "ftl", {{"Gravity speed", "0"}, {"Quasi-spring constant", "1e4"}, {"Tension law", "per link"}});
+    w.suture_geometry   = test_support::straight_suture(20, 0.02, Vector3d(0, 0.0112, 0.0102), Vector3d::UnitX());
+    w.contact_stiffness = 100;
+    w.contact_depth     = 1e-3;
+    w.contact_load      = load;
+    w.integrator        = test_support::make_model<Integrator::Registry>("quasi-static");
+    auto        world   = std::make_unique<World>(std::move(w));
+    const auto &s       = world->system();
+    world->add_tool("left", {s.suture.begin}, ToolPose());
+    ToolPose right;
+    right.position = s.nodes.x.col(s.suture.end - 1);
+    world->add_tool("right", {s.suture.end - 1}, right);
+    world->initialize();
+    return world;
+  }
+} // namespace
+
+TEST(SurfaceContact, AnFtlThreadBentOverTheSurfaceLoadsItWithTheWholeTurnsPull)
+{
+  // The thread rises at α to a crest on the block's top and falls at α beyond it, the
+  // turn 2α shared by the seven nodes of the crest (each within the contact's skin) and
+  // its links stretched by 1 % (one section between the tools, tension T). With
+  // Realtime/Contact load the surface carries the pull of the whole turn,
+  // Σ T (â + b̂)·n = −2T sin α (the legs' nodes are straight: nothing), into the top
+  // along its normal and on the triangles' corners; without it, only the penalty.
+  const double H = 0.01, r = 1e-4, alpha = 0.2, l = 1e-3 * 1.01;
+  const auto   block = test_support::box_mesh(0.03, 0.02, H, 6, 4, 2);
+  const auto lay = [&](World &world, const double crest, const double sign) {
+    auto      &x = world.system().nodes.x;
+    const auto s = world.system().suture;
+    // link k (node k to k + 1) at angle a_k: +α up to node 7, turning by 2α/7 at each
+    // of nodes 7–13, −α beyond; then the whole lifted so that its top is at @p crest
+    Matrix3Xd p(3, s.size());
+    p.col(0) = Vector3d(0.0062, 0.0112, 0);
+    for (std::uint32_t k = 0; k + 1 < s.size(); ++k)
+      {
+        const double a = sign * std::clamp(alpha - (double(k) - 6.5) * 2 * alpha / 7, -alpha, alpha);
+        p.col(k + 1)   = p.col(k) + l * Vector3d(std::cos(a), 0, std::sin(a));
+      }
+    p.row(2).array() += crest - (sign > 0 ? p.row(2).maxCoeff() : p.row(2).minCoeff());
+    for (std::uint32_t k = 0; k < s.size(); ++k)
+      x.col(s.begin + k) = p.col(k);
+  };
+  struct Load
+  {
+    Vector3d    total = Vector3d::Zero();
+    double      T     = 0;
+    std::size_t touching = 0;
+  };
+  const auto load_of = [&](World &world, const bool carried) {
+    auto       &contact = dynamic_cast<SurfaceContact &>(*world.system().contacts.front());
+    const auto &x       = world.system().nodes.x;
+    contact.detect(x);
+    Matrix3Xd with = Matrix3Xd::Zero(3, x.cols()), penalty = with;
+    contact.add_forces(x, with);
+    contact.NodeTriangleContacts::add_forces(x, penalty);
+    Load result;
+    const auto t = world.system().tissue;
+    for (auto i = t.begin; i < t.end; ++i)
+      result.total += with.col(i) - penalty.col(i);
+    if (!carried)
+      {
+        EXPECT_EQ((with - penalty).norm(), 0) << "a load without Contact load";
+      }
+    std::vector<double> T;
+    world.suture()->segment_tension(world.system(), T);
+    result.T = T.front();
+    for (const double Tk : T)
+      EXPECT_NEAR(Tk, result.T, 1e-12 * result.T) << "one section: one tension";
+    for (const auto &c : contact.list())
+      result.touching += contact.gap(c, x) <= 0.25 * r;
+    return result;
+  };
+  for (const bool carried : {true, false})
+    {
+      auto world = thread_on_a_block(block, carried);
+      lay(*world, H + 1.2 * r, +1); // the crest's top node 0.2 r above the top: resting
+      const Load over = load_of(*world, carried);
+      const double expected = carried ? -2 * over.T * std::sin(alpha) : 0;
+      std::printf("[ contact load ] %s: T = %.4e N, %zu nodes within the skin, load on the tissue "
+                  "(%.3e, %.3e, %.3e) N, expected z %.6e N\n",
+                  carried ? "carried" : "not carried", over.T, over.touching, over.total[0], over.total[1],
+                  over.total[2], expected);
+      EXPECT_NEAR(over.T, 1e4 * 1e-3 * 0.01, 1e-9); // k_q l (L − m)/m, the links 1 % long
+      EXPECT_GE(over.touching, 9u); // the crest's seven nodes and leg nodes below them
+      EXPECT_NEAR(over.total[2], expected, 1e-9 * over.T);
+      EXPECT_NEAR(over.total[0], 0, 1e-9 * over.T);
+      EXPECT_NEAR(over.total[1], 0, 1e-9 * over.T);
+    }
+  {
+    // the same thread sagging onto the surface (its lowest node resting on it) pulls away
+    // from it: a surface does not hold a thread up from below, and nothing is carried
+    auto world = thread_on_a_block(block, true);
+    lay(*world, H + 1.2 * r, -1);
+    const Load sag = load_of(*world, true);
+    EXPECT_GE(sag.touching, 1u);
+    EXPECT_EQ(sag.total.norm(), 0);
+  }
+  {
+    // only for a thread moved geometrically, under a force-based integrator
+    WorldSetup w;
+    const auto h      = test_support::box_mesh(0.02, 0.02, H, 2, 2, 1);
+    w.mesh            = &h;
+    w.material        = {6e3, 0.45, 1060, {}};
+    w.tissue          = test_support::make_model<TissueModel::Registry>("volume");
+    w.suture          = test_support::make_model<SutureModel::Registry>("xpbd-rod");
+    w.suture_geometry = test_support::straight_suture(10, 0.01, Vector3d(0, 0.01, 0.0102), Vector3d::UnitX());
+    w.contact_load    = true;
+    w.integrator      = test_support::make_model<Integrator::Registry>("xpbd");
+    EXPECT_THROW(World world(std::move(w)), ParameterError);
+  }
+}

@@ -19,6 +19,16 @@
  * weights b and the normal frozen at detection: node_triangle_contacts.h's penalty or
  * XPBD inequality, and nodes a geometric model positions (FTL) pushed out to g = 0 after
  * the step and held there for the next step (a collision constraint of seed 002).
+ *
+ * A geometric thread is not moved by forces, so its penalty reaction is only that of
+ * the depth a node happens to have when the forces are taken: the surface that holds the
+ * thread up would not carry the thread's pull. With carry_thread() (Realtime/Contact
+ * load) each listed node i of the thread's interior within the skin (g ≤ r/4) passes its
+ * links' pull into the surface to it, the reaction of a frictionless support:
+ *   p = T₋ (x_{i−1} − x_i)/|…| + T₊ (x_{i+1} − x_i)/|…|,  f = min(p·n, 0) n,
+ * on the triangle's corners by the weights b (T± the links' tensions from the suture
+ * model). Over a bend of angle θ under tension T that is 2T sin(θ/2), the whole turn's
+ * 2T sin(θ/2) however many nodes share it, so the load converges as the links shrink.
  */
 
 #include <suturesim/collision/proximity.h>
@@ -26,6 +36,7 @@
 #include <suturesim/collision/triangle_sphere_tree.h>
 #include <suturesim/mesh/simplex_mesh.h>
 #include <suturesim/realtime/node_triangle_contacts.h>
+#include <suturesim/realtime/suture_model.h>
 
 #include <string>
 #include <vector>
@@ -63,6 +74,15 @@ namespace suturesim::realtime
     detect(const Matrix3Xd &x) override;
     void
     after_step(Nodes &nodes) override;
+    /// The penalty (node_triangle_contacts.h), and with carry_thread() the thread's pull
+    /// into the surface at its resting nodes (above).
+    void
+    add_forces(const Matrix3Xd &x, Matrix3Xd &f) const override;
+    /// The chain is the geometric thread of @p model in @p system: its pull into the
+    /// surface loads the tissue (above). Force-based integrators: XPBD's projection does
+    /// not use add_forces() (World refuses the pair).
+    void
+    carry_thread(const System &system, const SutureModel &model);
     /// The surface's triangles changed (seed 002's subdivision): the tree on them is built
     /// again at @p x.
     void
@@ -91,5 +111,8 @@ namespace suturesim::realtime
     std::vector<collision::NearestTriangle> nearest; ///< per suture node
     std::vector<std::int32_t>       slot; ///< per suture node: index in contacts, −1
     const std::vector<char>        *exempted = nullptr;
+    const System                   *thread_system = nullptr; ///< with carry_thread()
+    const SutureModel              *thread        = nullptr;
+    mutable std::vector<double>     link_tension; ///< per link, N (work array)
   };
 } // namespace suturesim::realtime

@@ -62,6 +62,9 @@ namespace suturesim::realtime
     bool                         contact = true;
     double                       contact_stiffness = 0; ///< N/m
     double                       contact_depth     = 0; ///< m
+    /// the ftl thread's pull into the surface at its resting nodes loads the tissue
+    /// (SurfaceContact::carry_thread); a geometric suture and a force-based integrator
+    bool                         contact_load      = false;
 
     std::unique_ptr<Integrator> integrator;
     Vector3d                    gravity  = Vector3d::Zero();

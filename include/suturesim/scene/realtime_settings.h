@@ -40,6 +40,7 @@ namespace suturesim::scene
     bool        contact            = true;
     double      contact_stiffness  = 100;  ///< N/m
     double      contact_depth      = 1e-3; ///< m
+    bool        contact_load       = false; ///< the ftl thread's pull into the surface loads it
     double      face_contact_stiffness = 0; ///< N/m per pair of the wound's faces; 0: none
     double      rate               = 1000; ///< Hz
     unsigned    substeps           = 1;
