@@ -107,7 +107,8 @@ TEST_P(NoAllocation, StepDoesNotAllocate)
   auto       values = settings_of(settings);
   // the world's own setting among them: the ftl thread's contact load, whose step takes
   // the links' tensions at the nodes the contact holds (this thread, held at one end
-  // only, is slack: the check is on the step's work arrays, not on the load)
+  // only, has no section and no tension: the check is on the step's work arrays, not
+  // on the load)
   const bool contact_load = values.count("Contact load") != 0 && values.at("Contact load") == "true";
   values.erase("Contact load");
   const auto mesh = test_support::box_mesh(0.02, 0.02, 0.01, 4, 4, 2);
