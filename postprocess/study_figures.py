@@ -293,6 +293,10 @@ def convergence(study, folder):
     c = study["convergence"]
     fig, ax = plt.subplots(figsize=(6.5, 4.5))
     hmax = 0
+    # a series is named by its parameter's value: with the parameter, unless it is the
+    # model path, whose values name themselves ("accurate", "realtime")
+    parameter = c.get("series_parameter") or ""
+    named = (lambda v: f"{parameter} = {v}") if parameter and parameter != "Model" else (lambda v: v)
     for k, series in enumerate(c["series"]):
         table = [r for r in series["table"] if r["value"] is not None and r["h"] is not None]
         if not table:
@@ -300,12 +304,12 @@ def convergence(study, folder):
         color = f"C{k}"
         hmax = max(hmax, max(r["h"] for r in table))
         ax.plot([r["h"] for r in table], [r["value"] for r in table], "o-", color=color,
-                label=f"{series['series']}")
+                label=named(series["series"]))
         if series.get("extrapolated") is not None:
             f1 = min(table, key=lambda r: r["h"])["value"]
             bar = abs(series["gci_fine"] * f1)
             ax.errorbar([0], [series["extrapolated"]], yerr=[bar], fmt="s", color=color, capsize=4,
-                        label=f"{series['series']}: Richardson, p = {series['observed_order']:.2f}, "
+                        label=f"{named(series['series'])}: Richardson, p = {series['observed_order']:.2f}, "
                               f"GCI {100 * series['gci_fine']:.2g} %"
                               + (" (oscillatory: not asymptotic)" if series.get("oscillatory") else "")
                               + (" (diverging: not asymptotic)" if series.get("diverging") else ""))

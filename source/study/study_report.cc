@@ -417,6 +417,7 @@ namespace suturesim::study
           }
     nlohmann::json out{{"metric", study.figures.convergence_metric},
                        {"h", study.figures.convergence_sizes.empty() ? "measured: (V/N)^(1/3)" : "given"},
+                       {"series_parameter", study.figures.convergence_series},
                        {"series", nlohmann::json::array()}};
     for (auto &[name, s] : series)
       {

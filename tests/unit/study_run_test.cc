@@ -533,6 +533,8 @@ TEST(StudyRun, ConvergenceTableHasAnOrderPerSeries)
   const auto &series = r.study.at("convergence").at("series");
   ASSERT_EQ(series.size(), 1u); // every case is Model=realtime
   EXPECT_EQ(series[0]["series"], "realtime");
+  // the parameter that names the series, for the chart's legend
+  EXPECT_EQ(r.study.at("convergence").at("series_parameter"), "Model");
   EXPECT_EQ(series[0]["table"].size(), 4u);
   EXPECT_TRUE(series[0]["observed_order"].is_number()) << series.dump();
   const std::string text = read_text(r.folder + "/convergence.csv");
