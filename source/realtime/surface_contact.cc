@@ -12,6 +12,11 @@ namespace suturesim::realtime
 {
   namespace
   {
+    /// The skin above the surface within which a node is in contact, in suture radii:
+    /// detection lists a node while its distance is below (1 + skin) r, i.e. g < skin r,
+    /// which keeps resting contacts listed from step to step.
+    constexpr double skin = 0.25;
+
     /// The closest feature of a triangle (a face, an edge or a corner) as the corners of
     /// non-zero weight @p weights, sorted, the unused entries last: the same for every
     /// triangle that shares it.
@@ -100,7 +105,7 @@ namespace suturesim::realtime
           // listed within a skin of r/4 beyond touching, so that a resting contact stays
           // listed from step to step; its gap constraint acts only while g < 0
           const auto &near = nearest[k];
-          if (near.signed_distance < 1.25 * prm.radius && near.signed_distance > -prm.depth)
+          if (near.signed_distance < (1 + skin) * prm.radius && near.signed_distance > -prm.depth)
             {
               slot[k] = static_cast<std::int32_t>(contacts.size());
               contacts.push_back({suture.begin + k, triangles[near.triangle], near.weights, near.normal, 0});
@@ -128,7 +133,7 @@ namespace suturesim::realtime
             // over edges and corners; behind the face's plane: its normal
             const bool     outside = near.signed_distance > 0 && near.distance > 0;
             const double   d       = outside ? near.distance : near.signed_distance;
-            if (!(d < 1.25 * prm.radius && d > -prm.depth))
+            if (!(d < (1 + skin) * prm.radius && d > -prm.depth))
               continue;
             const Vector3d q = near.weights[0] * x.col(t[0]) + near.weights[1] * x.col(t[1]) +
                                near.weights[2] * x.col(t[2]);
@@ -187,7 +192,7 @@ namespace suturesim::realtime
     for (const auto &c : contacts)
       {
         const std::uint32_t i = c.node - suture.begin;
-        if (i == 0 || i + 1 >= suture.size() || gap(c, x) > 0.25 * prm.radius)
+        if (i == 0 || i + 1 >= suture.size() || gap(c, x) > skin * prm.radius)
           continue;
         if (!tensions)
           {

@@ -27,8 +27,9 @@
  * links' pull into the surface to it, the reaction of a frictionless support:
  *   p = T₋ (x_{i−1} − x_i)/|…| + T₊ (x_{i+1} − x_i)/|…|,  f = min(p·n, 0) n,
  * on the triangle's corners by the weights b (T± the links' tensions from the suture
- * model). Over a bend of angle θ under tension T that is 2T sin(θ/2), the whole turn's
- * 2T sin(θ/2) however many nodes share it, so the load converges as the links shrink.
+ * model). Over a turn of angle θ under tension T the nodes that share it carry 2T sin(θ/2)
+ * between them, however many they are (the sum telescopes), so the load on a given turn
+ * does not depend on the link's length.
  */
 
 #include <suturesim/collision/proximity.h>
