@@ -48,6 +48,7 @@ namespace suturesim::realtime
         : quasi_spring(p.real("Quasi-spring constant"))
         , fall_speed(p.real("Gravity speed"))
         , per_link(p.text("Tension law") == "per link")
+        , turn_length(p.real("Turn length"))
       {}
 
       bool
@@ -192,16 +193,7 @@ namespace suturesim::realtime
               continue;
             auto &load = loads[anchors[a].soft];
             const auto direction = [&](const Anchor &other, const int side) {
-              // towards the first node beyond the constrained segment on that side (the
-              // segment itself is laid straight through the point)
-              const std::int64_t k = anchors[a].k;
-              const std::int64_t n = std::clamp<std::int64_t>(side < 0 ? k - 1 : k + 2, 0, s.suture.size() - 1);
-              Vector3d           d = x.col(s.suture.begin + n) - anchors[a].position;
-              // (or at the neighbouring constraint when it shares the segment)
-              if (other.k == k || !(d.norm() > 1e-3 * link))
-                d = other.position - anchors[a].position;
-              const double l = d.norm();
-              return l > 0 ? Vector3d(d / l) : Vector3d::Zero();
+              return leaving_direction(x, s.suture.begin, s.suture.size(), anchors[a], other, side);
             };
             if (a > 0)
               {
@@ -330,6 +322,52 @@ namespace suturesim::realtime
         return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(s / link)), 0, count - 2);
       }
 
+      /// The unit direction in which the thread leaves anchor @p a towards @p side (−1:
+      /// the first node, +1: the last) as far as its neighbouring anchor @p other. With
+      /// no turn length, seed 002's: towards the first node beyond the segment laid
+      /// through the point (between l and 2l away). With a turn length L_t, the chord to
+      /// the thread's point at arc length L_t from the anchor (or the neighbour, if
+      /// nearer), so the turn a hole sees is measured over one physical length whatever
+      /// the links' (l < L_t).
+      Vector3d
+      leaving_direction(const Matrix3Xd &x, const std::uint32_t first, const std::uint32_t count, const Anchor &a,
+                        const Anchor &other, const int side) const
+      {
+        Vector3d d = other.position - a.position;
+        if (other.k != a.k && !(turn_length > 0))
+          {
+            const std::int64_t n = std::clamp<std::int64_t>(side < 0 ? a.k - 1 : a.k + 2, 0, count - 1);
+            if (const Vector3d to_node = x.col(first + n) - a.position; to_node.norm() > 1e-3 * link)
+              d = to_node;
+          }
+        else if (other.k != a.k)
+          {
+            // the polyline from the anchor: its segment's far node, the nodes up to the
+            // neighbour's segment, then the neighbour
+            Vector3d     from = a.position;
+            double       walked = 0;
+            std::int64_t node = side < 0 ? a.k : a.k + 1;
+            const std::int64_t stop = side < 0 ? other.k + 1 : other.k;
+            for (;; node += side)
+              {
+                const bool     last = side < 0 ? node < stop : node > stop;
+                const Vector3d to   = last ? other.position : Vector3d(x.col(first + node));
+                const double   step = (to - from).norm();
+                if (walked + step >= turn_length && step > 0)
+                  {
+                    d = from + (turn_length - walked) / step * (to - from) - a.position;
+                    break;
+                  }
+                if (last)
+                  break; // the neighbour is nearer than L_t: d is the chord to it
+                walked += step;
+                from = to;
+              }
+          }
+        const double l = d.norm();
+        return l > 0 ? Vector3d(d / l) : Vector3d::Zero();
+      }
+
       /// Quasi-spring tension of the section between anchors a and b (a.s ≤ b.s): the
       /// thread's length L from a to b against the material length m between them,
       /// T = k_q (L − m) (seed 002) or T = k_q l (L − m)/max(m, l) (per link: the section's
@@ -411,6 +449,7 @@ namespace suturesim::realtime
 
       double                     quasi_spring, fall_speed, k_q = 0;
       bool                       per_link;
+      double                     turn_length; ///< L_t, m; 0: seed 002's node beyond the segment
       Matrix3Xd                  p, forward, backward, placed;
       std::vector<std::uint32_t> constraints;
       std::vector<int>           placed_count;
@@ -437,6 +476,12 @@ namespace suturesim::realtime
                          "T = k_q l (L - m)/max(m, l), the section's m/l links of stiffness "
                          "k_q in series (an elastic thread of EA = k_q l; a section shorter "
                          "than a link is one link). Unit: none.");
+         d.add_real("Turn length", 0, 0, 1,
+                    "Arc length over which the thread's direction leaving a pierce point is "
+                    "measured, for the hole's normal force N = N0 + |T- e- + T+ e+| (its wrap); "
+                    "0 = seed 002's, towards the first node beyond the segment laid through the "
+                    "point (1 to 2 links away, so the wrap depends on the link length). "
+                    "Unit: m. Range: 0 to 1.");
          d.add_real("Gravity speed", 0.02, 0, 100,
                     "Constant speed at which free nodes fall (seed 002); 0 = no gravity. "
                     "Unit: m/s. Range: >= 0.");

@@ -465,6 +465,61 @@ TEST(RealtimeModels, FollowTheLeaderPerLinkTensionIsTheStrainOfLinksInSeries)
     }
 }
 
+TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhateverTheLinks)
+{
+  // A pierce point's friction grows with the thread's wrap there, N = N₀ + |T₋ê₋ + T₊ê₊|.
+  // Here the 20 mm thread lies on a circle of radius R = 4 mm, the point at the middle
+  // of its middle link. Seed 002's directions point to the first node beyond that link,
+  // 1 to 2 links away, so the wrap |ê₋ + ê₊| shrinks with the link; with a turn length
+  // L_t they point to the thread's point L_t along it, whose chord leaves the tangent
+  // at L_t/(2R) on either side, so |ê₋ + ê₊| = 2 sin(L_t/(2R)) for any link short of L_t.
+  const double R = 0.004, length = 0.02, turn = 0.001;
+  const auto   wrap = [&](const unsigned n, const double turn_length) {
+    WorldSetup w;
+    w.suture          = test_support::make_model<SutureModel::Registry>(
+      "ftl", {{"Gravity speed", "0"}, {"Turn length", std::to_string(turn_length)}});
+    w.suture_geometry = test_support::straight_suture(n, length, Vector3d::Zero(), Vector3d::UnitX());
+    w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
+    World       world(std::move(w));
+    const auto &s = world.system();
+    world.add_tool("left", {s.suture.begin}, ToolPose());
+    ToolPose right;
+    right.position = s.nodes.x.col(s.suture.end - 1);
+    world.add_tool("right", {s.suture.end - 1}, right);
+    world.initialize();
+    Matrix3Xd    x = s.nodes.x;
+    const double l = length / n;
+    for (unsigned i = 0; i <= n; ++i)
+      {
+        const double angle = (i * l - 0.5 * length) / R;
+        x.col(s.suture.begin + i) = Vector3d(0.5 * length + R * std::sin(angle), R * (std::cos(angle) - 1), 0);
+      }
+    const unsigned                  k = n / 2;
+    const Vector3d                  p = 0.5 * (x.col(s.suture.begin + k) + x.col(s.suture.begin + k + 1));
+    std::vector<SoftConstraintLoad> loads;
+    world.suture()->soft_constraint_loads(s, x, {{(k + 0.5) * l, p}}, loads);
+    // the wrap of the chords to the two held ends, for a turn length beyond them
+    const Vector3d to_first = x.col(s.suture.begin) - p, to_last = x.col(s.suture.end - 1) - p;
+    return std::make_pair((loads[0].to_before + loads[0].to_after).norm(),
+                          (to_first.normalized() + to_last.normalized()).norm());
+  };
+  const double expected = 2 * std::sin(turn / (2 * R));
+  for (const unsigned n : {40u, 80u, 160u, 320u})
+    {
+      const double seed = wrap(n, 0).first, measured = wrap(n, turn).first;
+      std::printf("[ FTL turn ] %3u links (l = %.4f mm): wrap %.5f with L_t = 1 mm (2 sin(L_t/2R) = %.5f, "
+                  "%.1e relative), %.5f with seed 002's\n",
+                  n, 1e3 * length / n, measured, expected, std::abs(measured / expected - 1), seed);
+      EXPECT_NEAR(measured, expected, 2e-3 * expected) << n;
+    }
+  // seed 002's wrap halves with the link
+  EXPECT_LT(wrap(320, 0).first, 0.15 * wrap(40, 0).first);
+  // a turn length beyond the section: the chords to the held ends
+  const auto beyond = wrap(40, 0.5);
+  EXPECT_NEAR(beyond.first, beyond.second, 1e-12);
+  EXPECT_GT(beyond.first, 1.8); // about 2 sin(10 mm/2R)
+}
+
 TEST(RealtimeModels, VolumeStiffnessScalesMultiplyTheSpringAndBulkEnergies)
 {
   // the calibration's parameters (issue 28): Spring stiffness scale s_k multiplies every
