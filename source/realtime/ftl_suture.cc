@@ -49,6 +49,7 @@ namespace suturesim::realtime
         , fall_speed(p.real("Gravity speed"))
         , per_link(p.text("Tension law") == "per link")
         , turn_length(p.real("Turn length"))
+        , kinked(p.text("Hole placement") == "kink")
       {}
 
       bool
@@ -419,8 +420,9 @@ namespace suturesim::realtime
         const std::uint32_t count = s.suture.size(), b = s.suture.begin;
         placed.setZero(3, count);
         placed_count.assign(count, 0);
-        for (const auto &c : soft)
+        for (std::size_t j = 0; j < soft.size(); ++j)
           {
+            const auto        &c = soft[j];
             const std::int64_t k = segment_of(c.s, count);
             const double       f = std::clamp(c.s / link - k, 0.0, 1.0);
             const std::int64_t lo = std::max<std::int64_t>(k - 1, 0), hi = std::min<std::int64_t>(k + 2, count - 1);
@@ -428,10 +430,33 @@ namespace suturesim::realtime
             if (!(t.norm() > 0))
               t = Vector3d::UnitX();
             t.normalize();
+            // seed 002's segment straight through the point along t; or bent at the point,
+            // each node towards the neighbour beyond it (a kink at the hole, so no node
+            // jumps when the point passes from one segment to the next). Bent, points that
+            // share a segment (ascending s) bend it at each: its first node hangs off the
+            // first point, its last off the last, and the thread runs from point to point.
+            Vector3d   back = -t, ahead = t;
+            bool       places[2] = {true, true};
+            if (kinked)
+              {
+                if (lo < k && (p.col(lo) - c.position).norm() > 0)
+                  back = (p.col(lo) - c.position).normalized();
+                if (hi > k + 1 && (p.col(hi) - c.position).norm() > 0)
+                  ahead = (p.col(hi) - c.position).normalized();
+                places[0] = j == 0 || segment_of(soft[j - 1].s, count) != k;
+                places[1] = j + 1 == soft.size() || segment_of(soft[j + 1].s, count) != k;
+              }
             const std::int64_t nodes[2] = {k, k + 1};
-            const Vector3d     at[2]    = {c.position - f * link * t, c.position + (1 - f) * link * t};
+            Vector3d           at[2]    = {c.position + f * link * back, c.position + (1 - f) * link * ahead};
+            // the one node between points in neighbouring segments lies on their chord, at
+            // its share of the material between them: the thread runs straight from hole
+            // to hole, as when they share a segment
+            if (kinked && places[0] && j > 0 && segment_of(soft[j - 1].s, count) == k - 1)
+              at[0] = on_chord(soft[j - 1], c, k);
+            if (kinked && places[1] && j + 1 < soft.size() && segment_of(soft[j + 1].s, count) == k + 1)
+              at[1] = on_chord(c, soft[j + 1], k + 1);
             for (int m = 0; m < 2; ++m)
-              if (!(s.nodes.held[b + nodes[m]] & Nodes::boundary))
+              if (places[m] && !(s.nodes.held[b + nodes[m]] & Nodes::boundary))
                 {
                   placed.col(nodes[m]) += at[m];
                   ++placed_count[nodes[m]];
@@ -447,9 +472,20 @@ namespace suturesim::realtime
         constraints.erase(std::unique(constraints.begin(), constraints.end()), constraints.end());
       }
 
+      /// Node @p node (between soft constraints @p a and @p b in material order) on the
+      /// chord from a to b at its material fraction.
+      Vector3d
+      on_chord(const SoftConstraint &a, const SoftConstraint &b, const std::int64_t node) const
+      {
+        const double span = b.s - a.s;
+        const double w    = span > 0 ? std::clamp((node * link - a.s) / span, 0.0, 1.0) : 0.5;
+        return a.position + w * (b.position - a.position);
+      }
+
       double                     quasi_spring, fall_speed, k_q = 0;
       bool                       per_link;
       double                     turn_length; ///< L_t, m; 0: seed 002's node beyond the segment
+      bool                       kinked;      ///< the thread bent at a soft constraint
       Matrix3Xd                  p, forward, backward, placed;
       std::vector<std::uint32_t> constraints;
       std::vector<int>           placed_count;
@@ -482,6 +518,14 @@ namespace suturesim::realtime
                     "0 = seed 002's, towards the first node beyond the segment laid through the "
                     "point (1 to 2 links away, so the wrap depends on the link length). "
                     "Unit: m. Range: 0 to 1.");
+         d.add_selection("Hole placement", "segment", "segment|kink",
+                         "How the thread is laid through a pierce point (a soft constraint) in "
+                         "link k at fraction f: 'segment', seed 002's, link k straight through "
+                         "the point along the chord of its neighbours (the turn at the hole then "
+                         "sits at the link's nodes, and they jump when the point passes into the "
+                         "next link); 'kink', the thread bent at the point, node k at f l from it "
+                         "towards node k - 1 and node k + 1 at (1 - f) l towards node k + 2. "
+                         "Unit: none.");
          d.add_real("Gravity speed", 0.02, 0, 100,
                     "Constant speed at which free nodes fall (seed 002); 0 = no gravity. "
                     "Unit: m/s. Range: >= 0.");
