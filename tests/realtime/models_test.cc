@@ -475,18 +475,9 @@ TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhatev
   // at L_t/(2R) on either side, so |ê₋ + ê₊| = 2 sin(L_t/(2R)) for any link short of L_t.
   const double R = 0.004, length = 0.02, turn = 0.001;
   const auto   wrap = [&](const unsigned n, const double turn_length) {
-    WorldSetup w;
-    w.suture          = test_support::make_model<SutureModel::Registry>(
-      "ftl", {{"Gravity speed", "0"}, {"Turn length", std::to_string(turn_length)}});
-    w.suture_geometry = test_support::straight_suture(n, length, Vector3d::Zero(), Vector3d::UnitX());
-    w.integrator      = test_support::make_model<Integrator::Registry>("quasi-static");
-    World       world(std::move(w));
-    const auto &s = world.system();
-    world.add_tool("left", {s.suture.begin}, ToolPose());
-    ToolPose right;
-    right.position = s.nodes.x.col(s.suture.end - 1);
-    world.add_tool("right", {s.suture.end - 1}, right);
-    world.initialize();
+    auto        owner = test_support::held_ftl_suture("quasi-static", {{"Turn length", std::to_string(turn_length)}}, n);
+    World      &world = *owner;
+    const auto &s     = world.system();
     Matrix3Xd    x = s.nodes.x;
     const double l = length / n;
     for (unsigned i = 0; i <= n; ++i)

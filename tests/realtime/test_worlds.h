@@ -176,15 +176,15 @@ namespace suturesim::test_support
     return p;
   }
 
-  /// A 20 mm FTL suture of 20 links along x, held by the tools "left" (at the origin)
+  /// A 20 mm FTL suture of @p links links along x, held by the tools "left" (at the origin)
   /// and "right" (at x = 20 mm), initialised; @p ftl overrides its parameters (gravity off).
   inline std::unique_ptr<realtime::World>
-  held_ftl_suture(const std::string &integrator, std::map<std::string, std::string> ftl)
+  held_ftl_suture(const std::string &integrator, std::map<std::string, std::string> ftl, const unsigned links = 20)
   {
     ftl.emplace("Gravity speed", "0");
     realtime::WorldSetup w;
     w.suture          = make_model<realtime::SutureModel::Registry>("ftl", ftl);
-    w.suture_geometry = straight_suture(20, 0.02, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
+    w.suture_geometry = straight_suture(links, 0.02, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX());
     w.integrator      = make_model<realtime::Integrator::Registry>(integrator);
     auto        world = std::make_unique<realtime::World>(std::move(w));
     const auto &s     = world->system();
