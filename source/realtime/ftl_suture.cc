@@ -21,9 +21,14 @@
  * in segment k = ⌊s/l⌋ at fraction f = s/l − k: that segment is laid through the tissue
  * point p along the local direction of the thread t (the chord of its neighbours),
  * x_k = p − f l t, x_{k+1} = p + (1 − f) l t, and both nodes are constraints of the FTL
- * update (two constraints in one segment share it). The sections between hard and soft
+ * update (two constraints in one segment share it). With `Hole placement = kink` the
+ * thread bends at p instead: x_k = p + f l b̂, x_{k+1} = p + (1 − f) l â, b̂ and â towards
+ * nodes k − 1 and k + 2, and a node between two points in neighbouring segments lies on
+ * their chord, so no node jumps as a point passes one. The sections between hard and soft
  * constraints carry the quasi-spring tension, measured from constraint to constraint
- * along the thread: T = k_q max(0, L_path − (s_b − s_a)).
+ * along the thread: T = k_q max(0, L_path − (s_b − s_a)). A soft constraint is pulled by
+ * T₋ê₋ + T₊ê₊, ê± the thread's directions leaving it: towards the first node beyond its
+ * segment (seed 002), or along the chord to the thread's point `Turn length` away.
  *
  * A cut link (cut(), a thread cut after a knot) parts the chain: no section's tension
  * reaches across it, no node follows a constraint across it, and a section with a cut
@@ -193,20 +198,17 @@ namespace suturesim::realtime
             if (anchors[a].hard)
               continue;
             auto &load = loads[anchors[a].soft];
-            const auto direction = [&](const Anchor &other, const int side) {
-              return leaving_direction(x, s.suture.begin, s.suture.size(), anchors[a], other, side);
-            };
             if (a > 0)
               {
                 load.before    = section_tension(x, s.suture.begin, anchors[a - 1], anchors[a],
                                               &load.stiffness_before);
-                load.to_before = direction(anchors[a - 1], -1);
+                load.to_before = leaving_direction(x, s.suture.begin, s.suture.size(), anchors[a], anchors[a - 1], -1);
               }
             if (a + 1 < anchors.size())
               {
                 load.after    = section_tension(x, s.suture.begin, anchors[a], anchors[a + 1],
                                              &load.stiffness_after);
-                load.to_after = direction(anchors[a + 1], +1);
+                load.to_after = leaving_direction(x, s.suture.begin, s.suture.size(), anchors[a], anchors[a + 1], +1);
               }
           }
       }

@@ -475,7 +475,7 @@ TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhatev
   // at L_t/(2R) on either side, so |ê₋ + ê₊| = 2 sin(L_t/(2R)) for any link short of L_t.
   const double R = 0.004, length = 0.02, turn = 0.001;
   const auto   wrap = [&](const unsigned n, const double turn_length) {
-    auto        owner = test_support::held_ftl_suture("quasi-static", {{"Turn length", std::to_string(turn_length)}}, n);
+    auto owner = test_support::held_ftl_suture("quasi-static", {{"Turn length", std::to_string(turn_length)}}, n);
     World      &world = *owner;
     const auto &s     = world.system();
     Matrix3Xd    x = s.nodes.x;
