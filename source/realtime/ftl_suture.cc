@@ -24,7 +24,8 @@
  * update (two constraints in one segment share it). With `Hole placement = kink` the
  * thread bends at p instead: x_k = p + f l b̂, x_{k+1} = p + (1 − f) l â, b̂ and â towards
  * nodes k − 1 and k + 2, and a node between two points in neighbouring segments lies on
- * their chord, so no node jumps as a point passes one. The sections between hard and soft
+ * their chord, so no node jumps as a point passes one (points within a link of each
+ * other along the thread, as a wound's two faces are). The sections between hard and soft
  * constraints carry the quasi-spring tension, measured from constraint to constraint
  * along the thread: T = k_q max(0, L_path − (s_b − s_a)). A soft constraint is pulled by
  * T₋ê₋ + T₊ê₊, ê± the thread's directions leaving it: towards the first node beyond its
@@ -328,19 +329,24 @@ namespace suturesim::realtime
       /// The unit direction in which the thread leaves anchor @p a towards @p side (−1:
       /// the first node, +1: the last) as far as its neighbouring anchor @p other. With
       /// no turn length, seed 002's: towards the first node beyond the segment laid
-      /// through the point (between l and 2l away). With a turn length L_t, the chord to
-      /// the thread's point at arc length L_t from the anchor (or the neighbour, if
-      /// nearer), so the turn a hole sees is measured over one physical length whatever
-      /// the links' (l < L_t).
+      /// through the point (between l and 2l away), since the segment itself only
+      /// repeats the direction it was laid along. With a turn length L_t, the chord to
+      /// the thread's point at arc length L_t from the anchor, so the turn a hole sees is
+      /// measured over one physical length whatever the links' (l < L_t). Either way the
+      /// chord to the neighbour when the thread reaches it first (it shares the segment,
+      /// or, bent at the holes, lies before that node), or when the node sits on the
+      /// anchor (no direction).
       Vector3d
       leaving_direction(const Matrix3Xd &x, const std::uint32_t first, const std::uint32_t count, const Anchor &a,
                         const Anchor &other, const int side) const
       {
-        Vector3d d = other.position - a.position;
+        const Vector3d to_other = other.position - a.position;
+        Vector3d       d        = to_other;
         if (other.k != a.k && !(turn_length > 0))
           {
             const std::int64_t n = std::clamp<std::int64_t>(side < 0 ? a.k - 1 : a.k + 2, 0, count - 1);
-            if (const Vector3d to_node = x.col(first + n) - a.position; to_node.norm() > 1e-3 * link)
+            const bool nearer    = kinked && (side < 0 ? other.s > n * link : other.s < n * link);
+            if (const Vector3d to_node = x.col(first + n) - a.position; !nearer && to_node.norm() > 1e-3 * link)
               d = to_node;
           }
         else if (other.k != a.k)
@@ -366,6 +372,8 @@ namespace suturesim::realtime
                 walked += step;
                 from = to;
               }
+            if (!(d.norm() > 1e-3 * link))
+              d = to_other; // the thread folded back onto the anchor
           }
         const double l = d.norm();
         return l > 0 ? Vector3d(d / l) : Vector3d::Zero();
@@ -412,8 +420,9 @@ namespace suturesim::realtime
         return std::max(0.0, k_q * link * (L - m) / m_eff);
       }
 
-      /// Lays the segment of each soft constraint through its tissue point and makes its
-      /// nodes constraints of the FTL update (held nodes stay where the tool has them).
+      /// Lays the segment of each soft constraint through its tissue point (or bends the
+      /// thread there, `Hole placement = kink`) and makes its nodes constraints of the FTL
+      /// update (held nodes stay where the tool has them).
       void
       place_soft_constraints(const System &s)
       {
@@ -424,44 +433,15 @@ namespace suturesim::realtime
         placed_count.assign(count, 0);
         for (std::size_t j = 0; j < soft.size(); ++j)
           {
-            const auto        &c = soft[j];
-            const std::int64_t k = segment_of(c.s, count);
-            const double       f = std::clamp(c.s / link - k, 0.0, 1.0);
-            const std::int64_t lo = std::max<std::int64_t>(k - 1, 0), hi = std::min<std::int64_t>(k + 2, count - 1);
-            Vector3d           t  = p.col(hi) - p.col(lo);
-            if (!(t.norm() > 0))
-              t = Vector3d::UnitX();
-            t.normalize();
-            // seed 002's segment straight through the point along t; or bent at the point,
-            // each node towards the neighbour beyond it (a kink at the hole, so no node
-            // jumps when the point passes from one segment to the next). Bent, points that
-            // share a segment (ascending s) bend it at each: its first node hangs off the
-            // first point, its last off the last, and the thread runs from point to point.
-            Vector3d   back = -t, ahead = t;
-            bool       places[2] = {true, true};
-            if (kinked)
-              {
-                if (lo < k && (p.col(lo) - c.position).norm() > 0)
-                  back = (p.col(lo) - c.position).normalized();
-                if (hi > k + 1 && (p.col(hi) - c.position).norm() > 0)
-                  ahead = (p.col(hi) - c.position).normalized();
-                places[0] = j == 0 || segment_of(soft[j - 1].s, count) != k;
-                places[1] = j + 1 == soft.size() || segment_of(soft[j + 1].s, count) != k;
-              }
-            const std::int64_t nodes[2] = {k, k + 1};
-            Vector3d           at[2]    = {c.position + f * link * back, c.position + (1 - f) * link * ahead};
-            // the one node between points in neighbouring segments lies on their chord, at
-            // its share of the material between them: the thread runs straight from hole
-            // to hole, as when they share a segment
-            if (kinked && places[0] && j > 0 && segment_of(soft[j - 1].s, count) == k - 1)
-              at[0] = on_chord(soft[j - 1], c, k);
-            if (kinked && places[1] && j + 1 < soft.size() && segment_of(soft[j + 1].s, count) == k + 1)
-              at[1] = on_chord(c, soft[j + 1], k + 1);
+            const std::int64_t k = segment_of(soft[j].s, count);
+            Vector3d           at[2];
+            bool               places[2] = {true, true};
+            hole_nodes(j, count, at, places);
             for (int m = 0; m < 2; ++m)
-              if (places[m] && !(s.nodes.held[b + nodes[m]] & Nodes::boundary))
+              if (places[m] && !(s.nodes.held[b + k + m] & Nodes::boundary))
                 {
-                  placed.col(nodes[m]) += at[m];
-                  ++placed_count[nodes[m]];
+                  placed.col(k + m) += at[m];
+                  ++placed_count[k + m];
                 }
           }
         for (std::uint32_t i = 0; i < count; ++i)
@@ -472,6 +452,46 @@ namespace suturesim::realtime
             }
         std::sort(constraints.begin(), constraints.end());
         constraints.erase(std::unique(constraints.begin(), constraints.end()), constraints.end());
+      }
+
+      /// Where soft constraint @p j (of the ascending list) puts the two nodes of its
+      /// segment k, @p at, and whether it places each at all, @p places. Seed 002: the
+      /// segment straight through the point along t, the chord of its neighbours. Bent at
+      /// the point (a kink at the hole, so no node jumps as the point passes from one
+      /// segment to the next): each node towards the node beyond it; points that share a
+      /// segment bend it at each (its first node hangs off the first point, its last off
+      /// the last, the thread running from point to point); and the one node between
+      /// points in neighbouring segments lies on their chord at its share of the material
+      /// between them, as the thread would run if they shared a segment. (Two points
+      /// further apart than a link still move their nodes when one of them crosses into
+      /// the segment after next: by (1 − f) l times the stretch of the thread between them.)
+      void
+      hole_nodes(const std::size_t j, const std::uint32_t count, Vector3d (&at)[2], bool (&places)[2]) const
+      {
+        const auto        &c = soft[j];
+        const std::int64_t k = segment_of(c.s, count);
+        const double       f = std::clamp(c.s / link - k, 0.0, 1.0);
+        const std::int64_t lo = std::max<std::int64_t>(k - 1, 0), hi = std::min<std::int64_t>(k + 2, count - 1);
+        Vector3d           t  = p.col(hi) - p.col(lo);
+        t                     = t.norm() > 0 ? Vector3d(t.normalized()) : Vector3d::UnitX();
+        Vector3d back = -t, ahead = t;
+        const std::int64_t before = j > 0 ? segment_of(soft[j - 1].s, count) : -2;
+        const std::int64_t after  = j + 1 < soft.size() ? segment_of(soft[j + 1].s, count) : count;
+        if (kinked)
+          {
+            if (lo < k && (p.col(lo) - c.position).norm() > 0)
+              back = (p.col(lo) - c.position).normalized();
+            if (hi > k + 1 && (p.col(hi) - c.position).norm() > 0)
+              ahead = (p.col(hi) - c.position).normalized();
+            places[0] = before != k;
+            places[1] = after != k;
+          }
+        at[0] = c.position + f * link * back;
+        at[1] = c.position + (1 - f) * link * ahead;
+        if (kinked && before == k - 1)
+          at[0] = on_chord(soft[j - 1], c, k);
+        if (kinked && after == k + 1)
+          at[1] = on_chord(c, soft[j + 1], k + 1);
       }
 
       /// Node @p node (between soft constraints @p a and @p b in material order) on the
@@ -516,9 +536,11 @@ namespace suturesim::realtime
                          "than a link is one link). Unit: none.");
          d.add_real("Turn length", 0, 0, 1,
                     "Arc length over which the thread's direction leaving a pierce point is "
-                    "measured, for the hole's normal force N = N0 + |T- e- + T+ e+| (its wrap); "
-                    "0 = seed 002's, towards the first node beyond the segment laid through the "
-                    "point (1 to 2 links away, so the wrap depends on the link length). "
+                    "measured, for the hole's normal force N = N0 + |T- e- + T+ e+| (N0 the "
+                    "pierce point's grip) and its pull on the tissue; 0 = seed 002's, towards "
+                    "the first node beyond the segment laid through the point (1 to 2 links "
+                    "away, so the wrap depends on the link length). Set it above the link "
+                    "length; a neighbouring pierce point nearer than it caps it. "
                     "Unit: m. Range: 0 to 1.");
          d.add_selection("Hole placement", "segment", "segment|kink",
                          "How the thread is laid through a pierce point (a soft constraint) in "

@@ -469,12 +469,13 @@ TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhatev
 {
   // A pierce point's friction grows with the thread's wrap there, N = N₀ + |T₋ê₋ + T₊ê₊|.
   // Here the 20 mm thread lies on a circle of radius R = 4 mm, the point at the middle
-  // of its middle link. Seed 002's directions point to the first node beyond that link,
-  // 1 to 2 links away, so the wrap |ê₋ + ê₊| shrinks with the link; with a turn length
+  // of its middle link (or a fifth of the way along it). Seed 002's directions point to
+  // the first node beyond that link, 1 to 2 links away, so the wrap |ê₋ + ê₊| shrinks
+  // with the link; with a turn length
   // L_t they point to the thread's point L_t along it, whose chord leaves the tangent
   // at L_t/(2R) on either side, so |ê₋ + ê₊| = 2 sin(L_t/(2R)) for any link short of L_t.
   const double R = 0.004, length = 0.02, turn = 0.001;
-  const auto   wrap = [&](const unsigned n, const double turn_length) {
+  const auto   wrap = [&](const unsigned n, const double turn_length, const double f = 0.5) {
     auto owner = test_support::held_ftl_suture("quasi-static", {{"Turn length", std::to_string(turn_length)}}, n);
     World      &world = *owner;
     const auto &s     = world.system();
@@ -486,9 +487,9 @@ TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhatev
         x.col(s.suture.begin + i) = Vector3d(0.5 * length + R * std::sin(angle), R * (std::cos(angle) - 1), 0);
       }
     const unsigned                  k = n / 2;
-    const Vector3d                  p = 0.5 * (x.col(s.suture.begin + k) + x.col(s.suture.begin + k + 1));
+    const Vector3d p = (1 - f) * x.col(s.suture.begin + k) + f * x.col(s.suture.begin + k + 1);
     std::vector<SoftConstraintLoad> loads;
-    world.suture()->soft_constraint_loads(s, x, {{(k + 0.5) * l, p}}, loads);
+    world.suture()->soft_constraint_loads(s, x, {{(k + f) * l, p}}, loads);
     // the wrap of the chords to the two held ends, for a turn length beyond them
     const Vector3d to_first = x.col(s.suture.begin) - p, to_last = x.col(s.suture.end - 1) - p;
     return std::make_pair((loads[0].to_before + loads[0].to_after).norm(),
@@ -502,6 +503,8 @@ TEST(RealtimeModels, FollowTheLeaderTurnLengthMeasuresTheWrapOverOneLengthWhatev
                   "%.1e relative), %.5f with seed 002's\n",
                   n, 1e3 * length / n, measured, expected, std::abs(measured / expected - 1), seed);
       EXPECT_NEAR(measured, expected, 2e-3 * expected) << n;
+      // off the link's middle the two sides walk different node sequences
+      EXPECT_NEAR(wrap(n, turn, 0.2).first, expected, 2e-3 * expected) << n;
     }
   // seed 002's wrap halves with the link
   EXPECT_LT(wrap(320, 0).first, 0.15 * wrap(40, 0).first);
@@ -537,7 +540,7 @@ TEST(RealtimeModels, FollowTheLeaderKinkedHolesLetAPointPassANodeWithoutAJump)
       return moved;
     };
     const auto nodes = [&] { return Matrix3Xd(s.nodes.x.middleCols(s.suture.begin, s.suture.size())); };
-    // settled just short of the node; then one step there, or one step just past it
+    // settled just short of the node, then one step just past it
     model->set_soft_constraints(shifted(-1e-5));
     for (int step = 0; step < 400; ++step)
       world.step({ToolPose(), right});

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <sstream>
 
 using namespace suturesim::test_support;
@@ -613,6 +614,49 @@ TEST(RealtimeScene, SpreadStitchWithDampingPerUnitMassHasAMeshLimit)
   std::printf("[ stitch ] spread loads, B per unit mass: closure tension %.4f N (1 mm), %.4f N (0.8 mm)\n",
               tension[0], tension[1]);
   EXPECT_LT(std::abs(tension[1] - tension[0]), 0.05 * tension[1]);
+}
+
+TEST(RealtimeScene, AThreadBentAtItsHolesSlidesThroughThemWithoutChattering)
+{
+  // The realtime stitch of parameters/studies/thread_convergence_stitch_turn_length.prm
+  // (1 mm tetrahedra, 3 kHz, 100 links, the contact load, L_t = 1 mm), its thread laid
+  // straight through its holes (seed 002) and bent at them (Realtime/ftl/Hole placement
+  // = kink; docs/interrupted_stitch.md, "The realtime thread's links"). Laid straight, a
+  // sliding point jumps whenever it passes a node: between 2 and 5 s the wound's two
+  // face points jump by more than 0.5 N in 108 and 87 steps (measured). Bent, none does.
+  const std::string stitch = source_path("parameters/stitch_interrupted.prm");
+  std::map<std::string, std::pair<unsigned, unsigned>> chatter; // jumps, friction sign changes
+  for (const std::string placement : {"segment", "kink"})
+    {
+      const auto r = run_suturesim(
+        "stitch_holes_" + placement,
+        {stitch, "--set", "Pierce points/Load radius=0.002", "--set", "Realtime/quasi-static/Damping=per unit mass",
+         "--set", "Realtime/quasi-static/Tissue damping rate=2e7", "--set", "Realtime/Rate=3000", "--set",
+         "Mesh/Geo parameters=h: 0.001, hexahedra: 0, Wg: 0.0004", "--set", "Realtime/Contact load=true", "--set",
+         "Realtime/ftl/Quasi-spring constant=60000", "--set", "Realtime/ftl/Turn length=0.001", "--set",
+         "Realtime/ftl/Hole placement=" + placement});
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+      ASSERT_FALSE(r.summary["metrics"]["closure_tension"].is_null()) << placement;
+      std::string header;
+      const auto  rows = read_forces(r, &header);
+      auto       &[jumps, flips] = chatter[placement];
+      for (int hole = 0; hole < 4; ++hole)
+        {
+          const auto normal   = column(header, "pierce_" + std::to_string(hole) + "_normal_force");
+          const auto friction = column(header, "pierce_" + std::to_string(hole) + "_friction_force");
+          for (std::size_t k = 1; k < rows.size(); ++k)
+            if (rows[k][0] >= 2 && rows[k][0] <= 5)
+              {
+                jumps += std::abs(rows[k][normal] - rows[k - 1][normal]) > 0.5;
+                flips += rows[k][friction] * rows[k - 1][friction] < 0;
+              }
+        }
+      std::printf("[ stitch holes ] %s: %u normal-force jumps over 0.5 N, %u friction sign changes (2-5 s)\n",
+                  placement.c_str(), jumps, flips);
+    }
+  EXPECT_GT(chatter["segment"].first, 50u);
+  EXPECT_EQ(chatter["kink"].first, 0u);
+  EXPECT_LT(chatter["kink"].second, chatter["segment"].second / 10);
 }
 
 TEST(RealtimeScene, ASpreadPointOnAWoundFaceLoadsTheOtherLipUnlessTheLoadStopsAtTheWound)
