@@ -436,7 +436,7 @@ namespace suturesim::realtime
             const std::int64_t k = segment_of(soft[j].s, count);
             Vector3d           at[2];
             bool               places[2] = {true, true};
-            hole_nodes(j, count, at, places);
+            hole_nodes(j, k, count, at, places);
             for (int m = 0; m < 2; ++m)
               if (places[m] && !(s.nodes.held[b + k + m] & Nodes::boundary))
                 {
@@ -455,7 +455,7 @@ namespace suturesim::realtime
       }
 
       /// Where soft constraint @p j (of the ascending list) puts the two nodes of its
-      /// segment k, @p at, and whether it places each at all, @p places. Seed 002: the
+      /// segment @p k, @p at, and whether it places each at all, @p places. Seed 002: the
       /// segment straight through the point along t, the chord of its neighbours. Bent at
       /// the point (a kink at the hole, so no node jumps as the point passes from one
       /// segment to the next): each node towards the node beyond it; points that share a
@@ -466,10 +466,10 @@ namespace suturesim::realtime
       /// further apart than a link still move their nodes when one of them crosses into
       /// the segment after next: by (1 − f) l times the stretch of the thread between them.)
       void
-      hole_nodes(const std::size_t j, const std::uint32_t count, Vector3d (&at)[2], bool (&places)[2]) const
+      hole_nodes(const std::size_t j, const std::int64_t k, const std::uint32_t count, Vector3d (&at)[2],
+                 bool (&places)[2]) const
       {
         const auto        &c = soft[j];
-        const std::int64_t k = segment_of(c.s, count);
         const double       f = std::clamp(c.s / link - k, 0.0, 1.0);
         const std::int64_t lo = std::max<std::int64_t>(k - 1, 0), hi = std::min<std::int64_t>(k + 2, count - 1);
         Vector3d           t  = p.col(hi) - p.col(lo);

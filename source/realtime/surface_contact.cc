@@ -102,8 +102,7 @@ namespace suturesim::realtime
               slot[k] = -1; // drawn into the tissue through pierce points
               continue;
             }
-          // listed within a skin of r/4 beyond touching, so that a resting contact stays
-          // listed from step to step; its gap constraint acts only while g < 0
+          // listed within the skin beyond touching; its gap constraint acts only while g < 0
           const auto &near = nearest[k];
           if (near.signed_distance < (1 + skin) * prm.radius && near.signed_distance > -prm.depth)
             {

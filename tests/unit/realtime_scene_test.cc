@@ -624,8 +624,10 @@ TEST(RealtimeScene, AThreadBentAtItsHolesSlidesThroughThemWithoutChattering)
   // = kink; docs/interrupted_stitch.md, "The realtime thread's links"). Laid straight, a
   // sliding point jumps whenever it passes a node: between 2 and 5 s the wound's two
   // face points jump by more than 0.5 N in 108 and 87 steps (measured). Bent, none does.
-  const std::string stitch = source_path("parameters/stitch_interrupted.prm");
-  std::map<std::string, std::pair<unsigned, unsigned>> chatter; // jumps, friction sign changes
+  // counted by postprocess/pierce_chatter.py, the docs' command: per hole, the steps
+  // whose normal force changes by more than 0.5 N and those whose friction changes sign
+  const std::string        stitch = source_path("parameters/stitch_interrupted.prm");
+  std::vector<std::string> counting{"/usr/bin/python3", source_path("postprocess/pierce_chatter.py")};
   for (const std::string placement : {"segment", "kink"})
     {
       const auto r = run_suturesim(
@@ -637,22 +639,28 @@ TEST(RealtimeScene, AThreadBentAtItsHolesSlidesThroughThemWithoutChattering)
          "Realtime/ftl/Hole placement=" + placement});
       ASSERT_EQ(r.exit_code, 0) << r.output;
       ASSERT_FALSE(r.summary["metrics"]["closure_tension"].is_null()) << placement;
-      std::string header;
-      const auto  rows = read_forces(r, &header);
-      auto       &[jumps, flips] = chatter[placement];
-      for (int hole = 0; hole < 4; ++hole)
-        {
-          const auto normal   = column(header, "pierce_" + std::to_string(hole) + "_normal_force");
-          const auto friction = column(header, "pierce_" + std::to_string(hole) + "_friction_force");
-          for (std::size_t k = 1; k < rows.size(); ++k)
-            if (rows[k][0] >= 2 && rows[k][0] <= 5)
-              {
-                jumps += std::abs(rows[k][normal] - rows[k - 1][normal]) > 0.5;
-                flips += rows[k][friction] * rows[k - 1][friction] < 0;
-              }
-        }
+      counting.push_back(r.directory);
+    }
+  std::string table;
+  ASSERT_EQ(run_logged(counting, (scratch_path() / "stitch_holes_chatter.log").string(), table), 0) << table;
+  std::map<std::string, std::pair<unsigned, unsigned>> chatter; // jumps, friction sign changes
+  for (const std::string placement : {"segment", "kink"})
+    {
+      const auto row = table.find("| stitch_holes_" + placement + " |");
+      ASSERT_NE(row, std::string::npos) << table;
+      std::stringstream line(table.substr(row, table.find('\n', row) - row));
+      unsigned          holes = 0, hole = 0, jumps = 0, flips = 0;
+      for (std::string word; line >> word;)
+        if (word == "hole" && line >> hole >> word && line >> jumps >> word >> flips)
+          {
+            chatter[placement].first += jumps;
+            chatter[placement].second += flips;
+            ++holes;
+            line.ignore(1); // the comma
+          }
+      EXPECT_EQ(holes, 4u) << table;
       std::printf("[ stitch holes ] %s: %u normal-force jumps over 0.5 N, %u friction sign changes (2-5 s)\n",
-                  placement.c_str(), jumps, flips);
+                  placement.c_str(), chatter[placement].first, chatter[placement].second);
     }
   EXPECT_GT(chatter["segment"].first, 50u);
   EXPECT_EQ(chatter["kink"].first, 0u);
