@@ -13,8 +13,6 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
 
-#include <petscsnes.h>
-
 #include <cmath>
 #include <limits>
 
@@ -24,39 +22,6 @@ namespace suturesim::tearing
 
   namespace
   {
-    /// c_w of AT1, 4 ∫₀¹ √w(d) dd with w(d) = d
-    constexpr double c_w = 8.0 / 3.0;
-
-    void
-    check(const PetscErrorCode code, const char *call)
-    {
-      if (code != 0)
-        throw SolverError(std::string("phase field: PETSc's ") + call + " failed (error " + std::to_string(code) + ")");
-    }
-
-    /// The damage problem's residual F(d) = A d − b (A's hanging rows hold their constraints).
-    struct DamageProblem
-    {
-      Mat A;
-      Vec b;
-    };
-
-    PetscErrorCode
-    damage_residual(SNES, Vec x, Vec f, void *context)
-    {
-      const auto *problem = static_cast<const DamageProblem *>(context);
-      PetscErrorCode code = MatMult(problem->A, x, f);
-      if (code == 0)
-        code = VecAXPY(f, -1.0, problem->b);
-      return code;
-    }
-
-    PetscErrorCode
-    damage_jacobian(SNES, Vec, Mat, Mat, void *)
-    {
-      return 0; // A is constant: the problem is quadratic in d
-    }
-
     /// The cell of @p other on the same triangulation as @p cell.
     template <int dim>
     typename DoFHandler<dim>::active_cell_iterator
@@ -78,9 +43,8 @@ namespace suturesim::tearing
              ((1 + parameters.poissons_ratio) * (1 - 2 * parameters.poissons_ratio)))
     , mu(parameters.youngs_modulus / (2 * (1 + parameters.poissons_ratio)))
     , fe_u(FE_Q<dim>(1), dim)
-    , fe_d(1)
     , dof_u(tria)
-    , dof_d(tria)
+    , damage(comm, tria, parameters.toughness, parameters.length)
   {
     setup();
   }
@@ -93,49 +57,21 @@ namespace suturesim::tearing
   PhaseFieldFracture<dim>::setup()
   {
     dof_u.distribute_dofs(fe_u);
-    dof_d.distribute_dofs(fe_d);
     owned_u = dof_u.locally_owned_dofs();
-    owned_d = dof_d.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_u, relevant_u);
-    DoFTools::extract_locally_relevant_dofs(dof_d, relevant_d);
 
     make_displacement_constraints(0);
-
-    constraints_d.reinit(relevant_d);
-    DoFTools::make_hanging_node_constraints(dof_d, constraints_d);
-    constraints_d.close();
 
     DynamicSparsityPattern dsp_u(relevant_u);
     DoFTools::make_sparsity_pattern(dof_u, dsp_u, constraints_u, false);
     SparsityTools::distribute_sparsity_pattern(dsp_u, owned_u, comm, relevant_u);
     stiffness.reinit(owned_u, owned_u, dsp_u, comm);
-    // the damage rows of hanging nodes hold their constraint equations (set_bounds()), so
-    // the pattern keeps their couplings
-    DynamicSparsityPattern dsp_d(relevant_d);
-    DoFTools::make_sparsity_pattern(dof_d, dsp_d, constraints_d, true);
-    SparsityTools::distribute_sparsity_pattern(dsp_d, owned_d, comm, relevant_d);
-    damage_matrix.reinit(owned_d, owned_d, dsp_d, comm);
 
     u.reinit(owned_u, comm);
     u_accepted.reinit(owned_u, comm);
     u_ghost.reinit(owned_u, relevant_u, comm);
-    d.reinit(owned_d, comm);
-    d_accepted.reinit(owned_d, comm);
-    d_ghost.reinit(owned_d, relevant_d, comm);
-    damage_rhs.reinit(owned_d, comm);
-    lower.reinit(owned_d, comm);
-    upper.reinit(owned_d, comm);
-
-    // the initial crack
-    std::map<types::global_dof_index, Point<dim>> support_points;
-    DoFTools::map_dofs_to_support_points(MappingQ<dim>(1), dof_d, support_points);
-    for (const auto &[index, point] : support_points)
-      if (owned_d.is_element(index) && loading.cracked && loading.cracked(point) &&
-          !constraints_d.is_constrained(index))
-        d(index) = 1;
-    d.compress(VectorOperation::insert);
-    d_accepted = d;
-    set_bounds();
+    if (loading.cracked)
+      damage.crack(loading.cracked);
   }
 
   template <int dim>
@@ -180,24 +116,6 @@ namespace suturesim::tearing
 
   template <int dim>
   void
-  PhaseFieldFracture<dim>::set_bounds()
-  {
-    // lower: the accepted damage (the crack never heals); upper: 1. A hanging node is free
-    // of bounds: its row is its constraint, and it is a mean of bounded values.
-    lower = d_accepted;
-    upper = 1.0;
-    for (const auto i : owned_d)
-      if (constraints_d.is_constrained(i))
-        {
-          lower(i) = PETSC_NINFINITY;
-          upper(i) = PETSC_INFINITY;
-        }
-    lower.compress(VectorOperation::insert);
-    upper.compress(VectorOperation::insert);
-  }
-
-  template <int dim>
-  void
   PhaseFieldFracture<dim>::solve_displacement(const double load)
   {
     make_displacement_constraints(load);
@@ -206,7 +124,7 @@ namespace suturesim::tearing
     const QGauss<dim>          quadrature(2);
     const QGauss<dim - 1>      face_quadrature(2);
     FEValues<dim>              fv_u(fe_u, quadrature, update_gradients | update_JxW_values);
-    FEValues<dim>              fv_d(fe_d, quadrature, update_values);
+    FEValues<dim>              fv_d(damage.dof_handler().get_fe(), quadrature, update_values);
     FEFaceValues<dim>          fv_face(fe_u, face_quadrature, update_values | update_JxW_values);
     const FEValuesExtractors::Vector displacement(0);
     const unsigned                   n = fe_u.n_dofs_per_cell();
@@ -221,8 +139,8 @@ namespace suturesim::tearing
       if (cell->is_locally_owned())
         {
           fv_u.reinit(cell);
-          fv_d.reinit(same_cell(cell, dof_d));
-          fv_d.get_function_values(d_ghost, d_q);
+          fv_d.reinit(same_cell(cell, damage.dof_handler()));
+          fv_d.get_function_values(damage.ghosted(), d_q);
           cell_matrix = 0;
           cell_rhs    = 0;
           for (const unsigned q : fv_u.quadrature_point_indices())
@@ -266,108 +184,30 @@ namespace suturesim::tearing
   }
 
   template <int dim>
-  void
+  double
   PhaseFieldFracture<dim>::solve_damage()
   {
-    damage_matrix = 0;
-    damage_rhs    = 0;
-    const QGauss<dim> quadrature(2);
-    FEValues<dim>     fv_u(fe_u, quadrature, update_gradients);
-    FEValues<dim>     fv_d(fe_d, quadrature, update_values | update_gradients | update_JxW_values);
-    const FEValuesExtractors::Vector displacement(0);
-    const unsigned                   n = fe_d.n_dofs_per_cell();
-    FullMatrix<double>               cell_matrix(n, n);
-    Vector<double>                   cell_rhs(n);
-    std::vector<types::global_dof_index> indices(n);
-    std::vector<SymmetricTensor<2, dim>> strain(quadrature.size());
-    const double gc = parameters.toughness, ell = parameters.length;
-
-    for (const auto &cell : dof_d.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fv_d.reinit(cell);
-          fv_u.reinit(same_cell(cell, dof_u));
-          fv_u[displacement].get_function_symmetric_gradients(u_ghost, strain);
-          cell_matrix = 0;
-          cell_rhs    = 0;
-          for (const unsigned q : fv_d.quadrature_point_indices())
-            {
-              const double psi = 0.5 * lambda * trace(strain[q]) * trace(strain[q]) + mu * strain[q] * strain[q];
-              // ∂/∂d of (1 − d)² ψ + G_c/c_w (d/ℓ + ℓ |∇d|²) in the direction φ_i
-              for (unsigned i = 0; i < n; ++i)
-                {
-                  const double phi_i = fv_d.shape_value(i, q);
-                  for (unsigned j = 0; j < n; ++j)
-                    cell_matrix(i, j) += (2 * psi * phi_i * fv_d.shape_value(j, q) +
-                                          2 * gc * ell / c_w * (fv_d.shape_grad(i, q) * fv_d.shape_grad(j, q))) *
-                                         fv_d.JxW(q);
-                  cell_rhs(i) += (2 * psi - gc / (c_w * ell)) * phi_i * fv_d.JxW(q);
-                }
-            }
-          cell->get_dof_indices(indices);
-          constraints_d.distribute_local_to_global(cell_matrix, cell_rhs, indices, damage_matrix, damage_rhs);
-        }
-    damage_matrix.compress(VectorOperation::add);
-    damage_rhs.compress(VectorOperation::add);
-    // a hanging node's row: d_i − Σ c_ij d_j = 0
-    for (const auto i : owned_d)
-      if (const auto *entries = constraints_d.get_constraint_entries(i))
-        {
-          damage_matrix.set(i, i, 1.0);
-          for (const auto &[j, c] : *entries)
-            damage_matrix.set(i, j, -c);
-        }
-    damage_matrix.compress(VectorOperation::insert);
-
-    DamageProblem problem{damage_matrix.petsc_matrix(), damage_rhs};
-    PETScWrappers::MPI::Vector residual(owned_d, comm);
-    SNES snes;
-    check(SNESCreate(comm, &snes), "SNESCreate");
-    try
-      {
-        check(SNESSetType(snes, SNESVINEWTONRSLS), "SNESSetType");
-        check(SNESSetFunction(snes, residual, damage_residual, &problem), "SNESSetFunction");
-        check(SNESSetJacobian(snes, problem.A, problem.A, damage_jacobian, nullptr), "SNESSetJacobian");
-        check(SNESVISetVariableBounds(snes, lower, upper), "SNESVISetVariableBounds");
-        check(SNESSetTolerances(snes, 1e-14, 1e-10, 1e-14, 100, 1000), "SNESSetTolerances");
-        KSP ksp;
-        PC  pc;
-        check(SNESGetKSP(snes, &ksp), "SNESGetKSP");
-        check(KSPSetType(ksp, KSPPREONLY), "KSPSetType");
-        check(KSPGetPC(ksp, &pc), "KSPGetPC");
-        check(PCSetType(pc, PCLU), "PCSetType");
-        check(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS), "PCFactorSetMatSolverType");
-        check(SNESSolve(snes, nullptr, d), "SNESSolve");
-        SNESConvergedReason reason;
-        check(SNESGetConvergedReason(snes, &reason), "SNESGetConvergedReason");
-        if (reason < 0)
-          throw SolverError(std::string("phase field: the damage problem did not converge (PETSc's SNES: ") +
-                            SNESConvergedReasons[reason] + ")");
-      }
-    catch (...)
-      {
-        SNESDestroy(&snes);
-        throw;
-      }
-    SNESDestroy(&snes);
-    d_ghost = d;
+    FEValues<dim> fv_u(fe_u, damage.quadrature(), update_gradients);
+    const FEValuesExtractors::Vector     displacement(0);
+    std::vector<SymmetricTensor<2, dim>> strain(damage.quadrature().size());
+    return damage.solve([&](const typename DamageField<dim>::Cell &cell, std::vector<double> &psi) {
+      fv_u.reinit(typename DoFHandler<dim>::active_cell_iterator(&tria, cell->level(), cell->index(), &dof_u));
+      fv_u[displacement].get_function_symmetric_gradients(u_ghost, strain);
+      for (unsigned q = 0; q < psi.size(); ++q)
+        psi[q] = 0.5 * lambda * trace(strain[q]) * trace(strain[q]) + mu * strain[q] * strain[q];
+    });
   }
 
   template <int dim>
   typename PhaseFieldFracture<dim>::Step
   PhaseFieldFracture<dim>::solve(const double load, const std::function<bool()> &stop)
   {
-    Step                       step;
-    PETScWrappers::MPI::Vector previous(owned_d, comm);
-    d_ghost = d;
+    Step step;
     while (step.iterations < parameters.max_iterations)
       {
         ++step.iterations;
         solve_displacement(load);
-        previous = d;
-        solve_damage();
-        previous -= d;
-        step.change = previous.linfty_norm();
+        step.change = solve_damage();
         if (step.change <= parameters.tolerance)
           {
             // u of the converged damage, so that the state is a pair of minimisers
@@ -391,8 +231,7 @@ namespace suturesim::tearing
   PhaseFieldFracture<dim>::accept()
   {
     u_accepted = u;
-    d_accepted = d;
-    set_bounds();
+    damage.accept();
   }
 
   template <int dim>
@@ -400,9 +239,8 @@ namespace suturesim::tearing
   PhaseFieldFracture<dim>::restore()
   {
     u       = u_accepted;
-    d       = d_accepted;
     u_ghost = u;
-    d_ghost = d;
+    damage.restore();
   }
 
   template <int dim>
@@ -411,7 +249,7 @@ namespace suturesim::tearing
   {
     const QGauss<dim> quadrature(2);
     FEValues<dim>     fv_u(fe_u, quadrature, update_gradients | update_JxW_values);
-    FEValues<dim>     fv_d(fe_d, quadrature, update_values);
+    FEValues<dim>     fv_d(damage.dof_handler().get_fe(), quadrature, update_values);
     const FEValuesExtractors::Vector     displacement(0);
     std::vector<SymmetricTensor<2, dim>> strain(quadrature.size());
     std::vector<double>                  d_q(quadrature.size());
@@ -420,9 +258,9 @@ namespace suturesim::tearing
       if (cell->is_locally_owned())
         {
           fv_u.reinit(cell);
-          fv_d.reinit(same_cell(cell, dof_d));
+          fv_d.reinit(same_cell(cell, damage.dof_handler()));
           fv_u[displacement].get_function_symmetric_gradients(u_ghost, strain);
-          fv_d.get_function_values(d_ghost, d_q);
+          fv_d.get_function_values(damage.ghosted(), d_q);
           for (const unsigned q : fv_u.quadrature_point_indices())
             energy += ((1 - d_q[q]) * (1 - d_q[q]) + parameters.residual_stiffness) *
                       (0.5 * lambda * trace(strain[q]) * trace(strain[q]) + mu * strain[q] * strain[q]) * fv_u.JxW(q);
@@ -434,22 +272,7 @@ namespace suturesim::tearing
   double
   PhaseFieldFracture<dim>::fracture_energy() const
   {
-    const QGauss<dim>           quadrature(2);
-    FEValues<dim>               fv_d(fe_d, quadrature, update_values | update_gradients | update_JxW_values);
-    std::vector<double>         d_q(quadrature.size());
-    std::vector<Tensor<1, dim>> grad(quadrature.size());
-    double                      energy = 0;
-    const double                ell    = parameters.length;
-    for (const auto &cell : dof_d.active_cell_iterators())
-      if (cell->is_locally_owned())
-        {
-          fv_d.reinit(cell);
-          fv_d.get_function_values(d_ghost, d_q);
-          fv_d.get_function_gradients(d_ghost, grad);
-          for (const unsigned q : fv_d.quadrature_point_indices())
-            energy += (d_q[q] / ell + ell * grad[q] * grad[q]) * fv_d.JxW(q);
-        }
-    return parameters.toughness / c_w * Utilities::MPI::sum(energy, comm);
+    return damage.fracture_energy();
   }
 
   template <int dim>
@@ -457,23 +280,14 @@ namespace suturesim::tearing
   PhaseFieldFracture<dim>::damage_extent(const std::function<double(const Point<dim> &)> &coordinate,
                                          const double                                     threshold) const
   {
-    double extent = -std::numeric_limits<double>::infinity();
-    for (const auto &cell : dof_d.active_cell_iterators())
-      if (cell->is_locally_owned())
-        for (const unsigned v : cell->vertex_indices())
-          if (d_ghost(cell->vertex_dof_index(v, 0)) >= threshold)
-            extent = std::max(extent, coordinate(cell->vertex(v)));
-    return Utilities::MPI::max(extent, comm);
+    return damage.extent(coordinate, threshold);
   }
 
   template <int dim>
   std::pair<double, double>
   PhaseFieldFracture<dim>::damage_range() const
   {
-    PetscReal lo = 0, hi = 0;
-    check(VecMin(d, nullptr, &lo), "VecMin");
-    check(VecMax(d, nullptr, &hi), "VecMax");
-    return {lo, hi};
+    return damage.range();
   }
 
   template <int dim>
@@ -525,14 +339,14 @@ namespace suturesim::tearing
   double
   PhaseFieldFracture<dim>::damage_threshold() const
   {
-    return 3 * parameters.toughness / (16 * parameters.length);
+    return damage.threshold();
   }
 
   template <int dim>
   types::global_dof_index
   PhaseFieldFracture<dim>::n_dofs() const
   {
-    return dof_u.n_dofs() + dof_d.n_dofs();
+    return dof_u.n_dofs() + damage.n_dofs();
   }
 
   template <int dim>
@@ -544,7 +358,7 @@ namespace suturesim::tearing
     data_out.add_data_vector(dof_u, u_ghost, std::vector<std::string>(dim, "displacement"),
                              std::vector<DataComponentInterpretation::DataComponentInterpretation>(
                                dim, DataComponentInterpretation::component_is_part_of_vector));
-    data_out.add_data_vector(dof_d, d_ghost, "damage");
+    damage.add_to(data_out);
     data_out.build_patches();
     DataOutBase::VtkFlags flags(time, index);
     data_out.set_flags(flags);

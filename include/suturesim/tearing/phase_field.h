@@ -11,9 +11,8 @@
  *   ψ(ε) = λ/2 (tr ε)² + μ ε : ε,
  *
  * minimised alternately (Bourdin, Francfort & Marigo, J Mech Phys Solids 48:797, 2000):
- * u for fixed d is a linear solve (MUMPS); d for fixed u is a quadratic program under the
- * bounds d_accepted ≤ d ≤ 1 (irreversibility), solved by PETSc's reduced-space active-set
- * Newton method (SNESVINEWTONRSLS). AT1 has an elastic phase: d stays 0 while
+ * u for fixed d is a linear solve (MUMPS); d for fixed u is the bound-constrained
+ * quadratic program of damage_field.h. AT1 has an elastic phase: d stays 0 while
  * ψ < ψ_c = 3 G_c / (16 ℓ), and a homogeneous state above it has d = 1 − ψ_c / ψ.
  *
  * With linear elements of size h a crack dissipates G_c (1 + h / (4 c_w' ℓ)) per unit area
@@ -24,8 +23,11 @@
  * Small strain, isotropic linear elasticity (plane strain in 2-D), no tension-compression
  * split of ψ, Q1 for both fields; hanging nodes allowed (p4est refinement along a path).
  * This is the propagation model as verified against LEFM (benchmarks/sent_phase_field);
- * it is not yet coupled to the finite-strain tissue of the stitch.
+ * the finite-strain tissue drives the same damage field with its isochoric energy
+ * (tissue_model.h, `Tissue/Phase field`).
  */
+
+#include <suturesim/tearing/damage_field.h>
 
 #include <deal.II/base/point.h>
 #include <deal.II/base/tensor.h>
@@ -156,11 +158,9 @@ namespace suturesim::tearing
     make_displacement_constraints(double load);
     void
     solve_displacement(double load);
-    void
+    /// The damage for the current u; returns the largest change of d.
+    double
     solve_damage();
-    /// lower and upper bounds of the damage problem
-    void
-    set_bounds();
 
     MPI_Comm                                                 comm;
     PhaseFieldParameters                                     parameters;
@@ -169,14 +169,12 @@ namespace suturesim::tearing
     double                                                   lambda, mu;
 
     dealii::FESystem<dim>           fe_u;
-    dealii::FE_Q<dim>               fe_d;
-    dealii::DoFHandler<dim>         dof_u, dof_d;
-    dealii::IndexSet                owned_u, relevant_u, owned_d, relevant_d;
-    dealii::AffineConstraints<double> constraints_u, constraints_d;
-    std::vector<char>               cracked; ///< per locally relevant damage index (local numbering)
+    dealii::DoFHandler<dim>         dof_u;
+    dealii::IndexSet                owned_u, relevant_u;
+    dealii::AffineConstraints<double> constraints_u;
+    DamageField<dim>                damage;
 
-    dealii::PETScWrappers::MPI::SparseMatrix stiffness, damage_matrix;
-    dealii::PETScWrappers::MPI::Vector u, d, u_ghost, d_ghost, damage_rhs, lower, upper;
-    dealii::PETScWrappers::MPI::Vector u_accepted, d_accepted;
+    dealii::PETScWrappers::MPI::SparseMatrix stiffness;
+    dealii::PETScWrappers::MPI::Vector       u, u_ghost, u_accepted;
   };
 } // namespace suturesim::tearing

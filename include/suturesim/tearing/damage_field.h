@@ -1,0 +1,146 @@
+#pragma once
+/**
+ * @file
+ * The damage half of AT1 phase-field fracture (Pham, Amor, Marigo & Maurini, Int J Damage
+ * Mech 20:618, 2011). For an elastic energy density ψ ≥ 0 of the undamaged material (Pa),
+ * given at quadrature points, the damage d minimises
+ *
+ *   ∫ (1 − d)² ψ dx + G_c / c_w ∫ (d / ℓ + ℓ |∇d|²) dx,   c_w = 4 ∫₀¹ √d dd = 8/3,
+ *
+ * over d_accepted ≤ d ≤ 1 (irreversibility: a tear never heals). The problem is quadratic
+ * in d; the bounds make it a quadratic program, solved by PETSc's reduced-space
+ * active-set Newton method (SNESVINEWTONRSLS) with MUMPS. A homogeneous ψ gives d = 0 up
+ * to ψ_c = 3 G_c / (16 ℓ) and d = 1 − ψ_c / ψ above it.
+ *
+ * Q1 on the displacement's triangulation; hanging nodes allowed (their rows hold their
+ * constraint equations, and they are free of bounds: a mean of bounded values).
+ *
+ * The small-strain specimen (phase_field.h) and the finite-strain tissue
+ * (tissue_model.h, `Tissue/Phase field`) pass their own ψ; the damage law is stated here
+ * once.
+ */
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/distributed/tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_q.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/petsc_sparse_matrix.h>
+#include <deal.II/lac/petsc_vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <functional>
+#include <utility>
+#include <vector>
+
+namespace suturesim::tearing
+{
+  template <int dim>
+  class DamageField
+  {
+  public:
+    using Cell = typename dealii::Triangulation<dim>::active_cell_iterator;
+    /// Fills ψ (Pa, the undamaged material's) at the points of quadrature() on a
+    /// locally owned cell.
+    using Driving = std::function<void(const Cell &, std::vector<double> &)>;
+
+    /// @p toughness G_c (J/m²) and @p length ℓ (m), both > 0 (the caller checks them).
+    DamageField(MPI_Comm comm, const dealii::parallel::distributed::Triangulation<dim> &tria, double toughness,
+                double length);
+    ~DamageField();
+    DamageField(const DamageField &) = delete;
+    DamageField &
+    operator=(const DamageField &) = delete;
+
+    /// d = 1, accepted, at the damage nodes where @p cracked is true (an initial crack).
+    void
+    crack(const std::function<bool(const dealii::Point<dim> &)> &cracked);
+
+    /// Minimises over d for the energy density @p psi; returns the largest change of d.
+    /// SolverError when PETSc's solve fails.
+    double
+    solve(const Driving &psi);
+    /// Makes the current damage the accepted one: the new lower bound.
+    void
+    accept();
+    /// Returns to the accepted damage.
+    void
+    restore();
+
+    /// The quadrature of solve()'s ψ.
+    const dealii::Quadrature<dim> &
+    quadrature() const
+    {
+      return quadrature_d;
+    }
+    const dealii::DoFHandler<dim> &
+    dof_handler() const
+    {
+      return dof_d;
+    }
+    /// d with its ghost entries (for FEValues on dof_handler()'s cells).
+    const dealii::PETScWrappers::MPI::Vector &
+    ghosted() const
+    {
+      return d_ghost;
+    }
+    /// d (1) at the points of @p quadrature on every locally owned cell, by the cell's
+    /// active index (empty for the others).
+    std::vector<std::vector<double>>
+    cell_values(const dealii::Quadrature<dim> &quadrature) const;
+
+    /// G_c / c_w ∫ (d / ℓ + ℓ |∇d|²) dx (J; J per unit thickness in 2-D).
+    double
+    fracture_energy() const;
+    /// The smallest and the largest damage value.
+    std::pair<double, double>
+    range() const;
+    /// The largest @p coordinate(x) over the damage nodes with d ≥ @p threshold; −∞
+    /// when there is none.
+    double
+    extent(const std::function<double(const dealii::Point<dim> &)> &coordinate, double threshold) const;
+    /// ψ_c = 3 G_c / (16 ℓ) (Pa): the energy density at which damage starts.
+    double
+    threshold() const;
+    double
+    toughness() const
+    {
+      return gc;
+    }
+    double
+    length() const
+    {
+      return ell;
+    }
+    dealii::types::global_dof_index
+    n_dofs() const
+    {
+      return dof_d.n_dofs();
+    }
+    /// Adds d as the nodal field "damage" to @p out (attached to the same triangulation).
+    void
+    add_to(dealii::DataOut<dim> &out) const;
+
+    /// The locally owned accepted damage values, in the owned index order (a checkpoint
+    /// of one process), and their restoration on the same partition.
+    std::vector<double>
+    local_state() const;
+    void
+    restore_local_state(const std::vector<double> &values);
+
+  private:
+    void
+    set_bounds();
+
+    MPI_Comm                                                 comm;
+    double                                                   gc, ell;
+    dealii::FE_Q<dim>                                        fe_d;
+    dealii::DoFHandler<dim>                                  dof_d;
+    dealii::QGauss<dim>                                      quadrature_d;
+    dealii::IndexSet                                         owned, relevant;
+    dealii::AffineConstraints<double>                        constraints;
+    dealii::PETScWrappers::MPI::SparseMatrix                 matrix;
+    dealii::PETScWrappers::MPI::Vector                       d, d_ghost, d_accepted, rhs, lower, upper;
+  };
+} // namespace suturesim::tearing
