@@ -157,6 +157,10 @@ namespace suturesim::scene
       scope("Tearing").fail("Criteria", "the continuum tear criteria are evaluated by the accurate path only (Model = "
                                         "accurate); the realtime path tears by seed 003's rule, Realtime/Tearing/"
                                         "Ligament strength");
+    if (model == "realtime" && tissue.phase_field.enabled)
+      scope("Tissue/Phase field")
+        .fail("Enabled", "the phase field tears the accurate path's tissue (Model = accurate); the realtime path tears "
+                         "by seed 003's rule, Realtime/Tearing/Ligament strength");
   }
 
   void

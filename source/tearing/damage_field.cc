@@ -234,6 +234,20 @@ namespace suturesim::tearing
 
   template <int dim>
   double
+  DamageField<dim>::value(const Cell &cell, const Point<dim> &unit) const
+  {
+    const typename DoFHandler<dim>::active_cell_iterator here(&cell->get_triangulation(), cell->level(), cell->index(),
+                                                             &dof_d);
+    Vector<double> values(fe_d.n_dofs_per_cell());
+    here->get_dof_values(d_ghost, values);
+    double d_at = 0;
+    for (unsigned i = 0; i < values.size(); ++i)
+      d_at += values[i] * fe_d.shape_value(i, unit);
+    return d_at;
+  }
+
+  template <int dim>
+  double
   DamageField<dim>::fracture_energy() const
   {
     FEValues<dim>               fv(fe_d, quadrature_d, update_values | update_gradients | update_JxW_values);

@@ -123,6 +123,7 @@ namespace suturesim::tissue
   bool
   CellAssembler::mixed_fields(const DoFHandler<3>::active_cell_iterator &cell,
                               const Material                            &material,
+                              const std::vector<double>                 *degradation,
                               const bool                                 from_state,
                               MixedCell                                 &fields,
                               FullMatrix<double>                        &M_inv,
@@ -167,8 +168,9 @@ namespace suturesim::tissue
         if (!(J_tilde > 0))
           return false;
         const double dV  = fe_values.JxW(q);
-        const double dp  = material.volumetric().pressure(J_tilde);
-        const double ddp = material.volumetric().pressure_derivative(J_tilde);
+        const double gv  = degradation != nullptr ? volumetric_share((*degradation)[q], J_tilde) : 1.0;
+        const double dp  = gv * material.volumetric().pressure(J_tilde);
+        const double ddp = gv * material.volumetric().pressure_derivative(J_tilde);
         for (unsigned a = 0; a < n_p; ++a)
           {
             pN[a] += Np_q[q][a] * dp * dV;
@@ -204,7 +206,8 @@ namespace suturesim::tissue
                           FullMatrix<double>                        *K,
                           MixedCell                                 *fields,
                           const MixedUpdate                          update,
-                          dealii::Vector<double>                    *constraint_force)
+                          dealii::Vector<double>                    *constraint_force,
+                          const std::vector<double>                 *degradation)
   {
     const bool unknowns = mixed && update == MixedUpdate::newton;
     Assert(!unknowns || fields != nullptr, ExcMessage("MixedUpdate::newton needs the cell's fields"));
@@ -239,7 +242,7 @@ namespace suturesim::tissue
     dealii::Vector<double> R_p(n_p), R_J(n_p);
     if (mixed)
       {
-        if (!mixed_fields(cell, material, unknowns, mf, M_inv, K_JJ, R_p, R_J))
+        if (!mixed_fields(cell, material, degradation, unknowns, mf, M_inv, K_JJ, R_p, R_J))
           return false;
         K_pu = 0;
       }
@@ -259,6 +262,11 @@ namespace suturesim::tissue
             for (unsigned int a = 0; a < n_p; ++a)
               p += Np_q[q][a] * p_coef[a];
             material.isochoric_response(C, S, CC);
+            if (degradation != nullptr)
+              {
+                S *= (*degradation)[q];
+                CC *= (*degradation)[q];
+              }
             if (K != nullptr)
               store_tangent(q, F, S, CC, dV);
             // S += p̃ J C⁻¹. Its part of 𝔸, ∂(p̃ J F⁻ᵀ)/∂F at fixed p̃, is
@@ -277,6 +285,17 @@ namespace suturesim::tissue
         else
           {
             material.response(C, S, CC);
+            if (degradation != nullptr)
+              {
+                // g Ψ_iso + g_v Ψ_vol = g_v Ψ + (g − g_v) Ψ_iso
+                const double g  = (*degradation)[q];
+                const double gv = volumetric_share(g, J);
+                SymTensor2   S_iso;
+                SymTensor4   CC_iso;
+                material.isochoric_response(C, S_iso, CC_iso);
+                S  = gv * S + (g - gv) * S_iso;
+                CC = gv * CC + (g - gv) * CC_iso;
+              }
             if (K != nullptr)
               store_tangent(q, F, S, CC, dV);
           }

@@ -28,6 +28,21 @@ namespace suturesim::tissue
               {"cutbacks", cutbacks}};
     }
 
+    /// Phase-field tearing, staggered: the accepted step's damage (TissueModel::advance_damage())
+    /// and its record in the step's statistics.
+    nlohmann::json
+    with_damage(TissueModel &model, nlohmann::json record)
+    {
+      if (const auto *damage = model.damage_field())
+        {
+          const double change = model.advance_damage();
+          record["damage"]    = {{"max", damage->range().second},
+                                 {"largest_change", change},
+                                 {"fracture_energy", damage->fracture_energy()}};
+        }
+      return record;
+    }
+
     class QuasiStatic : public TimeIntegrator
     {
     public:
@@ -43,7 +58,7 @@ namespace suturesim::tissue
         const NewtonReport initial = model.solve_static(0.0);
         if (!initial.converged)
           fail(observer, "the initial state", 0.0, 0, initial.failure);
-        observer.accepted(0.0, to_json(initial, 0.0, 0), nullptr, nullptr);
+        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0)), nullptr, nullptr);
 
         NewtonReport report;
         StepHooks    hooks;
@@ -57,7 +72,7 @@ namespace suturesim::tissue
         hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
           ++step;
           total_iterations += report.iterations;
-          observer.accepted(t, to_json(report, dt, cutbacks), nullptr, nullptr);
+          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks)), nullptr, nullptr);
           std::ostringstream info;
           info << "Newton " << report.iterations << " it"
                << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");

@@ -108,7 +108,8 @@ namespace suturesim::tissue
       cell->get_dof_indices(out.dofs);
       gather(u_val, locally_relevant_dofs, out.dofs, out.u);
       out.ok = scratch.assembler.assemble(cell, out.u, material, bc.gravity, out.r, need_K ? &out.K : nullptr,
-                                          &cell_mixed[cell->active_cell_index()], update, &out.r_c);
+                                          &cell_mixed[cell->active_cell_index()], update, &out.r_c,
+                                          damage ? &cell_degradation[cell->active_cell_index()] : nullptr);
       if (!out.ok)
         return;
       if (damping)

@@ -88,6 +88,12 @@ namespace suturesim::tissue
       length_scale = std::sqrt(l2);
     }
     saved_cell_mixed = cell_mixed;
+    if (parameters.phase_field.enabled)
+      {
+        damage = std::make_unique<tearing::DamageField<3>>(comm, tria, parameters.phase_field.toughness,
+                                                           parameters.phase_field.length);
+        update_degradation();
+      }
 
     make_constraints(0.0, solution_ghost, constraints);
     make_system_matrix();
@@ -103,6 +109,52 @@ namespace suturesim::tissue
       solver->set_near_null_space(rigid_body_modes());
 
     locate_probes();
+  }
+
+  void
+  TissueModel::update_degradation()
+  {
+    const double k   = parameters.phase_field.residual_stiffness;
+    cell_degradation = damage->cell_values(quadrature);
+    for (auto &cell : cell_degradation)
+      for (double &g : cell)
+        g = tearing::DamageField<3>::degradation(g, k);
+  }
+
+  double
+  TissueModel::advance_damage()
+  {
+    if (!damage)
+      return 0;
+    TimerOutput::Scope scope(timer, "phase field");
+    Vector             ghost(locally_owned_dofs, locally_relevant_dofs, comm);
+    ghost = solution;
+    FEValues<3> values(mapping, fe, damage->quadrature(), update_gradients | update_quadrature_points);
+    const FEValuesExtractors::Vector u(0);
+    std::vector<Tensor<2, 3>>        grad_u(damage->quadrature().size());
+    const bool                       mixed = parameters.formulation == "mixed";
+    const double                     scale = 1 - parameters.phase_field.residual_stiffness;
+    // ψ: the energy g degrades, Ψ_iso(C̄) and Ψ_vol(J̃) in expansion (volumetric_share())
+    const double change = damage->solve([&](const tearing::DamageField<3>::Cell &cell, std::vector<double> &psi) {
+      const DoFHandler<3>::active_cell_iterator here(&tria, cell->level(), cell->index(), &dof_handler);
+      values.reinit(here);
+      values[u].get_function_gradients(ghost, grad_u);
+      for (unsigned q = 0; q < psi.size(); ++q)
+        {
+          const Tensor2 F       = unit_symmetric_tensor<3>() + grad_u[q];
+          const double  J_tilde = mixed ? cell_mixed[here->active_cell_index()]
+                                           .at(values.quadrature_point(q), here->center(), here->diameter())
+                                           .second
+                                       : determinant(F);
+          psi[q] = material.isochoric_energy(symmetrize(transpose(F) * F));
+          if (volumetric_degraded(J_tilde))
+            psi[q] += material.volumetric().energy(J_tilde);
+          psi[q] *= scale;
+        }
+    });
+    damage->accept();
+    update_degradation();
+    return change;
   }
 
   void
@@ -258,10 +310,13 @@ namespace suturesim::tissue
       if (cell->is_locally_owned())
         for (const auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           mixed.insert(mixed.end(), field->begin(), field->end());
-    return {{"dofs", n_dofs()},
-            {"cells", cell_fingerprint(dof_handler)},
-            {"u", io::pack_doubles(u)},
-            {"mixed", io::pack_doubles(mixed)}};
+    nlohmann::json state = {{"dofs", n_dofs()},
+                            {"cells", cell_fingerprint(dof_handler)},
+                            {"u", io::pack_doubles(u)},
+                            {"mixed", io::pack_doubles(mixed)}};
+    if (damage)
+      state["damage"] = io::pack_doubles(damage->local_state());
+    return state;
   }
 
   void
@@ -291,6 +346,14 @@ namespace suturesim::tissue
         for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           for (double &v : *field)
             v = mixed[k++];
+    if (damage)
+      {
+        if (!state.contains("damage"))
+          throw InputError("--restart: the checkpoint has no damage field (Tissue/Phase field was off when it was "
+                           "written)");
+        damage->restore_local_state(io::unpack_doubles(state.at("damage")));
+        update_degradation();
+      }
   }
 
   void

@@ -32,14 +32,18 @@ namespace suturesim::tissue
   {
     /// Cauchy stress (tensor), von Mises stress, J, largest principal stretch and
     /// pressure at the output points, from the displacement gradient (and, for the mixed
-    /// formulation, the cell's condensed pressure p̃).
+    /// formulation, the cell's condensed pressure p̃; with the phase field, the isochoric
+    /// stress degraded by the damage there, (1 − k)(1 − d)² + k).
     class StressPostprocessor : public DataPostprocessor<3>
     {
     public:
       StressPostprocessor(const Material                          &material,
-                          const std::vector<MixedCell> *pressure)
+                          const std::vector<MixedCell> *pressure,
+                          const tearing::DamageField<3> *damage, const double residual_stiffness)
         : material(material)
         , pressure(pressure)
+        , damage(damage)
+        , k(residual_stiffness)
       {}
 
       void
@@ -53,15 +57,26 @@ namespace suturesim::tissue
             for (unsigned i = 0; i < 3; ++i)
               F[i] += in.solution_gradients[q][i];
             const double J = determinant(F);
-            double       p = 0;
+            // the phase field's g there (1 without): σ = g σ_iso + p I, the mixed p̃
+            // already degraded in expansion, the displacement form's p here
+            const double g =
+              damage != nullptr
+                ? tearing::DamageField<3>::degradation(
+                    damage->value(tearing::DamageField<3>::Cell(&cell->get_triangulation(), cell->level(),
+                                                                cell->index()),
+                                  mapping.transform_real_to_unit_cell(cell, in.evaluation_points[q])),
+                    k)
+                : 1.0;
+            double p = 0;
             if (pressure != nullptr)
               p = (*pressure)[cell->active_cell_index()]
                     .at(in.evaluation_points[q], cell->center(), cell->diameter())
                     .first;
             else if (J > 0)
-              p = material.volumetric().pressure(J);
-            const SymTensor2 sigma =
-              J > 0 ? material.cauchy_stress(F, p) : SymTensor2();
+              p = volumetric_share(g, J) * material.volumetric().pressure(J);
+            SymTensor2 sigma = J > 0 ? material.cauchy_stress(F, p) : SymTensor2();
+            if (g < 1 && J > 0)
+              sigma -= (1 - g) * material.cauchy_stress(F, 0);
             for (unsigned i = 0; i < 3; ++i)
               for (unsigned j = 0; j < 3; ++j)
                 out[q][3 * i + j] = sigma[i][j];
@@ -101,6 +116,9 @@ namespace suturesim::tissue
     private:
       const Material                          &material;
       const std::vector<MixedCell> *pressure;
+      const tearing::DamageField<3> *damage;
+      double                         k;
+      MappingQ1<3>                   mapping;
     };
   } // namespace
 
@@ -241,9 +259,11 @@ namespace suturesim::tissue
                              DataOut<3>::type_dof_data,
                              std::vector<DataComponentInterpretation::DataComponentInterpretation>(
                                3, DataComponentInterpretation::component_is_part_of_vector));
-    const StressPostprocessor stress(material,
-                                     parameters.formulation == "mixed" ? &cell_mixed : nullptr);
+    const StressPostprocessor stress(material, parameters.formulation == "mixed" ? &cell_mixed : nullptr,
+                                     damage.get(), parameters.phase_field.residual_stiffness);
     data_out.add_data_vector(ghost, stress);
+    if (damage)
+      damage->add_to(data_out);
 
     dealii::Vector<float> material_id(tria.n_active_cells()), rank(tria.n_active_cells());
     for (const auto &cell : tria.active_cell_iterators())

@@ -117,6 +117,27 @@ namespace suturesim::tissue
     prm.enter_subsection("Linear solver");
     LinearSolver::Parameters::declare(prm);
     prm.leave_subsection();
+    prm.enter_subsection("Phase field");
+    prm.declare_entry("Enabled", "false", Patterns::Bool(),
+                      "Tear propagation: AT1 phase-field fracture (Pham, Amor, Marigo & Maurini 2011) on the "
+                      "finite-strain tissue. A damage field d in [0, 1] degrades the isochoric energy by "
+                      "g = (1 - k)(1 - d)^2 + k, and the volumetric energy by g in expansion (J > 1) only "
+                      "(Amor, Marigo & Maurini 2009's split: a tear opens, its faces do not interpenetrate). "
+                      "After every accepted step d minimises the damage energy for that step's degradable "
+                      "energy, never decreasing (a staggered scheme). The tissue alone (Bodies = tissue), "
+                      "quasi-static steps. Unit: none.");
+    prm.declare_entry("Fracture toughness", "1.1e3", Patterns::Double(0),
+                      "Critical energy release rate G_c; default porcine skin cut by a needle (1.1 kJ/m^2; tear "
+                      "tests give 17-30 kJ/m^2, porcine liver 76-225 J/m^2). Unit: J/m^2. Range: > 0.");
+    prm.declare_entry("Length", "1e-3", Patterns::Double(0),
+                      "Internal length l of the damage field: damage starts where Psi_iso reaches "
+                      "3 G_c / (16 l), and the tear is smeared over about 2 l; the cells along its path "
+                      "should be well below l (the dissipated toughness is G_c (1 + 3 h / (8 l))). "
+                      "Unit: m. Range: > 0.");
+    prm.declare_entry("Residual stiffness", "1e-6", Patterns::Double(0, 1),
+                      "k: the share of the isochoric stiffness a fully torn point keeps, so that the "
+                      "displacement stays unique. Unit: 1. Range: 0-1 (exclusive).");
+    prm.leave_subsection();
   }
 
   void
@@ -147,6 +168,17 @@ namespace suturesim::tissue
     prm.leave_subsection();
     prm.enter_subsection("Linear solver");
     linear.parse(prm, scope.subsection("Linear solver"));
+    prm.leave_subsection();
+    prm.enter_subsection("Phase field");
+    const ParameterScope pf         = scope.subsection("Phase field");
+    phase_field.enabled            = prm.get_bool("Enabled");
+    phase_field.toughness          = prm.get_double("Fracture toughness");
+    phase_field.length             = prm.get_double("Length");
+    phase_field.residual_stiffness = prm.get_double("Residual stiffness");
+    pf.require(phase_field.toughness > 0, "Fracture toughness", "must be > 0 J/m^2");
+    pf.require(phase_field.length > 0, "Length", "must be > 0 m");
+    pf.require(phase_field.residual_stiffness > 0 && phase_field.residual_stiffness < 1, "Residual stiffness",
+               "must lie in (0, 1)");
     prm.leave_subsection();
   }
 } // namespace suturesim::tissue

@@ -1,7 +1,7 @@
 /**
  * The tear criteria on the FE tissue: each criterion's measure at every quadrature point
  * (F from the displacement gradient, σ and Ψ from the material, with the cell's p̃ and J̃
- * in the mixed formulation), accumulated over the process zones that hold the point and
+ * in the mixed formulation and the phase field's degradation of the isochoric part), accumulated over the process zones that hold the point and
  * reduced over the ranks; and per cell the mean of m / m_c for the VTU.
  */
 #include <suturesim/tissue/tissue_model.h>
@@ -74,13 +74,19 @@ namespace suturesim::tissue
               if (!(J > 0))
                 continue; // an inverted point has no state (the solver never accepts one)
               const SymTensor2 C = symmetrize(transpose(state.F) * state.F);
-              double           p = material.volumetric().pressure(J), J_tilde = J;
+              // g < 1 where the phase field has torn the tissue: σ = g σ_iso + p I and
+              // Ψ = g Ψ_iso(C̄) + g_v Ψ_vol(J̃), the energy the mixed (Hu–Washizu) form stores;
+              // the mixed p̃ already carries g_v
+              const double g = degradation(cell->active_cell_index(), q);
+              double       p = volumetric_share(g, J) * material.volumetric().pressure(J), J_tilde = J;
               if (mixed)
                 std::tie(p, J_tilde) =
                   cell_mixed[cell->active_cell_index()].at(values.quadrature_point(q), cell->center(), cell->diameter());
               state.cauchy_stress = material.cauchy_stress(state.F, p);
-              // Ψ = Ψ_iso(C̄) + Ψ_vol(J̃): the energy the mixed (Hu–Washizu) form stores.
-              state.energy = material.isochoric_energy(C) + material.volumetric().energy(J_tilde);
+              if (g < 1)
+                state.cauchy_stress -= (1 - g) * material.cauchy_stress(state.F, 0);
+              state.energy =
+                g * material.isochoric_energy(C) + volumetric_share(g, J_tilde) * material.volumetric().energy(J_tilde);
 
               const auto X = point3(values.quadrature_point(q));
               zones.zones_containing(X, inside);

@@ -6,6 +6,7 @@
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_q1.h>
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 
 using namespace suturesim::tissue;
@@ -93,6 +95,82 @@ TEST_P(CellTangent, MatchesCentralDifferences)
     }
   EXPECT_LE(max_error, 1e-6 * max_entry)
     << "Q" << c.degree << (c.mixed ? " mixed P" + std::to_string(c.pressure_degree) : "");
+}
+
+// Phase-field tearing degrades the energy to g Ψ_iso + g_v Ψ_vol at each quadrature point,
+// g_v = g in expansion and 1 in compression (cell_assembler.h). On a compressed and on a
+// dilated cell: the tangent stays consistent with g varying over the cell, g = 1 is the
+// undamaged cell to the bit, and the residual is affine in a uniform g; compressed, the
+// volumetric part stays at g = 0; dilated, nothing does.
+TEST_P(CellTangent, DegradedEnergyKeepsTheTangentAndTheCompressedVolumetricPart)
+{
+  const Case     c = GetParam();
+  OneCell        one(c);
+  CellAssembler &assembler = *one.assembler;
+  const Material m         = mooney_rivlin(0.45);
+  const unsigned n         = one.fe.n_dofs_per_cell();
+  const unsigned n_q       = static_cast<unsigned>(std::pow(c.degree + 1, 3));
+  const auto     cell      = one.dofs.begin_active();
+  const Tensor<1, 3> none;
+  std::vector<double> g(n_q);
+  for (unsigned q = 0; q < n_q; ++q)
+    g[q] = 0.3 + 0.25 * std::sin(1.7 * q + 0.2); // 0.05-0.55, a different value at each point
+  const std::vector<double> one_everywhere(n_q, 1.0), zero(n_q, 0.0), forty(n_q, 0.4);
+
+  // u = ε X + a wavy part of gradients about 1e-3, ε = −1 % (J < 1) or +1 % (J > 1)
+  std::map<types::global_dof_index, Point<3>> X;
+  DoFTools::map_dofs_to_support_points(one.mapping, one.dofs, X);
+  for (const double strain : {-0.01, 0.01})
+    {
+      SCOPED_TRACE(strain);
+      Vector<double> u(n);
+      for (unsigned i = 0; i < n; ++i)
+        u[i] = strain * X[i][one.fe.system_to_component_index(i).first] + 1e-5 * std::sin(0.9 * i + 0.3);
+
+      Vector<double>     r(n), rp(n), rm(n);
+      FullMatrix<double> K(n, n);
+      ASSERT_TRUE(assembler.assemble(cell, u, m, none, r, &K, nullptr, MixedUpdate::exact, nullptr, &g));
+      const double h         = 1e-9;
+      double       max_error = 0, max_entry = 0;
+      for (unsigned j = 0; j < n; ++j)
+        {
+          Vector<double> up = u, um = u;
+          up[j] += h;
+          um[j] -= h;
+          ASSERT_TRUE(assembler.assemble(cell, up, m, none, rp, nullptr, nullptr, MixedUpdate::exact, nullptr, &g));
+          ASSERT_TRUE(assembler.assemble(cell, um, m, none, rm, nullptr, nullptr, MixedUpdate::exact, nullptr, &g));
+          for (unsigned i = 0; i < n; ++i)
+            {
+              max_error = std::max(max_error, std::abs((rp[i] - rm[i]) / (2 * h) - K(i, j)));
+              max_entry = std::max(max_entry, std::abs(K(i, j)));
+            }
+        }
+      EXPECT_LE(max_error, 1e-6 * max_entry);
+
+      const auto residual = [&](const std::vector<double> *degradation) {
+        Vector<double> out(n);
+        EXPECT_TRUE(
+          assembler.assemble(cell, u, m, none, out, nullptr, nullptr, MixedUpdate::exact, nullptr, degradation));
+        return out;
+      };
+      const Vector<double> whole = residual(nullptr), r1 = residual(&one_everywhere), r0 = residual(&zero),
+                           r04 = residual(&forty);
+      for (unsigned i = 0; i < n; ++i)
+        {
+          EXPECT_EQ(r1[i], whole[i]) << i;
+          EXPECT_NEAR(r04[i], r0[i] + 0.4 * (whole[i] - r0[i]), 1e-12 * whole.linfty_norm()) << i;
+        }
+      if (strain < 0)
+        {
+          // the compressed volumetric part is there (r0) and is a share of the whole
+          EXPECT_GT(r0.linfty_norm(), 1e-2 * whole.linfty_norm());
+          Vector<double> isochoric = whole;
+          isochoric -= r0;
+          EXPECT_GT(isochoric.linfty_norm(), 1e-2 * whole.linfty_norm());
+        }
+      else
+        EXPECT_LE(r0.linfty_norm(), 1e-14 * whole.linfty_norm());
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Formulations, CellTangent,

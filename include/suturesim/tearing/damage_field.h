@@ -41,6 +41,14 @@ namespace suturesim::tearing
   {
   public:
     using Cell = typename dealii::Triangulation<dim>::active_cell_iterator;
+    /// g(d) = (1 − k)(1 − d)² + k: the share of the degraded energy a point keeps at
+    /// damage @p d, with the residual stiffness @p k that keeps the displacement unique.
+    static double
+    degradation(const double d, const double k)
+    {
+      return (1 - k) * (1 - d) * (1 - d) + k;
+    }
+
     /// Fills ψ (Pa, the undamaged material's) at the points of quadrature() on a
     /// locally owned cell.
     using Driving = std::function<void(const Cell &, std::vector<double> &)>;
@@ -89,6 +97,10 @@ namespace suturesim::tearing
     /// active index (empty for the others).
     std::vector<std::vector<double>>
     cell_values(const dealii::Quadrature<dim> &quadrature) const;
+
+    /// d at @p unit, a point of the reference cell, on the locally owned or ghost @p cell.
+    double
+    value(const Cell &cell, const dealii::Point<dim> &unit) const;
 
     /// G_c / c_w ∫ (d / ℓ + ℓ |∇d|²) dx (J; J per unit thickness in 2-D).
     double

@@ -116,6 +116,22 @@ namespace suturesim::tissue
     std::vector<double>    G;               ///< row-major n_p × dofs per cell
   };
 
+  /// The share of the volumetric energy Ψ_vol(J) a point keeps where the phase field has
+  /// degraded its isochoric energy by g: g in expansion (J > 1), 1 in compression. The
+  /// finite-strain form of Amor, Marigo & Maurini's (J Mech Phys Solids 57:1209, 2009)
+  /// volumetric–deviatoric split: a tear opens (its volume grows at no cost) but its faces
+  /// do not interpenetrate. Ψ'_vol(1) = 0, so the stress stays continuous across J = 1.
+  inline bool
+  volumetric_degraded(const double J)
+  {
+    return J > 1;
+  }
+  inline double
+  volumetric_share(const double g, const double J)
+  {
+    return volumetric_degraded(J) ? g : 1.0;
+  }
+
   /// The P_k basis {1, (X − X_c)/h} of the mixed fields at reference point @p X.
   std::array<double, 4>
   pressure_basis(const dealii::Point<3> &X, const dealii::Point<3> &center, double h);
@@ -139,7 +155,9 @@ namespace suturesim::tissue
     /// are computed from u and written to @p fields if given; with MixedUpdate::newton,
     /// they are read from @p fields (required), r is the condensed residual and
     /// @p constraint_force, if given, receives its part Gᵀ (R_J + K_JJ M⁻¹ R_p), which
-    /// vanishes when the constraints hold. Returns false (and leaves the outputs
+    /// vanishes when the constraints hold. @p degradation, if given, holds g at each
+    /// quadrature point (phase-field tearing): the energy becomes
+    /// g Ψ_iso + volumetric_share(g, J̃) Ψ_vol(J̃). Returns false (and leaves the outputs
     /// undefined) when J or J̃ ≤ 0 at a quadrature point: the caller treats this as a
     /// failed iterate.
     bool
@@ -151,7 +169,8 @@ namespace suturesim::tissue
              dealii::FullMatrix<double>                        *K,
              MixedCell                                         *fields           = nullptr,
              MixedUpdate                                        update           = MixedUpdate::exact,
-             dealii::Vector<double>                            *constraint_force = nullptr);
+             dealii::Vector<double>                            *constraint_force = nullptr,
+             const std::vector<double>                         *degradation      = nullptr);
 
     /// Consistent mass matrix ρ ∫ N_i N_j δ_{c_i c_j} dV.
     void
@@ -179,6 +198,7 @@ namespace suturesim::tissue
     bool
     mixed_fields(const dealii::DoFHandler<3>::active_cell_iterator &cell,
                  const Material                                    &material,
+                 const std::vector<double>                         *degradation,
                  bool                                               from_state,
                  MixedCell                                         &fields,
                  dealii::FullMatrix<double>                        &M_inv,

@@ -16,6 +16,7 @@
  */
 
 #include <suturesim/mesh/mesh_loader.h>
+#include <suturesim/tearing/damage_field.h>
 #include <suturesim/tearing/process_zone.h>
 #include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/boundary_conditions.h>
@@ -189,6 +190,21 @@ namespace suturesim::tissue
     std::string
     write_vtu(const std::string &directory, unsigned index, double t) const;
 
+    /// Phase-field tearing (`Tissue/Phase field`; tearing/damage_field.h), staggered: after
+    /// an accepted step, the damage that minimises the damage energy for the step's
+    /// degradable energy (1 − k)(Ψ_iso(C̄) + Ψ_vol(J̃) in expansion), accepted, and the
+    /// degradation g = (1 − k)(1 − d)² + k that the next assemblies use
+    /// (cell_assembler.h, volumetric_share()). Returns the largest change of d; 0 and
+    /// nothing done without the phase field.
+    double
+    advance_damage();
+    /// The damage field; nullptr without the phase field.
+    const tearing::DamageField<3> *
+    damage_field() const
+    {
+      return damage.get();
+    }
+
     const std::vector<std::pair<std::string, dealii::Point<3>>> &
     probes() const
     {
@@ -269,6 +285,15 @@ namespace suturesim::tissue
     }
 
   private:
+    /// g at the quadrature points from the damage (cell_degradation)
+    void
+    update_degradation();
+    /// g at quadrature point @p q of the cell with active index @p cell (1 without damage)
+    double
+    degradation(unsigned cell, unsigned q) const
+    {
+      return damage ? cell_degradation[cell][q] : 1.0;
+    }
     /// Constraints at time t with inhomogeneity g(t) − u (so that one Newton update
     /// lands on the boundary values); returns max |g − u| over Dirichlet DoFs.
     double
@@ -401,6 +426,10 @@ namespace suturesim::tissue
     Vector solution, solution_ghost, saved_solution, system_rhs, full_residual, constraint_force;
     /// p̃, J̃ of every cell (active cell index); Newton unknowns when pressure_unknowns
     std::vector<MixedCell> cell_mixed, saved_cell_mixed;
+    /// phase-field tearing: the damage, and g at every quadrature point of each locally
+    /// owned cell (by active cell index)
+    std::unique_ptr<tearing::DamageField<3>> damage;
+    std::vector<std::vector<double>>        cell_degradation;
     /// Cell data for write_vtu(), from the last evaluate_tearing().
     std::vector<std::pair<std::string, dealii::Vector<float>>> tear_fields;
     bool                   pressure_unknowns = false;

@@ -57,9 +57,20 @@ namespace suturesim::tissue
     };
     std::vector<RegionModuli> region_moduli;
 
+    /// Tear propagation by AT1 phase-field fracture on the finite-strain tissue
+    /// (subsection "Phase field"; tearing/damage_field.h, tissue_model.h).
+    struct PhaseField
+    {
+      bool   enabled            = false;
+      double toughness          = 1.1e3; ///< G_c, J/m²
+      double length             = 1e-3;  ///< ℓ, m
+      double residual_stiffness = 1e-6;  ///< k, 1: the isochoric stiffness a torn point keeps
+    };
+    PhaseField phase_field;
+
     /// Declares "Element degree", "Formulation", "Pressure degree", "Mixed update",
     /// "Probes", "Region moduli" and the
-    /// subsections "Newton" and "Linear solver" into the current subsection.
+    /// subsections "Newton", "Linear solver" and "Phase field" into the current subsection.
     static void
     declare(dealii::ParameterHandler &prm);
     void

@@ -52,6 +52,10 @@ namespace suturesim::scene
                      "'" + integrator + "' does not integrate the tissue; use " + registry.selection_pattern());
         time.require(integrator == "quasi-static" || scene.time.max_step_size <= scene.time.step_size,
                      "Max step size", "adaptive steps are quasi-static only (Time/Integrator = quasi-static)");
+        tissue.subsection("Phase field")
+          .require(!scene.tissue.phase_field.enabled || integrator == "quasi-static", "Enabled",
+                   "the phase field's staggered update follows quasi-static steps only (Time/Integrator = " +
+                     integrator + ")");
         prm.enter_subsection("Time");
         time_integrator = registry.get(integrator).create(prm, time);
         prm.leave_subsection();

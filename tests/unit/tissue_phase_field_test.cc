@@ -1,0 +1,127 @@
+// Phase-field tearing of the finite-strain tissue (Tissue/Phase field; tissue_model.h,
+// tearing/damage_field.h) on homogeneous states, against the AT1 closed forms: no damage
+// below ψ_c = 3 G_c / (16 ℓ), d = 1 − ψ_c / ((1 − k) Ψ_iso) above it, the fracture energy
+// G_c / c_w · d / ℓ · V, the stress σ = g σ_iso + p I, and a tear that does not heal.
+#include "block_model.h"
+
+#include <suturesim/tissue/tissue_model.h>
+
+#include <deal.II/base/tensor.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+using namespace suturesim;
+
+namespace
+{
+  /// A homogeneous stretch F = diag(1 + a t, 1 + b t, 1 + c t): every face of the 10 mm
+  /// cube moved by u = (F − I) X (a patch test: the FE solution is that affine field).
+  struct Stretch
+  {
+    double      a, b, c;
+    const char *name;
+  };
+
+  /// μ = 100 kPa, ν = 0.45, the phase field on with @p toughness and @p length.
+  std::string
+  stretched_block(const std::string &formulation, const Stretch &s, const double toughness, const double length)
+  {
+    std::ostringstream text;
+    text.precision(17);
+    text << " set Formulation = " << formulation
+         << "\n subsection Newton\n  set Residual tolerance = 1e-12\n end\n"
+            " subsection Material\n  set Model = neo-Hookean\n  set Poisson ratio = 0.45\n"
+            "  subsection neo-Hookean\n   set Shear modulus = 1e5\n  end\n end\n"
+            " subsection Boundary conditions\n  set Prescribed displacement = x0, x1, y0, y1, bottom, top\n"
+            "  subsection Prescribed displacement function\n   set Function expression = "
+         << s.a << "*x*t; " << s.b << "*y*t; " << s.c << "*z*t\n  end\n end\n"
+         << " subsection Phase field\n  set Enabled = true\n  set Fracture toughness = " << toughness
+         << "\n  set Length = " << length << "\n end\n";
+    return text.str();
+  }
+
+  dealii::Tensor<2, 3>
+  deformation(const Stretch &s, const double t)
+  {
+    dealii::Tensor<2, 3> F;
+    F[0][0] = 1 + s.a * t;
+    F[1][1] = 1 + s.b * t;
+    F[2][2] = 1 + s.c * t;
+    return F;
+  }
+
+  /// x-force of the x1 face's support on the tissue (N)
+  double
+  pull(tissue::TissueModel &model, const double t)
+  {
+    for (const auto &r : model.reactions(t))
+      if (r.boundary == "x1")
+        return r.force[0];
+    ADD_FAILURE() << "no reaction on x1";
+    return 0;
+  }
+} // namespace
+
+TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
+{
+  // In expansion (J = 1.026) the volumetric energy is degraded with the isochoric one and
+  // drives the damage too; in compression (J = 0.918) it stays whole and does not drive.
+  const double L = 0.01, ell = 2e-3, k = 1e-6, c_w = 8.0 / 3.0;
+  for (const Stretch stretch : {Stretch{0.2, -0.05, -0.1, "expansion"}, Stretch{0.2, -0.1, -0.15, "compression"}})
+    for (const std::string formulation : {"mixed", "displacement"})
+      {
+        SCOPED_TRACE(formulation + ", " + stretch.name);
+        const auto F = deformation(stretch, 1);
+        const double J = dealii::determinant(F);
+        ASSERT_EQ(J > 1, std::string(stretch.name) == "expansion");
+        // G_c such that ψ_c is 60 % of the full stretch's degradable energy ψ: the half
+        // stretch (about a quarter of it) stays intact, the full one tears to d = 0.4
+        const test_support::BlockModel probe(stretched_block(formulation, stretch, 1, ell), dealii::Point<3>(L, L, L),
+                                             {1, 1, 1});
+        const auto  &material = *probe.material;
+        const double psi_vol  = J > 1 ? material.volumetric().energy(J) : 0.0;
+        const double psi = material.isochoric_energy(dealii::symmetrize(dealii::transpose(F) * F)) + psi_vol;
+        const double gc  = 0.6 * psi * 16 * ell / 3;
+        test_support::BlockModel block(stretched_block(formulation, stretch, gc, ell), dealii::Point<3>(L, L, L),
+                                       {3, 3, 3});
+        auto &model = *block.model;
+        ASSERT_NE(model.damage_field(), nullptr);
+        const double psi_c = model.damage_field()->threshold();
+        EXPECT_NEAR(psi_c, 0.6 * psi, 1e-12 * psi);
+
+        ASSERT_TRUE(model.solve_static(0.5).converged);
+        EXPECT_EQ(model.advance_damage(), 0.0);
+        EXPECT_EQ(model.damage_field()->range().second, 0.0);
+
+        ASSERT_TRUE(model.solve_static(1.0).converged);
+        const double intact = pull(model, 1.0);
+        const double d      = 1 - psi_c / ((1 - k) * psi);
+        EXPECT_NEAR(model.advance_damage(), d, 1e-9);
+        const auto [lo, hi] = model.damage_field()->range();
+        EXPECT_NEAR(lo, d, 1e-9);
+        EXPECT_NEAR(hi, d, 1e-9);
+        EXPECT_NEAR(model.damage_field()->fracture_energy(), gc / c_w * d / ell * L * L * L,
+                    1e-8 * gc / ell * L * L * L);
+
+        // the same stretch in the torn tissue: σ_xx = g σ_iso,xx + g_v p on the x1 face's
+        // current area λ_y λ_z L², g_v = g in expansion, 1 in compression
+        ASSERT_TRUE(model.solve_static(1.0).converged);
+        const double p     = material.volumetric().pressure(J);
+        const double g     = (1 - k) * (1 - d) * (1 - d) + k;
+        const double g_v   = J > 1 ? g : 1.0;
+        const double area  = F[1][1] * F[2][2] * L * L;
+        const double s_iso = material.cauchy_stress(F, 0)[0][0];
+        EXPECT_NEAR(intact, (s_iso + p) * area, 1e-8 * std::abs(s_iso) * area);
+        EXPECT_NEAR(pull(model, 1.0), (g * s_iso + g_v * p) * area, 1e-8 * std::abs(s_iso) * area);
+        // the pressure is a tenth of the isochoric stress or more: the wrong g_v fails above
+        EXPECT_GT(std::abs(p), 0.1 * std::abs(s_iso));
+
+        // unloaded, the tear stays
+        ASSERT_TRUE(model.solve_static(0.0).converged);
+        EXPECT_EQ(model.advance_damage(), 0.0);
+        EXPECT_NEAR(model.damage_field()->range().first, d, 1e-9);
+      }
+}
