@@ -80,6 +80,9 @@ namespace suturesim::tearing
     rhs.reinit(owned, comm);
     lower.reinit(owned, comm);
     upper.reinit(owned, comm);
+    d          = 0;
+    d_accepted = 0;
+    d_ghost    = d; // a ghosted vector is not zeroed when created
     set_bounds();
   }
 
@@ -301,32 +304,6 @@ namespace suturesim::tearing
   DamageField<dim>::add_to(DataOut<dim> &out) const
   {
     out.add_data_vector(dof_d, d_ghost, "damage");
-  }
-
-  template <int dim>
-  std::vector<double>
-  DamageField<dim>::local_state() const
-  {
-    std::vector<double> values;
-    values.reserve(owned.n_elements());
-    for (const auto i : owned)
-      values.push_back(d_accepted(i));
-    return values;
-  }
-
-  template <int dim>
-  void
-  DamageField<dim>::restore_local_state(const std::vector<double> &values)
-  {
-    if (values.size() != owned.n_elements())
-      throw InputError("phase field: the checkpoint's damage has " + std::to_string(values.size()) +
-                       " values where this process owns " + std::to_string(owned.n_elements()));
-    std::size_t k = 0;
-    for (const auto i : owned)
-      d(i) = values[k++];
-    d.compress(VectorOperation::insert);
-    accept();
-    d_ghost = d;
   }
 
   template class DamageField<2>;

@@ -28,18 +28,33 @@ namespace suturesim::tissue
               {"cutbacks", cutbacks}};
     }
 
-    /// Phase-field tearing, staggered: the accepted step's damage (TissueModel::advance_damage())
-    /// and its record in the step's statistics.
+    /// Equilibrium at @p t and, with the phase field, one staggered pass: the damage of that
+    /// equilibrium (TissueModel::advance_damage()), then equilibrium again with it when it
+    /// changed, so that the step ends with a displacement and a damage that belong
+    /// together. @p change receives the damage's largest change.
+    NewtonReport
+    solve_step(TissueModel &model, const double t, double &change)
+    {
+      NewtonReport report = model.solve_static(t);
+      change              = 0;
+      if (!report.converged || model.damage_field() == nullptr)
+        return report;
+      change = model.advance_damage();
+      if (change == 0)
+        return report;
+      NewtonReport again = model.solve_static(t);
+      again.iterations += report.iterations;
+      return again;
+    }
+
+    /// The step's record with the damage's, when there is a phase field.
     nlohmann::json
-    with_damage(TissueModel &model, nlohmann::json record)
+    with_damage(const TissueModel &model, nlohmann::json record, const double change)
     {
       if (const auto *damage = model.damage_field())
-        {
-          const double change = model.advance_damage();
-          record["damage"]    = {{"max", damage->range().second},
-                                 {"largest_change", change},
-                                 {"fracture_energy", damage->fracture_energy()}};
-        }
+        record["damage"] = {{"max", damage->range().second},
+                            {"largest_change", change},
+                            {"fracture_energy", damage->fracture_energy()}};
       return record;
     }
 
@@ -55,16 +70,17 @@ namespace suturesim::tissue
 
         // Equilibrium at t = 0 (gravity or loads that start non-zero).
         model.save_state();
-        const NewtonReport initial = model.solve_static(0.0);
+        double             change  = 0;
+        const NewtonReport initial = solve_step(model, 0.0, change);
         if (!initial.converged)
           fail(observer, "the initial state", 0.0, 0, initial.failure);
-        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0)), nullptr, nullptr);
+        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), change), nullptr, nullptr);
 
         NewtonReport report;
         StepHooks    hooks;
         hooks.attempt = [&](const double t_new, double) {
           model.save_state();
-          report = model.solve_static(t_new);
+          report = solve_step(model, t_new, change);
           return report.converged ? StepAttempt{StepAttempt::Outcome::converged, "", report.iterations}
                                   : StepAttempt{StepAttempt::Outcome::failed, report.failure};
         };
@@ -72,7 +88,7 @@ namespace suturesim::tissue
         hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
           ++step;
           total_iterations += report.iterations;
-          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks)), nullptr, nullptr);
+          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks), change), nullptr, nullptr);
           std::ostringstream info;
           info << "Newton " << report.iterations << " it"
                << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");

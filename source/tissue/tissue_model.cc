@@ -152,7 +152,6 @@ namespace suturesim::tissue
           psi[q] *= scale;
         }
     });
-    damage->accept();
     update_degradation();
     return change;
   }
@@ -272,6 +271,8 @@ namespace suturesim::tissue
   {
     saved_solution   = solution;
     saved_cell_mixed = cell_mixed;
+    if (damage)
+      damage->accept(); // the damage the step starts from: its lower bound
   }
 
   void
@@ -279,6 +280,11 @@ namespace suturesim::tissue
   {
     solution   = saved_solution;
     cell_mixed = saved_cell_mixed;
+    if (damage)
+      {
+        damage->restore();
+        update_degradation();
+      }
   }
 
   namespace
@@ -310,13 +316,10 @@ namespace suturesim::tissue
       if (cell->is_locally_owned())
         for (const auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           mixed.insert(mixed.end(), field->begin(), field->end());
-    nlohmann::json state = {{"dofs", n_dofs()},
-                            {"cells", cell_fingerprint(dof_handler)},
-                            {"u", io::pack_doubles(u)},
-                            {"mixed", io::pack_doubles(mixed)}};
-    if (damage)
-      state["damage"] = io::pack_doubles(damage->local_state());
-    return state;
+    return {{"dofs", n_dofs()},
+            {"cells", cell_fingerprint(dof_handler)},
+            {"u", io::pack_doubles(u)},
+            {"mixed", io::pack_doubles(mixed)}};
   }
 
   void
@@ -346,14 +349,6 @@ namespace suturesim::tissue
         for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           for (double &v : *field)
             v = mixed[k++];
-    if (damage)
-      {
-        if (!state.contains("damage"))
-          throw InputError("--restart: the checkpoint has no damage field (Tissue/Phase field was off when it was "
-                           "written)");
-        damage->restore_local_state(io::unpack_doubles(state.at("damage")));
-        update_degradation();
-      }
   }
 
   void

@@ -3,6 +3,8 @@
 // below ψ_c = 3 G_c / (16 ℓ), d = 1 − ψ_c / ((1 − k) Ψ_iso) above it, the fracture energy
 // G_c / c_w · d / ℓ · V, the stress σ = g σ_iso + p I, and a tear that does not heal.
 #include "block_model.h"
+#include "run_scene.h"
+#include "vtu_reader.h"
 
 #include <suturesim/tissue/tissue_model.h>
 
@@ -92,13 +94,23 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
         const double psi_c = model.damage_field()->threshold();
         EXPECT_NEAR(psi_c, 0.6 * psi, 1e-12 * psi);
 
+        // each step as the quasi-static integrator takes it: save_state() accepts the
+        // damage the step starts from, equilibrium, the damage, equilibrium again
+        model.save_state();
         ASSERT_TRUE(model.solve_static(0.5).converged);
         EXPECT_EQ(model.advance_damage(), 0.0);
         EXPECT_EQ(model.damage_field()->range().second, 0.0);
 
+        model.save_state();
         ASSERT_TRUE(model.solve_static(1.0).converged);
         const double intact = pull(model, 1.0);
         const double d      = 1 - psi_c / ((1 - k) * psi);
+        EXPECT_NEAR(model.advance_damage(), d, 1e-9);
+        // a step undone takes its damage with it
+        model.restore_state();
+        EXPECT_EQ(model.damage_field()->range().second, 0.0);
+        ASSERT_TRUE(model.solve_static(1.0).converged);
+        EXPECT_NEAR(pull(model, 1.0), intact, 1e-12 * std::abs(intact));
         EXPECT_NEAR(model.advance_damage(), d, 1e-9);
         const auto [lo, hi] = model.damage_field()->range();
         EXPECT_NEAR(lo, d, 1e-9);
@@ -119,9 +131,42 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
         // the pressure is a tenth of the isochoric stress or more: the wrong g_v fails above
         EXPECT_GT(std::abs(p), 0.1 * std::abs(s_iso));
 
-        // unloaded, the tear stays
+        // accepted and unloaded, the tear stays
+        model.save_state();
         ASSERT_TRUE(model.solve_static(0.0).converged);
         EXPECT_EQ(model.advance_damage(), 0.0);
         EXPECT_NEAR(model.damage_field()->range().first, d, 1e-9);
       }
+}
+
+// The same state through a scene (tests/data/phase_field_cube.prm, Q1-P0 on 2 × 2 × 2
+// cells, steps at t = 0.5 and 1): each step's record has the damage, the VTU holds it,
+// and its Cauchy stress is the assembly's degraded one, in equilibrium with it: σ_xx on
+// the x1 face's current area is that face's reaction in forces.csv (with the mixed p̃ of
+// the equilibrium before the damage, the output's σ_xx was 3.8 times the reaction).
+TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
+{
+  const auto r = test_support::run_suturesim("phase_field_cube", {test_support::source_path("tests/data/phase_field_cube.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto &steps = r.summary["steps"];
+  ASSERT_EQ(steps.size(), 3u);
+  EXPECT_EQ(steps[1]["damage"]["max"].get<double>(), 0.0);
+  const double d = steps[2]["damage"]["max"].get<double>();
+  EXPECT_GT(d, 0.5);
+  EXPECT_LT(d, 0.7);
+  EXPECT_EQ(steps[2]["damage"]["largest_change"].get<double>(), d);
+
+  for (const double v : test_support::read_vtu(r.directory + "/tissue_00001.vtu").get("PointData", "damage").values)
+    EXPECT_EQ(v, 0.0);
+  const auto vtu = test_support::read_vtu(r.directory + "/tissue_00002.vtu");
+  for (const double v : vtu.get("PointData", "damage").values)
+    EXPECT_NEAR(v, d, 1e-7);
+  std::string header;
+  const auto  rows = test_support::read_forces(r, &header);
+  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_NE(header.find("boundary_1_reaction_x"), std::string::npos);
+  const double reaction = rows[2][4]; // time, boundary 0 (x, y, z), boundary 1 x
+  const double area     = 0.95 * 0.9 * 1e-4;
+  for (std::size_t p = 0; p < vtu.n_points; ++p)
+    EXPECT_NEAR(vtu.get("PointData", "cauchy_stress").values[9 * p] * area, reaction, 1e-6 * reaction);
 }

@@ -134,13 +134,6 @@ namespace suturesim::tearing
     void
     add_to(dealii::DataOut<dim> &out) const;
 
-    /// The locally owned accepted damage values, in the owned index order (a checkpoint
-    /// of one process), and their restoration on the same partition.
-    std::vector<double>
-    local_state() const;
-    void
-    restore_local_state(const std::vector<double> &values);
-
   private:
     void
     set_bounds();

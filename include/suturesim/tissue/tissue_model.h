@@ -127,7 +127,9 @@ namespace suturesim::tissue
 
     /// This process's part of the state, for a checkpoint (io/checkpoint.h): the values
     /// of its DoFs and its cells' mixed fields p̃, J̃, in the order of this mesh, partition
-    /// and numbering; restore_local_state() takes them back on the same.
+    /// and numbering; restore_local_state() takes them back on the same. Not the phase
+    /// field's damage: the scenarios that write checkpoints (the needle pass and the
+    /// stitch) refuse the phase field so far.
     nlohmann::json
     local_state() const;
     void
@@ -190,12 +192,13 @@ namespace suturesim::tissue
     std::string
     write_vtu(const std::string &directory, unsigned index, double t) const;
 
-    /// Phase-field tearing (`Tissue/Phase field`; tearing/damage_field.h), staggered: after
-    /// an accepted step, the damage that minimises the damage energy for the step's
-    /// degradable energy (1 − k)(Ψ_iso(C̄) + Ψ_vol(J̃) in expansion), accepted, and the
-    /// degradation g = (1 − k)(1 − d)² + k that the next assemblies use
-    /// (cell_assembler.h, volumetric_share()). Returns the largest change of d; 0 and
-    /// nothing done without the phase field.
+    /// Phase-field tearing (`Tissue/Phase field`; tearing/damage_field.h), staggered: the
+    /// damage that minimises the damage energy for the current state's degradable energy
+    /// (1 − k)(Ψ_iso(C̄) + Ψ_vol(J̃) in expansion), at least the damage of the last
+    /// save_state() (which accepts it; restore_state() returns to it), and the degradation
+    /// g = (1 − k)(1 − d)² + k that the assemblies use from then on (cell_assembler.h,
+    /// volumetric_share()). Returns the largest change of d; 0 and nothing done without
+    /// the phase field.
     double
     advance_damage();
     /// The damage field; nullptr without the phase field.
