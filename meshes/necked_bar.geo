@@ -1,7 +1,8 @@
 // A bar L x W x T (SI units) along x, its top face y = W dipping at mid-length by a
-// Gaussian neck of relative depth `neck` and width L/10, so that a tear under tension
-// starts there (tests/data/phase_field_bar.prm). Structured hexahedra: `nx` cells along
-// x, `ny` across, one through the thickness (plane strain with both z faces held in z).
+// Gaussian neck of relative depth `neck` and width `neck_width`, so that a tear under
+// tension starts there (parameters/tearing/phase_field_bar.prm). Structured hexahedra:
+// `nx` cells along x, `ny` across, one through the thickness (plane strain with both z
+// faces held in z).
 // Mesh with: gmsh -3 -format msh22 -o necked_bar.msh necked_bar.geo [-setnumber NAME value]
 //
 // Physical surfaces: x0, x1 (the ends), y0 (the straight side), y1 (the necked side),
@@ -12,6 +13,7 @@ DefineConstant[
   W    = {0.001, Name "Parameters/W bar width along y [m]"},
   T    = {0.001, Name "Parameters/T bar thickness along z [m]"},
   neck = {0.02,  Name "Parameters/neck relative depth of the neck at mid-length [1]"},
+  neck_width = {0.001, Name "Parameters/neck_width the neck's Gaussian width [m]"},
   nx   = {100,   Name "Parameters/nx cells along x [1]"},
   ny   = {5,     Name "Parameters/ny cells across y [1]"}
 ];
@@ -25,7 +27,7 @@ top[] = {3};
 For i In {1 : 39}
   x = L * (1 - i / 40);
   p = newp;
-  Point(p) = {x, W * (1 - neck * Exp(-((x - L / 2) / (L / 10)) ^ 2)), 0};
+  Point(p) = {x, W * (1 - neck * Exp(-((x - L / 2) / neck_width) ^ 2)), 0};
   top[] += {p};
 EndFor
 top[] += {4};

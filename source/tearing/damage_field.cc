@@ -54,13 +54,13 @@ namespace suturesim::tearing
 
   template <int dim>
   DamageField<dim>::DamageField(MPI_Comm comm, const parallel::distributed::Triangulation<dim> &tria,
-                                const double toughness, const double length)
+                                const double toughness, const double length, const unsigned quadrature_points)
     : comm(comm)
     , gc(toughness)
     , ell(length)
     , fe_d(1)
     , dof_d(tria)
-    , quadrature_d(2)
+    , quadrature_d(quadrature_points)
   {
     dof_d.distribute_dofs(fe_d);
     owned = dof_d.locally_owned_dofs();
@@ -236,16 +236,27 @@ namespace suturesim::tearing
   }
 
   template <int dim>
-  double
-  DamageField<dim>::value(const Cell &cell, const Point<dim> &unit) const
+  std::vector<dealii::Vector<double>>
+  DamageField<dim>::cell_dof_values() const
   {
-    const typename DoFHandler<dim>::active_cell_iterator here(&cell->get_triangulation(), cell->level(), cell->index(),
-                                                             &dof_d);
-    Vector<double> values(fe_d.n_dofs_per_cell());
-    here->get_dof_values(d_ghost, values);
+    std::vector<dealii::Vector<double>> values(dof_d.get_triangulation().n_active_cells());
+    for (const auto &cell : dof_d.active_cell_iterators())
+      if (cell->is_locally_owned())
+        {
+          auto &v = values[cell->active_cell_index()];
+          v.reinit(fe_d.n_dofs_per_cell());
+          cell->get_dof_values(d_ghost, v);
+        }
+    return values;
+  }
+
+  template <int dim>
+  double
+  DamageField<dim>::value(const dealii::Vector<double> &dof_values, const Point<dim> &unit) const
+  {
     double d_at = 0;
-    for (unsigned i = 0; i < values.size(); ++i)
-      d_at += values[i] * fe_d.shape_value(i, unit);
+    for (unsigned i = 0; i < dof_values.size(); ++i)
+      d_at += dof_values[i] * fe_d.shape_value(i, unit);
     return d_at;
   }
 
@@ -277,6 +288,16 @@ namespace suturesim::tearing
     check(VecMin(d, nullptr, &lo), "VecMin");
     check(VecMax(d, nullptr, &hi), "VecMax");
     return {lo, hi};
+  }
+
+  template <int dim>
+  double
+  DamageField<dim>::growth() const
+  {
+    PETScWrappers::MPI::Vector difference(owned, comm);
+    difference = d;
+    difference -= d_accepted;
+    return difference.linfty_norm();
   }
 
   template <int dim>

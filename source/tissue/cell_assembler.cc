@@ -185,7 +185,7 @@ namespace suturesim::tissue
         R_p = NpN;
         return true;
       }
-    // stationarity: p̃ = M⁻¹ ∫ N Ψ'(J̃), J̃ = M⁻¹ ∫ N J, both constraints exact
+    // stationarity: p̃ = M⁻¹ ∫ N g_v Ψ'(J̃), J̃ = M⁻¹ ∫ N J, both constraints exact
     for (unsigned a = 0; a < n_p; ++a)
       {
         fields.p[a] = 0;
@@ -234,7 +234,7 @@ namespace suturesim::tissue
           return false;
       }
 
-    // Mixed fields: M⁻¹, K_JJ = ∫N Ψ''(J̃) Nᵀ and either p̃, J̃ from u (exact) or the
+    // Mixed fields: M⁻¹, K_JJ = ∫N g_v Ψ''(J̃) Nᵀ and either p̃, J̃ from u (exact) or the
     // constraint residuals at the given p̃, J̃ (newton).
     MixedCell              local;
     MixedCell             &mf = fields != nullptr ? *fields : local;

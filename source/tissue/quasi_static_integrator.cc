@@ -28,32 +28,73 @@ namespace suturesim::tissue
               {"cutbacks", cutbacks}};
     }
 
-    /// Equilibrium at @p t and, with the phase field, one staggered pass: the damage of that
-    /// equilibrium (TissueModel::advance_damage()), then equilibrium again with it when it
-    /// changed, so that the step ends with a displacement and a damage that belong
-    /// together. @p change receives the damage's largest change.
+    /// @p next's solve after @p first's in one report: its state, both costs.
     NewtonReport
-    solve_step(TissueModel &model, const double t, double &change)
+    merged(const NewtonReport &first, NewtonReport next)
+    {
+      next.iterations += first.iterations;
+      next.backtracks += first.backtracks;
+      next.linear_iterations += first.linear_iterations;
+      next.assembly_seconds += first.assembly_seconds;
+      next.solve_seconds += first.solve_seconds;
+      next.residual_norms.insert(next.residual_norms.begin(), first.residual_norms.begin(), first.residual_norms.end());
+      next.increment_norms.insert(next.increment_norms.begin(), first.increment_norms.begin(),
+                                  first.increment_norms.end());
+      return next;
+    }
+
+    /// Equilibrium at @p t and, with the phase field, the step's alternate minimisation
+    /// (Bourdin, Francfort & Marigo 2000): the damage of that equilibrium
+    /// (TissueModel::advance_damage(), never below the step's start), equilibrium again
+    /// with it, until a damage solve changes d by at most `Phase field/Tolerance`; so the
+    /// step ends with a displacement and a damage that belong together. A damage problem
+    /// that fails, or passes that run out, fail the step (which is halved). @p passes
+    /// receives the number of damage solves.
+    NewtonReport
+    solve_step(TissueModel &model, const double t, unsigned &passes)
     {
       NewtonReport report = model.solve_static(t);
-      change              = 0;
+      passes              = 0;
       if (!report.converged || model.damage_field() == nullptr)
         return report;
-      change = model.advance_damage();
-      if (change == 0)
-        return report;
-      NewtonReport again = model.solve_static(t);
-      again.iterations += report.iterations;
-      return again;
+      const auto &pf = model.phase_field();
+      try
+        {
+          while (true)
+            {
+              ++passes;
+              const double change = model.advance_damage();
+              if (change == 0 && passes == 1)
+                return report; // nothing moved: the equilibrium stands
+              report = merged(report, model.solve_static(t));
+              if (!report.converged || change <= pf.tolerance)
+                return report;
+              if (passes == pf.max_passes)
+                {
+                  report.converged = false;
+                  report.failure   = "the phase field's alternate minimisation did not settle in " +
+                                   std::to_string(passes) + " damage solves (the last changed d by " +
+                                   std::to_string(change) + " > Tissue/Phase field/Tolerance)";
+                  return report;
+                }
+            }
+        }
+      catch (const SolverError &e)
+        {
+          report.converged = false;
+          report.failure   = e.what();
+          return report;
+        }
     }
 
     /// The step's record with the damage's, when there is a phase field.
     nlohmann::json
-    with_damage(const TissueModel &model, nlohmann::json record, const double change)
+    with_damage(const TissueModel &model, nlohmann::json record, const unsigned passes)
     {
       if (const auto *damage = model.damage_field())
         record["damage"] = {{"max", damage->range().second},
-                            {"largest_change", change},
+                            {"growth", damage->growth()},
+                            {"passes", passes},
                             {"fracture_energy", damage->fracture_energy()}};
       return record;
     }
@@ -70,17 +111,17 @@ namespace suturesim::tissue
 
         // Equilibrium at t = 0 (gravity or loads that start non-zero).
         model.save_state();
-        double             change  = 0;
-        const NewtonReport initial = solve_step(model, 0.0, change);
+        unsigned           passes  = 0;
+        const NewtonReport initial = solve_step(model, 0.0, passes);
         if (!initial.converged)
           fail(observer, "the initial state", 0.0, 0, initial.failure);
-        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), change), nullptr, nullptr);
+        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), passes), nullptr, nullptr);
 
         NewtonReport report;
         StepHooks    hooks;
         hooks.attempt = [&](const double t_new, double) {
           model.save_state();
-          report = solve_step(model, t_new, change);
+          report = solve_step(model, t_new, passes);
           return report.converged ? StepAttempt{StepAttempt::Outcome::converged, "", report.iterations}
                                   : StepAttempt{StepAttempt::Outcome::failed, report.failure};
         };
@@ -88,7 +129,7 @@ namespace suturesim::tissue
         hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
           ++step;
           total_iterations += report.iterations;
-          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks), change), nullptr, nullptr);
+          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks), passes), nullptr, nullptr);
           std::ostringstream info;
           info << "Newton " << report.iterations << " it"
                << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");

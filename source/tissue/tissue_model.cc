@@ -91,7 +91,7 @@ namespace suturesim::tissue
     if (parameters.phase_field.enabled)
       {
         damage = std::make_unique<tearing::DamageField<3>>(comm, tria, parameters.phase_field.toughness,
-                                                           parameters.phase_field.length);
+                                                           parameters.phase_field.length, parameters.degree + 1);
         update_degradation();
       }
 

@@ -43,6 +43,7 @@ namespace suturesim::tissue
         : material(material)
         , pressure(pressure)
         , damage(damage)
+        , damage_values(damage != nullptr ? damage->cell_dof_values() : std::vector<dealii::Vector<double>>())
         , k(residual_stiffness)
       {}
 
@@ -62,8 +63,7 @@ namespace suturesim::tissue
             const double g =
               damage != nullptr
                 ? tearing::DamageField<3>::degradation(
-                    damage->value(tearing::DamageField<3>::Cell(&cell->get_triangulation(), cell->level(),
-                                                                cell->index()),
+                    damage->value(damage_values[cell->active_cell_index()],
                                   mapping.transform_real_to_unit_cell(cell, in.evaluation_points[q])),
                     k)
                 : 1.0;
@@ -117,7 +117,10 @@ namespace suturesim::tissue
       const Material                          &material;
       const std::vector<MixedCell> *pressure;
       const tearing::DamageField<3> *damage;
-      double                         k;
+      /// d's nodal values per cell, copied before the threads of build_patches() read them
+      /// (a PETSc vector is not to be read from several threads)
+      std::vector<dealii::Vector<double>> damage_values;
+      double                              k;
       MappingQ1<3>                   mapping;
     };
   } // namespace

@@ -1,8 +1,9 @@
 /**
  * The tear criteria on the FE tissue: each criterion's measure at every quadrature point
  * (F from the displacement gradient, σ and Ψ from the material, with the cell's p̃ and J̃
- * in the mixed formulation and the phase field's degradation of the isochoric part), accumulated over the process zones that hold the point and
- * reduced over the ranks; and per cell the mean of m / m_c for the VTU.
+ * in the mixed formulation and the phase field's degradation), accumulated over the
+ * process zones that hold the point and reduced over the ranks; and per cell the mean of
+ * m / m_c for the VTU.
  */
 #include <suturesim/tissue/tissue_model.h>
 

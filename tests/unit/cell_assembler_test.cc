@@ -202,6 +202,8 @@ TEST(CellAssembler, RejectsInvertedIterate)
 // fall as (1 − ε) R_p, (1 − ε) R_J, and the equilibrium part r_u = r − r_c moves as
 // K Δu + r_c (the condensed tangent times Δu plus the constraint force). Each line is
 // one row block of the 3 × 3 system, so a wrong K_pu, K_JJ, M or recovery fails one.
+// With the phase field's degradation too, dilated (the volumetric share g in R_J and
+// K_JJ) and compressed.
 class MixedNewtonUpdate : public ::testing::TestWithParam<Case>
 {};
 
@@ -217,71 +219,85 @@ TEST_P(MixedNewtonUpdate, IsNewtonsStepOfTheThreeFieldSystem)
   const unsigned n    = fe.n_dofs_per_cell();
   const unsigned n_p  = assembler.n_pressure();
 
-  Vector<double> u(n), du(n);
-  for (unsigned i = 0; i < n; ++i)
-    {
-      u[i]  = 6e-4 * std::sin(0.9 * i + 0.3);
-      du[i] = 2e-4 * std::cos(1.7 * i + 0.2);
-    }
-  // consistent fields at u, then both constraints broken
-  MixedCell fields;
-  Vector<double> r(n), r_c(n), r_exact(n);
-  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r_exact, nullptr, &fields, MixedUpdate::exact));
-  MixedCell consistent = fields;
-  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, nullptr, &consistent, MixedUpdate::newton, &r_c));
-  EXPECT_LE(r_c.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "a consistent state has no constraint force";
-  Vector<double> diff = r;
-  diff -= r_exact;
-  EXPECT_LE(diff.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "both updates agree where the constraints hold";
+  // as assembled, and degraded by the phase field (g varying over the cell) on a cell
+  // dilated and on one compressed by 1 % (g_v = g and 1: cell_assembler.h)
+  std::vector<double> g(static_cast<unsigned>(std::pow(c.degree + 1, 3)));
+  for (unsigned q = 0; q < g.size(); ++q)
+    g[q] = 0.3 + 0.25 * std::sin(1.7 * q + 0.2);
+  std::map<types::global_dof_index, Point<3>> X;
+  DoFTools::map_dofs_to_support_points(one.mapping, one.dofs, X);
+  for (const auto &[strain, degradation] : {std::pair<double, const std::vector<double> *>{0.0, nullptr},
+                                            std::pair<double, const std::vector<double> *>{0.01, &g},
+                                            std::pair<double, const std::vector<double> *>{-0.01, &g}})
+  {
+    SCOPED_TRACE(degradation ? "degraded, strain " + std::to_string(strain) : "as assembled");
+    Vector<double> u(n), du(n);
+    for (unsigned i = 0; i < n; ++i)
+      {
+        u[i]  = strain * X[i][fe.system_to_component_index(i).first] + 6e-4 * std::sin(0.9 * i + 0.3);
+        du[i] = 2e-4 * std::cos(1.7 * i + 0.2);
+      }
+    // consistent fields at u, then both constraints broken
+    MixedCell fields;
+    Vector<double> r(n), r_c(n), r_exact(n);
+    ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r_exact, nullptr, &fields, MixedUpdate::exact, nullptr, degradation));
+    MixedCell consistent = fields;
+    ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, nullptr, &consistent, MixedUpdate::newton, &r_c, degradation));
+    EXPECT_LE(r_c.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "a consistent state has no constraint force";
+    Vector<double> diff = r;
+    diff -= r_exact;
+    EXPECT_LE(diff.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "both updates agree where the constraints hold";
 
-  for (unsigned a = 0; a < n_p; ++a)
-    {
-      fields.J[a] += (a == 0 ? 3e-3 : 1e-3);
-      fields.p[a] += (a == 0 ? 0.02 : 0.01) * m.bulk_modulus();
-    }
-  FullMatrix<double> K(n, n);
-  ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, &K, &fields, MixedUpdate::newton, &r_c));
-  const auto R_p0 = fields.dilatation_residual();
-  const auto R_J0 = fields.pressure_residual();
-  Vector<double> expected_dr(n);
-  K.vmult(expected_dr, du);
-  expected_dr += r_c;
-  fields.begin_update(du);
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        fields.J[a] += (a == 0 ? 3e-3 : 1e-3);
+        fields.p[a] += (a == 0 ? 0.02 : 0.01) * m.bulk_modulus();
+      }
+    FullMatrix<double> K(n, n);
+    ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, &K, &fields, MixedUpdate::newton, &r_c, degradation));
+    const auto R_p0 = fields.dilatation_residual();
+    const auto R_J0 = fields.pressure_residual();
+    Vector<double> expected_dr(n);
+    K.vmult(expected_dr, du);
+    expected_dr += r_c;
+    fields.begin_update(du);
 
-  // r_u and the constraint residuals at ε along the step
-  const auto at = [&](const double eps, Vector<double> &r_u, PressureCoefficients &R_p, PressureCoefficients &R_J) {
-    MixedCell f = fields;
-    f.step(eps);
-    Vector<double> ue = u, re(n), rce(n);
-    ue.add(eps, du);
-    ASSERT_TRUE(assembler.assemble(cell, ue, m, {}, re, nullptr, &f, MixedUpdate::newton, &rce));
-    r_u = re;
-    r_u -= rce;
-    R_p = f.dilatation_residual();
-    R_J = f.pressure_residual();
-  };
-  const double         h = 1e-4;
-  Vector<double>       rp(n), rm(n);
-  PressureCoefficients Pp, Pm, Jp, Jm;
-  at(h, rp, Pp, Jp);
-  at(-h, rm, Pm, Jm);
-  double err = 0;
-  for (unsigned i = 0; i < n; ++i)
-    err = std::max(err, std::abs((rp[i] - rm[i]) / (2 * h) - expected_dr[i]));
-  EXPECT_LE(err, 1e-6 * expected_dr.linfty_norm()) << "equilibrium row";
-  double P_scale = 0, J_scale = 0;
-  for (unsigned a = 0; a < n_p; ++a)
-    {
-      P_scale = std::max(P_scale, std::abs(R_p0[a]));
-      J_scale = std::max(J_scale, std::abs(R_J0[a]));
-    }
-  ASSERT_GT(P_scale, 0);
-  ASSERT_GT(J_scale, 0);
-  for (unsigned a = 0; a < n_p; ++a)
-    {
-      EXPECT_NEAR((Pp[a] - Pm[a]) / (2 * h), -R_p0[a], 1e-6 * P_scale) << "dilatation row, a = " << a;
-      EXPECT_NEAR((Jp[a] - Jm[a]) / (2 * h), -R_J0[a], 1e-6 * J_scale) << "pressure row, a = " << a;
-    }
+    // r_u and the constraint residuals at ε along the step
+    const auto at = [&](const double eps, Vector<double> &r_u, PressureCoefficients &R_p, PressureCoefficients &R_J) {
+      MixedCell f = fields;
+      f.step(eps);
+      Vector<double> ue = u, re(n), rce(n);
+      ue.add(eps, du);
+      ASSERT_TRUE(assembler.assemble(cell, ue, m, {}, re, nullptr, &f, MixedUpdate::newton, &rce, degradation));
+      r_u = re;
+      r_u -= rce;
+      R_p = f.dilatation_residual();
+      R_J = f.pressure_residual();
+    };
+    const double         h = 1e-4;
+    Vector<double>       rp(n), rm(n);
+    PressureCoefficients Pp, Pm, Jp, Jm;
+    at(h, rp, Pp, Jp);
+    at(-h, rm, Pm, Jm);
+    double err = 0;
+    for (unsigned i = 0; i < n; ++i)
+      err = std::max(err, std::abs((rp[i] - rm[i]) / (2 * h) - expected_dr[i]));
+    EXPECT_LE(err, 1e-6 * expected_dr.linfty_norm()) << "equilibrium row";
+    double P_scale = 0, J_scale = 0;
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        P_scale = std::max(P_scale, std::abs(R_p0[a]));
+        J_scale = std::max(J_scale, std::abs(R_J0[a]));
+      }
+    ASSERT_GT(P_scale, 0);
+    ASSERT_GT(J_scale, 0);
+    for (unsigned a = 0; a < n_p; ++a)
+      {
+        EXPECT_NEAR((Pp[a] - Pm[a]) / (2 * h), -R_p0[a], 1e-6 * P_scale) << "dilatation row, a = " << a;
+        EXPECT_NEAR((Jp[a] - Jm[a]) / (2 * h), -R_J0[a], 1e-6 * J_scale) << "pressure row, a = " << a;
+      }
+
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Elements, MixedNewtonUpdate,

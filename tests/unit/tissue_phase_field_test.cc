@@ -1,7 +1,8 @@
 // Phase-field tearing of the finite-strain tissue (Tissue/Phase field; tissue_model.h,
 // tearing/damage_field.h) on homogeneous states, against the AT1 closed forms: no damage
-// below ψ_c = 3 G_c / (16 ℓ), d = 1 − ψ_c / ((1 − k) Ψ_iso) above it, the fracture energy
-// G_c / c_w · d / ℓ · V, the stress σ = g σ_iso + p I, and a tear that does not heal.
+// below ψ_c = 3 G_c / (16 ℓ), d = 1 − ψ_c / ((1 − k) ψ) above it, ψ = Ψ_iso + Ψ_vol in
+// expansion, the fracture energy G_c / c_w · d / ℓ · V, the stress σ = g σ_iso + g_v p I,
+// and a tear that does not heal.
 #include "block_model.h"
 #include "run_scene.h"
 #include "vtu_reader.h"
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 using namespace suturesim;
@@ -115,8 +117,8 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
         const auto [lo, hi] = model.damage_field()->range();
         EXPECT_NEAR(lo, d, 1e-9);
         EXPECT_NEAR(hi, d, 1e-9);
-        EXPECT_NEAR(model.damage_field()->fracture_energy(), gc / c_w * d / ell * L * L * L,
-                    1e-8 * gc / ell * L * L * L);
+        const double fracture = gc / c_w * d / ell * L * L * L;
+        EXPECT_NEAR(model.damage_field()->fracture_energy(), fracture, 1e-8 * fracture);
 
         // the same stretch in the torn tissue: σ_xx = g σ_iso,xx + g_v p on the x1 face's
         // current area λ_y λ_z L², g_v = g in expansion, 1 in compression
@@ -146,17 +148,29 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
 // the equilibrium before the damage, the output's σ_xx was 3.8 times the reaction).
 TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
 {
-  const auto r = test_support::run_suturesim("phase_field_cube", {test_support::source_path("tests/data/phase_field_cube.prm")});
+  const auto r =
+    test_support::run_suturesim("phase_field_cube", {test_support::source_path("tests/data/phase_field_cube.prm")});
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // the scene's material and state: d = 1 − ψ_c / ((1 − k) ψ), ψ_c = 3 · 20 / (16 · 2 mm)
+  const test_support::BlockModel probe(stretched_block("mixed", {0.2, -0.05, -0.1, ""}, 20, 0.002),
+                                       dealii::Point<3>(0.01, 0.01, 0.01), {1, 1, 1});
+  const auto         F = deformation({0.2, -0.05, -0.1, ""}, 1);
+  const double       J = dealii::determinant(F);
+  const double psi = probe.material->isochoric_energy(dealii::symmetrize(dealii::transpose(F) * F)) +
+                     probe.material->volumetric().energy(J);
+  const double d = 1 - 3 * 20 / (16 * 0.002) / ((1 - 1e-6) * psi);
+
   const auto &steps = r.summary["steps"];
   ASSERT_EQ(steps.size(), 3u);
   EXPECT_EQ(steps[1]["damage"]["max"].get<double>(), 0.0);
-  const double d = steps[2]["damage"]["max"].get<double>();
-  EXPECT_GT(d, 0.5);
-  EXPECT_LT(d, 0.7);
-  EXPECT_EQ(steps[2]["damage"]["largest_change"].get<double>(), d);
+  EXPECT_EQ(steps[1]["damage"]["passes"].get<unsigned>(), 1u);
+  EXPECT_NEAR(steps[2]["damage"]["max"].get<double>(), d, 1e-9);
+  EXPECT_NEAR(steps[2]["damage"]["growth"].get<double>(), d, 1e-9);
+  // homogeneous: the second damage solve, after the second equilibrium, changes nothing
+  EXPECT_EQ(steps[2]["damage"]["passes"].get<unsigned>(), 2u);
 
-  for (const double v : test_support::read_vtu(r.directory + "/tissue_00001.vtu").get("PointData", "damage").values)
+  const auto intact = test_support::read_vtu(r.directory + "/tissue_00001.vtu"); // kept: a range-for over a
+  for (const double v : intact.get("PointData", "damage").values)                 // temporary's member dangles
     EXPECT_EQ(v, 0.0);
   const auto vtu = test_support::read_vtu(r.directory + "/tissue_00002.vtu");
   for (const double v : vtu.get("PointData", "damage").values)
@@ -169,4 +183,53 @@ TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
   const double area     = 0.95 * 0.9 * 1e-4;
   for (std::size_t p = 0; p < vtu.n_points; ++p)
     EXPECT_NEAR(vtu.get("PointData", "cauchy_stress").values[9 * p] * area, reaction, 1e-6 * reaction);
+}
+
+// A tear that runs (parameters/tearing/phase_field_bar.prm, about 35 s): a bar 10 × 1 × 1 mm
+// with a neck 10 % deep at mid-length, pulled apart in plane strain. When the pull has
+// fallen below a fifth of its peak the bar has parted across the neck (d = 1 there, the
+// damage within 2ℓ of it), and the damage has dissipated what a crack of that area does
+// with linear elements, G_c (1 + 3h/(8ℓ)) W_neck T (Bourdin, Francfort & Marigo, J
+// Elasticity 91:5, 2008), within the 5 % issue 29 asks of the propagation model's
+// verification. Measured: +4.6 %; with k = 1e-2 +12 % (the torn band's stored k ψ drives
+// more damage), and with the step alone, not minimised alternately, 1.6 times.
+TEST(TissuePhaseField, ANeckedBarPartsDissipatingTheToughnessTimesItsArea)
+{
+  const auto r = test_support::run_suturesim("phase_field_bar",
+                                              {test_support::source_path("parameters/tearing/phase_field_bar.prm")});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto  rows  = test_support::read_forces(r);
+  const auto &steps = r.summary["steps"];
+  ASSERT_EQ(rows.size(), steps.size());
+  double      peak = 0;
+  std::size_t parted = 0;
+  for (std::size_t s = 0; s < rows.size() && parted == 0; ++s)
+    {
+      const double pull = -rows[s][1]; // x0's support holds the bar against the pull
+      peak              = std::max(peak, pull);
+      if (pull < 0.2 * peak)
+        parted = s;
+    }
+  ASSERT_GT(parted, 0u) << "the bar did not part";
+  const double gc = 8, ell = 5e-4, h = 1e-4, neck = 0.9e-3 * 1e-3;
+  const double expected = gc * (1 + 3 * h / (8 * ell)) * neck;
+  const auto  &damage   = steps[parted]["damage"];
+  std::printf("[ phase field ] peak pull %.4f N, parted at t = %.4f s: dissipated %.4g J, G_c (1 + 3h/8l) A = "
+              "%.4g J (%+.1f %%)\n",
+              peak, rows[parted][0], damage["fracture_energy"].get<double>(), expected,
+              100 * (damage["fracture_energy"].get<double>() / expected - 1));
+  EXPECT_NEAR(damage["fracture_energy"].get<double>(), expected, 0.05 * expected);
+  EXPECT_GT(damage["max"].get<double>(), 0.99);
+
+  // where: every point with d > 0.5 at the next output (t = 0.4 s) within 2ℓ of the neck
+  const auto   vtu = test_support::read_vtu(r.directory + "/tissue_00004.vtu");
+  const auto  &d = vtu.get("PointData", "damage").values, &X = vtu.points().values;
+  unsigned     torn = 0;
+  for (std::size_t p = 0; p < vtu.n_points; ++p)
+    if (d[p] > 0.5)
+      {
+        ++torn;
+        EXPECT_LT(std::abs(X[3 * p] - 0.005), 2 * ell) << "x = " << X[3 * p];
+      }
+  EXPECT_GT(torn, 0u);
 }

@@ -16,8 +16,9 @@
  * constraint equations, and they are free of bounds: a mean of bounded values).
  *
  * The small-strain specimen (phase_field.h) and the finite-strain tissue
- * (tissue_model.h, `Tissue/Phase field`) pass their own ψ; the damage law is stated here
- * once.
+ * (tissue_model.h, `Tissue/Phase field`) pass the energy they degrade by (1 − d)²: the
+ * specimen ψ with g = (1 − d)² + k, the tissue (1 − k) ψ with degradation() below. The
+ * damage problem is stated here once.
  */
 
 #include <deal.II/base/point.h>
@@ -41,8 +42,9 @@ namespace suturesim::tearing
   {
   public:
     using Cell = typename dealii::Triangulation<dim>::active_cell_iterator;
-    /// g(d) = (1 − k)(1 − d)² + k: the share of the degraded energy a point keeps at
-    /// damage @p d, with the residual stiffness @p k that keeps the displacement unique.
+    /// g(d) = (1 − k)(1 − d)² + k: the share of the degraded energy a point of the tissue
+    /// keeps at damage @p d, with the residual stiffness @p k that keeps the displacement
+    /// unique (g(0) = 1: the undamaged tissue is the material as given).
     static double
     degradation(const double d, const double k)
     {
@@ -53,9 +55,11 @@ namespace suturesim::tearing
     /// locally owned cell.
     using Driving = std::function<void(const Cell &, std::vector<double> &)>;
 
-    /// @p toughness G_c (J/m²) and @p length ℓ (m), both > 0 (the caller checks them).
+    /// @p toughness G_c (J/m²) and @p length ℓ (m), both > 0 (the caller checks them);
+    /// ψ sampled at the Gauss points of @p quadrature_points per direction (the
+    /// displacement's, so that both halves of the staggered solve see the same points).
     DamageField(MPI_Comm comm, const dealii::parallel::distributed::Triangulation<dim> &tria, double toughness,
-                double length);
+                double length, unsigned quadrature_points = 2);
     ~DamageField();
     DamageField(const DamageField &) = delete;
     DamageField &
@@ -98,9 +102,13 @@ namespace suturesim::tearing
     std::vector<std::vector<double>>
     cell_values(const dealii::Quadrature<dim> &quadrature) const;
 
-    /// d at @p unit, a point of the reference cell, on the locally owned or ghost @p cell.
+    /// The nodal values of d on every locally owned cell, by the cell's active index
+    /// (empty for the others): a plain copy that threads may read.
+    std::vector<dealii::Vector<double>>
+    cell_dof_values() const;
+    /// d at @p unit, a point of the reference cell, from its cell's @p dof_values.
     double
-    value(const Cell &cell, const dealii::Point<dim> &unit) const;
+    value(const dealii::Vector<double> &dof_values, const dealii::Point<dim> &unit) const;
 
     /// G_c / c_w ∫ (d / ℓ + ℓ |∇d|²) dx (J; J per unit thickness in 2-D).
     double
@@ -108,6 +116,9 @@ namespace suturesim::tearing
     /// The smallest and the largest damage value.
     std::pair<double, double>
     range() const;
+    /// The largest growth of d since the last accept().
+    double
+    growth() const;
     /// The largest @p coordinate(x) over the damage nodes with d ≥ @p threshold; −∞
     /// when there is none.
     double

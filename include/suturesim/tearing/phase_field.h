@@ -23,7 +23,7 @@
  * Small strain, isotropic linear elasticity (plane strain in 2-D), no tension-compression
  * split of ψ, Q1 for both fields; hanging nodes allowed (p4est refinement along a path).
  * This is the propagation model as verified against LEFM (benchmarks/sent_phase_field);
- * the finite-strain tissue drives the same damage field with its isochoric energy
+ * the finite-strain tissue drives the same damage field with the energy it degrades
  * (tissue_model.h, `Tissue/Phase field`).
  */
 

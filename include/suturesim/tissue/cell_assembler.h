@@ -16,7 +16,8 @@
  *      K = K_uu(p̃) + Gᵀ K_JJ G,   G = M⁻¹ K_pu,   K_JJ = ∫ N Ψ''_vol(J̃) Nᵀ dV,
  *      K_pu = ∫ N (J C⁻¹ : δE) dV.
  *   Q2 with k = 1 is the stable step-44 pair; Q1 with k = 0 is the mean-dilatation
- *   element.
+ *   element. With the phase field's degradation (assemble()), Ψ'_vol and Ψ''_vol carry
+ *   volumetric_share() at each quadrature point, in p̃, R_J and K_JJ alike.
  *
  * The mixed fields enter Newton's method in one of two ways (MixedUpdate):
  * - exact: p̃ and J̃ are recomputed from u at every iterate as above, so the residual is

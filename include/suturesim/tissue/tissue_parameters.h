@@ -64,7 +64,9 @@ namespace suturesim::tissue
       bool   enabled            = false;
       double toughness          = 1.1e3; ///< G_c, J/m²
       double length             = 1e-3;  ///< ℓ, m
-      double residual_stiffness = 1e-6;  ///< k, 1: the isochoric stiffness a torn point keeps
+      double residual_stiffness = 1e-6;  ///< k, 1: the share of the degraded stiffness a torn point keeps
+      double   tolerance  = 1e-3; ///< 1: a step's alternate minimisation ends when d changes by at most this
+      unsigned max_passes = 50;   ///< and fails the step after this many damage solves
     };
     PhaseField phase_field;
 
