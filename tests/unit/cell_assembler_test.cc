@@ -240,7 +240,8 @@ TEST_P(MixedNewtonUpdate, IsNewtonsStepOfTheThreeFieldSystem)
     // consistent fields at u, then both constraints broken
     MixedCell fields;
     Vector<double> r(n), r_c(n), r_exact(n);
-    ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r_exact, nullptr, &fields, MixedUpdate::exact, nullptr, degradation));
+    ASSERT_TRUE(
+      assembler.assemble(cell, u, m, {}, r_exact, nullptr, &fields, MixedUpdate::exact, nullptr, degradation));
     MixedCell consistent = fields;
     ASSERT_TRUE(assembler.assemble(cell, u, m, {}, r, nullptr, &consistent, MixedUpdate::newton, &r_c, degradation));
     EXPECT_LE(r_c.linfty_norm(), 1e-10 * r_exact.linfty_norm()) << "a consistent state has no constraint force";
