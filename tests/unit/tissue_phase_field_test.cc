@@ -233,3 +233,23 @@ TEST(TissuePhaseField, ANeckedBarPartsDissipatingTheToughnessTimesItsArea)
       }
   EXPECT_GT(torn, 0u);
 }
+
+// A step whose alternate minimisation does not settle within `Max passes` fails like a
+// Newton failure: halved up to `Time/Max cutbacks` times, then exit 3 naming the phase
+// field and the last accepted state (t = 0.5 s, undamaged), which the outputs keep.
+TEST(TissuePhaseField, AStepThatDoesNotSettleIsHalvedThenStopsTheRunAtTheLastAcceptedState)
+{
+  const auto r = test_support::run_suturesim(
+    "phase_field_cube_unsettled", {test_support::source_path("tests/data/phase_field_cube.prm"), "--set",
+                                   "Tissue/Phase field/Max passes=1", "--set", "Time/Max cutbacks=2"});
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  const std::string error = r.summary.value("error", "");
+  EXPECT_NE(error.find("after 2 step halvings: the phase field's alternate minimisation did not settle in 1 damage "
+                       "solves"),
+            std::string::npos)
+    << error;
+  EXPECT_NE(error.find("last converged state t = 0.5 s"), std::string::npos) << error;
+  const auto &steps = r.summary["steps"];
+  ASSERT_EQ(steps.size(), 2u);
+  EXPECT_EQ(steps[1]["damage"]["max"].get<double>(), 0.0);
+}
