@@ -287,14 +287,20 @@ namespace suturesim::tissue
             material.response(C, S, CC);
             if (degradation != nullptr)
               {
-                // g Ψ_iso + g_v Ψ_vol = g_v Ψ + (g − g_v) Ψ_iso
+                // g Ψ_iso + g_v Ψ_vol = g_v Ψ + (g − g_v) Ψ_iso; the isochoric part
+                // alone only in compression, where g_v = 1 ≠ g
                 const double g  = (*degradation)[q];
                 const double gv = volumetric_share(g, J);
-                SymTensor2   S_iso;
-                SymTensor4   CC_iso;
-                material.isochoric_response(C, S_iso, CC_iso);
-                S  = gv * S + (g - gv) * S_iso;
-                CC = gv * CC + (g - gv) * CC_iso;
+                S *= gv;
+                CC *= gv;
+                if (g != gv)
+                  {
+                    SymTensor2 S_iso;
+                    SymTensor4 CC_iso;
+                    material.isochoric_response(C, S_iso, CC_iso);
+                    S += (g - gv) * S_iso;
+                    CC += (g - gv) * CC_iso;
+                  }
               }
             if (K != nullptr)
               store_tangent(q, F, S, CC, dV);

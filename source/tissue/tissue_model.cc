@@ -118,7 +118,7 @@ namespace suturesim::tissue
     cell_degradation = damage->cell_values(quadrature);
     for (auto &cell : cell_degradation)
       for (double &g : cell)
-        g = tearing::DamageField<3>::degradation(g, k);
+        g = tissue::degradation(g, k);
   }
 
   double

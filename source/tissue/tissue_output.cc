@@ -62,7 +62,7 @@ namespace suturesim::tissue
             // already degraded in expansion, the displacement form's p here
             const double g =
               damage != nullptr
-                ? tearing::DamageField<3>::degradation(
+                ? degradation(
                     damage->value(damage_values[cell->active_cell_index()],
                                   mapping.transform_real_to_unit_cell(cell, in.evaluation_points[q])),
                     k)

@@ -1,3 +1,4 @@
+#include <suturesim/tearing/tear_criterion.h>
 #include <suturesim/tissue/tissue_parameters.h>
 
 #include <algorithm>
@@ -126,9 +127,7 @@ namespace suturesim::tissue
                       "Each quasi-static step minimises alternately over the displacement and over d (never "
                       "below the damage the step started from) until d settles. The tissue alone "
                       "(Bodies = tissue), quasi-static steps. Unit: none.");
-    prm.declare_entry("Fracture toughness", "1.1e3", Patterns::Double(0),
-                      "Critical energy release rate G_c; default porcine skin cut by a needle (1.1 kJ/m^2; tear "
-                      "tests give 17-30 kJ/m^2, porcine liver 76-225 J/m^2). Unit: J/m^2. Range: > 0.");
+    prm.declare_entry("Fracture toughness", tearing::default_toughness, Patterns::Double(0), tearing::toughness_help);
     prm.declare_entry("Length", "1e-3", Patterns::Double(0),
                       "Internal length l of the damage field (the specimen's Internal length): damage starts "
                       "where the degradable energy (1 - k)(Psi_iso + Psi_vol in expansion) reaches "
@@ -136,8 +135,9 @@ namespace suturesim::tissue
                       "below l (the dissipated toughness is G_c (1 + 3 h / (8 l))). Unit: m. Range: > 0.");
     prm.declare_entry("Residual stiffness", "1e-6", Patterns::Double(0, 1),
                       "k: the share of the degraded energy a fully torn point keeps, so that the displacement "
-                      "stays unique. A torn band stretched on may invert its elements at small k "
-                      "(parameters/tearing/phase_field_bar.prm runs with 1e-2). Unit: 1. Range: (0, 1).");
+                      "stays unique; a larger k also drives more damage beside a torn band stretched on, a "
+                      "smaller one can stop Newton as a tear snaps (parameters/tearing/phase_field_bar.prm: "
+                      "1e-3; docs/tearing.md). Unit: 1. Range: (0, 1).");
     prm.declare_entry("Tolerance", "1e-3", Patterns::Double(0, 1),
                       "A step's alternate minimisation ends when a damage solve changes d by at most this "
                       "anywhere. Unit: 1. Range: (0, 1).");

@@ -144,8 +144,8 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
 // The same state through a scene (tests/data/phase_field_cube.prm, Q1-P0 on 2 × 2 × 2
 // cells, steps at t = 0.5 and 1): each step's record has the damage, the VTU holds it,
 // and its Cauchy stress is the assembly's degraded one, in equilibrium with it: σ_xx on
-// the x1 face's current area is that face's reaction in forces.csv (with the mixed p̃ of
-// the equilibrium before the damage, the output's σ_xx was 3.8 times the reaction).
+// the x1 face's current area is that face's reaction in forces.csv (docs/tearing.md: at
+// commit d4c876a, written before a second equilibrium, σ_xx was 3.8 times the reaction).
 TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
 {
   const auto r =
@@ -192,7 +192,7 @@ TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
 // with linear elements, G_c (1 + 3h/(8ℓ)) W_neck T (Bourdin, Francfort & Marigo, J
 // Elasticity 91:5, 2008), within the 5 % issue 29 asks of the propagation model's
 // verification. Measured: +4.6 %; with k = 1e-2 +12 % (the torn band's stored k ψ drives
-// more damage), and with the step alone, not minimised alternately, 1.6 times.
+// more damage); one staggered pass a step (commit 17b74f8) dissipated 1.6 times as much.
 TEST(TissuePhaseField, ANeckedBarPartsDissipatingTheToughnessTimesItsArea)
 {
   const auto r = test_support::run_suturesim("phase_field_bar",

@@ -17,8 +17,8 @@
  *
  * The small-strain specimen (phase_field.h) and the finite-strain tissue
  * (tissue_model.h, `Tissue/Phase field`) pass the energy they degrade by (1 − d)²: the
- * specimen ψ with g = (1 − d)² + k, the tissue (1 − k) ψ with degradation() below. The
- * damage problem is stated here once.
+ * specimen ψ with g = (1 − d)² + k, the tissue (1 − k) ψ with its g = (1 − k)(1 − d)² + k
+ * (tissue/cell_assembler.h, degradation()). The damage problem is stated here once.
  */
 
 #include <deal.II/base/point.h>
@@ -42,15 +42,6 @@ namespace suturesim::tearing
   {
   public:
     using Cell = typename dealii::Triangulation<dim>::active_cell_iterator;
-    /// g(d) = (1 − k)(1 − d)² + k: the share of the degraded energy a point of the tissue
-    /// keeps at damage @p d, with the residual stiffness @p k that keeps the displacement
-    /// unique (g(0) = 1: the undamaged tissue is the material as given).
-    static double
-    degradation(const double d, const double k)
-    {
-      return (1 - k) * (1 - d) * (1 - d) + k;
-    }
-
     /// Fills ψ (Pa, the undamaged material's) at the points of quadrature() on a
     /// locally owned cell.
     using Driving = std::function<void(const Cell &, std::vector<double> &)>;
@@ -126,16 +117,6 @@ namespace suturesim::tearing
     /// ψ_c = 3 G_c / (16 ℓ) (Pa): the energy density at which damage starts.
     double
     threshold() const;
-    double
-    toughness() const
-    {
-      return gc;
-    }
-    double
-    length() const
-    {
-      return ell;
-    }
     dealii::types::global_dof_index
     n_dofs() const
     {

@@ -31,6 +31,14 @@
 
 namespace suturesim::tearing
 {
+  /// The critical energy release rate's default and help, one text for the two places a
+  /// scene sets G_c: the fracture-energy criterion (Tearing/fracture-energy) and the
+  /// tissue's phase field (Tissue/Phase field).
+  inline constexpr const char *default_toughness = "1.1e3";
+  inline constexpr const char *toughness_help =
+    "Critical energy release rate G_c; default porcine skin cut by a needle (1.1 kJ/m^2; tear tests give "
+    "17-30 kJ/m^2, porcine liver 76-225 J/m^2). Unit: J/m^2. Range: > 0.";
+
   using Tensor2    = dealii::Tensor<2, 3>;
   using SymTensor2 = dealii::SymmetricTensor<2, 3>;
   using Vector3    = dealii::Tensor<1, 3>;

@@ -117,6 +117,16 @@ namespace suturesim::tissue
     std::vector<double>    G;               ///< row-major n_p × dofs per cell
   };
 
+  /// g(d) = (1 − k)(1 − d)² + k: the share of the isochoric energy a point of the tissue
+  /// keeps at phase-field damage @p d (tearing/damage_field.h), with the residual
+  /// stiffness @p k that keeps the displacement unique (g(0) = 1: the undamaged tissue is
+  /// the material as given).
+  inline double
+  degradation(const double d, const double k)
+  {
+    return (1 - k) * (1 - d) * (1 - d) + k;
+  }
+
   /// The share of the volumetric energy Ψ_vol(J) a point keeps where the phase field has
   /// degraded its isochoric energy by g: g in expansion (J > 1), 1 in compression. The
   /// finite-strain form of Amor, Marigo & Maurini's (J Mech Phys Solids 57:1209, 2009)

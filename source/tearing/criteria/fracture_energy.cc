@@ -53,9 +53,7 @@ namespace suturesim::tearing
          "with internal length l = the process-zone radius (Pham et al. 2011).",
          [](dealii::ParameterHandler &prm) {
            prm.enter_subsection("fracture-energy");
-           prm.declare_entry("Fracture toughness", "1.1e3", dealii::Patterns::Double(0),
-                             "Critical energy release rate G_c; default porcine skin cut by a needle (1.1 kJ/m^2; tear "
-                             "tests give 17-30 kJ/m^2, porcine liver 76-225 J/m^2). Unit: J/m^2. Range: > 0.");
+           prm.declare_entry("Fracture toughness", default_toughness, dealii::Patterns::Double(0), toughness_help);
            prm.leave_subsection();
          },
          [](const dealii::ParameterHandler &prm, const ParameterScope &scope) {
