@@ -473,6 +473,26 @@ namespace suturesim::scene
     // Tissue and suture by one Newton iteration, the suture condensed onto the tissue's
     // points (the elements carrying the thread's pierce points follow within it).
     solve_rounds(tn);
+    // with the phase field, the coupled solve alternates with the damage's until both settle
+    if (report.converged)
+      {
+        unsigned   iterations = step_iterations, suture_most = suture_iterations;
+        const auto failure    = model->minimise_alternately(
+          [&] {
+            solve_rounds(tn);
+            iterations += step_iterations;
+            suture_most = std::max(suture_most, suture_iterations);
+            return report.converged ? std::string() : report.failure;
+          },
+          damage_passes);
+        step_iterations   = iterations;
+        suture_iterations = suture_most;
+        if (!failure.empty())
+          {
+            report.converged = false;
+            report.failure   = failure;
+          }
+      }
     if (!report.converged)
       {
         if (trace && report.failure.find("suture: ") != std::string::npos)
@@ -575,12 +595,15 @@ namespace suturesim::scene
   nlohmann::json
   AccurateStitch::step_statistics(const double dt, const unsigned cutbacks) const
   {
-    return {{"dt", dt},
-            {"newton_iterations", report.iterations},
-            {"suture_newton_iterations", suture_iterations},
-            {"cutbacks", cutbacks},
-            {"coupling_rounds", rounds},
-            {"residual_norms", report.residual_norms}};
+    nlohmann::json s{{"dt", dt},
+                     {"newton_iterations", report.iterations},
+                     {"suture_newton_iterations", suture_iterations},
+                     {"cutbacks", cutbacks},
+                     {"coupling_rounds", rounds},
+                     {"residual_norms", report.residual_norms}};
+    if (model->damage_field())
+      s["damage"] = model->damage_record(damage_passes);
+    return s;
   }
 
   nlohmann::json

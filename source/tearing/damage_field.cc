@@ -10,6 +10,7 @@
 #include <petscsnes.h>
 
 #include <limits>
+#include <stdexcept>
 #include <string>
 
 namespace suturesim::tearing
@@ -215,6 +216,32 @@ namespace suturesim::tearing
   DamageField<dim>::restore()
   {
     d       = d_accepted;
+    d_ghost = d;
+  }
+
+  template <int dim>
+  std::vector<double>
+  DamageField<dim>::owned_values() const
+  {
+    std::vector<double> values;
+    values.reserve(owned.n_elements());
+    for (const auto i : owned)
+      values.push_back(d(i));
+    return values;
+  }
+
+  template <int dim>
+  void
+  DamageField<dim>::restore_owned_values(const std::vector<double> &values)
+  {
+    if (values.size() != owned.n_elements())
+      throw std::invalid_argument("the damage has " + std::to_string(values.size()) + " values for " +
+                                  std::to_string(owned.n_elements()) + " nodes");
+    std::size_t k = 0;
+    for (const auto i : owned)
+      d(i) = values[k++];
+    d.compress(VectorOperation::insert);
+    accept();
     d_ghost = d;
   }
 

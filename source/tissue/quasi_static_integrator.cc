@@ -44,58 +44,35 @@ namespace suturesim::tissue
     }
 
     /// Equilibrium at @p t and, with the phase field, the step's alternate minimisation
-    /// (Bourdin, Francfort & Marigo 2000): the damage of that equilibrium
-    /// (TissueModel::advance_damage(), never below the step's start), equilibrium again
-    /// with it, until a damage solve changes d by at most `Phase field/Tolerance`; so the
-    /// step ends with a displacement and a damage that belong together. A damage problem
-    /// that fails, or passes that run out, fail the step (which is halved). @p passes
-    /// receives the number of damage solves.
+    /// (TissueModel::minimise_alternately()); a step that does not settle fails (and is
+    /// halved). @p passes receives the number of damage solves.
     NewtonReport
     solve_step(TissueModel &model, const double t, unsigned &passes)
     {
       NewtonReport report = model.solve_static(t);
       passes              = 0;
-      if (!report.converged || model.damage_field() == nullptr)
+      if (!report.converged)
         return report;
-      const auto &pf = model.phase_field();
-      try
-        {
-          while (true)
-            {
-              ++passes;
-              const double change = model.advance_damage();
-              if (change == 0 && passes == 1)
-                return report; // nothing moved: the equilibrium stands
-              report = merged(report, model.solve_static(t));
-              if (!report.converged || change <= pf.tolerance)
-                return report;
-              if (passes == pf.max_passes)
-                {
-                  report.converged = false;
-                  report.failure   = "the phase field's alternate minimisation did not settle in " +
-                                   std::to_string(passes) + " damage solves (the last changed d by " +
-                                   std::to_string(change) + " > Tissue/Phase field/Tolerance)";
-                  return report;
-                }
-            }
-        }
-      catch (const SolverError &e)
+      const std::string failure = model.minimise_alternately(
+        [&] {
+          report = merged(report, model.solve_static(t));
+          return report.converged ? std::string() : report.failure;
+        },
+        passes);
+      if (!failure.empty())
         {
           report.converged = false;
-          report.failure   = e.what();
-          return report;
+          report.failure   = failure;
         }
+      return report;
     }
 
     /// The step's record with the damage's, when there is a phase field.
     nlohmann::json
     with_damage(const TissueModel &model, nlohmann::json record, const unsigned passes)
     {
-      if (const auto *damage = model.damage_field())
-        record["damage"] = {{"max", damage->range().second},
-                            {"growth", damage->growth()},
-                            {"passes", passes},
-                            {"fracture_energy", damage->fracture_energy()}};
+      if (model.damage_field())
+        record["damage"] = model.damage_record(passes);
       return record;
     }
 

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <stdexcept>
 
 namespace suturesim::tissue
 {
@@ -154,6 +155,45 @@ namespace suturesim::tissue
     });
     update_degradation();
     return change;
+  }
+
+  std::string
+  TissueModel::minimise_alternately(const std::function<std::string()> &equilibrium, unsigned &passes)
+  {
+    passes = 0;
+    if (!damage)
+      return "";
+    try
+      {
+        while (true)
+          {
+            ++passes;
+            const double change = advance_damage();
+            if (change == 0 && passes == 1)
+              return ""; // nothing moved: the equilibrium stands
+            if (auto failure = equilibrium(); !failure.empty() || change <= parameters.phase_field.tolerance)
+              return failure;
+            if (passes == parameters.phase_field.max_passes)
+              return "the phase field's alternate minimisation did not settle in " + std::to_string(passes) +
+                     " damage solves (the last changed d by " + std::to_string(change) +
+                     " > Tissue/Phase field/Tolerance)";
+          }
+      }
+    catch (const SolverError &e)
+      {
+        return e.what();
+      }
+  }
+
+  nlohmann::json
+  TissueModel::damage_record(const unsigned passes) const
+  {
+    if (!damage)
+      return nullptr;
+    return {{"max", damage->range().second},
+            {"growth", damage->growth()},
+            {"passes", passes},
+            {"fracture_energy", damage->fracture_energy()}};
   }
 
   void
@@ -316,10 +356,13 @@ namespace suturesim::tissue
       if (cell->is_locally_owned())
         for (const auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           mixed.insert(mixed.end(), field->begin(), field->end());
-    return {{"dofs", n_dofs()},
-            {"cells", cell_fingerprint(dof_handler)},
-            {"u", io::pack_doubles(u)},
-            {"mixed", io::pack_doubles(mixed)}};
+    nlohmann::json state{{"dofs", n_dofs()},
+                         {"cells", cell_fingerprint(dof_handler)},
+                         {"u", io::pack_doubles(u)},
+                         {"mixed", io::pack_doubles(mixed)}};
+    if (damage)
+      state["damage"] = io::pack_doubles(damage->owned_values());
+    return state;
   }
 
   void
@@ -349,6 +392,25 @@ namespace suturesim::tissue
         for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           for (double &v : *field)
             v = mixed[k++];
+    // the same mesh and partition, so the same damage nodes: only the field's presence
+    // can differ (a checkpoint written with or without Tissue/Phase field)
+    if (Utilities::MPI::min(int(state.contains("damage") == bool(damage)), comm) == 0)
+      throw InputError(damage ? "--restart: the checkpoint has no damage (written without Tissue/Phase field), "
+                                "this scene tears by the phase field"
+                              : "--restart: the checkpoint carries a damage field (written with Tissue/Phase "
+                                "field), this scene has none");
+    if (damage)
+      {
+        try
+          {
+            damage->restore_owned_values(io::unpack_doubles(state.at("damage")));
+          }
+        catch (const std::invalid_argument &e)
+          {
+            throw InputError(std::string("--restart: the checkpoint's damage does not fit this mesh: ") + e.what());
+          }
+        update_degradation();
+      }
   }
 
   void

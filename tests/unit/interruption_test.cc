@@ -373,6 +373,64 @@ TEST(Restart, AFailedRunsCheckpointIsItsLastAcceptedStateToTheBit)
     << failure << "\n" << replayed.summary.value("error", "");
 }
 
+// With the phase field (Tissue/Phase field) the checkpoint carries the damage
+// (TissueModel::local_state()), accepted as the next step's lower bound. On the accurate
+// needle pass at G_c = 4 J/m², l = 2 mm (psi_c = 375 J/m³) the needle's touch before the
+// puncture damages the tissue under the tip to d = 0.029 (measured), which stays for the
+// rest of the pass; so a restart from step 40 that lost the damage would record d = 0 in
+// every step after it (its touch is over), and a degradation that was not restored would
+// move the forces. A checkpoint without the damage is refused in one line.
+TEST(Restart, APhaseFieldNeedlePassTakesItsDamageBack)
+{
+  const std::vector<std::string> args{source_path("parameters/needle_pass.prm"),
+                                      "--set", "Model=accurate",
+                                      "--set", "Time/End time=1.4",
+                                      "--set", "Tissue/Phase field/Enabled=true",
+                                      "--set", "Tissue/Phase field/Fracture toughness=4",
+                                      "--set", "Tissue/Phase field/Length=0.002",
+                                      "--set", "Time/Checkpoint steps=40"};
+  const auto whole = run_suturesim("restart_phase_field", args);
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto &steps = whole.summary["steps"];
+  ASSERT_GT(steps.size(), 60u);
+  const double d_max = steps.back()["damage"]["max"].get<double>();
+  EXPECT_GT(d_max, 0.01);
+  EXPECT_EQ(steps[40]["damage"]["max"].get<double>(), d_max); // torn before the checkpoint
+
+  const auto restarted = restart_copy(args, whole);
+  EXPECT_NE(restarted.output.find("restarting from the checkpoint after step 40 "), std::string::npos)
+    << restarted.output;
+  expect_as_uninterrupted(restarted, whole, solver_floor);
+
+  // the tissue's part of the checkpoint without its damage
+  const fs::path broken = scratch_path() / "restart_phase_field_no_damage";
+  fs::remove_all(broken);
+  fs::copy(whole.directory, broken, fs::copy_options::recursive);
+  {
+    const fs::path file = broken / "checkpoint" / "rank-0.cbor";
+    std::ifstream  in(file, std::ios::binary);
+    auto           state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+    in.close();
+    nlohmann::json *tissue = &state;
+    if (!state.contains("damage")) // the scenario's wrapping, if any
+      for (auto &[key, value] : state.items())
+        if (value.is_object() && value.contains("damage"))
+          tissue = &value;
+    ASSERT_TRUE(tissue->contains("damage")) << "no damage in the checkpoint";
+    tissue->erase("damage");
+    const auto    bytes = nlohmann::json::to_cbor(state);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    ASSERT_FALSE(out.fail()) << file;
+  }
+  const auto refused = restart(args, broken);
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("--restart: the checkpoint has no damage (written without Tissue/Phase field)"),
+            std::string::npos)
+    << refused.output;
+}
+
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)
 {
   const fs::path empty = scratch_path() / "restart_nothing";

@@ -16,6 +16,9 @@
  *  - Rounds within a step follow only what a solve cannot change within itself: the
  *    contacts and, with Enforcement = lagrange, the multipliers' Uzawa update; a step
  *    that does not settle in Coupling iterations rounds fails.
+ *  - With the phase field (`Tissue/Phase field`), the step's rounds alternate with the
+ *    damage's solve until d settles (tissue::TissueModel::minimise_alternately()); the
+ *    damage belongs to the tissue's state (undo, checkpoint).
  *  - Steps are controlled by core/cutback_stepper.h: a failed step is halved
  *    (Time/Max cutbacks in a row) with the needle's and the suture's state; a step that
  *    carries the touch force past 1.04 × the puncture threshold is halved too (up to 8
@@ -210,6 +213,7 @@ namespace suturesim::scene
     bool                                     solve_failed   = false; ///< the last coupled or tissue solve (not its rounds)
     unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
     unsigned                                 suture_iterations = 0; ///< this attempt's most of one suture solve
+    unsigned                                 damage_passes     = 0; ///< this attempt's damage solves (phase field)
     std::vector<double>                      events;          ///< sorted, s
     std::optional<tools::SurgicalSeries>     planned;         ///< an interrupted series' passes
     double                                   step_time = 0;   ///< of the step attempted last, s

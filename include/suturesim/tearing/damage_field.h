@@ -70,6 +70,13 @@ namespace suturesim::tearing
     /// Returns to the accepted damage.
     void
     restore();
+    /// d at this process's own damage nodes, in their order: its part of a checkpoint.
+    std::vector<double>
+    owned_values() const;
+    /// d = @p values at this process's own damage nodes (owned_values()'s order), and
+    /// accepted: a checkpoint taken back. std::invalid_argument when the number differs.
+    void
+    restore_owned_values(const std::vector<double> &values);
 
     /// The quadrature of solve()'s ψ.
     const dealii::Quadrature<dim> &

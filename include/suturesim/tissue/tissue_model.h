@@ -40,6 +40,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -127,9 +128,9 @@ namespace suturesim::tissue
 
     /// This process's part of the state, for a checkpoint (io/checkpoint.h): the values
     /// of its DoFs and its cells' mixed fields p̃, J̃, in the order of this mesh, partition
-    /// and numbering; restore_local_state() takes them back on the same. Not the phase
-    /// field's damage: the scenarios that write checkpoints (the needle pass and the
-    /// stitch) refuse the phase field so far.
+    /// and numbering, and with the phase field its damage nodes' d; restore_local_state()
+    /// takes them back on the same (the damage as accepted: the lower bound of the next
+    /// step, as after save_state()).
     nlohmann::json
     local_state() const;
     void
@@ -201,6 +202,21 @@ namespace suturesim::tissue
     /// the phase field.
     double
     advance_damage();
+    /// A step's alternate minimisation with the phase field (Bourdin, Francfort & Marigo,
+    /// J Mech Phys Solids 48:797, 2000), after an equilibrium that converged: the damage
+    /// of that equilibrium (advance_damage()), @p equilibrium again with it, until a damage
+    /// solve changes d by at most `Phase field/Tolerance`, so that the step ends with a
+    /// displacement and a damage that belong together. @p equilibrium solves and returns
+    /// its failure ("" when it converged). Returns "" when the step settled, else why
+    /// not: @p equilibrium's failure, the damage solve's (SolverError), or the passes
+    /// run out (`Max passes`). @p passes receives the number of damage solves (0 without
+    /// the phase field, when nothing is done).
+    std::string
+    minimise_alternately(const std::function<std::string()> &equilibrium, unsigned &passes);
+    /// The damage's part of a step's record ({max, growth, passes, fracture_energy}, the
+    /// passes of minimise_alternately()); null without the phase field.
+    nlohmann::json
+    damage_record(unsigned passes) const;
     /// The damage field; nullptr without the phase field.
     const tearing::DamageField<3> *
     damage_field() const

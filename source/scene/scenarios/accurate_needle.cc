@@ -79,10 +79,6 @@ namespace suturesim::scene
           }
         scene.scope("Tissue").require(scene.tissue.region_moduli.empty(), "Region moduli",
                                       "layered tissue is realtime only so far: use Model = realtime");
-        scene.scope("Tissue/Phase field")
-          .require(!scene.tissue.phase_field.enabled, "Enabled",
-                   "the phase field tears the tissue alone so far (Bodies = tissue), not yet in a needle pass or "
-                   "a stitch");
         scene.parse_time(prm);
         // the needle's steps are quasi-static (the needle is kinematic, the tissue in
         // equilibrium at each pose): another integrator is refused, not ignored
