@@ -179,7 +179,11 @@ namespace suturesim::scene
                   << statistics["newton_iterations"] << " it (suture at most "
                   << statistics["suture_newton_iterations"] << ")  rounds " << statistics["coupling_rounds"]
                   << "  pierce points " << stitch.needle->pierce_points().size() << "  contacts "
-                  << (stitch.contact ? stitch.contact->contacts().size() : 0) << std::endl;
+                  << (stitch.contact ? stitch.contact->contacts().size() : 0);
+            if (statistics.contains("damage"))
+              pcout << "  damage " << statistics["damage"]["max"].get<double>() << " ("
+                    << statistics["damage"]["passes"] << " passes)";
+            pcout << std::endl;
             // a needle driven back into the tissue (scene/needle_clearance.h) ends the run
             if (!stitch.clearance->reason().empty())
               throw EndsEarly();
