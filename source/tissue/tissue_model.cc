@@ -20,7 +20,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <stdexcept>
 
 namespace suturesim::tissue
 {
@@ -381,6 +380,17 @@ namespace suturesim::tissue
       throw InputError("--restart: the checkpoint's tissue mesh is not this one (" +
                        std::to_string(state.at("dofs").get<std::uint64_t>()) + " DoFs there, " +
                        std::to_string(n_dofs()) + " here, or other cells): was the mesh or its .geo changed?");
+    // the phase field's damage, checked before anything is taken back: present as the scene
+    // asks (the same on every process), and on this process's damage nodes
+    const bool has_damage = state.contains("damage");
+    if (has_damage != bool(damage))
+      throw InputError(damage ? "--restart: the checkpoint has no damage (written without Tissue/Phase field), "
+                                "this scene tears by the phase field"
+                              : "--restart: the checkpoint carries a damage field (written with Tissue/Phase "
+                                "field), this scene has none");
+    const std::vector<double> d = damage ? io::unpack_doubles(state.at("damage")) : std::vector<double>();
+    if (Utilities::MPI::min(int(!damage || d.size() == damage->owned_values().size()), comm) == 0)
+      throw InputError("--restart: the checkpoint's damage does not fit this mesh's damage nodes");
     std::size_t k = 0;
     for (const auto i : locally_owned_dofs)
       solution[i] = u[k++];
@@ -392,23 +402,9 @@ namespace suturesim::tissue
         for (auto *field : {&cell_mixed[cell->active_cell_index()].p, &cell_mixed[cell->active_cell_index()].J})
           for (double &v : *field)
             v = mixed[k++];
-    // the same mesh and partition, so the same damage nodes: only the field's presence
-    // can differ (a checkpoint written with or without Tissue/Phase field)
-    if (Utilities::MPI::min(int(state.contains("damage") == bool(damage)), comm) == 0)
-      throw InputError(damage ? "--restart: the checkpoint has no damage (written without Tissue/Phase field), "
-                                "this scene tears by the phase field"
-                              : "--restart: the checkpoint carries a damage field (written with Tissue/Phase "
-                                "field), this scene has none");
     if (damage)
       {
-        try
-          {
-            damage->restore_owned_values(io::unpack_doubles(state.at("damage")));
-          }
-        catch (const std::invalid_argument &e)
-          {
-            throw InputError(std::string("--restart: the checkpoint's damage does not fit this mesh: ") + e.what());
-          }
+        damage->restore_owned_values(d);
         update_degradation();
       }
   }

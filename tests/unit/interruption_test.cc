@@ -27,12 +27,30 @@ namespace fs = std::filesystem;
 
 namespace
 {
+  /// A CBOR file's content.
+  nlohmann::json
+  read_cbor(const fs::path &file)
+  {
+    std::ifstream in(file, std::ios::binary);
+    return nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+  }
+
   /// A run folder's checkpoint/shared.cbor.
   nlohmann::json
   read_checkpoint(const fs::path &dir)
   {
-    std::ifstream in(dir / "checkpoint" / "shared.cbor", std::ios::binary);
-    return nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+    return read_cbor(dir / "checkpoint" / "shared.cbor");
+  }
+
+  /// Writes @p state to the CBOR file @p file (a checkpoint changed by a test).
+  void
+  write_cbor(const fs::path &file, const nlohmann::json &state)
+  {
+    const auto    bytes = nlohmann::json::to_cbor(state);
+    std::ofstream out(file, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    ASSERT_FALSE(out.fail()) << file;
   }
 
   /// Runs suturesim with @p args into a fresh folder @p name, sends @p signal once
@@ -267,11 +285,7 @@ TEST(Restart, FromAPeriodicCheckpointTheRestRunsAgainToTheSameEnd)
     ASSERT_GE(q.size(), 8u);
     for (int k = 4; k < 8; ++k) // node 1
       q[k] = 1.001 * q[k].get<double>();
-    const auto    bytes = nlohmann::json::to_cbor(state);
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    ASSERT_FALSE(out.fail()) << file;
+    write_cbor(file, state);
   }
   const auto not_unit = restart(every_25, scaled);
   EXPECT_EQ(not_unit.exit_code, 2) << not_unit.output;
@@ -402,33 +416,30 @@ TEST(Restart, APhaseFieldNeedlePassTakesItsDamageBack)
     << restarted.output;
   expect_as_uninterrupted(restarted, whole, solver_floor);
 
-  // the tissue's part of the checkpoint without its damage
-  const fs::path broken = scratch_path() / "restart_phase_field_no_damage";
-  fs::remove_all(broken);
-  fs::copy(whole.directory, broken, fs::copy_options::recursive);
-  {
-    const fs::path file = broken / "checkpoint" / "rank-0.cbor";
-    std::ifstream  in(file, std::ios::binary);
-    auto           state = nlohmann::json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
-    in.close();
-    nlohmann::json *tissue = &state;
-    if (!state.contains("damage")) // the scenario's wrapping, if any
-      for (auto &[key, value] : state.items())
-        if (value.is_object() && value.contains("damage"))
-          tissue = &value;
-    ASSERT_TRUE(tissue->contains("damage")) << "no damage in the checkpoint";
-    tissue->erase("damage");
-    const auto    bytes = nlohmann::json::to_cbor(state);
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char *>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    ASSERT_FALSE(out.fail()) << file;
-  }
-  const auto refused = restart(args, broken);
-  EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  EXPECT_NE(refused.output.find("--restart: the checkpoint has no damage (written without Tissue/Phase field)"),
-            std::string::npos)
-    << refused.output;
+  // the checkpoint's tissue without its damage, or with the displacement's values (three
+  // a node) in its place
+  for (const bool removed : {true, false})
+    {
+      const fs::path broken =
+        scratch_path() / (removed ? "restart_phase_field_no_damage" : "restart_phase_field_misfit");
+      fs::remove_all(broken);
+      fs::copy(whole.directory, broken, fs::copy_options::recursive);
+      {
+        const fs::path file  = broken / "checkpoint" / "rank-0.cbor";
+        auto           state = read_cbor(file); // this process's part: the tissue's local state
+        ASSERT_TRUE(state.contains("damage")) << "no damage in the checkpoint";
+        if (removed)
+          state.erase("damage");
+        else
+          state["damage"] = state["u"];
+        write_cbor(file, state);
+      }
+      const auto refused = restart(args, broken);
+      EXPECT_EQ(refused.exit_code, 2) << refused.output;
+      const std::string why = removed ? "the checkpoint has no damage (written without Tissue/Phase field)"
+                                      : "the checkpoint's damage does not fit this mesh's damage nodes";
+      EXPECT_NE(refused.output.find("--restart: " + why), std::string::npos) << refused.output;
+    }
 }
 
 TEST(Restart, WithoutACheckpointOrOnAScenarioWithoutThemIsRefused)

@@ -223,11 +223,6 @@ namespace suturesim::tissue
     {
       return damage.get();
     }
-    const TissueParameters::PhaseField &
-    phase_field() const
-    {
-      return parameters.phase_field;
-    }
 
     const std::vector<std::pair<std::string, dealii::Point<3>>> &
     probes() const
