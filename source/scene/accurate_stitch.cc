@@ -413,10 +413,6 @@ namespace suturesim::scene
   void
   AccurateStitch::solve_rounds(const double tn)
   {
-    step_iterations   = 0;
-    suture_iterations = 0;
-    if (body)
-      body->take_peak_iterations();
     for (rounds = 1;; ++rounds)
       {
         report = coupled ? model->solve_coupled(tn, force_floor, *coupled) : model->solve_static(tn, force_floor);
@@ -471,22 +467,22 @@ namespace suturesim::scene
     if (drag)
       drag->begin_step(&saved_x, dt);
     // Tissue and suture by one Newton iteration, the suture condensed onto the tissue's
-    // points (the elements carrying the thread's pierce points follow within it).
+    // points (the elements carrying the thread's pierce points follow within it). The
+    // attempt's iterations count over all its rounds.
+    step_iterations   = 0;
+    suture_iterations = 0;
+    if (body)
+      body->take_peak_iterations();
     solve_rounds(tn);
     // with the phase field, the coupled solve alternates with the damage's until both settle
     if (report.converged)
       {
-        unsigned   iterations = step_iterations, suture_most = suture_iterations;
-        const auto failure    = model->minimise_alternately(
+        const auto failure = model->minimise_alternately(
           [&] {
             solve_rounds(tn);
-            iterations += step_iterations;
-            suture_most = std::max(suture_most, suture_iterations);
             return report.converged ? std::string() : report.failure;
           },
           damage_passes);
-        step_iterations   = iterations;
-        suture_iterations = suture_most;
         if (!failure.empty())
           {
             report.converged = false;

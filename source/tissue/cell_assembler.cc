@@ -291,8 +291,11 @@ namespace suturesim::tissue
                 // alone only in compression, where g_v = 1 ≠ g
                 const double g  = (*degradation)[q];
                 const double gv = volumetric_share(g, J);
-                S *= gv;
-                CC *= gv;
+                if (gv != 1) // undamaged or in compression it keeps the whole volumetric part
+                  {
+                    S *= gv;
+                    CC *= gv;
+                  }
                 if (g != gv)
                   {
                     SymTensor2 S_iso;

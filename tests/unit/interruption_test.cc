@@ -409,7 +409,7 @@ TEST(Restart, APhaseFieldNeedlePassTakesItsDamageBack)
   ASSERT_GT(steps.size(), 60u);
   const double d_max = steps.back()["damage"]["max"].get<double>();
   EXPECT_GT(d_max, 0.01);
-  EXPECT_EQ(steps[40]["damage"]["max"].get<double>(), d_max); // torn before the checkpoint
+  EXPECT_EQ(steps[40]["damage"]["max"].get<double>(), d_max); // torn by the touch, before the checkpoint
 
   const auto restarted = restart_copy(args, whole);
   EXPECT_NE(restarted.output.find("restarting from the checkpoint after step 40 "), std::string::npos)

@@ -185,7 +185,8 @@ namespace suturesim::scene
     /// The faces' loaded pairs for the surface at @p at; true when they changed.
     bool
     detect_faces(const Eigen::Matrix3Xd &at);
-    /// Coupled solves until the contacts and multipliers settle (this step's rounds).
+    /// Coupled solves until the contacts and multipliers settle (this step's rounds),
+    /// adding to the attempt's step_iterations and suture_iterations (attempt() zeroes them).
     void
     solve_rounds(double tn);
 
