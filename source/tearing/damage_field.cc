@@ -9,6 +9,7 @@
 
 #include <petscsnes.h>
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -77,6 +78,7 @@ namespace suturesim::tearing
     matrix.reinit(owned, owned, dsp, comm);
     d.reinit(owned, comm);
     d_accepted.reinit(owned, comm);
+    before.reinit(owned, comm);
     d_ghost.reinit(owned, relevant, comm);
     rhs.reinit(owned, comm);
     lower.reinit(owned, comm);
@@ -165,8 +167,7 @@ namespace suturesim::tearing
         }
     matrix.compress(VectorOperation::insert);
 
-    PETScWrappers::MPI::Vector previous(owned, comm);
-    previous = d;
+    before = d;
     Problem                    problem{matrix.petsc_matrix(), rhs};
     PETScWrappers::MPI::Vector f(owned, comm);
     SNES                       snes;
@@ -199,8 +200,25 @@ namespace suturesim::tearing
       }
     SNESDestroy(&snes);
     d_ghost = d;
-    previous -= d;
-    return previous.linfty_norm();
+    return distance_to(before);
+  }
+
+  template <int dim>
+  void
+  DamageField<dim>::over_relax(const double omega)
+  {
+    // the bounded nodes first (everything read before anything is written: a PETSc vector
+    // is not read between an insertion and its compress), then the hanging nodes from them
+    std::vector<std::pair<types::global_dof_index, double>> relaxed;
+    relaxed.reserve(owned.n_elements());
+    for (const auto i : owned)
+      if (!constraints.is_constrained(i))
+        relaxed.emplace_back(i, std::clamp<double>(before(i) + omega * (d(i) - before(i)), lower(i), upper(i)));
+    for (const auto &[i, value] : relaxed)
+      d(i) = value;
+    d.compress(VectorOperation::insert);
+    constraints.distribute(d);
+    d_ghost = d;
   }
 
   template <int dim>
@@ -321,9 +339,16 @@ namespace suturesim::tearing
   double
   DamageField<dim>::growth() const
   {
+    return distance_to(d_accepted);
+  }
+
+  template <int dim>
+  double
+  DamageField<dim>::distance_to(const PETScWrappers::MPI::Vector &other) const
+  {
     PETScWrappers::MPI::Vector difference(owned, comm);
     difference = d;
-    difference -= d_accepted;
+    difference -= other;
     return difference.linfty_norm();
   }
 

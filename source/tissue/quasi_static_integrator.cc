@@ -45,12 +45,12 @@ namespace suturesim::tissue
 
     /// Equilibrium at @p t and, with the phase field, the step's alternate minimisation
     /// (TissueModel::minimise_alternately()); a step that does not settle fails (and is
-    /// halved). @p passes receives the number of damage solves.
+    /// halved). @p passes receives each damage solve's change of d.
     NewtonReport
-    solve_step(TissueModel &model, const double t, unsigned &passes)
+    solve_step(TissueModel &model, const double t, std::vector<double> &passes)
     {
       NewtonReport report = model.solve_static(t);
-      passes              = 0;
+      passes.clear();
       if (!report.converged)
         return report;
       const std::string failure = model.minimise_alternately(
@@ -69,7 +69,7 @@ namespace suturesim::tissue
 
     /// The step's record with the damage's, when there is a phase field.
     nlohmann::json
-    with_damage(const TissueModel &model, nlohmann::json record, const unsigned passes)
+    with_damage(const TissueModel &model, nlohmann::json record, const std::vector<double> &passes)
     {
       if (model.damage_field())
         record["damage"] = model.damage_record(passes);
@@ -88,8 +88,8 @@ namespace suturesim::tissue
 
         // Equilibrium at t = 0 (gravity or loads that start non-zero).
         model.save_state();
-        unsigned           passes  = 0;
-        const NewtonReport initial = solve_step(model, 0.0, passes);
+        std::vector<double> passes;
+        const NewtonReport  initial = solve_step(model, 0.0, passes);
         if (!initial.converged)
           fail(observer, "the initial state", 0.0, 0, initial.failure);
         observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), passes), nullptr, nullptr);

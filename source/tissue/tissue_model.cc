@@ -122,7 +122,7 @@ namespace suturesim::tissue
   }
 
   double
-  TissueModel::advance_damage()
+  TissueModel::advance_damage(const double last_change)
   {
     if (!damage)
       return 0;
@@ -152,28 +152,33 @@ namespace suturesim::tissue
           psi[q] *= scale;
         }
     });
+    // over-relaxed where the passes contract only: where a tear runs (each pass's change
+    // larger than the last) a longer step only tears further ahead of the displacement
+    const double omega = parameters.phase_field.over_relaxation;
+    if (omega != 1 && change > 0 && change < last_change)
+      damage->over_relax(omega);
     update_degradation();
     return change;
   }
 
   std::string
-  TissueModel::minimise_alternately(const std::function<std::string()> &equilibrium, unsigned &passes)
+  TissueModel::minimise_alternately(const std::function<std::string()> &equilibrium, std::vector<double> &changes)
   {
-    passes = 0;
+    changes.clear();
     if (!damage)
       return "";
     try
       {
         while (true)
           {
-            ++passes;
-            const double change = advance_damage();
-            if (change == 0 && passes == 1)
+            const double change = advance_damage(changes.empty() ? 0 : changes.back());
+            changes.push_back(change);
+            if (change == 0 && changes.size() == 1)
               return ""; // nothing moved: the equilibrium stands
             if (auto failure = equilibrium(); !failure.empty() || change <= parameters.phase_field.tolerance)
               return failure;
-            if (passes == parameters.phase_field.max_passes)
-              return "the phase field's alternate minimisation did not settle in " + std::to_string(passes) +
+            if (changes.size() == parameters.phase_field.max_passes)
+              return "the phase field's alternate minimisation did not settle in " + std::to_string(changes.size()) +
                      " damage solves (the last changed d by " + std::to_string(change) +
                      " > Tissue/Phase field/Tolerance)";
           }
@@ -185,13 +190,14 @@ namespace suturesim::tissue
   }
 
   nlohmann::json
-  TissueModel::damage_record(const unsigned passes) const
+  TissueModel::damage_record(const std::vector<double> &changes) const
   {
     if (!damage)
       return nullptr;
     return {{"max", damage->range().second},
             {"growth", damage->growth()},
-            {"passes", passes},
+            {"passes", changes.size()},
+            {"changes", changes},
             {"fracture_energy", damage->fracture_energy()}};
   }
 

@@ -199,9 +199,11 @@ namespace suturesim::tissue
     /// save_state() (which accepts it; restore_state() returns to it), and the degradation
     /// g = (1 − k)(1 − d)² + k that the assemblies use from then on (cell_assembler.h,
     /// volumetric_share()). Returns the largest change of d; 0 and nothing done without
-    /// the phase field.
+    /// the phase field. When that change is below @p last_change (the alternate
+    /// minimisation contracts) the update is over-relaxed by `Phase field/Over-relaxation`
+    /// (tearing::DamageField::over_relax()).
     double
-    advance_damage();
+    advance_damage(double last_change = 0);
     /// A step's alternate minimisation with the phase field (Bourdin, Francfort & Marigo,
     /// J Mech Phys Solids 48:797, 2000), after an equilibrium that converged: the damage
     /// of that equilibrium (advance_damage()), @p equilibrium again with it, until a damage
@@ -209,14 +211,15 @@ namespace suturesim::tissue
     /// displacement and a damage that belong together. @p equilibrium solves and returns
     /// its failure ("" when it converged). Returns "" when the step settled, else why
     /// not: @p equilibrium's failure, the damage solve's (SolverError), or the passes
-    /// run out (`Max passes`). @p passes receives the number of damage solves (0 without
-    /// the phase field, when nothing is done).
+    /// run out (`Max passes`). @p changes receives each damage solve's largest change of d
+    /// (empty without the phase field, when nothing is done).
     std::string
-    minimise_alternately(const std::function<std::string()> &equilibrium, unsigned &passes);
-    /// The damage's part of a step's record ({max, growth, passes, fracture_energy}, the
-    /// passes of minimise_alternately()); null without the phase field.
+    minimise_alternately(const std::function<std::string()> &equilibrium, std::vector<double> &changes);
+    /// The damage's part of a step's record ({max, growth, passes, changes,
+    /// fracture_energy}: the damage solves of minimise_alternately() and their @p changes);
+    /// null without the phase field.
     nlohmann::json
-    damage_record(unsigned passes) const;
+    damage_record(const std::vector<double> &changes) const;
     /// The damage field; nullptr without the phase field.
     const tearing::DamageField<3> *
     damage_field() const
