@@ -482,7 +482,7 @@ namespace suturesim::scene
             solve_rounds(tn);
             return report.converged ? std::string() : report.failure;
           },
-          damage_passes);
+          damage_changes);
         if (!failure.empty())
           {
             report.converged = false;
@@ -598,7 +598,7 @@ namespace suturesim::scene
                      {"coupling_rounds", rounds},
                      {"residual_norms", report.residual_norms}};
     if (model->damage_field())
-      s["damage"] = model->damage_record(damage_passes);
+      s["damage"] = model->damage_record(damage_changes);
     return s;
   }
 

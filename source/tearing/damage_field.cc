@@ -9,7 +9,6 @@
 
 #include <petscsnes.h>
 
-#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -78,7 +77,6 @@ namespace suturesim::tearing
     matrix.reinit(owned, owned, dsp, comm);
     d.reinit(owned, comm);
     d_accepted.reinit(owned, comm);
-    before.reinit(owned, comm);
     d_ghost.reinit(owned, relevant, comm);
     rhs.reinit(owned, comm);
     lower.reinit(owned, comm);
@@ -167,7 +165,8 @@ namespace suturesim::tearing
         }
     matrix.compress(VectorOperation::insert);
 
-    before = d;
+    PETScWrappers::MPI::Vector previous(owned, comm);
+    previous = d;
     Problem                    problem{matrix.petsc_matrix(), rhs};
     PETScWrappers::MPI::Vector f(owned, comm);
     SNES                       snes;
@@ -200,25 +199,7 @@ namespace suturesim::tearing
       }
     SNESDestroy(&snes);
     d_ghost = d;
-    return distance_to(before);
-  }
-
-  template <int dim>
-  void
-  DamageField<dim>::over_relax(const double omega)
-  {
-    // the bounded nodes first (everything read before anything is written: a PETSc vector
-    // is not read between an insertion and its compress), then the hanging nodes from them
-    std::vector<std::pair<types::global_dof_index, double>> relaxed;
-    relaxed.reserve(owned.n_elements());
-    for (const auto i : owned)
-      if (!constraints.is_constrained(i))
-        relaxed.emplace_back(i, std::clamp<double>(before(i) + omega * (d(i) - before(i)), lower(i), upper(i)));
-    for (const auto &[i, value] : relaxed)
-      d(i) = value;
-    d.compress(VectorOperation::insert);
-    constraints.distribute(d);
-    d_ghost = d;
+    return distance_to(previous);
   }
 
   template <int dim>

@@ -45,12 +45,12 @@ namespace suturesim::tissue
 
     /// Equilibrium at @p t and, with the phase field, the step's alternate minimisation
     /// (TissueModel::minimise_alternately()); a step that does not settle fails (and is
-    /// halved). @p passes receives each damage solve's change of d.
+    /// halved). @p changes receives each damage solve's change of d.
     NewtonReport
-    solve_step(TissueModel &model, const double t, std::vector<double> &passes)
+    solve_step(TissueModel &model, const double t, std::vector<double> &changes)
     {
       NewtonReport report = model.solve_static(t);
-      passes.clear();
+      changes.clear();
       if (!report.converged)
         return report;
       const std::string failure = model.minimise_alternately(
@@ -58,7 +58,7 @@ namespace suturesim::tissue
           report = merged(report, model.solve_static(t));
           return report.converged ? std::string() : report.failure;
         },
-        passes);
+        changes);
       if (!failure.empty())
         {
           report.converged = false;
@@ -69,10 +69,10 @@ namespace suturesim::tissue
 
     /// The step's record with the damage's, when there is a phase field.
     nlohmann::json
-    with_damage(const TissueModel &model, nlohmann::json record, const std::vector<double> &passes)
+    with_damage(const TissueModel &model, nlohmann::json record, const std::vector<double> &changes)
     {
       if (model.damage_field())
-        record["damage"] = model.damage_record(passes);
+        record["damage"] = model.damage_record(changes);
       return record;
     }
 
@@ -88,17 +88,17 @@ namespace suturesim::tissue
 
         // Equilibrium at t = 0 (gravity or loads that start non-zero).
         model.save_state();
-        std::vector<double> passes;
-        const NewtonReport  initial = solve_step(model, 0.0, passes);
+        std::vector<double> changes;
+        const NewtonReport  initial = solve_step(model, 0.0, changes);
         if (!initial.converged)
           fail(observer, "the initial state", 0.0, 0, initial.failure);
-        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), passes), nullptr, nullptr);
+        observer.accepted(0.0, with_damage(model, to_json(initial, 0.0, 0), changes), nullptr, nullptr);
 
         NewtonReport report;
         StepHooks    hooks;
         hooks.attempt = [&](const double t_new, double) {
           model.save_state();
-          report = solve_step(model, t_new, passes);
+          report = solve_step(model, t_new, changes);
           return report.converged ? StepAttempt{StepAttempt::Outcome::converged, "", report.iterations}
                                   : StepAttempt{StepAttempt::Outcome::failed, report.failure};
         };
@@ -106,7 +106,7 @@ namespace suturesim::tissue
         hooks.accept = [&](const double t, const double dt, const unsigned cutbacks) {
           ++step;
           total_iterations += report.iterations;
-          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks), passes), nullptr, nullptr);
+          observer.accepted(t, with_damage(model, to_json(report, dt, cutbacks), changes), nullptr, nullptr);
           std::ostringstream info;
           info << "Newton " << report.iterations << " it"
                << (cutbacks ? "  (dt halved " + std::to_string(cutbacks) + "x)" : "");

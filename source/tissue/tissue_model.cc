@@ -122,7 +122,7 @@ namespace suturesim::tissue
   }
 
   double
-  TissueModel::advance_damage(const double last_change)
+  TissueModel::advance_damage()
   {
     if (!damage)
       return 0;
@@ -152,11 +152,6 @@ namespace suturesim::tissue
           psi[q] *= scale;
         }
     });
-    // over-relaxed where the passes contract only: where a tear runs (each pass's change
-    // larger than the last) a longer step only tears further ahead of the displacement
-    const double omega = parameters.phase_field.over_relaxation;
-    if (omega != 1 && change > 0 && change < last_change)
-      damage->over_relax(omega);
     update_degradation();
     return change;
   }
@@ -171,7 +166,7 @@ namespace suturesim::tissue
       {
         while (true)
           {
-            const double change = advance_damage(changes.empty() ? 0 : changes.back());
+            const double change = advance_damage();
             changes.push_back(change);
             if (change == 0 && changes.size() == 1)
               return ""; // nothing moved: the equilibrium stands

@@ -143,11 +143,6 @@ namespace suturesim::tissue
                       "anywhere. Unit: 1. Range: (0, 1).");
     prm.declare_entry("Max passes", "50", Patterns::Integer(1, 10000),
                       "Damage solves a step may take before it fails (and is halved). Unit: 1. Range: 1-10000.");
-    prm.declare_entry("Over-relaxation", "1", Patterns::Double(1, 1.9),
-                      "omega: each damage solve moves d by omega times its step, kept within the bounds (Farrell "
-                      "& Maurini 2017's over-relaxed alternate minimisation; the same fixed point in fewer damage "
-                      "solves; docs/tearing.md measures it). 1: plain alternate minimisation. Unit: 1. "
-                      "Range: 1-1.9.");
     prm.leave_subsection();
   }
 
@@ -187,7 +182,6 @@ namespace suturesim::tissue
     phase_field.residual_stiffness = prm.get_double("Residual stiffness");
     phase_field.tolerance          = prm.get_double("Tolerance");
     phase_field.max_passes         = static_cast<unsigned>(prm.get_integer("Max passes"));
-    phase_field.over_relaxation    = prm.get_double("Over-relaxation");
     prm.leave_subsection();
   }
 } // namespace suturesim::tissue

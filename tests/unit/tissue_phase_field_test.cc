@@ -156,57 +156,6 @@ TEST(TissuePhaseField, HomogeneousStretchTearsAsTheAt1ClosedFormAndDoesNotHeal)
 // and its Cauchy stress is the assembly's degraded one, in equilibrium with it: σ_xx on
 // the x1 face's current area is that face's reaction in forces.csv (docs/tearing.md: at
 // commit d4c876a, written before a second equilibrium, σ_xx was 3.8 times the reaction).
-// Over-relaxation (Phase field/Over-relaxation = ω; DamageField::over_relax()) on the
-// homogeneous state, whose damage minimiser is d̂ = 1 − ψ_c / ((1 − k) ψ) from any start:
-// a pass whose change is not below the last one is left as solved; a contracting pass
-// moves d from d₀ to d₀ + ω (d̂ − d₀), projected onto [accepted damage, 1].
-TEST(TissuePhaseField, OverRelaxationLengthensOnlyAContractingPassAndKeepsTheBounds)
-{
-  const double          L = 0.01, ell = 2e-3, k = 1e-6, omega = 1.9;
-  const Stretch         stretch{0.2, -0.05, -0.1, "expansion"};
-  const std::string     formulation = "displacement";
-  const test_support::BlockModel probe(stretched_block(formulation, stretch, 1, ell), dealii::Point<3>(L, L, L),
-                                       {1, 1, 1});
-  const double psi = degradable_energy(*probe.material, stretch);
-  const double gc  = 0.4 * psi * 16 * ell / 3; // ψ_c = 0.4 ψ: d̂ = 0.6 at t = 1
-  std::string  text = stretched_block(formulation, stretch, gc, ell);
-  text.insert(text.rfind(" end\n"), "  set Over-relaxation = 1.9\n");
-  test_support::BlockModel block(text, dealii::Point<3>(L, L, L), {2, 2, 2});
-  auto        &model = *block.model;
-  const double d     = 1 - 0.4 / (1 - k);
-  const auto   uniform = [&](const double expected) {
-    const auto [lo, hi] = model.damage_field()->range();
-    EXPECT_NEAR(lo, expected, 1e-9);
-    EXPECT_NEAR(hi, expected, 1e-9);
-  };
-
-  model.save_state(); // accepts d = 0
-  ASSERT_TRUE(model.solve_static(1.0).converged);
-  EXPECT_NEAR(model.advance_damage(0.5), d, 1e-9); // larger than the last change: as solved
-  uniform(d);
-  model.restore_state();
-  ASSERT_TRUE(model.solve_static(1.0).converged);
-  EXPECT_NEAR(model.advance_damage(1.0), d, 1e-9); // 0 + ω d̂ = 1.14: projected onto d ≤ 1
-  uniform(1);
-  ASSERT_TRUE(model.solve_static(1.0).converged);
-  EXPECT_NEAR(model.advance_damage(1.0), 1 - d, 1e-9); // back down from 1, past d̂
-  uniform(1 - omega * (1 - d));
-
-  // from the accepted d̂, a further stretch and back: the relaxed step down would pass
-  // below the accepted damage, and is projected onto it
-  model.restore_state();
-  ASSERT_TRUE(model.solve_static(1.0).converged);
-  model.advance_damage();
-  model.save_state(); // accepts d̂
-  ASSERT_TRUE(model.solve_static(1.2).converged);
-  model.advance_damage(1.0);
-  const double beyond = model.damage_field()->range().second;
-  ASSERT_GT(beyond, d + 0.01);
-  ASSERT_TRUE(model.solve_static(1.0).converged);
-  EXPECT_NEAR(model.advance_damage(1.0), beyond - d, 1e-9);
-  uniform(d);
-}
-
 TEST(TissuePhaseField, ASceneRecordsTheDamageAndWritesTheDegradedStress)
 {
   const auto r =

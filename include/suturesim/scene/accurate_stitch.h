@@ -214,7 +214,7 @@ namespace suturesim::scene
     bool                                     solve_failed   = false; ///< the last coupled or tissue solve (not its rounds)
     unsigned                                 step_iterations = 0; ///< this attempt's, over its rounds
     unsigned                                 suture_iterations = 0; ///< this attempt's most of one suture solve
-    std::vector<double>                      damage_passes; ///< this attempt's damage solves' changes of d
+    std::vector<double>                      damage_changes; ///< this attempt's damage solves' changes of d
     std::vector<double>                      events;          ///< sorted, s
     std::optional<tools::SurgicalSeries>     planned;         ///< an interrupted series' passes
     double                                   step_time = 0;   ///< of the step attempted last, s

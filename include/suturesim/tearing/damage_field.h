@@ -64,13 +64,6 @@ namespace suturesim::tearing
     /// SolverError when PETSc's solve fails.
     double
     solve(const Driving &psi);
-    /// Moves d from the minimiser d̂ of the last solve() to P(d₀ + ω (d̂ − d₀)), d₀ the
-    /// damage that solve() started from and P the projection onto d_accepted ≤ d ≤ 1 (the
-    /// hanging nodes follow their constraints): the over-relaxed alternate minimisation of
-    /// Farrell & Maurini (Int J Numer Meth Eng 109:648, 2017; 1 < @p omega < 2). Its
-    /// fixed points are the plain iteration's.
-    void
-    over_relax(double omega);
     /// Makes the current damage the accepted one: the new lower bound.
     void
     accept();
@@ -156,6 +149,5 @@ namespace suturesim::tearing
     dealii::AffineConstraints<double>                        constraints;
     dealii::PETScWrappers::MPI::SparseMatrix                 matrix;
     dealii::PETScWrappers::MPI::Vector                       d, d_ghost, d_accepted, rhs, lower, upper;
-    dealii::PETScWrappers::MPI::Vector                       before; ///< d when the last solve() began
   };
 } // namespace suturesim::tearing

@@ -199,11 +199,9 @@ namespace suturesim::tissue
     /// save_state() (which accepts it; restore_state() returns to it), and the degradation
     /// g = (1 − k)(1 − d)² + k that the assemblies use from then on (cell_assembler.h,
     /// volumetric_share()). Returns the largest change of d; 0 and nothing done without
-    /// the phase field. When that change is below @p last_change (the alternate
-    /// minimisation contracts) the update is over-relaxed by `Phase field/Over-relaxation`
-    /// (tearing::DamageField::over_relax()).
+    /// the phase field.
     double
-    advance_damage(double last_change = 0);
+    advance_damage();
     /// A step's alternate minimisation with the phase field (Bourdin, Francfort & Marigo,
     /// J Mech Phys Solids 48:797, 2000), after an equilibrium that converged: the damage
     /// of that equilibrium (advance_damage()), @p equilibrium again with it, until a damage

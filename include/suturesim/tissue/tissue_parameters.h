@@ -67,7 +67,6 @@ namespace suturesim::tissue
       double residual_stiffness = 1e-6;  ///< k, 1: the share of the degraded stiffness a torn point keeps
       double   tolerance  = 1e-3; ///< 1: a step's alternate minimisation ends when d changes by at most this
       unsigned max_passes = 50;   ///< and fails the step after this many damage solves
-      double   over_relaxation = 1; ///< ω in [1, 1.9]: each damage solve's update scaled by ω (damage_field.h)
     };
     PhaseField phase_field;
 
