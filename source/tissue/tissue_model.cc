@@ -390,7 +390,8 @@ namespace suturesim::tissue
                               : "--restart: the checkpoint carries a damage field (written with Tissue/Phase "
                                 "field), this scene has none");
     const std::vector<double> d = damage ? io::unpack_doubles(state.at("damage")) : std::vector<double>();
-    if (Utilities::MPI::min(int(!damage || d.size() == damage->owned_values().size()), comm) == 0)
+    if (Utilities::MPI::min(int(!damage || d.size() == damage->dof_handler().locally_owned_dofs().n_elements()),
+                            comm) == 0)
       throw InputError("--restart: the checkpoint's damage does not fit this mesh's damage nodes");
     std::size_t k = 0;
     for (const auto i : locally_owned_dofs)
