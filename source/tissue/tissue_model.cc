@@ -92,6 +92,14 @@ namespace suturesim::tissue
       {
         damage = std::make_unique<tearing::DamageField<3>>(comm, tria, parameters.phase_field.toughness,
                                                            parameters.phase_field.length, parameters.degree + 1);
+        if (const auto &box = parameters.phase_field.initial_crack; !box.empty())
+          damage->crack([&box](const Point<3> &x) {
+            constexpr double tolerance = 1e-9; // m: a node on the box's face is in it
+            for (unsigned d = 0; d < 3; ++d)
+              if (x[d] < box[0][d] - tolerance || x[d] > box[1][d] + tolerance)
+                return false;
+            return true;
+          });
         update_degradation();
       }
 

@@ -143,6 +143,11 @@ namespace suturesim::tissue
                       "anywhere. Unit: 1. Range: (0, 1).");
     prm.declare_entry("Max passes", "50", Patterns::Integer(1, 10000),
                       "Damage solves a step may take before it fails (and is halved). Unit: 1. Range: 1-10000.");
+    prm.declare_entry("Initial crack", "", probe_pattern,
+                      "A crack there from the start (a notch's faces and tip): d = 1, never to heal, at the damage "
+                      "nodes in the box 'from: x, y, z; to: x, y, z' between its lower and upper corners in the "
+                      "reference configuration, faces included to 1 nm (benchmarks/sent_tissue). Empty: none. "
+                      "Unit: m.");
     prm.leave_subsection();
   }
 
@@ -182,6 +187,22 @@ namespace suturesim::tissue
     phase_field.residual_stiffness = prm.get_double("Residual stiffness");
     phase_field.tolerance          = prm.get_double("Tolerance");
     phase_field.max_passes         = static_cast<unsigned>(prm.get_integer("Max passes"));
+    phase_field.initial_crack.clear();
+    const ParameterScope phase_scope = scope.subsection("Phase field");
+    const auto           corners     = get_named_points(prm, "Initial crack", phase_scope, "corner");
+    for (const auto &[name, x] : corners)
+      phase_scope.require(name == "from" || name == "to", "Initial crack",
+                          "corner '" + name + "': write 'from: x, y, z; to: x, y, z'");
+    if (!corners.empty())
+      {
+        phase_scope.require(corners.size() == 2, "Initial crack", "needs both corners, 'from: x, y, z; to: x, y, z'");
+        phase_scope.require(phase_field.enabled, "Initial crack", "needs the phase field (Enabled = true)");
+        const Eigen::Vector3d from = corners[0].first == "from" ? corners[0].second : corners[1].second;
+        const Eigen::Vector3d to   = corners[0].first == "from" ? corners[1].second : corners[0].second;
+        phase_scope.require((from.array() <= to.array()).all(), "Initial crack",
+                            "the corner 'from' must be below 'to' in x, y and z");
+        phase_field.initial_crack = {Point<3>(from[0], from[1], from[2]), Point<3>(to[0], to[1], to[2])};
+      }
     prm.leave_subsection();
   }
 } // namespace suturesim::tissue

@@ -85,7 +85,7 @@ TEST(InputErrors, EveryFileInTheBadFolderIsACase)
   std::printf("[ input errors ] %zu malformed scenes in tests/data/bad, %d BadScene cases\n", files.size(),
               suite->total_test_count());
   EXPECT_EQ(static_cast<std::size_t>(suite->total_test_count()), files.size());
-  EXPECT_EQ(files.size(), 182u);
+  EXPECT_EQ(files.size(), 184u);
 }
 
 namespace

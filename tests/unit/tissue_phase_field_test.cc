@@ -264,3 +264,41 @@ TEST(TissuePhaseField, AStepThatDoesNotSettleIsHalvedThenStopsTheRunAtTheLastAcc
   ASSERT_EQ(steps.size(), 2u);
   EXPECT_EQ(steps[1]["damage"]["max"].get<double>(), 0.0);
 }
+
+// An initial crack (Tissue/Phase field/Initial crack) on the cube's bottom face z = 0 of
+// 5 mm cells: d = 1 at its nine nodes and 0 at the other eighteen, and it stays so under
+// the stretch at t = 0.5 s (below ψ_c, and d at z = 5 mm would cost more gradient energy
+// than it saves: h/ℓ < 2ℓ/h + h/ℓ is false, so the AT1 profile of the discrete crack is
+// the one layer, d = 1 − z/h). Its fracture energy in closed form:
+// G_c/c_w ∫ (d/ℓ + ℓ|∇d|²) = (3 G_c/8) A (h/(2ℓ) + ℓ/h) for the bottom layer's linear d.
+TEST(TissuePhaseField, AnInitialCrackIsDamagedFromTheStartAndCostsItsFractureEnergy)
+{
+  const auto r = test_support::run_suturesim(
+    "phase_field_cube_cracked", {test_support::source_path("tests/data/phase_field_cube.prm"), "--set",
+                                 "Tissue/Phase field/Initial crack=from: 0, 0, 0; to: 0.01, 0.01, 0", "--set",
+                                 "Time/End time=0.5"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const double gc = 20, ell = 0.002, h = 0.005, area = 1e-4;
+  const double energy = 3 * gc / 8 * area * (h / (2 * ell) + ell / h);
+  const auto  &steps  = r.summary["steps"];
+  ASSERT_EQ(steps.size(), 2u);
+  for (const auto &step : steps)
+    {
+      EXPECT_EQ(step["damage"]["max"].get<double>(), 1.0);
+      EXPECT_NEAR(step["damage"]["fracture_energy"].get<double>(), energy, 1e-9 * energy);
+    }
+  for (const char *file : {"/tissue_00000.vtu", "/tissue_00001.vtu"})
+    {
+      const auto   vtu = test_support::read_vtu(r.directory + file);
+      const auto  &d = vtu.get("PointData", "damage").values, &X = vtu.points().values;
+      unsigned     cracked = 0;
+      for (std::size_t p = 0; p < vtu.n_points; ++p)
+        {
+          const bool on_face = X[3 * p + 2] == 0.0;
+          cracked += on_face;
+          EXPECT_EQ(d[p], on_face ? 1.0 : 0.0) << file << " at " << X[3 * p] << ", " << X[3 * p + 1] << ", "
+                                                << X[3 * p + 2];
+        }
+      EXPECT_GE(cracked, 9u) << file; // the VTU repeats shared points per cell
+    }
+}

@@ -67,6 +67,9 @@ namespace suturesim::tissue
       double residual_stiffness = 1e-6;  ///< k, 1: the share of the degraded stiffness a torn point keeps
       double   tolerance  = 1e-3; ///< 1: a step's alternate minimisation ends when d changes by at most this
       unsigned max_passes = 50;   ///< and fails the step after this many damage solves
+      /// A crack there from the start: d = 1 at the damage nodes in the box between these
+      /// two corners (reference coordinates, m; lower then upper), none when empty.
+      std::vector<dealii::Point<3>> initial_crack;
     };
     PhaseField phase_field;
 
