@@ -267,9 +267,10 @@ TEST(TissuePhaseField, AStepThatDoesNotSettleIsHalvedThenStopsTheRunAtTheLastAcc
 
 // An initial crack (Tissue/Phase field/Initial crack) on the cube's bottom face z = 0 of
 // 5 mm cells: d = 1 at its nine nodes and 0 at the other eighteen, and it stays so under
-// the stretch at t = 0.5 s (below ψ_c, and d at z = 5 mm would cost more gradient energy
-// than it saves: h/ℓ < 2ℓ/h + h/ℓ is false, so the AT1 profile of the discrete crack is
-// the one layer, d = 1 − z/h). Its fracture energy in closed form:
+// the stretch at t = 0.5 s (below ψ_c; and the damage energy's slope in the value d₁ at
+// z = h, (3 G_c/8) A (h/ℓ − 2ℓ/h), is positive for h = 5 mm, ℓ = 2 mm, so the discrete
+// crack's profile is the one layer, d = 1 − z/h; on cells finer than √2 ℓ it would spread,
+// as AT1's profile does). Its fracture energy in closed form:
 // G_c/c_w ∫ (d/ℓ + ℓ|∇d|²) = (3 G_c/8) A (h/(2ℓ) + ℓ/h) for the bottom layer's linear d.
 TEST(TissuePhaseField, AnInitialCrackIsDamagedFromTheStartAndCostsItsFractureEnergy)
 {
