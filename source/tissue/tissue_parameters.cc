@@ -147,7 +147,7 @@ namespace suturesim::tissue
                       "A crack there from the start (a notch's faces and tip): d = 1, never to heal, at the damage "
                       "nodes in the box 'from: x, y, z; to: x, y, z' between its lower and upper corners in the "
                       "reference configuration, faces included to 1 nm (benchmarks/sent_tissue). Empty: none. "
-                      "Unit: m.");
+                      "Unit: m. Range: 'from' at or below 'to' in x, y and z; needs Enabled = true.");
     prm.leave_subsection();
   }
 
