@@ -11,7 +11,6 @@ LEFM value here from parameters.prm; prints the table; draws OUTPUT/sent_phase_f
 /.pdf (traction against the left edge's stretch and the crack tip); exits 1 outside the
 tolerance.
 """
-import math
 import sys
 from pathlib import Path
 
@@ -22,11 +21,8 @@ import benchlib  # noqa: E402
 def lefm(prm, h):
     """sigma_c = sqrt(E' G_c (1 + 3h/(8l)) / (pi a)) / F(a/W)."""
     get = lambda key: float(prm["Fracture specimen/" + key])  # noqa: E731
-    E, nu, gc, ell = get("Young's modulus"), get("Poisson's ratio"), get("Fracture toughness"), get("Internal length")
-    a, W = get("Notch length"), get("Width")
-    x = a / W
-    F = 1.12 - 0.231 * x + 10.55 * x ** 2 - 21.72 * x ** 3 + 30.39 * x ** 4
-    return math.sqrt(E / (1 - nu * nu) * gc * (1 + 3 * h / (8 * ell)) / (math.pi * a)) / F
+    return benchlib.sent_critical_traction(get("Young's modulus"), get("Poisson's ratio"), get("Fracture toughness"),
+                                           get("Internal length"), h, get("Notch length"), get("Width"))
 
 
 def main():

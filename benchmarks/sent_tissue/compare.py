@@ -16,7 +16,6 @@ from parameters.prm and the mesh (W, a, h read off the VTU's reference points), 
 the table, draws OUTPUT/sent_tissue.png/.pdf (traction against the crack mouth's opening; the damage
 along the ligament at each output) and exits 1 outside the tolerance.
 """
-import math
 import re
 import sys
 from pathlib import Path
@@ -27,11 +26,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent.parent / "postprocess"))
 import benchlib  # noqa: E402
 import vtu  # noqa: E402
-
-
-def shape_factor(x):
-    """F(a/W) of the long single-edge-cracked strip (Tada, Paris & Irwin 2000)."""
-    return 1.12 - 0.231 * x + 10.55 * x ** 2 - 21.72 * x ** 3 + 30.39 * x ** 4
 
 
 def columns(path):
@@ -100,7 +94,7 @@ def main():
     ell = float(prm["Tissue/Phase field/Length"])
     E = 2 * mu * (1 + nu)
     g_eff = gc * (1 + 3 * h / (8 * ell))
-    reference = math.sqrt(E / (1 - nu * nu) * g_eff / (math.pi * a)) / shape_factor(a / W)
+    reference = benchlib.sent_critical_traction(E, nu, gc, ell, h, a, W)
     lo, hi = rate * t_last, rate * t_failed
     critical = (lo + hi) / 2
     error = critical / reference - 1
@@ -110,7 +104,8 @@ def main():
          f"{100 * error:+.2f} %", f"{100 * tolerance:g} % ({ref['acceptance']['source']})"],
     ])
     print(f"a = {1e3 * a:g} mm, W = {1e3 * W:g} mm, a/l = {a / ell:g}, h = {1e6 * h:.2f} um, E = {E:.6g} Pa, "
-          f"G_eff = {g_eff:.6g} J/m^2, F(a/W) = {shape_factor(a / W):.6f}, sigma_c/E = {reference / E:.4f}; "
+          f"G_eff = {g_eff:.6g} J/m^2, F(a/W) = {benchlib.sent_shape_factor(a / W):.6f}, "
+          f"sigma_c/E = {reference / E:.4f}; "
           f"crack growth before the failed step {1e6 * growth:.0f} um; {halvings} halvings")
     if abs(error) > tolerance:
         failures.append(f"critical traction {100 * error:+.2f} % from LEFM, beyond {100 * tolerance:g} %")

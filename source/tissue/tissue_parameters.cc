@@ -2,6 +2,7 @@
 #include <suturesim/tissue/tissue_parameters.h>
 
 #include <algorithm>
+#include <map>
 #include <string>
 
 namespace suturesim::tissue
@@ -189,16 +190,18 @@ namespace suturesim::tissue
     phase_field.max_passes         = static_cast<unsigned>(prm.get_integer("Max passes"));
     phase_field.initial_crack.clear();
     const ParameterScope phase_scope = scope.subsection("Phase field");
-    const auto           corners     = get_named_points(prm, "Initial crack", phase_scope, "corner");
-    for (const auto &[name, x] : corners)
-      phase_scope.require(name == "from" || name == "to", "Initial crack",
-                          "corner '" + name + "': write 'from: x, y, z; to: x, y, z'");
-    if (!corners.empty())
+    std::map<std::string, Eigen::Vector3d> corner;
+    for (const auto &[name, x] : get_named_points(prm, "Initial crack", phase_scope, "corner"))
       {
-        phase_scope.require(corners.size() == 2, "Initial crack", "needs both corners, 'from: x, y, z; to: x, y, z'");
+        phase_scope.require(name == "from" || name == "to", "Initial crack",
+                            "corner '" + name + "': write 'from: x, y, z; to: x, y, z'");
+        corner[name] = x;
+      }
+    if (!corner.empty())
+      {
+        phase_scope.require(corner.size() == 2, "Initial crack", "needs both corners, 'from: x, y, z; to: x, y, z'");
         phase_scope.require(phase_field.enabled, "Initial crack", "needs the phase field (Enabled = true)");
-        const Eigen::Vector3d from = corners[0].first == "from" ? corners[0].second : corners[1].second;
-        const Eigen::Vector3d to   = corners[0].first == "from" ? corners[1].second : corners[0].second;
+        const Eigen::Vector3d &from = corner["from"], &to = corner["to"];
         phase_scope.require((from.array() <= to.array()).all(), "Initial crack",
                             "the corner 'from' must be below 'to' in x, y and z");
         phase_field.initial_crack = {Point<3>(from[0], from[1], from[2]), Point<3>(to[0], to[1], to[2])};
