@@ -94,6 +94,15 @@ def sent_critical_traction(E, nu, gc, ell, h, a, W):
     return math.sqrt(E / (1 - nu * nu) * gc * (1 + 3 * h / (8 * ell)) / (math.pi * a)) / sent_shape_factor(a / W)
 
 
+def sent_mouth_opening(E, nu, sigma, a, W):
+    """The crack mouth's opening of the long single-edge-cracked strip in plane strain under
+    the traction sigma: 4 sigma a V1(a/W) / E', V1(x) = (1.46 + 3.42 (1 - cos(pi x/2))) /
+    cos^2(pi x/2) (Tada, Paris & Irwin, The Stress Analysis of Cracks Handbook, 3rd ed.,
+    2000, single edge cracked strip in tension; 1 % for any a/W)."""
+    c = math.cos(math.pi * a / (2 * W))
+    return 4 * sigma * a * (1.46 + 3.42 * (1 - c)) / c ** 2 / (E / (1 - nu * nu))
+
+
 def save_figure(fig, stem):
     """stem.png and stem.pdf."""
     for suffix in (".png", ".pdf"):

@@ -87,6 +87,8 @@ def main():
         sys.exit("sent_tissue: forces.csv has no column 'ligament_reaction_y [N]'")
     traction = -forces["ligament_reaction_y [N]"] / (W * thickness)
     time = forces["time [s]"]
+    if len(time) < 2:
+        sys.exit("sent_tissue: forces.csv has no accepted step after t = 0")
     rate = traction[-1] / time[-1]
     if abs(time[-1] - t_last) > printed or np.abs(traction[1:] - rate * time[1:]).max() > 1e-6 * traction[-1]:
         failures.append("the ligament's reaction is not a traction rising linearly in time up to the last accepted "
@@ -102,7 +104,7 @@ def main():
     # twice the upper half's u_y at the notch's mouth against Tada's 4 sigma a V1(a/W)/E'
     first = 1
     opening = 2 * forces["mouth_displacement_y [m]"][first]
-    opening_tada = mouth_opening(E, nu, traction[first], a, W)
+    opening_tada = benchlib.sent_mouth_opening(E, nu, traction[first], a, W)
     opening_error = opening / opening_tada - 1
     g_eff = gc * (1 + 3 * h / (8 * ell))
     reference = benchlib.sent_critical_traction(E, nu, gc, ell, h, a, W)
@@ -115,7 +117,7 @@ def main():
          f"{100 * error:+.2f} %", f"{100 * tolerance:g} % ({ref['acceptance']['source']})"],
         [f"mouth opening at {traction[first]:.4g} Pa [um]", f"{1e6 * opening:.6g}", f"{1e6 * opening_tada:.6g}",
          f"{100 * opening_error:+.2f} %", f"{100 * ref['acceptance']['mouth_opening']:g} % (Tada's 1 % and the "
-         "regularised crack, O(l/a))"],
+         "regularised crack, O(l/a): reference.json)"],
     ])
     print(f"a = {1e3 * a:g} mm, W = {1e3 * W:g} mm, a/l = {a / ell:g}, h = {1e6 * h:.2f} um, E = {E:.6g} Pa, "
           f"G_eff = {g_eff:.6g} J/m^2, F(a/W) = {benchlib.sent_shape_factor(a / W):.6f}, "
@@ -129,15 +131,6 @@ def main():
     if not args.no_figure:
         figure(run, forces, rate, a, reference, opening_tada / traction[first], stem=Path(args.output) / "sent_tissue")
     benchlib.verdict(failures)
-
-
-def mouth_opening(E, nu, sigma, a, W):
-    """The crack mouth's opening of the long single-edge-cracked strip in plane strain under
-    the traction sigma: 4 sigma a V1(a/W) / E', V1(x) = (1.46 + 3.42 (1 - cos(pi x/2))) /
-    cos^2(pi x/2) (Tada, Paris & Irwin, The Stress Analysis of Cracks Handbook, 3rd ed.,
-    2000, single edge cracked strip in tension; 1 % for any a/W)."""
-    c = np.cos(np.pi * a / (2 * W))
-    return 4 * sigma * a * (1.46 + 3.42 * (1 - c)) / c ** 2 / (E / (1 - nu * nu))
 
 
 def figure(run, forces, rate, a, reference, compliance, stem):
