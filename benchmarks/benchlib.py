@@ -87,11 +87,22 @@ def sent_shape_factor(x):
     return 1.12 - 0.231 * x + 10.55 * x ** 2 - 21.72 * x ** 3 + 30.39 * x ** 4
 
 
+def at1_effective_toughness(gc, ell, h):
+    """AT1's toughness on cells of size h: G_c (1 + 3h/(8l)) (Bourdin, Francfort & Marigo,
+    J Elasticity 91:5, 2008, section 8.1.1)."""
+    return gc * (1 + 3 * h / (8 * ell))
+
+
+def plane_strain_modulus(E, nu):
+    """E' = E / (1 - nu^2)."""
+    return E / (1 - nu * nu)
+
+
 def sent_critical_traction(E, nu, gc, ell, h, a, W):
     """LEFM's critical traction of single-edge-notched tension in plane strain with AT1's
-    discretised toughness: sqrt(E' G_c (1 + 3h/(8l)) / (pi a)) / F(a/W), E' = E/(1 - nu^2)
-    (Bourdin, Francfort & Marigo, J Elasticity 91:5, 2008, for G_eff)."""
-    return math.sqrt(E / (1 - nu * nu) * gc * (1 + 3 * h / (8 * ell)) / (math.pi * a)) / sent_shape_factor(a / W)
+    discretised toughness: sqrt(E' G_eff / (pi a)) / F(a/W)."""
+    return math.sqrt(plane_strain_modulus(E, nu) * at1_effective_toughness(gc, ell, h) / (math.pi * a)) \
+        / sent_shape_factor(a / W)
 
 
 def sent_mouth_opening(E, nu, sigma, a, W):
@@ -100,7 +111,7 @@ def sent_mouth_opening(E, nu, sigma, a, W):
     cos^2(pi x/2) (Tada, Paris & Irwin, The Stress Analysis of Cracks Handbook, 3rd ed.,
     2000, single edge cracked strip in tension; 1 % for any a/W)."""
     c = math.cos(math.pi * a / (2 * W))
-    return 4 * sigma * a * (1.46 + 3.42 * (1 - c)) / c ** 2 / (E / (1 - nu * nu))
+    return 4 * sigma * a * (1.46 + 3.42 * (1 - c)) / c ** 2 / plane_strain_modulus(E, nu)
 
 
 def save_figure(fig, stem):
